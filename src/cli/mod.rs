@@ -1,0 +1,284 @@
+//! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
+
+mod output;
+mod render;
+
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+use threadcut::diag::Diagnostic;
+use threadcut::machine::{Machine, BUILT_IN};
+use threadcut::program::{self, Error, Event, Summary};
+use threadcut::thread::PassKind;
+
+#[derive(Parser)]
+#[command(
+    name = "threadcut",
+    version,
+    about = "Exact pass-by-pass motion for CNC thread-cutting cycles"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args)]
+struct MachineArgs {
+    /// Built-in controller profile (see `threadcut controllers`).
+    #[arg(long, short = 'c')]
+    controller: Option<String>,
+    /// Machine profile (TOML); overrides --controller.
+    #[arg(long)]
+    machine: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum ExpandFormat {
+    /// The program with each cycle replaced by plain moves in the controller's format.
+    Gcode,
+    /// One JSON object per motion, program units, X as a radius.
+    Jsonl,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Replace each threading cycle by plain moves (G0/G32 …); other blocks pass through unchanged.
+    Expand {
+        /// The program (`-` for standard input).
+        file: PathBuf,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// Output file (`-` or absent: standard output). Written whole or not at all.
+        #[arg(long, short = 'o')]
+        output: Option<PathBuf>,
+        #[arg(long, value_enum, default_value = "gcode")]
+        format: ExpandFormat,
+    },
+    /// Print each cycle's pass table: depth, increment, infeed point, chip area.
+    Passes {
+        file: PathBuf,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// JSON instead of a table.
+        #[arg(long)]
+        json: bool,
+        #[arg(long, short = 'o')]
+        output: Option<PathBuf>,
+    },
+    /// List the built-in controller profiles.
+    Controllers,
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(code) => code,
+        Err(Failure::Quiet) => ExitCode::SUCCESS,
+        Err(Failure::Usage(msg)) => {
+            eprintln!("threadcut: {msg}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Input { file, diagnostic }) => {
+            eprint!("{}", render::diagnostic(&file, &diagnostic));
+            ExitCode::from(2)
+        }
+        Err(Failure::Other(msg)) => {
+            eprintln!("threadcut: {msg}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+enum Failure {
+    /// The reader of our output went away (`| head`): stop without a word.
+    Quiet,
+    Usage(String),
+    Input {
+        file: PathBuf,
+        diagnostic: Box<Diagnostic>,
+    },
+    Other(String),
+}
+
+fn failure(file: &Path, e: Error) -> Failure {
+    match e {
+        Error::Input(d) => Failure::Input {
+            file: file.to_owned(),
+            diagnostic: Box::new(d),
+        },
+        Error::Io(e) if e.kind() == io::ErrorKind::BrokenPipe => Failure::Quiet,
+        Error::Io(e) => Failure::Other(format!("cannot write the output: {e}")),
+        Error::Setup(msg) => Failure::Usage(msg),
+    }
+}
+
+fn run(cli: Cli) -> Result<ExitCode, Failure> {
+    match cli.command {
+        Command::Controllers => {
+            let mut out = io::stdout().lock();
+            for (name, _) in BUILT_IN {
+                let m = Machine::built_in(name).expect("built-in profiles parse");
+                writeln!(out, "{name:<12} {}", m.description).map_err(io_failure)?;
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Expand {
+            file,
+            machine,
+            output,
+            format,
+        } => {
+            let machine = load_machine(&machine)?;
+            let input = open_input(&file)?;
+            let summary = output::write(&file, output.as_deref(), |out| match format {
+                ExpandFormat::Gcode => program::expand_gcode(input, out, &machine),
+                ExpandFormat::Jsonl => program::expand_jsonl(input, out, &machine),
+            })?;
+            warn(&file, &summary);
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Passes {
+            file,
+            machine,
+            json,
+            output,
+        } => {
+            let machine = load_machine(&machine)?;
+            let input = open_input(&file)?;
+            let summary = output::write(&file, output.as_deref(), |out| {
+                passes(input, out, &machine, json)
+            })?;
+            warn(&file, &summary);
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+fn io_failure(e: io::Error) -> Failure {
+    if e.kind() == io::ErrorKind::BrokenPipe {
+        Failure::Quiet
+    } else {
+        Failure::Other(e.to_string())
+    }
+}
+
+fn warn(file: &Path, summary: &Summary) {
+    for w in &summary.warnings {
+        eprint!("{}", render::diagnostic(file, w));
+    }
+}
+
+fn load_machine(args: &MachineArgs) -> Result<Machine, Failure> {
+    if let Some(path) = &args.machine {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| Failure::Usage(format!("cannot read {}: {e}", path.display())))?;
+        return Machine::from_toml(&text)
+            .map_err(|e| Failure::Usage(format!("{}: {e}", path.display())));
+    }
+    let names = || {
+        BUILT_IN
+            .iter()
+            .map(|(n, _)| *n)
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    match &args.controller {
+        Some(name) => Machine::built_in(name).ok_or_else(|| {
+            Failure::Usage(format!(
+                "unknown controller `{name}` (built in: {})",
+                names()
+            ))
+        }),
+        None => Err(Failure::Usage(format!(
+            "name the controller with --controller (built in: {}) or a profile with --machine",
+            names()
+        ))),
+    }
+}
+
+fn open_input(file: &Path) -> Result<Box<dyn BufRead>, Failure> {
+    if file.as_os_str() == "-" {
+        return Ok(Box::new(BufReader::with_capacity(1 << 16, io::stdin())));
+    }
+    let f = File::open(file)
+        .map_err(|e| Failure::Usage(format!("cannot open {}: {e}", file.display())))?;
+    Ok(Box::new(BufReader::with_capacity(1 << 16, f)))
+}
+
+/// `threadcut passes`: a table per cycle, or `{"cycles":[…]}` streamed one cycle at a time.
+fn passes(
+    input: Box<dyn BufRead>,
+    out: &mut dyn Write,
+    machine: &Machine,
+    json: bool,
+) -> Result<Summary, Error> {
+    if json {
+        out.write_all(br#"{"cycles":["#)?;
+    }
+    let mut first = true;
+    let summary = program::run(input, machine, |_, ev| {
+        let Event::Cycle { job, .. } = ev else {
+            return Ok(());
+        };
+        let passes = job.passes()?;
+        let rows = program::pass_rows(&job, &passes, machine.diameter_x);
+        if json {
+            if !first {
+                out.write_all(b",")?;
+            }
+            let cycle = serde_json::json!({
+                "line": job.line,
+                "controller": job.controller,
+                "units": job.units,
+                "passes": rows,
+            });
+            serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
+        } else {
+            let d = machine.decimals(job.units) as usize + 1;
+            let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
+            writeln!(
+                out,
+                "line {}: {} cycle, {} rough + {} finishing passes ({}; depth radial, X as programmed)",
+                job.line,
+                job.controller,
+                rough,
+                passes.len() - rough,
+                job.units.name()
+            )?;
+            writeln!(
+                out,
+                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6}",
+                "pass", "kind", "depth", "increment", "x", "z", "area", "share"
+            )?;
+            for r in &rows {
+                let kind = match r.kind {
+                    PassKind::Rough => "rough",
+                    PassKind::Finish => "finish",
+                };
+                writeln!(
+                    out,
+                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}%",
+                    r.n,
+                    kind,
+                    r.depth,
+                    r.increment,
+                    r.x,
+                    r.z,
+                    r.area,
+                    r.share * 100.0
+                )?;
+            }
+            writeln!(out)?;
+        }
+        first = false;
+        Ok(())
+    })?;
+    if json {
+        out.write_all(b"]}\n")?;
+    }
+    Ok(summary)
+}

@@ -1,0 +1,58 @@
+//! Output that is written whole or not at all: a temporary file beside the target, flushed, synced
+//! and renamed over it only when everything succeeded.
+
+use std::io::{self, BufWriter, Write};
+use std::path::Path;
+
+use threadcut::program::{Error, Summary};
+
+use super::{failure, Failure};
+
+pub fn write(
+    input: &Path,
+    output: Option<&Path>,
+    produce: impl FnOnce(&mut dyn Write) -> Result<Summary, Error>,
+) -> Result<Summary, Failure> {
+    let target = output.filter(|p| p.as_os_str() != "-");
+    let Some(target) = target else {
+        let stdout = io::stdout();
+        let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+        let summary = produce(&mut out).map_err(|e| failure(input, e))?;
+        out.flush().map_err(|e| failure(input, Error::Io(e)))?;
+        return Ok(summary);
+    };
+    if same_file(input, target) {
+        return Err(Failure::Usage(format!(
+            "-o {} names the input file; write the output elsewhere",
+            target.display()
+        )));
+    }
+    let dir = match target.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    let temp = tempfile::Builder::new()
+        .prefix(".threadcut-")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| Failure::Other(format!("cannot create a file in {}: {e}", dir.display())))?;
+    let mut out = BufWriter::with_capacity(1 << 16, temp);
+    // On any error the temporary file is dropped, which deletes it: nothing is left behind.
+    let summary = produce(&mut out).map_err(|e| failure(input, e))?;
+    let temp = out
+        .into_inner()
+        .map_err(|e| Failure::Other(format!("cannot write {}: {}", target.display(), e.error())))?;
+    temp.as_file()
+        .sync_all()
+        .map_err(|e| Failure::Other(format!("cannot write {}: {e}", target.display())))?;
+    temp.persist(target)
+        .map_err(|e| Failure::Other(format!("cannot write {}: {}", target.display(), e.error)))?;
+    Ok(summary)
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}

@@ -1,0 +1,155 @@
+//! Diagnostics are values: a stable code, a source span, the controller's wording and a hint.
+//! The library never prints; the CLI renders them with the source line and a caret.
+
+use std::fmt;
+
+/// A place in the source: a byte range plus the 1-based line and column of its start.
+///
+/// Columns count bytes, like most compilers, so a caret lands under the word even in files that are
+/// not UTF-8.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Span {
+    /// Byte offset of the first byte in the whole input.
+    pub start: u64,
+    /// Length in bytes.
+    pub len: u32,
+    /// 1-based line number.
+    pub line: u32,
+    /// 1-based column (bytes) of the first byte.
+    pub column: u32,
+}
+
+impl Span {
+    pub const fn new(start: u64, len: u32, line: u32, column: u32) -> Span {
+        Span {
+            start,
+            len,
+            line,
+            column,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    Warning,
+    Error,
+}
+
+/// Stable diagnostic codes: tests and users' scripts match on these, so never renumber them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize)]
+pub enum Code {
+    /// A malformed number or word (`X1.2.3`, `X--1`, a letter with no value).
+    Syntax,
+    /// A number that is not finite or too large to be exact.
+    BadNumber,
+    /// A word the cycle requires is missing (the controller's alarm).
+    MissingWord,
+    /// A word's value lies outside the range the controller allows.
+    OutOfRange,
+    /// Two words or settings that cannot be used together.
+    Conflict,
+    /// The cycle needs a known start position and none is known.
+    UnknownPosition,
+    /// Geometry that cannot be cut (depth beyond the part, taper too steep, zero length...).
+    Geometry,
+    /// The plan would exceed a hard limit on passes or moves.
+    TooManyPasses,
+    /// A word or statement that this controller does not support.
+    Unsupported,
+    /// The input is not text the reader can handle (binary garbage, an over-long line).
+    Input,
+    /// A suspicious but executable value.
+    Suspicious,
+    /// A machine limit would be exceeded.
+    MachineLimit,
+}
+
+impl Code {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Code::Syntax => "E001",
+            Code::BadNumber => "E002",
+            Code::MissingWord => "E003",
+            Code::OutOfRange => "E004",
+            Code::Conflict => "E005",
+            Code::UnknownPosition => "E006",
+            Code::Geometry => "E007",
+            Code::TooManyPasses => "E008",
+            Code::Unsupported => "E009",
+            Code::Input => "E010",
+            Code::Suspicious => "W001",
+            Code::MachineLimit => "W002",
+        }
+    }
+}
+
+impl fmt::Display for Code {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Diagnostic {
+    pub code: Code,
+    pub severity: Severity,
+    #[serde(skip)]
+    pub span: Span,
+    pub message: String,
+    pub hint: Option<String>,
+}
+
+impl Diagnostic {
+    pub fn error(code: Code, span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            code,
+            severity: Severity::Error,
+            span,
+            message: message.into(),
+            hint: None,
+        }
+    }
+
+    pub fn warning(code: Code, span: Span, message: impl Into<String>) -> Diagnostic {
+        Diagnostic {
+            code,
+            severity: Severity::Warning,
+            span,
+            message: message.into(),
+            hint: None,
+        }
+    }
+
+    pub fn with_hint(mut self, hint: impl Into<String>) -> Diagnostic {
+        self.hint = Some(hint.into());
+        self
+    }
+
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let kind = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        write!(
+            f,
+            "{}:{}: {kind}[{}]: {}",
+            self.span.line, self.span.column, self.code, self.message
+        )?;
+        if let Some(hint) = &self.hint {
+            write!(f, " (hint: {hint})")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for Diagnostic {}
+
+pub type Result<T> = std::result::Result<T, Diagnostic>;

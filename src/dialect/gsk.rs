@@ -1,0 +1,647 @@
+//! GSK 980TDi-class lathe controls: the enhanced multiple thread-cutting cycle G78 (seed 001; the
+//! English text is `shared/reference/gsk-g78-english.md`, whose section numbers are cited below).
+//!
+//! ```text
+//! G78 P(m)(r)(a) Q(Δdmin) R(d) D_ L_ E_ ;            first block: settings, no motion
+//! G78 X(U) Z(W) R(i) P(k) Q(Δd) J_ K_ F(I) ;          second block: the cycle
+//! ```
+//! Every decision on an ambiguity of the seed is a row of `docs/dialects/gsk-g78.md`.
+
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::{Conventions, Line, Modal, Word};
+use crate::machine::{GskParameters, IncrementSystem, Machine};
+use crate::post::Format;
+use crate::thread::{
+    tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
+    Retract, Side,
+};
+use crate::units::{Pos, Units};
+
+use super::{Dialect, Read};
+
+const G78: u16 = 780;
+
+/// Values of the first block, in force for every later second block until the next first block
+/// (as on Fanuc's G76, whose first block rewrites the parameters).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Settings {
+    finish_passes: u32,
+    infeed_mode: u8,
+    tool_angle: f64,
+    min_cut_mm: f64,
+    finish_allowance_mm: f64,
+    depth_mode: u8,
+    starts: u32,
+    lead_in_mm: f64,
+}
+
+impl Settings {
+    /// Parameters 5140–5145 stand in for the first block's missing words (§3).
+    fn from_parameters(p: &GskParameters) -> Settings {
+        Settings {
+            finish_passes: u32::from(p.p5142),
+            infeed_mode: p.p5144,
+            tool_angle: f64::from(p.p5143),
+            min_cut_mm: p.p5140,
+            finish_allowance_mm: p.p5141,
+            depth_mode: p.p5145,
+            starts: 1,
+            lead_in_mm: 0.0,
+        }
+    }
+}
+
+pub struct Gsk {
+    conv: Conventions,
+    machine: Machine,
+    params: GskParameters,
+    settings: Settings,
+    /// J and K are modal (§3): the last values written, in mm.
+    tail_j: Option<f64>,
+    tail_k: Option<f64>,
+}
+
+/// The built-in parameter values when a profile has no `[gsk]` table.
+pub fn default_parameters() -> GskParameters {
+    Machine::built_in("gsk980")
+        .and_then(|m| m.gsk)
+        .expect("the gsk980 profile has a [gsk] table")
+}
+
+impl Gsk {
+    pub fn new(machine: &Machine) -> Gsk {
+        let params = machine.gsk.clone().unwrap_or_else(default_parameters);
+        Gsk {
+            conv: Conventions {
+                uw_incremental: true,
+                g90_g91_distance: false,
+                diameter_x: machine.diameter_x,
+                thread_move: 320,
+                tpi_letter: b'I',
+                set_position: 500,
+                canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
+            },
+            machine: machine.clone(),
+            settings: Settings::from_parameters(&params),
+            params,
+            tail_j: None,
+            tail_k: None,
+        }
+    }
+
+    /// The seed's address table (§4): the allowed range of a word in the active units.
+    fn range(&self, class: RangeClass, units: Units) -> (f64, f64) {
+        let isc = self.machine.increment_system == IncrementSystem::Isc;
+        let inch = units == Units::Inch;
+        let max = match (isc, inch) {
+            (false, false) => 999_999.999,
+            (false, true) => 99_999.9999,
+            (true, false) => 99_999.9999,
+            (true, true) => 9_999.999_99,
+        };
+        match class {
+            RangeClass::Length => (0.0, max),
+            RangeClass::Positive => (self.machine.resolution(units), max),
+            RangeClass::Signed => (-max, max),
+            RangeClass::Lead if inch => (0.00001, 9.99),
+            RangeClass::Lead => (0.0001, 9999.0),
+            RangeClass::Tpi if inch => (0.0001, 100.0),
+            RangeClass::Tpi => (0.0001, 254.0),
+        }
+    }
+
+    /// A word's value in program units, checked against its range.
+    fn checked(&self, modal: &Modal, w: &Word, name: &str, class: RangeClass) -> Result<f64> {
+        let v = modal.value(w);
+        let (lo, hi) = self.range(class, modal.units);
+        if v < lo || v > hi {
+            return Err(out_of_range(
+                w.span,
+                name,
+                v,
+                lo,
+                hi,
+                modal.units,
+                self.machine.increment_system,
+            ));
+        }
+        Ok(v)
+    }
+
+    fn read_first(&mut self, line: &Line, modal: &Modal) -> Result<()> {
+        only_words(
+            line,
+            b"GNPQRDLE",
+            "the first G78 block",
+            "P(m)(r)(a) Q(Δdmin) R(d) D L E",
+        )?;
+        let mut s = Settings::from_parameters(&self.params);
+        if let Some(p) = line.word(b'P') {
+            let (m, r, a) = unpack_p(line, p)?;
+            s.finish_passes = m;
+            s.infeed_mode = r;
+            s.tool_angle = f64::from(a);
+        }
+        if let Some(q) = line.word(b'Q') {
+            s.min_cut_mm =
+                modal
+                    .units
+                    .to_mm(self.checked(modal, q, "Q(Δdmin)", RangeClass::Length)?);
+        }
+        if let Some(r) = line.word(b'R') {
+            s.finish_allowance_mm =
+                modal
+                    .units
+                    .to_mm(self.checked(modal, r, "R(d)", RangeClass::Length)?);
+        }
+        if let Some(d) = line.word(b'D') {
+            s.depth_mode = small_integer(d, "D (depth mode)", 0, 1)? as u8;
+        }
+        if let Some(l) = line.word(b'L') {
+            s.starts = small_integer(l, "L (number of starts)", 1, 99)?;
+        }
+        if let Some(e) = line.word(b'E') {
+            s.lead_in_mm =
+                modal
+                    .units
+                    .to_mm(self.checked(modal, e, "E (lead-in)", RangeClass::Length)?);
+        }
+        self.settings = s;
+        Ok(())
+    }
+
+    fn read_second(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        g78: Span,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Job> {
+        only_words(
+            line,
+            b"GNXZUWRPQJKFI",
+            "the second G78 block",
+            "X(U) Z(W) R(i) P(k) Q(Δd) J K F(I)",
+        )?;
+        let units = modal.units;
+        let mm = |v: f64| units.to_mm(v);
+        let taper = match line.word(b'R') {
+            Some(r) => mm(self.checked(modal, r, "R(i)", RangeClass::Signed)?),
+            None => 0.0,
+        };
+        let height = match line.word(b'P') {
+            Some(p) => mm(self.checked(modal, p, "P(k)", RangeClass::Positive)?),
+            None => {
+                return Err(alarm_missing(
+                    g78,
+                    "P(k)",
+                    "the thread height (total depth of cut, radius)",
+                ))
+            }
+        };
+        let first = match line.word(b'Q') {
+            Some(q) => mm(self.checked(modal, q, "Q(Δd)", RangeClass::Positive)?),
+            None => {
+                return Err(alarm_missing(
+                    g78,
+                    "Q(Δd)",
+                    "the depth of the first cut (radius)",
+                ))
+            }
+        };
+        let j = line
+            .word(b'J')
+            .map(|w| self.checked(modal, w, "J (tail-out, short axis)", RangeClass::Length))
+            .transpose()?;
+        let k = line
+            .word(b'K')
+            .map(|w| self.checked(modal, w, "K (tail-out, long axis)", RangeClass::Length))
+            .transpose()?;
+        if let Some(f) = line.word(b'F') {
+            self.checked(modal, f, "F (lead)", RangeClass::Lead)?;
+        }
+        if let Some(i) = line.word(b'I') {
+            self.checked(modal, i, "I (threads per inch)", RangeClass::Tpi)?;
+        }
+        modal.read_lead(&self.conv, line)?;
+        if let Some(f) = line.word(b'F') {
+            modal.f_word = Some(modal.value(f));
+        }
+        let lead = modal.lead.ok_or_else(|| {
+            Diagnostic::error(
+                Code::MissingWord,
+                g78,
+                "G78 has no lead: F (lead) or I (threads per inch) is missing",
+            )
+            .with_hint("F and I are modal: write one on this block or on an earlier thread block")
+        })?;
+        if line.word(b'X').or(line.word(b'U')).is_none()
+            || line.word(b'Z').or(line.word(b'W')).is_none()
+        {
+            return Err(Diagnostic::error(
+                Code::MissingWord,
+                g78,
+                "G78 needs the thread end point: X (or U) and Z (or W)",
+            ));
+        }
+        let a = modal.position.ok_or_else(|| {
+            Diagnostic::error(
+                Code::UnknownPosition,
+                g78,
+                "G78 starts where the tool is, and the tool's position is not known here",
+            )
+            .with_hint("position the tool with G00 X.. Z.. before the cycle (its start point A)")
+        })?;
+        let end = modal.target(&self.conv, line, a)?;
+        // §12: J and K are modal; the tail-out falls back to parameters 5130/5131 when neither was given.
+        if j.is_some() || k.is_some() {
+            self.tail_j = j.map(mm).or(self.tail_j);
+            self.tail_k = k.map(mm).or(self.tail_k);
+        }
+        let s = self.settings;
+        lower(
+            &LoweringInput {
+                span: g78,
+                line: line.number,
+                units,
+                a,
+                end,
+                taper,
+                height,
+                first,
+                lead,
+                settings: s,
+                tail: self.tail(lead),
+                x_word: |x| modal.x_from_mm(x),
+            },
+            warnings,
+        )
+    }
+
+    /// The tail-out (J, K) in mm, following the 980TDi rules for omitted words: K alone means J = K,
+    /// J alone means K = J, J = 0 means none; neither ever written: parameter 5130 (amount in 0.1
+    /// lead) at the angle of parameter 5131 (0 = 45°).
+    fn tail(&self, lead: f64) -> Option<(f64, f64)> {
+        let (j, k) = match (self.tail_j, self.tail_k) {
+            (None, None) => {
+                let k = f64::from(self.params.p5130) * 0.1 * lead;
+                let angle = if self.params.p5131 == 0 {
+                    45.0
+                } else {
+                    f64::from(self.params.p5131)
+                };
+                (k * tan_deg(angle), k)
+            }
+            (Some(j), None) => (j, j),
+            (None, Some(k)) => (k, k),
+            (Some(j), Some(k)) if k == 0.0 => (j, j),
+            (Some(j), Some(k)) => (j, k),
+        };
+        (j > 0.0 && k > 0.0).then_some((j, k))
+    }
+}
+
+#[derive(Clone, Copy)]
+enum RangeClass {
+    /// 0 ~ max: Q(Δdmin), R(d), E, J, K.
+    Length,
+    /// least increment ~ max: P(k), Q(Δd).
+    Positive,
+    /// ±max: R(i).
+    Signed,
+    Lead,
+    Tpi,
+}
+
+struct LoweringInput<F: Fn(f64) -> f64> {
+    span: Span,
+    line: u32,
+    units: Units,
+    a: Pos,
+    end: Pos,
+    taper: f64,
+    height: f64,
+    first: f64,
+    lead: f64,
+    settings: Settings,
+    tail: Option<(f64, f64)>,
+    /// How the program writes an X radius, for messages.
+    x_word: F,
+}
+
+/// Lowers a validated G78 into the shared model: points A, B, C, D of §12 and the formulas of §7–§8.
+fn lower<F: Fn(f64) -> f64>(
+    input: &LoweringInput<F>,
+    warnings: &mut Vec<Diagnostic>,
+) -> Result<Job> {
+    let i = input;
+    let s = i.settings;
+    let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, i.span, msg);
+    // C: the thread start on the root line, i (radius) from D's X, at A's Z (§12).
+    let c = Pos::new(i.end.x + i.taper, i.a.z);
+    let travel_z = i.end.z - i.a.z;
+    if travel_z == 0.0 {
+        return Err(geometry_error(
+            "the thread end Z equals the start point's Z: the thread has no length".into(),
+        ));
+    }
+    if i.taper.abs() > travel_z.abs() {
+        return Err(geometry_error(format!(
+            "the taper R(i) changes X by more than the thread's Z length ({} > {} mm, radius): G78 cuts along Z and cannot cut a face-like thread",
+            i.taper.abs(),
+            travel_z.abs()
+        ))
+        .with_hint("G78 cannot machine face threads (§1)"));
+    }
+    // The infeed direction follows from the start point (§8): above C an external thread, cut toward
+    // −X ("negative-direction infeed"); below C an internal one.
+    let side = if i.a.x > c.x {
+        Side::External
+    } else if i.a.x < c.x {
+        Side::Internal
+    } else {
+        return Err(geometry_error(
+            "the start point's X equals the thread's start on the root line: cannot tell an external from an internal thread".into(),
+        ));
+    };
+    let crest_start = c.plus(side.outward().scale(i.height));
+    let beyond_crest = (i.a.x - crest_start.x) * side.outward().x;
+    if beyond_crest < 0.0 {
+        return Err(geometry_error(format!(
+            "the start point X{} lies inside the thread (the crest is at X{}): the return along Z between passes would cut through it",
+            crate::post::number((i.x_word)(i.a.x), 4, false),
+            crate::post::number((i.x_word)(crest_start.x), 4, false)
+        ))
+        .with_hint("start the cycle from a point clear of the crest"));
+    }
+    let crest_end = Pos::new(crest_start.x - i.taper, i.end.z);
+    if s.finish_allowance_mm >= i.height {
+        return Err(geometry_error(format!(
+            "the finishing allowance R(d) {} is not smaller than the thread height P(k) {}",
+            i.units.from_mm(s.finish_allowance_mm),
+            i.units.from_mm(i.height)
+        )));
+    }
+    let exit = match i.tail {
+        None => Exit::Straight,
+        Some((j, k)) => {
+            if k >= travel_z.abs() {
+                return Err(geometry_error(format!(
+                    "the tail-out K {} is not shorter than the thread ({} along Z)",
+                    i.units.from_mm(k),
+                    i.units.from_mm(travel_z.abs())
+                )));
+            }
+            Exit::PullOut {
+                start_before: k,
+                length: k,
+                outward: j,
+            }
+        }
+    };
+    if i.lead > travel_z.abs() {
+        warnings.push(
+            Diagnostic::warning(
+                Code::Suspicious,
+                i.span,
+                format!(
+                    "the lead {} is longer than the thread ({} along Z): each pass turns the spindle less than once",
+                    i.units.from_mm(i.lead),
+                    i.units.from_mm(travel_z.abs())
+                ),
+            )
+            .with_hint("check F: a lead written without its decimal point?"),
+        );
+    }
+    let half = s.tool_angle / 2.0;
+    let infeed = match s.infeed_mode {
+        0 => Infeed::Radial,
+        1 => Infeed::Flank {
+            flank: Flank::Left,
+            angle_deg: half,
+        },
+        2 => Infeed::Flank {
+            flank: Flank::Right,
+            angle_deg: half,
+        },
+        3 => Infeed::Alternating {
+            first: Flank::Right,
+            second: Flank::Centre,
+            angle_deg: half,
+        },
+        _ => Infeed::Alternating {
+            first: Flank::Left,
+            second: Flank::Right,
+            angle_deg: half,
+        },
+    };
+    let law = if s.depth_mode == 0 {
+        DepthLaw::Power {
+            first: i.first,
+            degression: 1.0,
+            min_step: 0.0,
+        }
+    } else {
+        DepthLaw::Power {
+            first: i.first,
+            degression: 2.0,
+            min_step: s.min_cut_mm,
+        }
+    };
+    Ok(Job {
+        line: i.line,
+        span: i.span,
+        controller: "gsk980",
+        units: i.units,
+        start: i.a,
+        geometry: Geometry {
+            crest_start,
+            crest_end,
+            depth: i.height,
+            side,
+        },
+        lead: Lead {
+            starts: s.starts,
+            ..Lead::constant(i.lead)
+        },
+        plan: PassPlan {
+            law,
+            finish_allowance: s.finish_allowance_mm,
+            finish_passes: s.finish_passes,
+        },
+        infeed,
+        finish_at: FinishPosition::LastRough,
+        tool_angle_deg: s.tool_angle,
+        entry: if s.lead_in_mm > 0.0 {
+            Entry::Ramp {
+                outward: s.lead_in_mm,
+                before: 0.0,
+            }
+        } else {
+            Entry::Direct
+        },
+        exit,
+        retract: Retract { x: i.a.x, z: i.a.z },
+    })
+}
+
+impl Dialect for Gsk {
+    fn name(&self) -> &'static str {
+        "gsk980"
+    }
+
+    fn conventions(&self) -> &Conventions {
+        &self.conv
+    }
+
+    fn read(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read> {
+        let Some(g78) = line
+            .words
+            .iter()
+            .find(|w| w.letter == b'G' && crate::gcode::reader::g_code(w.value) == Some(G78))
+        else {
+            return Ok(Read::Plain);
+        };
+        if let Some(other) = line
+            .words
+            .iter()
+            .find(|w| w.letter == b'G' && w.span != g78.span)
+        {
+            return Err(Diagnostic::error(
+                Code::Conflict,
+                other.span,
+                format!("G{} shares a block with G78", other.value),
+            )
+            .with_hint("write G78 in a block of its own"));
+        }
+        let second = line
+            .words
+            .iter()
+            .any(|w| matches!(w.letter, b'X' | b'Z' | b'U' | b'W'));
+        if second {
+            let job = self.read_second(line, modal, g78.span, warnings)?;
+            Ok(Read::Cycle(Box::new(job)))
+        } else {
+            self.read_first(line, modal)?;
+            Ok(Read::Settings)
+        }
+    }
+
+    fn format(&self) -> Format {
+        Format::lathe(&self.machine, "G32", 'F')
+    }
+}
+
+/// P(m)(r)(a): three two-digit fields (§2, the example's `P020545`). Leading zeros may be omitted.
+fn unpack_p(line: &Line, p: &Word) -> Result<(u32, u8, u8)> {
+    let raw = p.raw(line.text);
+    let digits = raw.strip_prefix(b"+").unwrap_or(raw);
+    if p.has_dot || digits.first() == Some(&b'-') || digits.len() > 6 {
+        return Err(Diagnostic::error(
+            Code::Syntax,
+            p.span,
+            format!(
+                "P{} is not P(m)(r)(a): the first G78 block packs three two-digit fields",
+                crate::gcode::lexer::show(raw)
+            ),
+        )
+        .with_hint("write six digits without a decimal point: P020060 is 2 finishing passes, infeed mode 0, a 60° tool"));
+    }
+    let v = p.value as u32;
+    let (m, r, a) = (v / 10_000, (v / 100) % 100, v % 100);
+    // Point at the offending pair when it is written out.
+    let pair_span = |pair: usize| {
+        let missing = 6 - digits.len();
+        let lead = raw.len() - digits.len();
+        match (pair * 2).checked_sub(missing) {
+            Some(at) => Span::new(
+                p.span.start + 1 + (lead + at) as u64,
+                2.min(digits.len() - at) as u32,
+                p.span.line,
+                p.span.column + 1 + (lead + at) as u32,
+            ),
+            None => p.span,
+        }
+    };
+    if !(1..=99).contains(&m) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            pair_span(0),
+            format!("P(m)={m:02}: the number of finishing passes must be 01 to 99"),
+        ));
+    }
+    if r > 4 {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            pair_span(1),
+            format!("P(r)={r:02}: the infeed mode must be 0 to 4 (0 centre line, 1 left flank, 2 right flank, 3 right/centre, 4 left/right)"),
+        )
+        .with_hint("the seed's own example writes P020545; threadcut refuses r = 05 rather than guess (docs/dialects/gsk-g78.md)"));
+    }
+    Ok((m, r as u8, a as u8))
+}
+
+fn small_integer(w: &Word, name: &str, lo: u32, hi: u32) -> Result<u32> {
+    if w.value.fract() != 0.0 || w.value < f64::from(lo) || w.value > f64::from(hi) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            w.span,
+            format!(
+                "{name}={} is out of range: allowed {lo} to {hi}, a whole number",
+                w.value
+            ),
+        ));
+    }
+    Ok(w.value as u32)
+}
+
+fn only_words(line: &Line, allowed: &[u8], block: &str, format: &str) -> Result<()> {
+    match line.words.iter().find(|w| !allowed.contains(&w.letter)) {
+        Some(w) => Err(Diagnostic::error(
+            Code::Unsupported,
+            w.span,
+            format!("{} is not a word of {block}", w.letter as char),
+        )
+        .with_hint(format!("its words are {format}"))),
+        None => Ok(()),
+    }
+}
+
+fn alarm_missing(span: Span, word: &str, what: &str) -> Diagnostic {
+    Diagnostic::error(
+        Code::MissingWord,
+        span,
+        format!("G78 alarm: {word} is missing; it gives {what}"),
+    )
+    .with_hint(format!(
+        "{word} has no default: the controller raises an alarm without it (§3)"
+    ))
+}
+
+fn out_of_range(
+    span: Span,
+    name: &str,
+    v: f64,
+    lo: f64,
+    hi: f64,
+    units: Units,
+    system: IncrementSystem,
+) -> Diagnostic {
+    let system = match system {
+        IncrementSystem::Isb => "ISB",
+        IncrementSystem::Isc => "ISC",
+    };
+    Diagnostic::error(
+        Code::OutOfRange,
+        span,
+        format!(
+            "{name}={v} is out of range: G78 allows {lo} to {hi} ({system}, {})",
+            units.name()
+        ),
+    )
+}

@@ -1,0 +1,46 @@
+//! One module per controller. Each knows only its own words: it reads its cycles, raises its own
+//! alarms, lowers them into the shared [`Job`](crate::thread::Job), and says how its plain moves are
+//! written. Everything two controllers share lives in [`thread`](crate::thread).
+
+pub mod gsk;
+
+use crate::diag::{Diagnostic, Result};
+use crate::gcode::{Conventions, Line, Modal};
+use crate::machine::Machine;
+use crate::post::Format;
+use crate::thread::Job;
+
+/// What a line turned out to be.
+pub enum Read {
+    /// Not a threading cycle: the shared modal reader handles it and it passes through unchanged.
+    Plain,
+    /// Part of a cycle that produces no motion yet (GSK's first G78 block).
+    Settings,
+    /// A complete cycle.
+    Cycle(Box<Job>),
+}
+
+pub trait Dialect {
+    fn name(&self) -> &'static str;
+    fn conventions(&self) -> &Conventions;
+    /// Offers a line to the dialect. Warnings go to `warnings`; alarms are errors.
+    fn read(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read>;
+    /// How plain moves are written for this controller.
+    fn format(&self) -> Format;
+}
+
+/// The dialect a machine profile names.
+pub fn open(machine: &Machine) -> std::result::Result<Box<dyn Dialect>, String> {
+    match machine.dialect.as_str() {
+        "gsk" => Ok(Box::new(gsk::Gsk::new(machine))),
+        other => Err(format!(
+            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk)",
+            machine.name
+        )),
+    }
+}

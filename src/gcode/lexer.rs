@@ -1,0 +1,358 @@
+//! A byte-level lexer for one line of G-code.
+//!
+//! It represents what was written, not what the machine will do: letters, numbers (exact `f64` plus the
+//! raw lexeme, so digit-packed words like GSK's `P020545` and the "no decimal point" conventions can be
+//! decoded by the dialect), comments, `N` numbers, `/` block delete and `%`. A hand-written lexer is
+//! the fastest choice measured on this machine kind (see `docs/performance.md`) and keeps spans exact.
+
+use crate::diag::{Code, Diagnostic, Span};
+
+/// One address word, such as `X-12.5`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Word {
+    /// The address letter, upper case.
+    pub letter: u8,
+    /// The value, parsed exactly (correctly rounded).
+    pub value: f64,
+    /// Whether the number was written with a decimal point.
+    pub has_dot: bool,
+    /// Byte offset of the number's lexeme within the line (after the letter).
+    pub raw_start: u32,
+    /// Length of the number's lexeme in bytes.
+    pub raw_len: u32,
+    /// The whole word (letter and number).
+    pub span: Span,
+}
+
+impl Word {
+    /// The number exactly as written, e.g. `020545` for `P020545`.
+    pub fn raw<'a>(&self, line: &'a [u8]) -> &'a [u8] {
+        &line[self.raw_start as usize..(self.raw_start + self.raw_len) as usize]
+    }
+}
+
+/// What a line holds besides its words.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LineShape {
+    /// A leading `/`: the block is skipped when block delete is switched on.
+    pub block_delete: bool,
+    /// The line is a `%` program delimiter.
+    pub percent: bool,
+}
+
+/// Lexes one line (without its line terminator) into `words`, which is cleared first and reused so
+/// that streaming a file allocates nothing per block.
+///
+/// `offset` is the byte offset of the line in the whole input and `line_no` its 1-based number.
+pub fn lex_line(
+    line: &[u8],
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+) -> Result<LineShape, Diagnostic> {
+    words.clear();
+    let mut shape = LineShape::default();
+    let span_at = |i: usize, len: usize| {
+        Span::new(
+            offset + i as u64,
+            len.min(u32::MAX as usize) as u32,
+            line_no,
+            i as u32 + 1,
+        )
+    };
+    let mut i = 0;
+    let n = line.len();
+    while i < n {
+        let c = line[i];
+        match c {
+            b' ' | b'\t' | b'\r' | 0x0c => i += 1,
+            b';' => break,
+            b'(' => match memchr::memchr(b')', &line[i + 1..]) {
+                Some(close) => i += close + 2,
+                None => {
+                    return Err(Diagnostic::error(
+                        Code::Syntax,
+                        span_at(i, n - i),
+                        "comment is not closed",
+                    )
+                    .with_hint("close the comment with `)` on the same line"));
+                }
+            },
+            b'%' if words.is_empty() => {
+                shape.percent = true;
+                i += 1;
+            }
+            b'/' if words.is_empty() && !shape.block_delete => {
+                shape.block_delete = true;
+                i += 1;
+            }
+            b'a'..=b'z' | b'A'..=b'Z' => {
+                let letter = c.to_ascii_uppercase();
+                let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
+                    Diagnostic::error(
+                        Code::Syntax,
+                        span_at(at, len),
+                        format!(
+                            "malformed word `{}`: {what}",
+                            show(&line[i..(at + len).max(i + 1)])
+                        ),
+                    )
+                    .with_hint("a word is one letter followed by a number, such as `X-12.5`")
+                })?;
+                let word_span = span_at(i, number.end - i);
+                if !number.value.is_finite() {
+                    return Err(Diagnostic::error(
+                        Code::BadNumber,
+                        word_span,
+                        format!(
+                            "the value of `{}` is too large to be a coordinate",
+                            show(&line[i..number.end.min(i + 24)])
+                        ),
+                    ));
+                }
+                words.push(Word {
+                    letter,
+                    value: number.value,
+                    has_dot: number.has_dot,
+                    raw_start: number.start as u32,
+                    raw_len: (number.end - number.start) as u32,
+                    span: word_span,
+                });
+                i = number.end;
+            }
+            b'#' | b'[' | b'=' => {
+                return Err(Diagnostic::error(
+                    Code::Unsupported,
+                    span_at(i, 1),
+                    format!(
+                        "`{}`: macro variables and expressions are not supported",
+                        c as char
+                    ),
+                )
+                .with_hint("expand the macro on the controller, or write plain values"));
+            }
+            _ => {
+                let len = utf8_len(&line[i..]);
+                return Err(Diagnostic::error(
+                    Code::Syntax,
+                    span_at(i, len),
+                    format!("unexpected character `{}`", show(&line[i..i + len])),
+                )
+                .with_hint("expected an address letter, a comment or the end of the line"));
+            }
+        }
+    }
+    Ok(shape)
+}
+
+/// Lexes `[+-]digits[.digits]` starting at `at` (just after the letter).
+struct Number {
+    value: f64,
+    has_dot: bool,
+    /// Where the lexeme starts (after any blanks between letter and number).
+    start: usize,
+    /// One past its last byte.
+    end: usize,
+}
+
+/// Returns the number, or the offending position, length and what was wrong.
+fn lex_number(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static str)> {
+    let n = line.len();
+    let mut i = at;
+    // Blanks between a letter and its number are legal in RS274 (`X 10`).
+    while i < n && (line[i] == b' ' || line[i] == b'\t') {
+        i += 1;
+    }
+    let start = i;
+    let negative = match line.get(i) {
+        Some(b'-') => {
+            i += 1;
+            true
+        }
+        Some(b'+') => {
+            i += 1;
+            false
+        }
+        _ => false,
+    };
+    let mut mantissa: u64 = 0;
+    let mut digits = 0u32;
+    let mut significant = 0u32;
+    let mut frac_digits = 0u32;
+    let mut has_dot = false;
+    while i < n {
+        match line[i] {
+            d @ b'0'..=b'9' => {
+                digits += 1;
+                if has_dot {
+                    frac_digits += 1;
+                }
+                // Leading zeros carry no significance; past 19 digits the slow path takes over.
+                if (mantissa != 0 || d != b'0') && significant < 20 {
+                    mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d - b'0'));
+                    significant += 1;
+                }
+                i += 1;
+            }
+            b'.' if !has_dot => {
+                has_dot = true;
+                i += 1;
+            }
+            b'.' => return Err((i, 1, "a second decimal point")),
+            _ => break,
+        }
+    }
+    if digits == 0 {
+        return match line.get(i) {
+            Some(b'-') | Some(b'+') => Err((i, 1, "a second sign")),
+            Some(_) => Err((i, 1, "a number was expected after the letter")),
+            None => Err((at - 1, 1, "a number was expected after the letter")),
+        };
+    }
+    let value = if significant <= 15 && frac_digits <= 22 {
+        // Clinger's fast path: both operands are exact doubles, so one division rounds correctly.
+        let v = mantissa as f64 / POW10[frac_digits as usize];
+        if negative {
+            -v
+        } else {
+            v
+        }
+    } else {
+        // Rare: more than 15 significant digits. The standard library parses correctly rounded.
+        std::str::from_utf8(&line[start..i])
+            .ok()
+            .and_then(|t| t.parse::<f64>().ok())
+            .unwrap_or(f64::INFINITY)
+    };
+    Ok(Number {
+        value,
+        has_dot,
+        start,
+        end: i,
+    })
+}
+
+const POW10: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// Length of the (possibly invalid) UTF-8 character at the start of `bytes`, so a caret covers it whole.
+fn utf8_len(bytes: &[u8]) -> usize {
+    let want = match bytes[0] {
+        0xc0..=0xdf => 2,
+        0xe0..=0xef => 3,
+        0xf0..=0xf7 => 4,
+        _ => 1,
+    };
+    let mut len = 1;
+    while len < want && len < bytes.len() && (bytes[len] & 0xc0) == 0x80 {
+        len += 1;
+    }
+    len
+}
+
+/// Bytes shown in a message: UTF-8 where valid, escapes elsewhere.
+pub fn show(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes)
+        .chars()
+        .flat_map(|c| {
+            if c.is_control() {
+                c.escape_default().collect::<Vec<_>>()
+            } else {
+                vec![c]
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn lex(s: &str) -> Result<Vec<(char, f64, bool)>, Diagnostic> {
+        let mut words = Vec::new();
+        lex_line(s.as_bytes(), 1, 0, &mut words)?;
+        Ok(words
+            .iter()
+            .map(|w| (w.letter as char, w.value, w.has_dot))
+            .collect())
+    }
+
+    #[test]
+    fn words_values_and_decimal_points() {
+        assert_eq!(
+            lex("N10 G0X-12.5 z.25(comment)F3;rest").unwrap(),
+            vec![
+                ('N', 10.0, false),
+                ('G', 0.0, false),
+                ('X', -12.5, true),
+                ('Z', 0.25, true),
+                ('F', 3.0, false)
+            ]
+        );
+    }
+
+    #[test]
+    fn raw_lexeme_keeps_leading_zeros() {
+        let line = b"G78 P020545 Q0.15";
+        let mut words = Vec::new();
+        lex_line(line, 1, 0, &mut words).unwrap();
+        assert_eq!(words[1].raw(line), b"020545");
+        assert_eq!(words[1].value, 20545.0);
+    }
+
+    #[test]
+    fn values_are_correctly_rounded() {
+        for text in [
+            "0.1",
+            "123.4567",
+            "-0.000001",
+            "99999.99999",
+            "1234567.123456789",
+        ] {
+            let v = lex(&format!("X{text}")).unwrap()[0].1;
+            assert_eq!(v, text.parse::<f64>().unwrap(), "{text}");
+        }
+    }
+
+    #[test]
+    fn spans_point_at_the_word() {
+        let mut words = Vec::new();
+        lex_line(b"  G32 X10", 7, 100, &mut words).unwrap();
+        assert_eq!(words[1].span, Span::new(106, 3, 7, 7));
+    }
+
+    #[test]
+    fn malformed_numbers_are_errors_with_columns() {
+        let e = lex("G0 X1.2.3").unwrap_err();
+        assert_eq!((e.code, e.span.column), (Code::Syntax, 8));
+        let e = lex("G0 X--1").unwrap_err();
+        assert_eq!(e.code, Code::Syntax);
+        assert!(e.message.contains("second sign"), "{}", e.message);
+        let e = lex("G0 X").unwrap_err();
+        assert!(e.message.contains("number was expected"), "{}", e.message);
+        let e = lex("G0 X1 (open").unwrap_err();
+        assert_eq!(e.span.column, 7);
+        let e = lex(&format!("X1{}", "0".repeat(400))).unwrap_err();
+        assert_eq!(e.code, Code::BadNumber);
+    }
+
+    #[test]
+    fn block_delete_and_percent() {
+        let mut words = Vec::new();
+        let shape = lex_line(b"/N5 G0 X1", 1, 0, &mut words).unwrap();
+        assert!(shape.block_delete);
+        let shape = lex_line(b"%", 1, 0, &mut words).unwrap();
+        assert!(shape.percent);
+    }
+
+    #[test]
+    fn garbage_is_an_error_not_a_panic() {
+        let mut words = Vec::new();
+        let e = lex_line(&[b'G', b'0', 0xff, 0xfe], 3, 0, &mut words).unwrap_err();
+        assert_eq!((e.span.line, e.span.column), (3, 3));
+        let e = lex_line("X1 é".as_bytes(), 1, 0, &mut words).unwrap_err();
+        assert!(e.message.contains('é'));
+    }
+}

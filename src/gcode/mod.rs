@@ -1,0 +1,10 @@
+//! G-code as written: a streaming line reader, the lexer, and the modal state shared by the lathe
+//! dialects. This module knows no controller; each dialect tells it its conventions.
+
+pub mod lexer;
+pub mod modal;
+pub mod reader;
+
+pub use lexer::{lex_line, LineShape, Word};
+pub use modal::{Conventions, Modal, MotionMode, PlainMove};
+pub use reader::{Line, Reader};

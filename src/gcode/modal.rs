@@ -1,0 +1,341 @@
+//! Modal state of a lathe program and the plain moves (G0/G1/G2/G3/thread) between cycles.
+//!
+//! Each dialect states its conventions (which G code threads, whether U/W are incremental words,
+//! whether G90/G91 select the distance mode); the bookkeeping itself is shared.
+
+use super::lexer::Word;
+use super::reader::{g_code, Line};
+use crate::diag::{Code, Diagnostic, Result};
+use crate::units::{lead_from_tpi, Pos, Units};
+
+/// What a dialect's plain blocks mean. Codes are G numbers ×10.
+#[derive(Clone, Debug)]
+pub struct Conventions {
+    /// `U`/`W` are incremental X/Z (Fanuc system A, GSK).
+    pub uw_incremental: bool,
+    /// `G90`/`G91` select absolute/incremental distance (false where G90 is a turning cycle).
+    pub g90_g91_distance: bool,
+    /// X words are diameters.
+    pub diameter_x: bool,
+    /// The single-pass synchronised move (`G32` on Fanuc/GSK, `G33` on LinuxCNC).
+    pub thread_move: u16,
+    /// The word that carries threads per inch on the thread move (GSK/Fanuc: `I`; none: 0).
+    pub tpi_letter: u8,
+    /// Sets the current position without motion (`G50` on GSK/Fanuc A, `G92` elsewhere; 0: none).
+    pub set_position: u16,
+    /// G codes that run a canned cycle and leave the tool where it started.
+    pub canned_cycles: &'static [u16],
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotionMode {
+    Rapid,
+    Feed,
+    ArcCw,
+    ArcCcw,
+    Thread,
+    /// A canned cycle is modal: its X/Z words do not move the tool's resting point.
+    Cycle,
+}
+
+/// A plain move decoded from one block, in millimetres and radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlainMove {
+    pub mode: MotionMode,
+    pub from: Pos,
+    pub to: Pos,
+    /// Lead in mm per revolution, for thread moves.
+    pub lead: Option<f64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct Modal {
+    pub units: Units,
+    pub absolute: bool,
+    pub diameter_x: bool,
+    /// Where the tool is, if known: unknown at power-on and after a reference return.
+    pub position: Option<Pos>,
+    pub motion: MotionMode,
+    /// The last thread lead programmed (mm/rev), kept apart from the feed rate on purpose.
+    pub lead: Option<f64>,
+    /// The F register as last written (program units), threads and feeds alike: after an expanded
+    /// cycle the output must leave it as the original program would.
+    pub f_word: Option<f64>,
+    /// What a number without a decimal point is worth in mm and in inch programs.
+    pub no_point: [f64; 2],
+}
+
+impl Modal {
+    /// `no_point`: the worth of a number written without a decimal point, in mm and in inch
+    /// programs (1.0 for "calculator" input, the least increment otherwise).
+    pub fn new(conv: &Conventions, units: Units, no_point: [f64; 2]) -> Modal {
+        Modal {
+            units,
+            absolute: true,
+            diameter_x: conv.diameter_x,
+            position: None,
+            motion: MotionMode::Rapid,
+            lead: None,
+            f_word: None,
+            no_point,
+        }
+    }
+
+    /// A word's value in program units, applying the decimal-point convention.
+    pub fn value(&self, w: &Word) -> f64 {
+        if w.has_dot {
+            w.value
+        } else {
+            w.value
+                * match self.units {
+                    Units::Mm => self.no_point[0],
+                    Units::Inch => self.no_point[1],
+                }
+        }
+    }
+
+    /// A length word in mm.
+    pub fn length_mm(&self, w: &Word) -> f64 {
+        self.units.to_mm(self.value(w))
+    }
+
+    /// An X value as written, in mm radius.
+    pub fn x_to_mm(&self, written: f64) -> f64 {
+        let r = if self.diameter_x {
+            written / 2.0
+        } else {
+            written
+        };
+        self.units.to_mm(r)
+    }
+
+    /// An X value in mm radius, as this program would write it.
+    pub fn x_from_mm(&self, radius_mm: f64) -> f64 {
+        let v = self.units.from_mm(radius_mm);
+        if self.diameter_x {
+            v * 2.0
+        } else {
+            v
+        }
+    }
+
+    /// The end point named by X/U and Z/W words, relative to `from`. Absent words keep `from`.
+    pub fn target(&self, conv: &Conventions, line: &Line, from: Pos) -> Result<Pos> {
+        let mut to = from;
+        for w in line.words {
+            match w.letter {
+                b'X' if self.absolute => to.x = self.x_to_mm(self.value(w)),
+                b'X' => to.x = from.x + self.x_to_mm(self.value(w)),
+                b'Z' if self.absolute => to.z = self.length_mm(w),
+                b'Z' => to.z = from.z + self.length_mm(w),
+                b'U' if conv.uw_incremental => to.x = from.x + self.x_to_mm(self.value(w)),
+                b'W' if conv.uw_incremental => to.z = from.z + self.length_mm(w),
+                _ => {}
+            }
+        }
+        let both = |a: u8, b: u8| line.word(a).is_some() && line.word(b).is_some();
+        if conv.uw_incremental && (both(b'X', b'U') || both(b'Z', b'W')) {
+            let w = line.word(b'U').or(line.word(b'W')).expect("checked");
+            return Err(Diagnostic::error(
+                Code::Conflict,
+                w.span,
+                "X and U (or Z and W) in one block name the same axis twice",
+            ));
+        }
+        Ok(to)
+    }
+
+    /// Applies a block that is not a threading cycle: modal codes, then any motion.
+    pub fn apply(&mut self, conv: &Conventions, line: &Line) -> Result<Option<PlainMove>> {
+        let mut dwell = false;
+        let mut set_position = false;
+        let mut home = false;
+        for w in line.words.iter().filter(|w| w.letter == b'G') {
+            let Some(code) = g_code(w.value) else {
+                return Err(bad_g(w));
+            };
+            match code {
+                0 => self.motion = MotionMode::Rapid,
+                10 => self.motion = MotionMode::Feed,
+                20 => self.motion = MotionMode::ArcCw,
+                30 => self.motion = MotionMode::ArcCcw,
+                40 => dwell = true,
+                200 => self.units = Units::Inch,
+                210 => self.units = Units::Mm,
+                280 | 300 => home = true,
+                900 if conv.g90_g91_distance => self.absolute = true,
+                910 if conv.g90_g91_distance => self.absolute = false,
+                c if c == conv.thread_move => self.motion = MotionMode::Thread,
+                c if c == conv.set_position && c != 0 => set_position = true,
+                c if conv.canned_cycles.contains(&c) => self.motion = MotionMode::Cycle,
+                _ => {}
+            }
+        }
+        if self.motion == MotionMode::Thread {
+            self.read_lead(conv, line)?;
+        }
+        if let Some(f) = line.word(b'F') {
+            self.f_word = Some(self.value(f));
+        }
+        let moves_axes = line.words.iter().any(|w| {
+            matches!(w.letter, b'X' | b'Z')
+                || (conv.uw_incremental && matches!(w.letter, b'U' | b'W'))
+        });
+        if home {
+            // A reference return goes through the named point to a place this reader does not know.
+            self.position = None;
+            return Ok(None);
+        }
+        if dwell || !moves_axes {
+            return Ok(None);
+        }
+        if set_position {
+            let base = self.position.unwrap_or_default();
+            self.position = Some(self.target(conv, line, base)?);
+            return Ok(None);
+        }
+        if self.motion == MotionMode::Cycle {
+            return Ok(None);
+        }
+        let Some(from) = self.position else {
+            // Absolute moves establish the position; an incremental one from nowhere stays unknown.
+            if self.absolute && line.word(b'X').is_some() && line.word(b'Z').is_some() {
+                let to = self.target(conv, line, Pos::default())?;
+                self.position = Some(to);
+            }
+            return Ok(None);
+        };
+        let to = self.target(conv, line, from)?;
+        self.position = Some(to);
+        let lead = if self.motion == MotionMode::Thread {
+            Some(self.lead.ok_or_else(|| {
+                Diagnostic::error(Code::MissingWord, line.span(), "thread move without a lead")
+                    .with_hint("program F (lead) on the first thread move")
+            })?)
+        } else {
+            None
+        };
+        Ok(Some(PlainMove {
+            mode: self.motion,
+            from,
+            to,
+            lead,
+        }))
+    }
+
+    /// Reads F (lead in program units per revolution) or the dialect's TPI word into the modal lead.
+    pub fn read_lead(&mut self, conv: &Conventions, line: &Line) -> Result<()> {
+        let f = line.word(b'F');
+        let tpi = (conv.tpi_letter != 0)
+            .then(|| line.word(conv.tpi_letter))
+            .flatten();
+        match (f, tpi) {
+            (Some(f), Some(i)) => Err(Diagnostic::error(
+                Code::Conflict,
+                i.span,
+                "F (lead) and I (threads per inch) in one block",
+            )
+            .with_hint(format!("keep one of them; F{} was also given", f.value))),
+            (Some(f), None) => {
+                if f.value <= 0.0 {
+                    return Err(Diagnostic::error(
+                        Code::OutOfRange,
+                        f.span,
+                        format!("F{} lead must be positive", f.value),
+                    ));
+                }
+                self.lead = Some(self.length_mm(f));
+                Ok(())
+            }
+            (None, Some(i)) => {
+                if i.value <= 0.0 {
+                    return Err(Diagnostic::error(
+                        Code::OutOfRange,
+                        i.span,
+                        format!("I{} threads per inch must be positive", i.value),
+                    ));
+                }
+                self.lead = Some(lead_from_tpi(i.value));
+                Ok(())
+            }
+            (None, None) => Ok(()),
+        }
+    }
+}
+
+fn bad_g(w: &Word) -> Diagnostic {
+    Diagnostic::error(
+        Code::Syntax,
+        w.span,
+        format!("G{} is not a G code", w.value),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::gcode::Reader;
+
+    fn conv() -> Conventions {
+        Conventions {
+            uw_incremental: true,
+            g90_g91_distance: false,
+            diameter_x: true,
+            thread_move: 320,
+            tpi_letter: b'I',
+            set_position: 500,
+            canned_cycles: &[900, 920, 940, 710, 720, 730, 700, 760, 780],
+        }
+    }
+
+    fn run(src: &str) -> (Modal, Vec<PlainMove>) {
+        let c = conv();
+        let mut m = Modal::new(&c, Units::Mm, [1.0, 1.0]);
+        let mut r = Reader::new(src.as_bytes());
+        let mut moves = vec![];
+        while let Some(l) = r.next_line() {
+            let l = l.unwrap();
+            if let Some(mv) = m.apply(&c, &l).unwrap() {
+                moves.push(mv);
+            }
+        }
+        (m, moves)
+    }
+
+    #[test]
+    fn diameter_x_and_incremental_uw() {
+        let (m, moves) = run("G0 X80 Z10\nG1 U-10 W-5\nG32 Z-20 F2\n");
+        assert_eq!(m.position, Some(Pos::new(35.0, -20.0)));
+        assert_eq!(moves.len(), 2);
+        assert_eq!(moves[0].to, Pos::new(35.0, 5.0));
+        assert_eq!(
+            (moves[1].mode, moves[1].lead),
+            (MotionMode::Thread, Some(2.0))
+        );
+    }
+
+    #[test]
+    fn inch_and_tpi() {
+        let (m, moves) = run("G20\nG0 X2 Z1\nG32 Z0 I8\n");
+        assert_eq!(m.position, Some(Pos::new(25.4, 0.0)));
+        assert_eq!(moves[0].lead, Some(3.175));
+    }
+
+    #[test]
+    fn dwell_cycles_and_home_do_not_move() {
+        let (m, _) = run("G0 X50 Z5\nG04 X2\nG90 X40 Z-20 F0.2\nX38\n");
+        assert_eq!(m.position, Some(Pos::new(25.0, 5.0)));
+        let (m, _) = run("G0 X50 Z5\nG28 U0 W0\n");
+        assert_eq!(m.position, None);
+    }
+
+    #[test]
+    fn x_and_u_together_is_an_error() {
+        let c = conv();
+        let mut m = Modal::new(&c, Units::Mm, [1.0, 1.0]);
+        let mut r = Reader::new(&b"G0 X1 Z1\nG0 X2 U3\n"[..]);
+        m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap();
+        let e = m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap_err();
+        assert_eq!((e.code, e.span.line, e.span.column), (Code::Conflict, 2, 7));
+    }
+}

@@ -1,0 +1,159 @@
+//! Machine profiles are data: TOML files, with built-in defaults per controller. They hold what the
+//! program text does not: X on diameter or radius, the input resolution and decimal-point
+//! convention, controller parameters, machine limits and the output format.
+
+use serde::{Deserialize, Serialize};
+
+use crate::units::Units;
+
+/// Built-in profiles, by name. Each is a TOML file under `profiles/`.
+pub const BUILT_IN: &[(&str, &str)] = &[("gsk980", include_str!("../profiles/gsk980.toml"))];
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IncrementSystem {
+    /// 0.001 mm / 0.0001 inch.
+    Isb,
+    /// 0.0001 mm / 0.00001 inch.
+    Isc,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DecimalPoint {
+    /// `X10` means 10 program units.
+    Calculator,
+    /// `X10` means 10 least input increments (0.010 mm on ISB).
+    LeastIncrement,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CommentStyle {
+    /// `(text)`
+    Paren,
+    /// `; text`
+    Semicolon,
+    /// No comments in the output.
+    None,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputFormat {
+    pub comment: CommentStyle,
+    /// Write `X62.400` rather than `X62.4`.
+    #[serde(default)]
+    pub trailing_zeros: bool,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Limits {
+    /// Largest lead the controller accepts (mm/rev).
+    pub max_lead_mm: Option<f64>,
+    /// Largest synchronised axis feed (mm/min).
+    pub max_feed_mm_per_min: Option<f64>,
+}
+
+/// GSK parameters 5129–5145 as the seed numbers them (§5 of the English text).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GskParameters {
+    pub p5129: u8,
+    pub p5130: u8,
+    pub p5131: u8,
+    pub p5140: f64,
+    pub p5141: f64,
+    pub p5142: u8,
+    pub p5143: u8,
+    pub p5144: u8,
+    pub p5145: u8,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Machine {
+    pub name: String,
+    #[serde(default)]
+    pub description: String,
+    /// Which dialect reads and writes this machine's programs.
+    pub dialect: String,
+    pub diameter_x: bool,
+    /// Units at power-on (G20/G21 change them).
+    pub units: Units,
+    pub increment_system: IncrementSystem,
+    pub decimal_point: DecimalPoint,
+    pub output: OutputFormat,
+    #[serde(default)]
+    pub limits: Limits,
+    pub gsk: Option<GskParameters>,
+}
+
+impl Machine {
+    pub fn built_in(name: &str) -> Option<Machine> {
+        BUILT_IN
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|(_, text)| Machine::from_toml(text).expect("built-in profiles are tested"))
+    }
+
+    pub fn from_toml(text: &str) -> Result<Machine, toml::de::Error> {
+        toml::from_str(text)
+    }
+
+    /// Decimals of the input resolution in `units` (ISB: 3 mm / 4 inch; ISC: one more).
+    pub fn decimals(&self, units: Units) -> u32 {
+        let base = match units {
+            Units::Mm => 3,
+            Units::Inch => 4,
+        };
+        match self.increment_system {
+            IncrementSystem::Isb => base,
+            IncrementSystem::Isc => base + 1,
+        }
+    }
+
+    /// The least input increment in `units`.
+    pub fn resolution(&self, units: Units) -> f64 {
+        10f64.powi(-(self.decimals(units) as i32))
+    }
+
+    /// What a number written without a decimal point is worth, in program units.
+    pub fn no_point_scale(&self, units: Units) -> f64 {
+        match self.decimal_point {
+            DecimalPoint::Calculator => 1.0,
+            DecimalPoint::LeastIncrement => self.resolution(units),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_built_in_profile_parses() {
+        for (name, text) in BUILT_IN {
+            let m = Machine::from_toml(text).unwrap_or_else(|e| panic!("{name}: {e}"));
+            assert_eq!(&m.name, name);
+        }
+    }
+
+    #[test]
+    fn resolution_follows_increment_system() {
+        let mut m = Machine::built_in("gsk980").unwrap();
+        assert_eq!(m.decimals(Units::Mm), 3);
+        assert_eq!(m.decimals(Units::Inch), 4);
+        m.increment_system = IncrementSystem::Isc;
+        assert_eq!(m.resolution(Units::Mm), 1e-4);
+    }
+
+    #[test]
+    fn unknown_keys_are_refused() {
+        let text = BUILT_IN[0]
+            .1
+            .replace("diameter_x = true", "diameter_x = true\ncolour = 1");
+        assert!(Machine::from_toml(&text).is_err());
+    }
+}

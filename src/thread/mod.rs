@@ -1,0 +1,251 @@
+//! The machine-neutral threading model. Every controller's cycle lowers into a [`Job`]; everything a
+//! user sees (expanded G-code, pass tables, plots, checks) is derived from it, so views cannot disagree.
+//!
+//! Conventions: lengths in millimetres, X as a radius, absolute positions. "Depth" is measured from
+//! the crest line along the infeed direction.
+
+pub mod area;
+pub mod plan;
+
+use serde::Serialize;
+
+use crate::diag::Span;
+use crate::units::{Pos, Units, Vec2};
+
+pub use plan::{plan_passes, DepthLaw, Pass, PassKind, PassPlan};
+
+/// Which way depth grows: an external thread is cut toward −X, an internal one toward +X.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Side {
+    External,
+    Internal,
+}
+
+impl Side {
+    /// Unit vector in which depth grows.
+    pub fn infeed(self) -> Vec2 {
+        match self {
+            Side::External => Vec2::new(-1.0, 0.0),
+            Side::Internal => Vec2::new(1.0, 0.0),
+        }
+    }
+
+    /// Unit vector pointing away from the part (the way the tool retracts).
+    pub fn outward(self) -> Vec2 {
+        self.infeed().scale(-1.0)
+    }
+}
+
+/// The thread's form on the part: the crest line (depth 0) from the thread's start to its end.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Geometry {
+    /// Crest at the thread start: the reference point from which every depth is measured.
+    pub crest_start: Pos,
+    /// Crest at the thread end (the programmed length and taper).
+    pub crest_end: Pos,
+    /// Total thread depth (radial).
+    pub depth: f64,
+    pub side: Side,
+}
+
+impl Geometry {
+    /// The displacement of one pass from its start to its programmed end.
+    pub fn travel(&self) -> Vec2 {
+        self.crest_end.minus(self.crest_start)
+    }
+
+    /// Radial taper over the thread: start X − end X (positive when the start is larger).
+    pub fn taper(&self) -> f64 {
+        self.crest_start.x - self.crest_end.x
+    }
+}
+
+/// How far the spindle-synchronised axis travels per revolution.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Lead {
+    /// Lead (mm per revolution) along the long axis at the thread start.
+    pub lead: f64,
+    /// Change of lead per revolution (variable-lead threads); 0 for a constant lead.
+    pub dlead: f64,
+    /// Number of starts; each start is the same thread shifted by lead/starts along the axis.
+    pub starts: u32,
+}
+
+impl Lead {
+    pub const fn constant(lead: f64) -> Lead {
+        Lead {
+            lead,
+            dlead: 0.0,
+            starts: 1,
+        }
+    }
+
+    /// Axial distance between adjacent starts.
+    pub fn start_spacing(&self) -> f64 {
+        self.lead / f64::from(self.starts.max(1))
+    }
+}
+
+/// Which side of the tool cuts as the passes go deeper.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Flank {
+    /// The tip rides down the left flank of the groove: the infeed point moves toward +Z.
+    Left,
+    /// The tip rides down the right flank: the infeed point moves toward −Z.
+    Right,
+    /// Straight in along the groove's axis.
+    Centre,
+}
+
+impl Flank {
+    /// Sign of the lateral (+Z) shift as depth grows.
+    pub fn sign(self) -> f64 {
+        match self {
+            Flank::Left => 1.0,
+            Flank::Right => -1.0,
+            Flank::Centre => 0.0,
+        }
+    }
+}
+
+/// The infeed law: where each pass's infeed point sits along the thread axis.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "law", rename_all = "lowercase")]
+pub enum Infeed {
+    /// Every pass starts at the same axial position.
+    Radial,
+    /// Every pass on one flank: the lateral shift is depth·tan(angle) from the reference point.
+    Flank { flank: Flank, angle_deg: f64 },
+    /// Passes alternate between `first` and `second`, all inside one groove: `first` passes shift as
+    /// in single-flank infeed; `second` passes are their mirror image about the groove's axis
+    /// (`Centre`: on the axis).
+    Alternating {
+        first: Flank,
+        second: Flank,
+        angle_deg: f64,
+    },
+}
+
+impl Infeed {
+    /// The lateral (+Z) offset of a pass at depth `depth`, pass index `n` (1-based, rough passes),
+    /// for a thread of total depth `total`.
+    pub fn offset(&self, n: u32, depth: f64, total: f64) -> f64 {
+        match *self {
+            Infeed::Radial => 0.0,
+            Infeed::Flank { flank, angle_deg } => flank.sign() * depth * tan_deg(angle_deg),
+            Infeed::Alternating {
+                first,
+                second,
+                angle_deg,
+            } => {
+                let single = first.sign() * depth * tan_deg(angle_deg);
+                let axis = self.axis(total);
+                if n % 2 == 1 {
+                    single
+                } else {
+                    match second {
+                        Flank::Centre => axis,
+                        _ => 2.0 * axis - single,
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl Infeed {
+    /// The lateral offset of the groove's axis: where a full-depth pass on the axis would sit.
+    pub fn axis(&self, total: f64) -> f64 {
+        match *self {
+            Infeed::Radial => 0.0,
+            Infeed::Flank { flank, angle_deg }
+            | Infeed::Alternating {
+                first: flank,
+                angle_deg,
+                ..
+            } => flank.sign() * total * tan_deg(angle_deg),
+        }
+    }
+}
+
+pub fn tan_deg(deg: f64) -> f64 {
+    deg.to_radians().tan()
+}
+
+/// Where finishing passes sit along the axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FinishPosition {
+    /// At the axial position of the last rough pass (GSK G78 §7 note 2, Fanuc G76).
+    LastRough,
+    /// On the groove's axis.
+    Axis,
+}
+
+/// How each pass begins: straight at the infeed point, or screwed in along a synchronised ramp.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Entry {
+    /// A rapid move straight to the infeed point.
+    Direct,
+    /// A rapid move to a point `outward` away from the part and `before` ahead of the infeed point
+    /// along the thread, then a synchronised move into the infeed point.
+    Ramp { outward: f64, before: f64 },
+}
+
+/// How each pass ends.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Exit {
+    /// The thread move ends at the programmed end; the retract is a rapid move.
+    Straight,
+    /// A synchronised pull-out (tail-out, chamfer): it starts `start_before` ahead of the programmed
+    /// end (0: at the end; negative: past it), runs `length` along the axis and rises `outward`.
+    PullOut {
+        start_before: f64,
+        length: f64,
+        outward: f64,
+    },
+}
+
+/// Where the tool goes between passes and at the end.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Retract {
+    /// Absolute X (radius) the tool retracts to after each pass.
+    pub x: f64,
+    /// Absolute Z the tool returns to before the next pass.
+    pub z: f64,
+}
+
+/// One threading cycle in machine-neutral terms.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Job {
+    /// Source line of the block that completed the cycle.
+    pub line: u32,
+    #[serde(skip)]
+    pub span: Span,
+    pub controller: &'static str,
+    /// The program's units at the cycle, for output.
+    pub units: Units,
+    /// Where the cycle starts and where it ends (GSK's point A).
+    pub start: Pos,
+    pub geometry: Geometry,
+    pub lead: Lead,
+    pub plan: PassPlan,
+    pub infeed: Infeed,
+    pub finish_at: FinishPosition,
+    /// Included angle of the tool (degrees), for chip areas and plots.
+    pub tool_angle_deg: f64,
+    pub entry: Entry,
+    pub exit: Exit,
+    pub retract: Retract,
+}
+
+impl Job {
+    /// The pass table: depths, increments, infeed points, chip areas.
+    pub fn passes(&self) -> crate::diag::Result<Vec<Pass>> {
+        plan_passes(self)
+    }
+}
