@@ -31,4 +31,5 @@ pub mod post;
 pub mod program;
 pub mod thread;
 pub mod toolpath;
+pub mod translate;
 pub mod units;

@@ -43,7 +43,7 @@ pub enum Event<'a, 'l> {
     /// A cycle block that only sets values.
     Settings { line: &'a Line<'l> },
     /// A complete cycle.
-    Cycle { line: &'a Line<'l>, job: Job },
+    Cycle { line: &'a Line<'l>, job: Box<Job> },
 }
 
 /// What a run found besides its output.
@@ -91,7 +91,7 @@ pub fn run<R: BufRead>(
                     &modal,
                     Event::Cycle {
                         line: &line,
-                        job: *job,
+                        job,
                     },
                 )?;
             }
@@ -110,7 +110,7 @@ pub fn jobs<R: BufRead>(input: R, machine: &Machine) -> Result<Vec<Job>, Error> 
     let mut jobs = Vec::new();
     run(input, machine, |_, ev| {
         if let Event::Cycle { job, .. } = ev {
-            jobs.push(job);
+            jobs.push(*job);
         }
         Ok(())
     })?;

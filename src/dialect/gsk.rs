@@ -94,10 +94,10 @@ impl Gsk {
         let isc = self.machine.increment_system == IncrementSystem::Isc;
         let inch = units == Units::Inch;
         let max = match (isc, inch) {
-            (false, false) => 999_999.999,
-            (false, true) => 99_999.9999,
-            (true, false) => 99_999.9999,
-            (true, true) => 9_999.999_99,
+            (false, false) => 999999.999,
+            (false, true) => 99999.9999,
+            (true, false) => 99999.9999,
+            (true, true) => 9999.99999,
         };
         match class {
             RangeClass::Length => (0.0, max),
@@ -294,7 +294,7 @@ impl Gsk {
             }
             (Some(j), None) => (j, j),
             (None, Some(k)) => (k, k),
-            (Some(j), Some(k)) if k == 0.0 => (j, j),
+            (Some(j), Some(0.0)) => (j, j),
             (Some(j), Some(k)) => (j, k),
         };
         (j > 0.0 && k > 0.0).then_some((j, k))
@@ -535,6 +535,143 @@ impl Dialect for Gsk {
     fn format(&self) -> Format {
         Format::lathe(&self.machine, "G32", 'F')
     }
+
+    fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        native_g78(&self.machine, job)
+    }
+}
+
+/// The two G78 blocks that express `job`, when G78 can: the checks mirror what [`lower`] builds.
+fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, String> {
+    let g = &job.geometry;
+    if g.crest_start.z != job.start.z
+        || job.retract
+            != (Retract {
+                x: job.start.x,
+                z: job.start.z,
+            })
+    {
+        return Err(
+            "G78 starts and ends each pass at its start point, and this job does not".into(),
+        );
+    }
+    if job.finish_at != FinishPosition::LastRough {
+        return Err("G78 finishes at the last rough pass's Z".into());
+    }
+    if job.lead.dlead != 0.0 {
+        return Err("G78 cuts constant leads only".into());
+    }
+    if !(1..=99).contains(&job.lead.starts) || !(1..=99).contains(&job.plan.finish_passes) {
+        return Err("G78 allows 1 to 99 starts and 1 to 99 finishing passes".into());
+    }
+    let a = job.tool_angle_deg;
+    if a.fract() != 0.0 || !(0.0..=99.0).contains(&a) {
+        return Err(format!(
+            "G78's tool angle is a whole number 0 to 99, not {a}"
+        ));
+    }
+    let half = |angle: f64| (angle - a / 2.0).abs() < 1e-9;
+    let r = match job.infeed {
+        Infeed::Radial => 0,
+        Infeed::Flank {
+            flank: Flank::Left,
+            angle_deg,
+        } if half(angle_deg) => 1,
+        Infeed::Flank {
+            flank: Flank::Right,
+            angle_deg,
+        } if half(angle_deg) => 2,
+        Infeed::Alternating {
+            first: Flank::Right,
+            second: Flank::Centre,
+            angle_deg,
+        } if half(angle_deg) => 3,
+        Infeed::Alternating {
+            first: Flank::Left,
+            second: Flank::Right,
+            angle_deg,
+        } if half(angle_deg) => 4,
+        _ => {
+            return Err(
+                "G78 infeeds along the centre line or a flank at half the tool angle".into(),
+            )
+        }
+    };
+    let (first, depth_mode, min_cut) = match job.plan.law {
+        DepthLaw::Power {
+            first,
+            degression: 2.0,
+            min_step,
+        } => (first, 1, min_step),
+        DepthLaw::Power {
+            first,
+            degression,
+            min_step,
+        } if degression == 1.0 && min_step == 0.0 => (first, 0, 0.0),
+        _ => {
+            return Err("G78 knows the √n law with a minimum cut and the constant step only".into())
+        }
+    };
+    let lead_in = match job.entry {
+        Entry::Direct => None,
+        Entry::Ramp {
+            outward,
+            before: 0.0,
+        } => Some(outward),
+        Entry::Ramp { .. } => return Err("G78's lead-in E is a radial screw-in".into()),
+    };
+    let tail = match job.exit {
+        Exit::Straight => (0.0, 0.0),
+        Exit::PullOut {
+            start_before,
+            length,
+            outward,
+        } if start_before == length => (outward, length),
+        Exit::PullOut { .. } => return Err("G78's tail-out ends at the thread's end".into()),
+    };
+    let u = job.units;
+    let nd = machine.decimals(u);
+    let num = |mm: f64| crate::post::number(u.from_mm(mm), nd, false);
+    let lead = crate::post::number(
+        u.from_mm(job.lead.lead),
+        if u == Units::Inch { 5 } else { 4 },
+        false,
+    );
+    let root_end = g.crest_end.plus(g.side.infeed().scale(g.depth));
+    let x_end = if machine.diameter_x {
+        root_end.x * 2.0
+    } else {
+        root_end.x
+    };
+    let mut first_block = format!(
+        "G78 P{:02}{r:02}{:02} Q{} R{} D{depth_mode}",
+        job.plan.finish_passes,
+        a as u32,
+        num(min_cut),
+        num(job.plan.finish_allowance)
+    );
+    if job.lead.starts > 1 {
+        first_block.push_str(&format!(" L{}", job.lead.starts));
+    }
+    if let Some(e) = lead_in {
+        first_block.push_str(&format!(" E{}", num(e)));
+    }
+    let mut second = format!(
+        "G78 X{} Z{}",
+        crate::post::number(u.from_mm(x_end), nd, false),
+        num(root_end.z)
+    );
+    if g.taper() != 0.0 {
+        second.push_str(&format!(" R{}", num(g.taper())));
+    }
+    second.push_str(&format!(
+        " P{} Q{} J{} K{} F{lead}",
+        num(g.depth),
+        num(first),
+        num(tail.0),
+        num(tail.1)
+    ));
+    Ok(vec![first_block, second])
 }
 
 /// P(m)(r)(a): three two-digit fields (§2, the example's `P020545`). Leading zeros may be omitted.

@@ -32,6 +32,14 @@ pub trait Dialect {
     ) -> Result<Read>;
     /// How plain moves are written for this controller.
     fn format(&self) -> Format;
+    /// The job as this controller's native cycle (lines without terminators), or why it cannot be.
+    /// Callers never trust this text alone: [`crate::translate`] reads it back and compares motion.
+    fn emit_native(&self, _job: &Job) -> std::result::Result<Vec<String>, String> {
+        Err(format!(
+            "{} has no native threading cycle in threadcut",
+            self.name()
+        ))
+    }
 }
 
 /// The dialect a machine profile names.
