@@ -1,0 +1,224 @@
+//! The `threadcut` command as a user runs it: exit status, diagnostics, output files.
+
+use std::io::{Read, Write};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+
+fn threadcut(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_threadcut"))
+        .args(args)
+        .output()
+        .expect("run threadcut")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("threadcut-cli-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+const GOOD: &str =
+    "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\nG0 X80 Z10\n";
+
+#[test]
+fn bundled_example_expands() {
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/gsk-g78.nc");
+    let out = threadcut(&["expand", example, "--controller", "gsk980"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("G32 X"), "{text}");
+    assert!(!text.lines().any(|l| l.starts_with("G78")), "{text}");
+}
+
+#[test]
+fn expand_to_a_file_and_passes_json() {
+    let dir = temp_dir("ok");
+    let input = write(&dir, "in.nc", GOOD);
+    let output = dir.join("out.nc");
+    let out = threadcut(&[
+        "expand",
+        input.to_str().unwrap(),
+        "-c",
+        "gsk980",
+        "-o",
+        output.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    assert!(out.stdout.is_empty());
+    let text = std::fs::read_to_string(&output).unwrap();
+    assert!(text.starts_with("G0 X80 Z10\n(threadcut"), "{text}");
+    // No temporary file is left beside it.
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+
+    let out = threadcut(&[
+        "passes",
+        input.to_str().unwrap(),
+        "--controller",
+        "gsk980",
+        "--json",
+    ]);
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let cycle = &v["cycles"][0];
+    assert_eq!(cycle["line"], 3);
+    assert_eq!(cycle["controller"], "gsk980");
+    let pass = &cycle["passes"][1];
+    for key in ["n", "kind", "depth", "increment", "x", "z", "area"] {
+        assert!(pass.get(key).is_some(), "missing {key} in {pass}");
+    }
+    assert_eq!(pass["kind"], "rough");
+    assert_eq!(pass["x"], 61.0);
+    assert_eq!(cycle["passes"][3]["kind"], "finish");
+}
+
+#[test]
+fn bad_input_exits_2_with_a_caret_and_writes_nothing() {
+    let dir = temp_dir("bad");
+    let input = write(
+        &dir,
+        "bad.nc",
+        "G0 X80 Z10\nG78 P020545 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3\n",
+    );
+    let output = dir.join("out.nc");
+    let out = threadcut(&[
+        "expand",
+        input.to_str().unwrap(),
+        "--controller",
+        "gsk980",
+        "-o",
+        output.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("error[E004]: P(r)=05"), "{err}");
+    assert!(err.contains("bad.nc:2:8"), "{err}");
+    assert!(
+        err.contains("2 | G78 P020545 Q0.15 R0.5\n  |        ^^"),
+        "{err}"
+    );
+    assert!(err.contains("help:"), "{err}");
+    assert!(!output.exists());
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        1,
+        "a temporary file was left behind"
+    );
+}
+
+#[test]
+fn missing_word_alarm_points_at_g78() {
+    let dir = temp_dir("alarm");
+    let input = write(&dir, "a.nc", "G0 X80 Z10\n  G78 X60 Z-60 Q1.8 F3\n");
+    let out = threadcut(&["passes", input.to_str().unwrap(), "-c", "gsk980"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("a.nc:2:3") && err.contains("P(k) is missing"),
+        "{err}"
+    );
+}
+
+#[test]
+fn usage_errors() {
+    let out = threadcut(&["expand", "x.nc"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--controller"));
+    let out = threadcut(&["expand", "x.nc", "-c", "nosuch"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown controller `nosuch`"));
+    let dir = temp_dir("same");
+    let input = write(&dir, "in.nc", GOOD);
+    let out = threadcut(&[
+        "expand",
+        input.to_str().unwrap(),
+        "-c",
+        "gsk980",
+        "-o",
+        input.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(std::fs::read_to_string(&input).unwrap(), GOOD);
+}
+
+#[test]
+fn controllers_lists_built_ins() {
+    let out = threadcut(&["controllers"]);
+    assert!(out.status.success());
+    assert!(String::from_utf8(out.stdout)
+        .unwrap()
+        .lines()
+        .any(|l| l.starts_with("gsk980 ")));
+}
+
+#[test]
+fn machine_profile_from_a_file() {
+    let dir = temp_dir("machine");
+    let profile = include_str!("../profiles/gsk980.toml").replace("p5142 = 1 ", "p5142 = 3 ");
+    let m = write(&dir, "m.toml", &profile);
+    let input = write(&dir, "in.nc", "G0 X80 Z10\nG78 X60 Z-60 P3 Q1.8 F3\n");
+    let out = threadcut(&[
+        "passes",
+        input.to_str().unwrap(),
+        "--machine",
+        m.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let passes = v["cycles"][0]["passes"].as_array().unwrap();
+    assert_eq!(passes.iter().filter(|p| p["kind"] == "finish").count(), 3);
+}
+
+#[test]
+fn a_closed_stdout_ends_quietly() {
+    let mut big = String::new();
+    for i in 0..20_000 {
+        big.push_str(&format!("G0 X{} Z10\n", 80 + i % 7));
+        big.push_str("G78 X60 Z-60 P3 Q0.3 F3\n");
+    }
+    let mut child = Command::new(env!("CARGO_BIN_EXE_threadcut"))
+        .args(["expand", "-", "-c", "gsk980"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let feeder = std::thread::spawn(move || {
+        let _ = stdin.write_all(big.as_bytes());
+    });
+    let mut first = [0u8; 16];
+    child
+        .stdout
+        .as_mut()
+        .unwrap()
+        .read_exact(&mut first)
+        .unwrap();
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    feeder.join().unwrap();
+    assert_eq!(out.status.code(), Some(0));
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
