@@ -1,1 +1,84 @@
-fn main() {}
+//! Pass-through throughput of `threadcut expand` on a large program without threading cycles:
+//! every line is lexed and its modal state tracked, then copied byte for byte.
+//!
+//! `cargo bench --bench reader` (the input, about 50 MB, is generated under target/ once).
+//! The peak resident memory after the runs is printed so that it can be compared across input sizes
+//! (docs/performance.md).
+
+use std::fs::File;
+use std::io::{BufReader, BufWriter, Write};
+use std::path::PathBuf;
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use threadcut::machine::Machine;
+use threadcut::program;
+
+/// Writes a lathe program of about `bytes` bytes: positioning, turning, arcs, comments, dwell, tool
+/// changes — everything but threading cycles.
+pub fn generate(path: &PathBuf, bytes: u64) {
+    if path.metadata().map(|m| m.len() >= bytes).unwrap_or(false) {
+        return;
+    }
+    let mut out = BufWriter::new(File::create(path).unwrap());
+    let mut written = 0u64;
+    let mut n = 0u64;
+    writeln!(out, "%\nO1000 (GENERATED)\nG21 G99\nG0 X100 Z5").unwrap();
+    while written < bytes {
+        let x = 20.0 + (n % 400) as f64 * 0.125;
+        let z = -((n % 900) as f64) * 0.05;
+        let line = match n % 8 {
+            0 => format!("N{} G0 X{x:.3} Z2.\n", n % 10000),
+            1 => format!("G1 Z{z:.3} F0.15\n"),
+            2 => format!("G1 X{:.3} W-0.5 (FACE)\n", x + 1.0),
+            3 => format!("G2 X{:.3} Z{z:.3} R2.5\n", x + 2.0),
+            4 => format!("U-0.4 W-1.25 ; chamfer\n"),
+            5 => "G04 X0.5\n".to_string(),
+            6 => format!("T0{}0{} M08\n", n % 8 + 1, n % 8 + 1),
+            _ => format!("G0 X{:.3} Z{:.3}\n", x + 5.0, z + 3.0),
+        };
+        written += line.len() as u64;
+        out.write_all(line.as_bytes()).unwrap();
+        n += 1;
+    }
+    writeln!(out, "M30\n%").unwrap();
+}
+
+fn peak_rss_kib() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    line.split_whitespace().nth(1)?.parse().ok()
+}
+
+fn pass_through(c: &mut Criterion) {
+    let size: u64 = std::env::var("THREADCUT_BENCH_MB")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(50)
+        << 20;
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("target")
+        .join(format!("bench-reader-{}mb.nc", size >> 20));
+    generate(&path, size);
+    let len = path.metadata().unwrap().len();
+    let machine = Machine::built_in("gsk980").unwrap();
+    let mut group = c.benchmark_group("reader");
+    group.throughput(Throughput::Bytes(len));
+    group.sample_size(10);
+    group.bench_function(format!("expand pass-through {} MB", len >> 20), |b| {
+        b.iter(|| {
+            let input = BufReader::with_capacity(1 << 16, File::open(&path).unwrap());
+            let mut sink = BufWriter::with_capacity(1 << 16, std::io::sink());
+            program::expand_gcode(input, &mut sink, &machine).unwrap()
+        })
+    });
+    group.finish();
+    if let Some(kib) = peak_rss_kib() {
+        println!(
+            "peak resident memory of the bench process: {kib} KiB (input {} MB)",
+            len >> 20
+        );
+    }
+}
+
+criterion_group!(benches, pass_through);
+criterion_main!(benches);

@@ -175,31 +175,31 @@ fn lex_number(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static 
         }
         _ => false,
     };
+    // Digits accumulate into a u64; beyond 19 digits, or past 2^53, the slow path below takes over.
     let mut mantissa: u64 = 0;
-    let mut digits = 0u32;
-    let mut significant = 0u32;
+    let int_start = i;
+    while i < n && line[i].is_ascii_digit() {
+        mantissa = mantissa
+            .wrapping_mul(10)
+            .wrapping_add(u64::from(line[i] - b'0'));
+        i += 1;
+    }
+    let mut digits = (i - int_start) as u32;
     let mut frac_digits = 0u32;
-    let mut has_dot = false;
-    while i < n {
-        match line[i] {
-            d @ b'0'..=b'9' => {
-                digits += 1;
-                if has_dot {
-                    frac_digits += 1;
-                }
-                // Leading zeros carry no significance; past 19 digits the slow path takes over.
-                if (mantissa != 0 || d != b'0') && significant < 20 {
-                    mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d - b'0'));
-                    significant += 1;
-                }
-                i += 1;
-            }
-            b'.' if !has_dot => {
-                has_dot = true;
-                i += 1;
-            }
-            b'.' => return Err((i, 1, "a second decimal point")),
-            _ => break,
+    let has_dot = i < n && line[i] == b'.';
+    if has_dot {
+        i += 1;
+        let frac_start = i;
+        while i < n && line[i].is_ascii_digit() {
+            mantissa = mantissa
+                .wrapping_mul(10)
+                .wrapping_add(u64::from(line[i] - b'0'));
+            i += 1;
+        }
+        frac_digits = (i - frac_start) as u32;
+        digits += frac_digits;
+        if i < n && line[i] == b'.' {
+            return Err((i, 1, "a second decimal point"));
         }
     }
     if digits == 0 {
@@ -209,7 +209,7 @@ fn lex_number(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static 
             None => Err((at - 1, 1, "a number was expected after the letter")),
         };
     }
-    let value = if significant <= 15 && frac_digits <= 22 {
+    let value = if digits <= 19 && mantissa <= 1 << 53 && frac_digits <= 22 {
         // Clinger's fast path: both operands are exact doubles, so one division rounds correctly.
         let v = mantissa as f64 / POW10[frac_digits as usize];
         if negative {
@@ -218,7 +218,7 @@ fn lex_number(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static 
             v
         }
     } else {
-        // Rare: more than 15 significant digits. The standard library parses correctly rounded.
+        // Rare: very long numbers. The standard library parses them correctly rounded.
         std::str::from_utf8(&line[start..i])
             .ok()
             .and_then(|t| t.parse::<f64>().ok())

@@ -122,25 +122,37 @@ impl Modal {
     /// The end point named by X/U and Z/W words, relative to `from`. Absent words keep `from`.
     pub fn target(&self, conv: &Conventions, line: &Line, from: Pos) -> Result<Pos> {
         let mut to = from;
+        let (mut x_seen, mut z_seen) = (None::<&Word>, None::<&Word>);
         for w in line.words {
-            match w.letter {
-                b'X' if self.absolute => to.x = self.x_to_mm(self.value(w)),
-                b'X' => to.x = from.x + self.x_to_mm(self.value(w)),
-                b'Z' if self.absolute => to.z = self.length_mm(w),
-                b'Z' => to.z = from.z + self.length_mm(w),
-                b'U' if conv.uw_incremental => to.x = from.x + self.x_to_mm(self.value(w)),
-                b'W' if conv.uw_incremental => to.z = from.z + self.length_mm(w),
-                _ => {}
+            let (axis_seen, incremental) = match w.letter {
+                b'X' => (&mut x_seen, !self.absolute),
+                b'Z' => (&mut z_seen, !self.absolute),
+                b'U' if conv.uw_incremental => (&mut x_seen, true),
+                b'W' if conv.uw_incremental => (&mut z_seen, true),
+                _ => continue,
+            };
+            if let Some(first) = axis_seen.replace(w) {
+                return Err(Diagnostic::error(
+                    Code::Conflict,
+                    w.span,
+                    format!(
+                        "{} and {} in one block name the same axis twice",
+                        first.letter as char, w.letter as char
+                    ),
+                ));
             }
-        }
-        let both = |a: u8, b: u8| line.word(a).is_some() && line.word(b).is_some();
-        if conv.uw_incremental && (both(b'X', b'U') || both(b'Z', b'W')) {
-            let w = line.word(b'U').or(line.word(b'W')).expect("checked");
-            return Err(Diagnostic::error(
-                Code::Conflict,
-                w.span,
-                "X and U (or Z and W) in one block name the same axis twice",
-            ));
+            let is_x = matches!(w.letter, b'X' | b'U');
+            let v = if is_x {
+                self.x_to_mm(self.value(w))
+            } else {
+                self.length_mm(w)
+            };
+            match (is_x, incremental) {
+                (true, false) => to.x = v,
+                (true, true) => to.x = from.x + v,
+                (false, false) => to.z = v,
+                (false, true) => to.z = from.z + v,
+            }
         }
         Ok(to)
     }
@@ -150,37 +162,43 @@ impl Modal {
         let mut dwell = false;
         let mut set_position = false;
         let mut home = false;
-        for w in line.words.iter().filter(|w| w.letter == b'G') {
-            let Some(code) = g_code(w.value) else {
-                return Err(bad_g(w));
-            };
-            match code {
-                0 => self.motion = MotionMode::Rapid,
-                10 => self.motion = MotionMode::Feed,
-                20 => self.motion = MotionMode::ArcCw,
-                30 => self.motion = MotionMode::ArcCcw,
-                40 => dwell = true,
-                200 => self.units = Units::Inch,
-                210 => self.units = Units::Mm,
-                280 | 300 => home = true,
-                900 if conv.g90_g91_distance => self.absolute = true,
-                910 if conv.g90_g91_distance => self.absolute = false,
-                c if c == conv.thread_move => self.motion = MotionMode::Thread,
-                c if c == conv.set_position && c != 0 => set_position = true,
-                c if conv.canned_cycles.contains(&c) => self.motion = MotionMode::Cycle,
+        let mut moves_axes = false;
+        let mut f_word = None;
+        for w in line.words {
+            match w.letter {
+                b'G' => {
+                    let Some(code) = g_code(w.value) else {
+                        return Err(bad_g(w));
+                    };
+                    match code {
+                        0 => self.motion = MotionMode::Rapid,
+                        10 => self.motion = MotionMode::Feed,
+                        20 => self.motion = MotionMode::ArcCw,
+                        30 => self.motion = MotionMode::ArcCcw,
+                        40 => dwell = true,
+                        200 => self.units = Units::Inch,
+                        210 => self.units = Units::Mm,
+                        280 | 300 => home = true,
+                        900 if conv.g90_g91_distance => self.absolute = true,
+                        910 if conv.g90_g91_distance => self.absolute = false,
+                        c if c == conv.thread_move => self.motion = MotionMode::Thread,
+                        c if c == conv.set_position && c != 0 => set_position = true,
+                        c if conv.canned_cycles.contains(&c) => self.motion = MotionMode::Cycle,
+                        _ => {}
+                    }
+                }
+                b'X' | b'Z' => moves_axes = true,
+                b'U' | b'W' if conv.uw_incremental => moves_axes = true,
+                b'F' => f_word = Some(w),
                 _ => {}
             }
         }
         if self.motion == MotionMode::Thread {
             self.read_lead(conv, line)?;
         }
-        if let Some(f) = line.word(b'F') {
+        if let Some(f) = f_word {
             self.f_word = Some(self.value(f));
         }
-        let moves_axes = line.words.iter().any(|w| {
-            matches!(w.letter, b'X' | b'Z')
-                || (conv.uw_incremental && matches!(w.letter, b'U' | b'W'))
-        });
         if home {
             // A reference return goes through the named point to a place this reader does not know.
             self.position = None;

@@ -49,10 +49,13 @@ pub fn g_code(value: f64) -> Option<u16> {
 
 pub struct Reader<R> {
     source: R,
+    /// Holds a line only when it straddles the source's buffer; most lines are lexed in place.
     buf: Vec<u8>,
     words: Vec<Word>,
     line_no: u32,
     offset: u64,
+    /// Bytes of the previous line still to be consumed from the source's buffer.
+    pending: usize,
     done: bool,
 }
 
@@ -64,6 +67,7 @@ impl<R: BufRead> Reader<R> {
             words: Vec::with_capacity(16),
             line_no: 0,
             offset: 0,
+            pending: 0,
             done: false,
         }
     }
@@ -78,52 +82,71 @@ impl<R: BufRead> Reader<R> {
         if self.done {
             return None;
         }
-        self.buf.clear();
-        let limit = (MAX_LINE_BYTES + 2) as u64;
-        let read = (&mut self.source)
-            .take(limit)
-            .read_until(b'\n', &mut self.buf);
+        self.source.consume(std::mem::take(&mut self.pending));
         let line_no = self.line_no + 1;
         let offset = self.offset;
-        match read {
+        let io_error = |e: std::io::Error| {
+            Diagnostic::error(
+                Code::Input,
+                Span::new(offset, 0, line_no, 1),
+                format!("cannot read the input: {e}"),
+            )
+        };
+        // Fast path: the whole line sits in the source's buffer; lex it there without copying.
+        let in_place = match self.source.fill_buf() {
             Err(e) => {
                 self.done = true;
-                return Some(Err(Diagnostic::error(
-                    Code::Input,
-                    Span::new(offset, 0, line_no, 1),
-                    format!("cannot read the input: {e}"),
-                )));
+                return Some(Err(io_error(e)));
             }
-            Ok(0) => {
+            Ok([]) => {
                 self.done = true;
                 return None;
             }
-            Ok(_) => {}
-        }
+            Ok(available) => memchr::memchr(b'\n', available).map(|i| i + 1),
+        };
+        let raw: &[u8] = match in_place {
+            Some(len) if len <= MAX_LINE_BYTES + 1 => {
+                self.pending = len;
+                &self.source.fill_buf().expect("filled above")[..len]
+            }
+            _ => {
+                self.buf.clear();
+                let limit = (MAX_LINE_BYTES + 2) as u64;
+                if let Err(e) = (&mut self.source)
+                    .take(limit)
+                    .read_until(b'\n', &mut self.buf)
+                {
+                    self.done = true;
+                    return Some(Err(io_error(e)));
+                }
+                if self.buf.last() != Some(&b'\n') && self.buf.len() as u64 >= limit {
+                    self.done = true;
+                    return Some(Err(Diagnostic::error(
+                        Code::Input,
+                        Span::new(offset, 1, line_no, 1),
+                        format!("line {line_no} is longer than {MAX_LINE_BYTES} bytes"),
+                    )
+                    .with_hint("is this a G-code file? Lines end with a newline")));
+                }
+                &self.buf
+            }
+        };
         self.line_no = line_no;
-        self.offset += self.buf.len() as u64;
-        let mut text_len = self.buf.len();
-        if self.buf.last() == Some(&b'\n') {
+        self.offset += raw.len() as u64;
+        let mut text_len = raw.len();
+        if raw.last() == Some(&b'\n') {
             text_len -= 1;
-            if text_len > 0 && self.buf[text_len - 1] == b'\r' {
+            if text_len > 0 && raw[text_len - 1] == b'\r' {
                 text_len -= 1;
             }
-        } else if self.buf.len() as u64 >= limit {
-            self.done = true;
-            return Some(Err(Diagnostic::error(
-                Code::Input,
-                Span::new(offset, 1, line_no, 1),
-                format!("line {line_no} is longer than {MAX_LINE_BYTES} bytes"),
-            )
-            .with_hint("is this a G-code file? Lines end with a newline")));
         }
-        let text = &self.buf[..text_len];
+        let text = &raw[..text_len];
         match lex_line(text, line_no, offset, &mut self.words) {
             Ok(shape) => Some(Ok(Line {
                 number: line_no,
                 offset,
                 text,
-                raw: &self.buf,
+                raw,
                 words: &self.words,
                 shape,
             })),
