@@ -31,7 +31,7 @@ pub fn generate(path: &PathBuf, bytes: u64) {
             1 => format!("G1 Z{z:.3} F0.15\n"),
             2 => format!("G1 X{:.3} W-0.5 (FACE)\n", x + 1.0),
             3 => format!("G2 X{:.3} Z{z:.3} R2.5\n", x + 2.0),
-            4 => format!("U-0.4 W-1.25 ; chamfer\n"),
+            4 => "U-0.4 W-1.25 ; chamfer\n".to_string(),
             5 => "G04 X0.5\n".to_string(),
             6 => format!("T0{}0{} M08\n", n % 8 + 1, n % 8 + 1),
             _ => format!("G0 X{:.3} Z{:.3}\n", x + 5.0, z + 3.0),
