@@ -40,11 +40,16 @@ impl Line<'_> {
 
 /// A G or M code as an exact integer ×10, or `None` if it has more than one decimal.
 pub fn g_code(value: f64) -> Option<u16> {
-    let tenths = (value * 10.0).round();
-    if (tenths - value * 10.0).abs() > 1e-6 || !(0.0..=u16::MAX as f64).contains(&tenths) {
+    if !(0.0..6553.5).contains(&value) {
         return None;
     }
-    Some(tenths as u16)
+    // A cast truncates; adding a half rounds the non-negative value without a libm call.
+    let scaled = value * 10.0;
+    let tenths = (scaled + 0.5) as u16;
+    if (f64::from(tenths) - scaled).abs() > 1e-6 {
+        return None;
+    }
+    Some(tenths)
 }
 
 pub struct Reader<R> {
