@@ -2,7 +2,7 @@
 
 use std::io::{BufRead, Read};
 
-use super::lexer::{lex_line, LineShape, Word};
+use super::lexer::{lex_line_with, LineShape, Word};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -54,6 +54,7 @@ pub struct Reader<R> {
     line_no: u32,
     offset: u64,
     done: bool,
+    bare: &'static [u8],
 }
 
 impl<R: BufRead> Reader<R> {
@@ -65,7 +66,14 @@ impl<R: BufRead> Reader<R> {
             line_no: 0,
             offset: 0,
             done: false,
+            bare: b"",
         }
+    }
+
+    /// Lets these letters stand without a number (see [`lex_line_with`](super::lexer::lex_line_with)).
+    pub fn with_bare_letters(mut self, bare: &'static [u8]) -> Reader<R> {
+        self.bare = bare;
+        self
     }
 
     /// Bytes consumed so far.
@@ -118,7 +126,7 @@ impl<R: BufRead> Reader<R> {
             .with_hint("is this a G-code file? Lines end with a newline")));
         }
         let text = &self.buf[..text_len];
-        match lex_line(text, line_no, offset, &mut self.words) {
+        match lex_line_with(text, line_no, offset, &mut self.words, self.bare) {
             Ok(shape) => Some(Ok(Line {
                 number: line_no,
                 offset,
