@@ -215,14 +215,16 @@ impl OmniTurn {
             let mode = match line.word(b'F') {
                 None => FeedMode::G35,
                 Some(f) if !f.is_bare() && f.value == 2.0 => FeedMode::G35F2,
-                Some(f) => return Err(Diagnostic::error(
-                    Code::OutOfRange,
-                    f.span,
-                    format!(
+                Some(f) => {
+                    return Err(Diagnostic::error(
+                        Code::OutOfRange,
+                        f.span,
+                        format!(
                         "G35F{}: the coarse modes are G35 (leads up to 1\") and G35F2 (up to 2\")",
                         crate::gcode::lexer::show(f.raw(line.text))
                     ),
-                )),
+                    ))
+                }
             };
             if self.coarse_from.is_none() {
                 self.coarse_from = modal.position;
@@ -499,8 +501,7 @@ impl OmniTurn {
                         Code::MachineLimit,
                         k.span,
                         format!(
-                            "S{rpm} × K{k_in} = {} ipm is faster than the slide's {} ipm",
-                            post::number(ipm, 1, false),
+                            "S{rpm} × K{k_in} = {ipm:.1} ipm is faster than the slide's {} ipm",
                             self.params.max_slide_ipm
                         ),
                     )
