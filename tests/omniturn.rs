@@ -549,3 +549,29 @@ fn cli_bad_input_exits_2_with_line_and_column() {
         assert!(err.contains("G35"), "{cmd}: {err}");
     }
 }
+
+#[test]
+fn g73_radius_mode_at_power_on_and_g72_switches_x_i_and_a() {
+    // No G72/G73 written: X.237 is a radius (the seed's multi-start program relies on it).
+    let radius = job("X0Z.2\nX.237\nG33X.212Z-.5I.012K.05A.01\n");
+    assert!(close(radius.start.x / IN, 0.237));
+    // The same cycle in G72: every X amount doubles, the job is the same.
+    let diameter = job("G72\nX0Z.2\nX.474\nG33X.424Z-.5I.024K.05A.02\n");
+    assert_eq!(table(&radius), table(&diameter));
+    assert!(close(diameter.retract.x / IN, 0.273));
+    let taper = |j: &Job| (j.geometry.crest_end.x - j.geometry.crest_start.x) / IN;
+    assert!(close(taper(&radius), 0.01) && close(taper(&diameter), 0.01));
+    // G73 switches back, modally.
+    let back = jobs("G72\nX0Z.2\nX.474\nG73\nX.237\nG33X.212Z-.5I.012K.05A.01\n");
+    assert_eq!(table(&back[0]), table(&radius));
+    // The expansion writes X and I in the mode of the cycle.
+    let mut out = Vec::new();
+    program::expand_gcode(
+        "G72\nX0Z.2\nX.474\nG33X.424Z-.5I.024K.05\n".as_bytes(),
+        &mut out,
+        &machine(),
+    )
+    .unwrap();
+    let text = String::from_utf8(out).unwrap();
+    assert!(text.contains("G33 X0.45 Z-0.5 I0.024 K0.05\n"), "{text}");
+}
