@@ -106,7 +106,7 @@ pub fn rough_depths(law: &DepthLaw, limit: f64) -> Result<Vec<f64>> {
             }
         }
         DepthLaw::FromStart { step, degression } => {
-            depths.push(0.0_f64.min(limit));
+            depths.push(0.0);
             if limit <= DEPTH_TOLERANCE {
                 return Ok(depths);
             }
