@@ -7,7 +7,11 @@ use serde::{Deserialize, Serialize};
 use crate::units::Units;
 
 /// Built-in profiles, by name. Each is a TOML file under `profiles/`.
-pub const BUILT_IN: &[(&str, &str)] = &[("gsk980", include_str!("../profiles/gsk980.toml"))];
+pub const BUILT_IN: &[(&str, &str)] = &[
+    ("gsk980", include_str!("../profiles/gsk980.toml")),
+    ("omniturn", include_str!("../profiles/omniturn.toml")),
+    ("ab9", include_str!("../profiles/ab9.toml")),
+];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -71,6 +75,49 @@ pub struct GskParameters {
     pub p5145: u8,
 }
 
+/// OmniTurn G33 controller data (seed 002), in inches: the three feed modes are normal, G35 and
+/// G35F2, in that order.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OmniTurnParameters {
+    /// Largest lead K per mode (".2\" max. For larger see G35"; G35 up to 1\", G35F2 up to 2\").
+    pub max_lead_in: [f64; 3],
+    /// Output resolution per mode (.00005\", .00025\", .0005\").
+    pub resolution_in: [f64; 3],
+    /// Fastest slide feed (ipm): S × K above it draws a warning ("the maximum feed rate of the
+    /// slide is 300 ipm").
+    pub max_slide_ipm: f64,
+    /// Z run-up the slide needs to reach threading speed (about half a ball-screw revolution; the
+    /// seed advises starting at least .1" away).
+    pub runup_in: f64,
+}
+
+/// What `E` means on an Allen-Bradley 9/Series thread block: an AMP (machine parameter) choice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EWord {
+    ThreadsPerInch,
+    InchesPerThread,
+}
+
+/// Allen-Bradley 9/Series G78 AMP values the program does not carry (seed 003 is cut off before
+/// the tool-infeed pages; docs/dialects/allen-bradley-g78.md gives the source of each default).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AbParameters {
+    pub e_word: EWord,
+    /// Pull-out (chamfer) length along Z in leads; 0: none.
+    pub chamfer_leads: f64,
+    /// Pull-out angle from the Z axis (degrees, 1–89).
+    pub chamfer_angle_deg: f64,
+    /// Smallest rough cut (inch, radius) for the constant-amount infeeds P1/P2.
+    pub min_cut_in: f64,
+    /// Radial stock left for the finishing passes (inch).
+    pub finish_allowance_in: f64,
+    /// Passes at full depth after the rough passes.
+    pub finish_passes: u32,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Machine {
@@ -88,6 +135,10 @@ pub struct Machine {
     #[serde(default)]
     pub limits: Limits,
     pub gsk: Option<GskParameters>,
+    #[serde(default)]
+    pub omniturn: Option<OmniTurnParameters>,
+    #[serde(default)]
+    pub ab9: Option<AbParameters>,
 }
 
 impl Machine {

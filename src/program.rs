@@ -42,8 +42,12 @@ pub enum Event<'a, 'l> {
     },
     /// A cycle block that only sets values.
     Settings { line: &'a Line<'l> },
-    /// A complete cycle.
-    Cycle { line: &'a Line<'l>, job: Box<Job> },
+    /// A complete cycle, with the dialect that read it (for its own way of writing it).
+    Cycle {
+        line: &'a Line<'l>,
+        job: Box<Job>,
+        dialect: &'a dyn dialect::Dialect,
+    },
 }
 
 /// What a run found besides its output.
@@ -71,7 +75,7 @@ pub fn run<R: BufRead>(
             machine.no_point_scale(Units::Inch),
         ],
     );
-    let mut reader = Reader::new(input);
+    let mut reader = Reader::new(input).with_bare_letters(dialect.bare_letters());
     let mut summary = Summary::default();
     while let Some(line) = reader.next_line() {
         let line = line?;
@@ -87,7 +91,14 @@ pub fn run<R: BufRead>(
                 summary.cycles += 1;
                 // A cycle ends where it started.
                 modal.position = Some(job.start);
-                sink(&modal, Event::Cycle { line: &line, job })?;
+                sink(
+                    &modal,
+                    Event::Cycle {
+                        line: &line,
+                        job,
+                        dialect: &*dialect,
+                    },
+                )?;
             }
         }
         for w in &mut summary.warnings[before..] {
@@ -130,7 +141,7 @@ pub fn expand_gcode<R: BufRead>(
                     writeln!(out, "{c}")?;
                 }
             }
-            Event::Cycle { line, job } => {
+            Event::Cycle { line, job, dialect } => {
                 let passes = job.passes()?;
                 let path = toolpath::build_with(&job, &passes)?;
                 let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
@@ -143,8 +154,15 @@ pub fn expand_gcode<R: BufRead>(
                 )) {
                     writeln!(out, "{c}")?;
                 }
-                post::write_moves(out, &format, job.units, &path)?;
-                restore_modal_state(out, &format, modal, &path)?;
+                match dialect.write_cycle(out, &job, &passes, &path) {
+                    // The controller's own form is a cycle too: it leaves the modal state as the
+                    // original cycle does.
+                    Some(written) => written?,
+                    None => {
+                        post::write_moves(out, &format, job.units, &path)?;
+                        restore_modal_state(out, &format, modal, &path)?;
+                    }
+                }
             }
         }
         Ok(())

@@ -116,6 +116,42 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                     push(thread(infeed, end), end, pass.n);
                     end
                 }
+                Exit::ToRetract { run_on } => {
+                    // The pass's own length: from its (offset) infeed point to the programmed end Z.
+                    let own = (g.crest_end.z + shift.z - infeed.z) * axial_dir;
+                    if own <= 0.0 {
+                        return Err(Diagnostic::error(
+                            Code::Geometry,
+                            job.span,
+                            format!(
+                                "pass {} starts at or beyond the thread's end: its infeed offset is longer than the thread",
+                                pass.n
+                            ),
+                        ));
+                    }
+                    let end = infeed.plus(along.scale(own));
+                    push(thread(infeed, end), end, pass.n);
+                    // The retract X at the end: as far out as at the start, or further when the
+                    // thread climbs toward the retract side.
+                    let climb = (travel.x * outward.x).max(0.0);
+                    let rx = job.retract.x + outward.x * climb;
+                    let out = (rx - end.x) * outward.x;
+                    if run_on > 0.0 && out > 0.0 {
+                        let to = Pos::new(rx, end.z + axial_dir * run_on * out);
+                        push(thread(end, to), to, pass.n);
+                    } else {
+                        push(MotionKind::Rapid, Pos::new(rx, end.z), pass.n);
+                    }
+                    push(MotionKind::Rapid, Pos::new(rx, job.retract.z), pass.n);
+                    if rx != job.retract.x {
+                        push(
+                            MotionKind::Rapid,
+                            Pos::new(job.retract.x, job.retract.z),
+                            pass.n,
+                        );
+                    }
+                    continue;
+                }
                 Exit::PullOut {
                     start_before,
                     length,

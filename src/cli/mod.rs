@@ -220,12 +220,13 @@ fn passes(
         out.write_all(br#"{"cycles":["#)?;
     }
     let mut first = true;
-    let summary = program::run(input, machine, |_, ev| {
+    let summary = program::run(input, machine, |modal, ev| {
         let Event::Cycle { job, .. } = ev else {
             return Ok(());
         };
         let passes = job.passes()?;
-        let rows = program::pass_rows(&job, &passes, machine.diameter_x);
+        // X as the program writes it at the cycle (OmniTurn's G72/G73 switch it mid-program).
+        let rows = program::pass_rows(&job, &passes, modal.diameter_x);
         if json {
             if !first {
                 out.write_all(b",")?;

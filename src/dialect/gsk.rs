@@ -627,7 +627,9 @@ fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
             length,
             outward,
         } if start_before == length => (outward, length),
-        Exit::PullOut { .. } => return Err("G78's tail-out ends at the thread's end".into()),
+        Exit::PullOut { .. } | Exit::ToRetract { .. } => {
+            return Err("G78's tail-out ends at the thread's end".into())
+        }
     };
     let u = job.units;
     let nd = machine.decimals(u);

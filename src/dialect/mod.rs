@@ -2,13 +2,16 @@
 //! alarms, lowers them into the shared [`Job`](crate::thread::Job), and says how its plain moves are
 //! written. Everything two controllers share lives in [`thread`](crate::thread).
 
+pub mod allen_bradley;
 pub mod gsk;
+pub mod omniturn;
 
 use crate::diag::{Diagnostic, Result};
 use crate::gcode::{Conventions, Line, Modal};
 use crate::machine::Machine;
 use crate::post::Format;
-use crate::thread::Job;
+use crate::thread::{Job, Pass};
+use crate::toolpath::Toolpath;
 
 /// What a line turned out to be.
 pub enum Read {
@@ -40,14 +43,32 @@ pub trait Dialect {
             self.name()
         ))
     }
+    /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
+    fn bare_letters(&self) -> &'static [u8] {
+        b""
+    }
+    /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
+    /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
+    /// [`format`](Dialect::format).
+    fn write_cycle(
+        &self,
+        _out: &mut dyn std::io::Write,
+        _job: &Job,
+        _passes: &[Pass],
+        _path: &Toolpath,
+    ) -> Option<std::io::Result<()>> {
+        None
+    }
 }
 
 /// The dialect a machine profile names.
 pub fn open(machine: &Machine) -> std::result::Result<Box<dyn Dialect>, String> {
     match machine.dialect.as_str() {
         "gsk" => Ok(Box::new(gsk::Gsk::new(machine))),
+        "omniturn" => Ok(Box::new(omniturn::OmniTurn::new(machine))),
+        "allen_bradley" => Ok(Box::new(allen_bradley::AllenBradley::new(machine))),
         other => Err(format!(
-            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk)",
+            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley)",
             machine.name
         )),
     }

@@ -25,6 +25,12 @@ pub struct Word {
 }
 
 impl Word {
+    /// A letter written without a number (OmniTurn's `P`, `C` and `O` flags on G33). Only letters a
+    /// dialect declares with [`lex_line_with`] can be bare; their value reads as 0.
+    pub fn is_bare(&self) -> bool {
+        self.raw_len == 0
+    }
+
     /// The number exactly as written, e.g. `020545` for `P020545`.
     pub fn raw<'a>(&self, line: &'a [u8]) -> &'a [u8] {
         &line[self.raw_start as usize..(self.raw_start + self.raw_len) as usize]
@@ -49,6 +55,19 @@ pub fn lex_line(
     line_no: u32,
     offset: u64,
     words: &mut Vec<Word>,
+) -> Result<LineShape, Diagnostic> {
+    lex_line_with(line, line_no, offset, words, b"")
+}
+
+/// As [`lex_line`], but the letters in `bare` may also stand alone, without a number (a flag such
+/// as OmniTurn's `G33 … P C O`). A bare letter is followed by the end of the line, a blank, a
+/// comment or another letter; [`Word::is_bare`] tells it from a letter with a value.
+pub fn lex_line_with(
+    line: &[u8],
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+    bare: &[u8],
 ) -> Result<LineShape, Diagnostic> {
     words.clear();
     let mut shape = LineShape::default();
@@ -88,6 +107,18 @@ pub fn lex_line(
             }
             b'a'..=b'z' | b'A'..=b'Z' => {
                 let letter = c.to_ascii_uppercase();
+                if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
+                    words.push(Word {
+                        letter,
+                        value: 0.0,
+                        has_dot: false,
+                        raw_start: (i + 1) as u32,
+                        raw_len: 0,
+                        span: span_at(i, 1),
+                    });
+                    i += 1;
+                    continue;
+                }
                 let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
                     Diagnostic::error(
                         Code::Syntax,
@@ -143,6 +174,13 @@ pub fn lex_line(
         }
     }
     Ok(shape)
+}
+
+/// Whether a number follows (after blanks): a digit, a sign or a decimal point.
+fn starts_number(rest: &[u8]) -> bool {
+    rest.iter()
+        .find(|&&b| b != b' ' && b != b'\t')
+        .is_some_and(|b| matches!(b, b'0'..=b'9' | b'+' | b'-' | b'.'))
 }
 
 /// Lexes `[+-]digits[.digits]` starting at `at` (just after the letter).
@@ -336,6 +374,31 @@ mod tests {
         assert_eq!(e.span.column, 7);
         let e = lex(&format!("X1{}", "0".repeat(400))).unwrap_err();
         assert_eq!(e.code, Code::BadNumber);
+    }
+
+    #[test]
+    fn bare_letters_only_where_declared() {
+        let line = b"G33X.212Z-.5I.012K.05PC O(flags) C27";
+        let mut words = Vec::new();
+        lex_line_with(line, 1, 0, &mut words, b"PCO").unwrap();
+        let got: Vec<(char, f64, bool)> = words
+            .iter()
+            .map(|w| (w.letter as char, w.value, w.is_bare()))
+            .collect();
+        assert_eq!(
+            got[5..],
+            [
+                ('P', 0.0, true),
+                ('C', 0.0, true),
+                ('O', 0.0, true),
+                ('C', 27.0, false)
+            ]
+        );
+        assert_eq!(words[6].span, Span::new(22, 1, 1, 23));
+        // Without the declaration a bare letter stays an error; a declared letter with a lone
+        // sign is still malformed.
+        assert!(lex_line(line, 1, 0, &mut words).is_err());
+        assert!(lex_line_with(b"G33 P-", 1, 0, &mut words, b"P").is_err());
     }
 
     #[test]

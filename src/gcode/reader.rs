@@ -2,7 +2,7 @@
 
 use std::io::{BufRead, Read};
 
-use super::lexer::{lex_line, LineShape, Word};
+use super::lexer::{lex_line_with, LineShape, Word};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -62,6 +62,7 @@ pub struct Reader<R> {
     /// Bytes of the previous line still to be consumed from the source's buffer.
     pending: usize,
     done: bool,
+    bare: &'static [u8],
 }
 
 impl<R: BufRead> Reader<R> {
@@ -74,7 +75,14 @@ impl<R: BufRead> Reader<R> {
             offset: 0,
             pending: 0,
             done: false,
+            bare: b"",
         }
+    }
+
+    /// Lets these letters stand without a number (see [`lex_line_with`](super::lexer::lex_line_with)).
+    pub fn with_bare_letters(mut self, bare: &'static [u8]) -> Reader<R> {
+        self.bare = bare;
+        self
     }
 
     /// Bytes consumed so far.
@@ -146,7 +154,7 @@ impl<R: BufRead> Reader<R> {
             }
         }
         let text = &raw[..text_len];
-        match lex_line(text, line_no, offset, &mut self.words) {
+        match lex_line_with(text, line_no, offset, &mut self.words, self.bare) {
             Ok(shape) => Some(Ok(Line {
                 number: line_no,
                 offset,

@@ -103,6 +103,18 @@ pub fn number(value: f64, decimals: u32, trailing_zeros: bool) -> String {
     s
 }
 
+/// Formats `value` rounded once to a multiple of `step` (a controller resolution such as OmniTurn's
+/// .00005"), with as many decimals as the step needs.
+pub fn number_on_grid(value: f64, step: f64, trailing_zeros: bool) -> String {
+    let decimals = (0..=9)
+        .find(|&d| {
+            let scaled = step * 10f64.powi(d);
+            (scaled - scaled.round()).abs() < 1e-9
+        })
+        .unwrap_or(9) as u32;
+    number((value / step).round() * step, decimals, trailing_zeros)
+}
+
 /// Writes the moves of a toolpath as plain blocks, one per motion.
 pub fn write_moves(
     out: &mut dyn Write,
@@ -191,6 +203,15 @@ mod tests {
         assert_eq!(number(0.0005, 3, false), "0.001");
         assert_eq!(number(-12.5, 0, false), "-13.");
         assert_eq!(number(1e9, 4, false), "1000000000.");
+    }
+
+    #[test]
+    fn grid_numbers_round_to_the_step() {
+        assert_eq!(number_on_grid(0.2200294, 0.00005, false), "0.22005");
+        assert_eq!(number_on_grid(0.2200294, 0.00025, false), "0.22");
+        assert_eq!(number_on_grid(0.33333, 0.00025, false), "0.33325");
+        assert_eq!(number_on_grid(0.33333, 0.0005, true), "0.3335");
+        assert_eq!(number_on_grid(-0.5, 0.00005, false), "-0.5");
     }
 
     #[test]

@@ -53,7 +53,8 @@ pub fn chip_areas(tents: &[(f64, f64)], t: f64) -> Vec<f64> {
     (1..=tents.len())
         .map(|n| {
             let after = union_area(&tents[..n], t);
-            let chip = (after - before).max(0.0);
+            // Never negative, and never −0 (an empty f64 sum is −0.0).
+            let chip = if after > before { after - before } else { 0.0 };
             before = after;
             chip
         })

@@ -35,6 +35,18 @@ impl Side {
     pub fn outward(self) -> Vec2 {
         self.infeed().scale(-1.0)
     }
+
+    /// The side of a cycle that starts at radius `start_x` and cuts toward radius `toward_x`:
+    /// external when it cuts down, internal when it cuts up, `None` when it does not move.
+    pub fn of_cut(start_x: f64, toward_x: f64) -> Option<Side> {
+        if start_x > toward_x {
+            Some(Side::External)
+        } else if start_x < toward_x {
+            Some(Side::Internal)
+        } else {
+            None
+        }
+    }
 }
 
 /// The thread's form on the part: the crest line (depth 0) from the thread's start to its end.
@@ -208,6 +220,13 @@ pub enum Exit {
         length: f64,
         outward: f64,
     },
+    /// Every pass's thread move ends at the programmed end Z, whatever the pass's lateral offset (a
+    /// flank infeed moves only where a pass starts), then the tool leaves for the retract X. That X
+    /// keeps at least the clearance it has at the thread start when a taper climbs toward the end.
+    /// `run_on` 0: a rapid straight out. `run_on` r > 0: a synchronised pull-out that travels r
+    /// times its X travel beyond the end (OmniTurn G33 P: "it will travel beyond Z the same amount
+    /// as it has to travel in X to reach the retraction position", r = 1).
+    ToRetract { run_on: f64 },
 }
 
 /// Where the tool goes between passes and at the end.

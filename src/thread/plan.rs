@@ -30,6 +30,14 @@ pub enum DepthLaw {
     },
     /// Cumulative depths, given outright.
     Explicit { depths: Vec<f64> },
+    /// The first pass is cut at the reference itself (depth 0: the controller only knows where the
+    /// tool stands, not the crest), then `d_n = step · (n−1)^(1/degression)`.
+    ///
+    /// OmniTurn G33 (seed 002): "the starting location in X is the major diameter, less the amount
+    /// of the first pass"; I is "the starting incremental amount of material to be removed after
+    /// the first pass", then the cut shrinks so the material removed stays constant — degression
+    /// 2 measured from the start position: `d_n = I·√(n−1)`.
+    FromStart { step: f64, degression: f64 },
 }
 
 /// The depth law plus what it is applied to.
@@ -95,6 +103,23 @@ pub fn rough_depths(law: &DepthLaw, limit: f64) -> Result<Vec<f64>> {
                 }
                 depths.push(depth);
                 previous = depth;
+            }
+        }
+        DepthLaw::FromStart { step, degression } => {
+            depths.push(0.0);
+            if limit <= DEPTH_TOLERANCE {
+                return Ok(depths);
+            }
+            for k in 1..=MAX_ROUGH_PASSES {
+                if k == MAX_ROUGH_PASSES {
+                    return Err(too_many(limit, *step));
+                }
+                let depth = step * f64::from(k).powf(1.0 / degression);
+                if depth >= limit - DEPTH_TOLERANCE {
+                    depths.push(limit);
+                    break;
+                }
+                depths.push(depth);
             }
         }
         DepthLaw::Explicit { depths: given } => {
@@ -229,6 +254,34 @@ mod tests {
         // 0.25·√16 = 1.0 exactly: the 16th pass lands on the limit, no 17th sliver pass.
         let d = rough_depths(&degressive(0.25, 0.0), 1.0).unwrap();
         assert_eq!(d.len(), 16);
+    }
+
+    #[test]
+    fn from_start_law_cuts_the_first_pass_at_the_reference() {
+        // OmniTurn seed, first external example: I .012 over .025 (inch, radius).
+        let law = DepthLaw::FromStart {
+            step: 0.012,
+            degression: 2.0,
+        };
+        let d = rough_depths(&law, 0.025).unwrap();
+        let expect = [
+            0.0,
+            0.012,
+            0.012 * 2f64.sqrt(),
+            0.012 * 3f64.sqrt(),
+            0.024,
+            0.025,
+        ];
+        assert_eq!(d.len(), expect.len(), "{d:?}");
+        for (a, b) in d.iter().zip(expect) {
+            assert!((a - b).abs() < 1e-15, "{d:?}");
+        }
+        // 0.01·√25 lands exactly on 0.05: no sliver pass.
+        let law = DepthLaw::FromStart {
+            step: 0.01,
+            degression: 2.0,
+        };
+        assert_eq!(rough_depths(&law, 0.05).unwrap().len(), 26);
     }
 
     #[test]

@@ -1,0 +1,17 @@
+(OmniTurn G33 seed 002: four-start coarse thread in G35, lead .4)
+T4(Threading tool)
+X0Z1
+X.5Z.2
+G35
+G92X.5Z.2
+G33X.45Z-.75I.01K.4C
+X.5Z.3
+G33X.45Z-.75I.01K.4C
+X.5Z.4
+G33X.45Z-.75I.01K.4C
+X.5Z.5
+G33X.45Z-.75I.01K.4C
+X.5Z.2
+G36
+G92X.5Z.2
+G00Z2

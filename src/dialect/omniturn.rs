@@ -1,0 +1,705 @@
+//! OmniTurn lathe controls: the G33 threading cycle (seed 002).
+//!
+//! ```text
+//! G33 Xn Zn In Kn [An] [C[n]] [P] [O]
+//! G72 / G73            diameter / radius mode (X, I and A follow it); G73 at power-on
+//! G35 | G35F2 ; G92 X Z     coarse leads up to 1" / 2"      G36 ; G92 X Z     back to .2"
+//! ```
+//! Every decision on an ambiguity of the seed is a row of `docs/dialects/omniturn-g33.md`.
+
+use std::io::{self, Write};
+
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::reader::g_code;
+use crate::gcode::{Conventions, Line, Modal, Word};
+use crate::machine::{Machine, OmniTurnParameters};
+use crate::post::{self, Format};
+use crate::thread::{
+    DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, Pass, PassPlan,
+    Retract, Side,
+};
+use crate::toolpath::Toolpath;
+use crate::units::{Pos, Units, MM_PER_INCH};
+
+use super::{Dialect, Read};
+
+const G33: u16 = 330;
+const G72: u16 = 720;
+const G73: u16 = 730;
+const G35: u16 = 350;
+const G36: u16 = 360;
+const G92: u16 = 920;
+
+/// C written alone: "This defaults to 29°".
+pub const DEFAULT_INFEED_ANGLE: f64 = 29.0;
+/// "The maximum angle is 30° (based on standard 60° tool geometry) the min is 0°."
+pub const MAX_INFEED_ANGLE: f64 = 30.0;
+/// The tool the seed assumes ("standard 60° tool geometry"), for chip areas.
+pub const TOOL_ANGLE: f64 = 60.0;
+/// "The tool will back away from the starting position plus 3 times the amount of I."
+pub const RETRACT_TIMES_I: f64 = 3.0;
+
+/// The IPR feed modes: their index into the profile's `max_lead_in` and `resolution_in`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FeedMode {
+    Normal = 0,
+    G35 = 1,
+    G35F2 = 2,
+}
+
+impl FeedMode {
+    pub fn name(self) -> &'static str {
+        match self {
+            FeedMode::Normal => "normal feed mode (G36)",
+            FeedMode::G35 => "G35",
+            FeedMode::G35F2 => "G35F2",
+        }
+    }
+}
+
+pub struct OmniTurn {
+    conv: Conventions,
+    machine: Machine,
+    params: OmniTurnParameters,
+    /// G72 (diameter) in force; mirrors the modal state for the output format.
+    diameter: bool,
+    mode: FeedMode,
+    /// Where the tool stood when G35 was first used (G36 must find it there again).
+    coarse_from: Option<Pos>,
+    /// A G35/G36 line waits for its `G92 X Z` companion: the mode line's span and name.
+    pending_g92: Option<(Span, &'static str)>,
+    /// The last S word (rpm), for the slide-speed check.
+    rpm: Option<f64>,
+}
+
+/// The built-in OmniTurn data when a profile has no `[omniturn]` table.
+pub fn default_parameters() -> OmniTurnParameters {
+    Machine::built_in("omniturn")
+        .and_then(|m| m.omniturn)
+        .expect("the omniturn profile has an [omniturn] table")
+}
+
+impl OmniTurn {
+    pub fn new(machine: &Machine) -> OmniTurn {
+        OmniTurn {
+            conv: Conventions {
+                uw_incremental: false,
+                g90_g91_distance: true,
+                diameter_x: machine.diameter_x,
+                thread_move: G33,
+                tpi_letter: 0,
+                set_position: G92,
+                canned_cycles: &[],
+            },
+            machine: machine.clone(),
+            params: machine.omniturn.clone().unwrap_or_else(default_parameters),
+            diameter: machine.diameter_x,
+            mode: FeedMode::Normal,
+            coarse_from: None,
+            pending_g92: None,
+            rpm: None,
+        }
+    }
+
+    fn resolution_in(&self) -> f64 {
+        self.params.resolution_in[self.mode as usize]
+    }
+
+    /// The line after G35/G36 "must be a G92XnZn, where XnZn are the current working coordinates".
+    fn check_companion(&mut self, line: &Line, modal: &Modal) -> Result<()> {
+        let Some((at, name)) = self.pending_g92 else {
+            return Ok(());
+        };
+        let expected = || {
+            modal.position.map_or(String::new(), |p| {
+                format!(
+                    " (the tool is at X{} Z{})",
+                    post::number(modal.x_from_mm(p.x), 5, false),
+                    post::number(modal.units.from_mm(p.z), 5, false)
+                )
+            })
+        };
+        let is_g92 = line.has_g(G92) && line.word(b'X').is_some() && line.word(b'Z').is_some();
+        if !is_g92 {
+            return Err(Diagnostic::error(
+                Code::MissingWord,
+                line.span(),
+                format!(
+                    "the block after {name} (line {}) must be G92 X.. Z.. with the current coordinates",
+                    at.line
+                ),
+            )
+            .with_hint(format!("write G92 X.. Z..{} on the line after {name}", expected())));
+        }
+        if let Some(p) = modal.position {
+            let target = modal.target(&self.conv, line, p)?;
+            let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
+            for (letter, want, got) in [(b'X', p.x, target.x), (b'Z', p.z, target.z)] {
+                if (want - got).abs() > tolerance {
+                    let w = line.word(letter).expect("checked above");
+                    return Err(Diagnostic::error(
+                        Code::Conflict,
+                        w.span,
+                        format!(
+                            "{}{} is not the current coordinate: G92 after {name} must restate where the tool is{}",
+                            letter as char,
+                            post::number(modal.value(w), 5, false),
+                            expected()
+                        ),
+                    )
+                    .with_hint("a different value would shift every later coordinate"));
+                }
+            }
+        }
+        self.pending_g92 = None;
+        Ok(())
+    }
+
+    /// G35 / G35F2 / G36: "must be on a line by itself".
+    fn read_mode_line(
+        &mut self,
+        line: &Line,
+        modal: &Modal,
+        code: u16,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<()> {
+        let g = line
+            .words
+            .iter()
+            .find(|w| w.letter == b'G' && g_code(w.value) == Some(code))
+            .expect("the caller found it");
+        let name = if code == G36 { "G36" } else { "G35" };
+        if let Some(other) = line
+            .words
+            .iter()
+            .find(|w| w.span != g.span && w.letter != b'N' && !(code == G35 && w.letter == b'F'))
+        {
+            return Err(Diagnostic::error(
+                Code::Conflict,
+                other.span,
+                format!("{name} must be on a line by itself"),
+            )
+            .with_hint(format!(
+                "write {name} alone (G35F2 for leads up to 2\"), then G92 X.. Z.. on the next line"
+            )));
+        }
+        let new_mode = if code == G36 {
+            match self.mode {
+                FeedMode::Normal => warnings.push(Diagnostic::warning(
+                    Code::Suspicious,
+                    g.span,
+                    "G36 with no coarse feed mode (G35) active",
+                )),
+                _ => {
+                    if let (Some(from), Some(at)) = (self.coarse_from, modal.position) {
+                        let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
+                        if from.distance(at) > tolerance {
+                            return Err(Diagnostic::error(
+                                Code::Geometry,
+                                g.span,
+                                format!(
+                                    "G36 with the tool at X{} Z{}: it must first return to X{} Z{}, where G35 was used",
+                                    post::number(modal.x_from_mm(at.x), 5, false),
+                                    post::number(modal.units.from_mm(at.z), 5, false),
+                                    post::number(modal.x_from_mm(from.x), 5, false),
+                                    post::number(modal.units.from_mm(from.z), 5, false)
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+            self.coarse_from = None;
+            FeedMode::Normal
+        } else {
+            let mode = match line.word(b'F') {
+                None => FeedMode::G35,
+                Some(f) if !f.is_bare() && f.value == 2.0 => FeedMode::G35F2,
+                Some(f) => {
+                    return Err(Diagnostic::error(
+                        Code::OutOfRange,
+                        f.span,
+                        format!(
+                        "G35F{}: the coarse modes are G35 (leads up to 1\") and G35F2 (up to 2\")",
+                        crate::gcode::lexer::show(f.raw(line.text))
+                    ),
+                    ))
+                }
+            };
+            if self.coarse_from.is_none() {
+                self.coarse_from = modal.position;
+            }
+            mode
+        };
+        self.mode = new_mode;
+        self.pending_g92 = Some((
+            g.span,
+            if new_mode == FeedMode::G35F2 {
+                "G35F2"
+            } else {
+                name
+            },
+        ));
+        Ok(())
+    }
+
+    fn read_cycle(
+        &mut self,
+        line: &Line,
+        modal: &Modal,
+        g33: Span,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Job> {
+        if let Some(w) = line
+            .words
+            .iter()
+            .find(|w| !b"GNXZIKACPOS".contains(&w.letter))
+        {
+            return Err(Diagnostic::error(
+                Code::Unsupported,
+                w.span,
+                format!("{} is not a word of G33", w.letter as char),
+            )
+            .with_hint("its words are X Z I K A C P O"));
+        }
+        for w in line.words.iter().filter(|w| w.letter == b'G') {
+            if w.span != g33 && !matches!(g_code(w.value), Some(G72 | G73)) {
+                return Err(Diagnostic::error(
+                    Code::Conflict,
+                    w.span,
+                    format!("G{} shares a block with G33", w.value),
+                )
+                .with_hint("write G33 in a block of its own"));
+            }
+        }
+        for flag in [b'P', b'O'] {
+            if let Some(w) = line.word(flag).filter(|w| !w.is_bare()) {
+                return Err(Diagnostic::error(
+                    Code::Syntax,
+                    w.span,
+                    format!("{} is a flag on G33 and takes no value", flag as char),
+                )
+                .with_hint(format!("write {} alone", flag as char)));
+            }
+        }
+        let need = |letter: u8, what: &str| -> Result<&Word> {
+            match line.word(letter) {
+                Some(w) if w.is_bare() => Err(Diagnostic::error(
+                    Code::Syntax,
+                    w.span,
+                    format!("{} needs a value: {what}", letter as char),
+                )),
+                Some(w) => Ok(w),
+                None => Err(Diagnostic::error(
+                    Code::MissingWord,
+                    g33,
+                    format!("G33 needs {}: {what}", letter as char),
+                )),
+            }
+        };
+        let x = need(b'X', "the X of the final pass")?;
+        need(b'Z', "the Z of the end of the thread")?;
+        let i = need(b'I', "the amount removed after the first pass")?;
+        let k = need(b'K', "the lead, inches per revolution")?;
+        let units = modal.units;
+        // I and A are X amounts: diameters in G72, radii in G73 (seed: "defined as the diameter
+        // removal in diameter mode").
+        let x_amount = |v: f64| {
+            let r = if modal.diameter_x { v / 2.0 } else { v };
+            units.to_mm(r)
+        };
+        let i_value = modal.value(i);
+        if i_value <= 0.0 {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                i.span,
+                format!("I{i_value}: the amount removed after the first pass must be positive"),
+            ));
+        }
+        let step = x_amount(i_value);
+        let k_in = units.to_mm(modal.value(k)) / MM_PER_INCH;
+        if k_in <= 0.0 {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                k.span,
+                format!("K{}: the lead must be positive", modal.value(k)),
+            ));
+        }
+        let max = self.params.max_lead_in[self.mode as usize];
+        if k_in > max {
+            let fits = [FeedMode::G35, FeedMode::G35F2]
+                .into_iter()
+                .find(|m| k_in <= self.params.max_lead_in[*m as usize]);
+            let hint = match fits {
+                Some(FeedMode::G35F2) => format!(
+                    "put G35F2 on a line by itself before the cycle, then G92 X.. Z.. with the current position (leads up to {}\")",
+                    self.params.max_lead_in[2]
+                ),
+                Some(_) => format!(
+                    "put G35 on a line by itself before the cycle, then G92 X.. Z.. with the current position (leads up to {}\")",
+                    self.params.max_lead_in[1]
+                ),
+                None => format!(
+                    "no OmniTurn feed mode cuts a lead above {}\"",
+                    self.params.max_lead_in[2]
+                ),
+            };
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                k.span,
+                format!(
+                    "K{} is above the {}\" largest lead of {}",
+                    crate::gcode::lexer::show(k.raw(line.text)),
+                    max,
+                    self.mode.name()
+                ),
+            )
+            .with_hint(hint));
+        }
+        let lead = k_in * MM_PER_INCH;
+        let taper = match line.word(b'A') {
+            Some(a) if a.is_bare() => {
+                return Err(Diagnostic::error(
+                    Code::Syntax,
+                    a.span,
+                    "A needs a value: the X travel over the whole Z travel",
+                ))
+            }
+            Some(a) => x_amount(modal.value(a)),
+            None => 0.0,
+        };
+        let infeed_angle = match line.word(b'C') {
+            None => None,
+            Some(c) if c.is_bare() => Some(DEFAULT_INFEED_ANGLE),
+            Some(c) => {
+                let v = c.value;
+                if !(0.0..=MAX_INFEED_ANGLE).contains(&v) {
+                    return Err(Diagnostic::error(
+                        Code::OutOfRange,
+                        c.span,
+                        format!("C{v}: the infeed angle must be 0 to {MAX_INFEED_ANGLE} degrees"),
+                    )
+                    .with_hint("C alone means 29°"));
+                }
+                Some(v)
+            }
+        };
+        let single = line.word(b'O').is_some();
+        let pull_out = line.word(b'P').is_some();
+        let start = modal.position.ok_or_else(|| {
+            Diagnostic::error(
+                Code::UnknownPosition,
+                g33,
+                "G33 starts where the tool is, and the tool's position is not known here",
+            )
+            .with_hint("position the tool at the first pass with X.. Z.. before the cycle")
+        })?;
+        let end = modal.target(&self.conv, line, start)?;
+        let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, g33, msg);
+        let travel_z = end.z - start.z;
+        if travel_z == 0.0 {
+            return Err(geometry_error(
+                "Z is where the tool stands: the thread has no length".into(),
+            ));
+        }
+        if taper.abs() >= travel_z.abs() {
+            return Err(geometry_error(format!(
+                "the taper A moves X {} over {} of Z: G33 threads along Z",
+                units.from_mm(taper.abs()),
+                units.from_mm(travel_z.abs())
+            )));
+        }
+        let side = Side::of_cut(start.x, end.x).ok_or_else(|| {
+            Diagnostic::error(
+                Code::Geometry,
+                x.span,
+                "the final X equals the start X: no depth to cut, and no way to tell an external from an internal thread",
+            )
+            .with_hint("start the tool at the first pass, outside the final X (inside it for an internal thread)")
+        })?;
+        let depth = (start.x - end.x).abs();
+        let axial_dir = travel_z.signum();
+        let infeed = match infeed_angle {
+            None => Infeed::Radial,
+            // Deeper passes move in the cutting direction: the leading flank cuts.
+            Some(angle_deg) => Infeed::Flank {
+                flank: if axial_dir < 0.0 {
+                    Flank::Right
+                } else {
+                    Flank::Left
+                },
+                angle_deg,
+            },
+        };
+        self.warn_limits(modal, line, k, k_in, start, axial_dir, g33, warnings);
+        Ok(Job {
+            line: line.number,
+            span: g33,
+            controller: "omniturn",
+            units,
+            start,
+            geometry: Geometry {
+                crest_start: start,
+                crest_end: Pos::new(start.x + taper, end.z),
+                depth,
+                side,
+            },
+            lead: Lead::constant(lead),
+            plan: if single {
+                PassPlan {
+                    law: DepthLaw::Explicit { depths: vec![] },
+                    finish_allowance: 0.0,
+                    finish_passes: 1,
+                }
+            } else {
+                PassPlan {
+                    law: DepthLaw::FromStart {
+                        step,
+                        degression: 2.0,
+                    },
+                    finish_allowance: 0.0,
+                    finish_passes: 0,
+                }
+            },
+            infeed,
+            finish_at: FinishPosition::Axis,
+            tool_angle_deg: TOOL_ANGLE,
+            entry: Entry::Direct,
+            exit: Exit::ToRetract {
+                run_on: if pull_out { 1.0 } else { 0.0 },
+            },
+            retract: Retract {
+                x: start.x + side.outward().x * RETRACT_TIMES_I * step,
+                z: start.z,
+            },
+        })
+    }
+
+    /// The seed's machine limits: 300 ipm of slide, and the run-up the slide needs.
+    #[allow(clippy::too_many_arguments)]
+    fn warn_limits(
+        &self,
+        modal: &Modal,
+        line: &Line,
+        k: &Word,
+        k_in: f64,
+        start: Pos,
+        axial_dir: f64,
+        g33: Span,
+        warnings: &mut Vec<Diagnostic>,
+    ) {
+        let rpm = line
+            .word(b'S')
+            .filter(|s| !s.is_bare())
+            .map(|s| s.value)
+            .or(self.rpm);
+        if let Some(rpm) = rpm {
+            let ipm = rpm * k_in;
+            if ipm > self.params.max_slide_ipm {
+                warnings.push(
+                    Diagnostic::warning(
+                        Code::MachineLimit,
+                        k.span,
+                        format!(
+                            "S{rpm} × K{k_in} = {ipm:.1} ipm is faster than the slide's {} ipm",
+                            self.params.max_slide_ipm
+                        ),
+                    )
+                    .with_hint(format!(
+                        "slow the spindle to S{} or less",
+                        (self.params.max_slide_ipm / k_in).floor()
+                    )),
+                );
+            }
+        }
+        // Z0 is the part's face in every seed example; the run-up is the start's distance in front
+        // of it, against the cutting direction.
+        let runup = modal.units.from_mm(-start.z * axial_dir);
+        let runup_in = if modal.units == Units::Inch {
+            runup
+        } else {
+            runup / MM_PER_INCH
+        };
+        if runup_in < self.params.runup_in {
+            warnings.push(
+                Diagnostic::warning(
+                    Code::MachineLimit,
+                    g33,
+                    format!(
+                        "the cycle starts {}\" in front of Z0 (taken as the part's face): the slide needs about {}\" to reach threading speed",
+                        post::number(runup_in, 5, false),
+                        self.params.runup_in
+                    ),
+                )
+                .with_hint("start further from the face, or slow the spindle until the thread gauge goes on"),
+            );
+        }
+    }
+}
+
+impl Dialect for OmniTurn {
+    fn name(&self) -> &'static str {
+        "omniturn"
+    }
+
+    fn conventions(&self) -> &Conventions {
+        &self.conv
+    }
+
+    fn bare_letters(&self) -> &'static [u8] {
+        b"PCO"
+    }
+
+    fn read(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read> {
+        if line.words.is_empty() {
+            return Ok(Read::Plain);
+        }
+        self.check_companion(line, modal)?;
+        let mut cycle = None;
+        for w in line.words.iter().filter(|w| w.letter == b'G') {
+            match g_code(w.value) {
+                Some(G72) => {
+                    modal.diameter_x = true;
+                    self.diameter = true;
+                }
+                Some(G73) => {
+                    modal.diameter_x = false;
+                    self.diameter = false;
+                }
+                Some(210) => {
+                    return Err(Diagnostic::error(
+                        Code::Unsupported,
+                        w.span,
+                        "G21: the OmniTurn seed documents inch programming only",
+                    )
+                    .with_hint("program in inches (G20)"))
+                }
+                Some(c @ (G35 | G36)) => {
+                    self.read_mode_line(line, modal, c, warnings)?;
+                    return Ok(Read::Plain);
+                }
+                Some(G33) => cycle = Some(w.span),
+                _ => {}
+            }
+        }
+        if let Some(g33) = cycle {
+            let job = self.read_cycle(line, modal, g33, warnings)?;
+            if let Some(s) = line.word(b'S').filter(|s| !s.is_bare()) {
+                self.rpm = Some(s.value);
+            }
+            return Ok(Read::Cycle(Box::new(job)));
+        }
+        if let Some(s) = line.word(b'S') {
+            self.rpm = Some(s.value);
+        }
+        Ok(Read::Plain)
+    }
+
+    fn format(&self) -> Format {
+        Format {
+            diameter_x: self.diameter,
+            ..Format::lathe(&self.machine, "G33", 'K')
+        }
+    }
+
+    /// OmniTurn has no plain synchronised move: G33 is always the cycle. Its documented single-pass
+    /// option O ("can be used to have greater control over the amount to be removed with each
+    /// pass") writes any pass at depth > 0 exactly, from the same start point. The pass at the
+    /// start point itself cannot be an O pass (its direction of retraction would be undefined), so
+    /// passes 1 and 2 are written as a regular G33 whose X is pass 2's: it cuts exactly those two.
+    fn write_cycle(
+        &self,
+        out: &mut dyn Write,
+        job: &Job,
+        passes: &[Pass],
+        _path: &Toolpath,
+    ) -> Option<io::Result<()>> {
+        Some(self.write_single_passes(out, job, passes))
+    }
+}
+
+impl OmniTurn {
+    fn write_single_passes(
+        &self,
+        out: &mut dyn Write,
+        job: &Job,
+        passes: &[Pass],
+    ) -> io::Result<()> {
+        let units = job.units;
+        let step = self.resolution_in()
+            * if units == Units::Inch {
+                1.0
+            } else {
+                MM_PER_INCH
+            };
+        let tz = self.machine.output.trailing_zeros;
+        let x_amount = |radius_mm: f64| {
+            let v = units.from_mm(radius_mm);
+            if self.diameter {
+                v * 2.0
+            } else {
+                v
+            }
+        };
+        let grid = |v: f64| post::number_on_grid(v, step, tz);
+        let i_radius = (job.retract.x - job.start.x).abs() / RETRACT_TIMES_I;
+        let mut tail = format!(
+            " Z{} I{} K{}",
+            grid(units.from_mm(job.geometry.crest_end.z)),
+            grid(x_amount(i_radius)),
+            grid(units.from_mm(job.lead.lead))
+        );
+        let taper = job.geometry.crest_end.x - job.geometry.crest_start.x;
+        if taper != 0.0 {
+            tail.push_str(&format!(" A{}", grid(x_amount(taper))));
+        }
+        if let Infeed::Flank { angle_deg, .. } = job.infeed {
+            tail.push_str(&format!(" C{}", post::number(angle_deg, 3, false)));
+        }
+        if matches!(job.exit, Exit::ToRetract { run_on } if run_on > 0.0) {
+            tail.push_str(" P");
+        }
+        let comment = |out: &mut dyn Write, text: &str| -> io::Result<()> {
+            match self.format().comment(text) {
+                Some(c) => writeln!(out, "{c}"),
+                None => Ok(()),
+            }
+        };
+        // A single-pass cycle is already one O pass; a full cycle's first two passes are one G33.
+        let rest = match passes {
+            [only] if only.kind == crate::thread::PassKind::Finish => {
+                comment(out, "threadcut: the single pass O as written")?;
+                writeln!(out, "G33 X{}{tail} O", grid(x_amount(only.start.x)))?;
+                return Ok(());
+            }
+            [a, b, rest @ ..] => {
+                comment(
+                    out,
+                    &format!(
+                        "threadcut: passes {} and {} as one G33 from the start point",
+                        a.n, b.n
+                    ),
+                )?;
+                writeln!(out, "G33 X{}{tail}", grid(x_amount(b.start.x)))?;
+                rest
+            }
+            _ => passes,
+        };
+        for p in rest {
+            comment(
+                out,
+                &format!(
+                    "threadcut: pass {} as a G33 O single pass from the start point",
+                    p.n
+                ),
+            )?;
+            writeln!(out, "G33 X{}{tail} O", grid(x_amount(p.start.x)))?;
+        }
+        Ok(())
+    }
+}
