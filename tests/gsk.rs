@@ -806,3 +806,30 @@ fn modal_state_after_an_expanded_cycle_is_the_original_programs() {
     let src = "G0 X80 Z10\nG01 Z10 F0.2\nG78 X60 Z-30 P3 Q1.2 F3 J2 K1\nX90\n";
     assert!(expand(src).ends_with("G0 X80. Z10.\nG1 F3.\nX90\n"));
 }
+
+#[test]
+fn incremental_end_point_with_u_and_w() {
+    // U/W are measured from A (X80 Z10): U-20 W-70 is the same end point as X60 Z-60 (§3).
+    let absolute = passes("G0 X80 Z10\nG78 P010060 Q0.1 R0.05\nG78 X60 Z-60 P1.5 Q0.5 F2\n");
+    let incremental = passes("G0 X80 Z10\nG78 P010060 Q0.1 R0.05\nG78 U-20 W-70 P1.5 Q0.5 F2\n");
+    assert_eq!(absolute, incremental);
+    // Crest Ø63 = root Ø60 + 2·1.5. √n·0.5 up to n = 6 (increments ≥ 0.1); at n = 7 √7·0.5 − √6·0.5 =
+    // 0.098 < Δdmin, so 1.224745 + 0.1, then + 0.1 again; 1.524745 ≥ k − d = 1.45 → 1.45.
+    let rough = [
+        0.5,
+        0.707_106_781_186_547_5,
+        0.866_025_403_784_438_6,
+        1.0,
+        1.118_033_988_749_895,
+        1.224_744_871_391_589,
+        1.324_744_871_391_589,
+        1.424_744_871_391_589,
+        1.45,
+    ];
+    let mut expect: Vec<_> = rough
+        .iter()
+        .map(|&d| (R, d, 63.0 - 2.0 * d, 10.0))
+        .collect();
+    expect.push((F, 1.5, 60.0, 10.0));
+    assert_passes(&incremental, &expect);
+}
