@@ -187,6 +187,16 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
         start: job.start,
         motions,
     };
+    if let Some(bad) = path.motions.iter().find(|m| m.to.x < -AXIS_TOLERANCE) {
+        return Err(Diagnostic::error(
+            Code::Geometry,
+            job.span,
+            format!(
+                "pass {} would cross the spindle axis (a radius of {:.4} mm): the depth is larger than the part's radius",
+                bad.pass, bad.to.x
+            ),
+        ));
+    }
     if let Some(bad) = path.motions.iter().find(|m| !m.to.is_finite()) {
         return Err(Diagnostic::error(
             Code::Geometry,
@@ -196,6 +206,9 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
     }
     Ok(path)
 }
+
+/// A radius this far below zero is still the axis (rounding), not a crossing of it.
+const AXIS_TOLERANCE: f64 = 1e-9;
 
 /// A thread's lead is set along Z; when a move (a steep pull-out, a radial screw-in) travels further
 /// in X than in Z, its longer axis is X, and keeping the same Z rate per revolution means X advances
