@@ -153,6 +153,13 @@ impl Modal {
                 (false, false) => to.z = v,
                 (false, true) => to.z = from.z + v,
             }
+            if !to.is_finite() {
+                return Err(Diagnostic::error(
+                    Code::BadNumber,
+                    w.span,
+                    "this value puts the tool beyond any representable position",
+                ));
+            }
         }
         Ok(to)
     }

@@ -115,6 +115,19 @@ pub fn number_on_grid(value: f64, step: f64, trailing_zeros: bool) -> String {
     number((value / step).round() * step, decimals, trailing_zeros)
 }
 
+/// A value about to be written: a non-finite number is refused here, where numbers are written, so
+/// that no `NaN` or `inf` can reach a program whatever happened upstream.
+pub fn finite(value: f64) -> io::Result<f64> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            format!("refusing to write the non-finite value {value}"),
+        ))
+    }
+}
+
 /// Writes the moves of a toolpath as plain blocks, one per motion.
 pub fn write_moves(
     out: &mut dyn Write,
@@ -134,17 +147,21 @@ pub fn write_moves(
         line.push_str(code);
         line.push_str(" X");
         line.push_str(&number(
-            format.x_word(m.to.x, units),
+            finite(format.x_word(m.to.x, units))?,
             nd,
             format.trailing_zeros,
         ));
         line.push_str(" Z");
-        line.push_str(&number(units.from_mm(m.to.z), nd, format.trailing_zeros));
+        line.push_str(&number(
+            finite(units.from_mm(m.to.z))?,
+            nd,
+            format.trailing_zeros,
+        ));
         if let Some(lead) = lead {
             line.push(' ');
             line.push(format.lead_letter);
             line.push_str(&number(
-                units.from_mm(lead),
+                finite(units.from_mm(lead))?,
                 format.lead_digits(units),
                 format.trailing_zeros,
             ));
