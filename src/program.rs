@@ -87,13 +87,7 @@ pub fn run<R: BufRead>(
                 summary.cycles += 1;
                 // A cycle ends where it started.
                 modal.position = Some(job.start);
-                sink(
-                    &modal,
-                    Event::Cycle {
-                        line: &line,
-                        job,
-                    },
-                )?;
+                sink(&modal, Event::Cycle { line: &line, job })?;
             }
         }
         for w in &mut summary.warnings[before..] {

@@ -16,6 +16,10 @@ pub struct Format {
     pub thread: &'static str,
     /// The word that carries the lead on a thread move (`F` or `K`).
     pub lead_letter: char,
+    /// The variable-lead thread move and the word of its lead change per revolution (Fanuc
+    /// `G34 … K`), if the controller has one. Without it a job with a variable lead cannot be
+    /// written as plain moves: callers must refuse it (the APT post does).
+    pub variable_thread: Option<(&'static str, char)>,
     pub diameter_x: bool,
     /// Decimals of X and Z in mm and in inch programs.
     pub decimals: [u32; 2],
@@ -34,6 +38,7 @@ impl Format {
             feed: "G1",
             thread,
             lead_letter,
+            variable_thread: None,
             diameter_x: machine.diameter_x,
             decimals: [machine.decimals(Units::Mm), machine.decimals(Units::Inch)],
             lead_decimals: [4, 5],
@@ -114,10 +119,13 @@ pub fn write_moves(
     let mut line = String::with_capacity(48);
     for m in &path.motions {
         line.clear();
-        let (code, lead) = match m.kind {
-            MotionKind::Rapid => (format.rapid, None),
-            MotionKind::Feed => (format.feed, None),
-            MotionKind::Thread { lead, .. } => (format.thread, Some(lead)),
+        let (code, lead, dlead) = match m.kind {
+            MotionKind::Rapid => (format.rapid, None, None),
+            MotionKind::Feed => (format.feed, None, None),
+            MotionKind::Thread { lead, dlead, .. } => match format.variable_thread {
+                Some((code, letter)) if dlead != 0.0 => (code, Some(lead), Some((letter, dlead))),
+                _ => (format.thread, Some(lead), None),
+            },
         };
         line.push_str(code);
         line.push_str(" X");
@@ -133,6 +141,15 @@ pub fn write_moves(
             line.push(format.lead_letter);
             line.push_str(&number(
                 units.from_mm(lead),
+                format.lead_digits(units),
+                format.trailing_zeros,
+            ));
+        }
+        if let Some((letter, dlead)) = dlead {
+            line.push(' ');
+            line.push(letter);
+            line.push_str(&number(
+                units.from_mm(dlead),
                 format.lead_digits(units),
                 format.trailing_zeros,
             ));
