@@ -404,6 +404,9 @@ fn return_heights() {
     assert_eq!(job(&wrap(",DEPTH,1,RETURN,0.5")).retract.x, 10.5);
     let j = job(&wrap(",DEPTH,1,RETURN"));
     assert_eq!((j.retract.x, j.retract.z), (12.0, 5.0));
+    // A pull-out that ends above the return height raises it: the retract never moves inward.
+    // Single pass at depth 1, 45° chamfer rising 2: it ends at X 10 − 1 + 2 = 11.
+    assert_eq!(job(&wrap(",DEPTH,1,CHAMFR,2,RETURN,0.5")).retract.x, 11.0);
     // After each pass: straight out to the return height, back above the start point.
     let path = toolpath::build(&job(&wrap(",DEPTH,1,RETURN,0.5"))).unwrap();
     let m = &path.motions;
@@ -737,4 +740,48 @@ fn cli_post_passes_and_expand() {
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("m20.apt:5:19"), "{err}");
+}
+
+#[test]
+fn rapid_before_thread_on_belongs_to_the_cycle() {
+    let src = "UNITS/MM\nPITCH/2,MMPR\nFEDRAT/100\nGOTO/12,0,5\nRAPID\nTHREAD/ON,DEPTH,1\nGOTO/10,0,5\nGOTO/10,0,-30\nTHREAD/OFF\nGOTO/14,0,5\n";
+    let mut out = Vec::new();
+    apt::expand_jsonl(src.as_bytes(), &mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    let last = text.lines().last().unwrap();
+    assert!(last.starts_with(r#"{"kind":"feed","x":14.0"#), "{text}");
+}
+
+#[test]
+fn y_and_missing_units_are_warned_about() {
+    let src = "GOTO/12,3,5\n";
+    let s = apt::run(src.as_bytes(), |_, _| Ok(())).unwrap();
+    let places: Vec<(Code, u32, u32)> = s
+        .warnings
+        .iter()
+        .map(|w| (w.code, w.span.line, w.span.column))
+        .collect();
+    assert_eq!(
+        places,
+        vec![(Code::Suspicious, 1, 1), (Code::Suspicious, 1, 9)]
+    );
+}
+
+#[test]
+fn the_examples_read() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples");
+    let mut n = 0;
+    for e in std::fs::read_dir(dir).unwrap() {
+        let path = e.unwrap().path();
+        if path.extension().is_some_and(|x| x == "apt") {
+            let text = std::fs::read_to_string(&path).unwrap();
+            let jobs =
+                apt::jobs(text.as_bytes()).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+            for j in &jobs {
+                toolpath::build(j).unwrap();
+            }
+            n += jobs.len();
+        }
+    }
+    assert!(n >= 4);
 }

@@ -514,6 +514,8 @@ impl Interp {
                     ));
                 }
                 let on = thread::parse_on(st, self.units)?;
+                // A RAPID before THREAD/ON belongs to the cycle's approach (always a rapid here).
+                self.rapid_next = false;
                 self.block = Some(Block {
                     on,
                     initial,

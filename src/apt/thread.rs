@@ -844,6 +844,31 @@ pub fn lower(t: &ThreadOn, c: &Contour, pitch: Pitch, units: Units, off: Span) -
         Some(At { value: Some(h), .. }) => outermost + units.to_mm(h),
         None => outermost + full_height,
     };
+    // The retract never moves toward the part: it starts at least as high as the end of the
+    // shallowest pass's pull-out.
+    let level = match exit {
+        Exit::PullOut {
+            start_before,
+            length,
+            outward: up,
+        }
+        | Exit::FeedOut {
+            start_before,
+            length,
+            outward: up,
+        } => {
+            let along = travel.scale(1.0 / long.abs());
+            let rise = along.x * outward.x + along.z * outward.z;
+            let first = plan.rough.first().map_or(0.0, |&d| mm(d));
+            let end = crest_end.x * outward.x
+                + crest_end.z * outward.z
+                + rise * (length - start_before)
+                + up
+                - first;
+            level.max(end)
+        }
+        Exit::Straight => level,
+    };
     let signed_level = level * (outward.x + outward.z);
     let retract = if face {
         Retract {
