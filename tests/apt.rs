@@ -785,3 +785,122 @@ fn the_examples_read() {
     }
     assert!(n >= 4);
 }
+
+#[test]
+fn expand_jsonl_carries_the_lead_change() {
+    let mut out = Vec::new();
+    apt::expand_jsonl(wrap(",DEPTH,1,INCR,0.1").as_bytes(), &mut out).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    assert!(
+        text.contains(
+            r#"{"kind":"thread","x":9.0,"z":-30.0,"lead":2.0,"dlead":0.1,"pass":1,"line":8}"#
+        ),
+        "{text}"
+    );
+}
+
+mod never_panics {
+    use proptest::prelude::*;
+
+    fn token() -> impl Strategy<Value = String> {
+        prop_oneof![
+            Just("GOTO/".to_string()),
+            Just("THREAD/ON".to_string()),
+            Just("THREAD/OFF".to_string()),
+            Just("THREAD/TURN".to_string()),
+            Just("PITCH/".to_string()),
+            Just("UNITS/INCHES".to_string()),
+            Just("COUPLE/ON".to_string()),
+            Just("RAPID".to_string()),
+            Just(",".to_string()),
+            Just("\n".to_string()),
+            Just(" $\n".to_string()),
+            Just("$$ c\n".to_string()),
+            prop_oneof![
+                Just("DEPTH"),
+                Just("CUTS"),
+                Just("STEP"),
+                Just("FINCUT"),
+                Just("CUTANG"),
+                Just("TLANGL"),
+                Just("OPTION"),
+                Just("ATANGL"),
+                Just("CHAMFR"),
+                Just("RETURN"),
+                Just("TPI"),
+                Just("MMPR"),
+                Just("MULTRD"),
+                Just("INCR"),
+                Just("DECR")
+            ]
+            .prop_map(str::to_string),
+            (-50.0f64..50.0).prop_map(|v| format!("{v:.3}")),
+            (0u32..300).prop_map(|v| v.to_string()),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn apt_input_never_panics(tokens in proptest::collection::vec(token(), 0..60)) {
+            let src = tokens.concat();
+            if let Ok(jobs) = threadcut::apt::jobs(src.as_bytes()) {
+                for j in &jobs {
+                    let _ = threadcut::toolpath::build(j);
+                }
+            }
+            let m = threadcut::machine::Machine::built_in("gsk980").unwrap();
+            let _ = threadcut::apt::post::write(src.as_bytes(), &mut Vec::new(), &m);
+        }
+    }
+}
+
+mod properties {
+    use proptest::prelude::*;
+    use threadcut::thread::PassKind;
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+        #[test]
+        fn passes_deepen_and_end_at_the_depth(
+            option in 0u8..5,
+            depth in 0.2f64..3.0,
+            cuts in 1u32..40,
+            by_step in any::<bool>(),
+            fin in 0u32..3,
+            dist in 0.0f64..0.1,
+            oblique in -25.0f64..25.0,
+            chamfer in prop_oneof![Just(String::new()), Just(",CHAMFR,1.5".to_string()), Just(",ATANGL,40".to_string()), Just(",CHAMFR,-1,70".to_string())],
+        ) {
+            let cutang = if option == 0 { 180.0 + oblique } else { 180.0 };
+            let spec = if by_step {
+                format!("DEPTH,{depth:.4},STEP,{:.4}", depth / f64::from(cuts) * 1.5)
+            } else {
+                format!("DEPTH,{depth:.4},CUTS,{cuts}")
+            };
+            let src = format!(
+                "UNITS/MM\nPITCH/2,MMPR\nRAPID\nGOTO/14,0,5\nTHREAD/ON,{spec},OPTION,{option},FINCUT,{fin},{dist:.4},CUTANG,{cutang:.3}{chamfer}\nGOTO/10,0,5\nGOTO/10,0,-30\nTHREAD/OFF\n"
+            );
+            let jobs = threadcut::apt::jobs(src.as_bytes());
+            let jobs = match jobs {
+                Ok(jobs) => jobs,
+                // A first step small enough to need more than 200 cuts.
+                Err(threadcut::program::Error::Input(d)) if d.code == threadcut::diag::Code::TooManyPasses => return Ok(()),
+                Err(e) => panic!("{e}\n{src}"),
+            };
+            let j = &jobs[0];
+            let p = j.passes().unwrap();
+            let mut last = -1.0;
+            for pass in &p {
+                prop_assert!(pass.depth >= last - 1e-12, "{src}");
+                last = pass.depth;
+            }
+            prop_assert!((last - j.geometry.depth).abs() < 1e-9, "{src}");
+            let rough = p.iter().filter(|q| q.kind == PassKind::Rough).count();
+            prop_assert!(rough as u32 + fin <= 200);
+            let path = threadcut::toolpath::build(j).unwrap();
+            prop_assert!(path.motions.iter().all(|m| m.to.is_finite()));
+            let m = threadcut::machine::Machine::built_in("gsk980").unwrap();
+            threadcut::apt::post::write(src.as_bytes(), &mut Vec::new(), &m).unwrap();
+        }
+    }
+}

@@ -26,6 +26,9 @@ use crate::units::{Pos, Units};
 pub use reader::{Reader, Statement};
 pub use thread::{Pitch, ThreadOn};
 
+/// Coordinates beyond this (mm) are refused: no lathe is 100 m long, and the output must stay finite.
+pub const MAX_COORDINATE_MM: f64 = 1e5;
+
 /// What one statement produced.
 #[derive(Debug)]
 pub enum Event<'a> {
@@ -155,10 +158,15 @@ impl Interp {
                 ),
             ));
         }
-        Ok(Pos::new(
-            self.units.to_mm(numbers[0]),
-            self.units.to_mm(numbers[2]),
-        ))
+        let p = Pos::new(self.units.to_mm(numbers[0]), self.units.to_mm(numbers[2]));
+        if !p.is_finite() || p.x.abs() > MAX_COORDINATE_MM || p.z.abs() > MAX_COORDINATE_MM {
+            return Err(Diagnostic::error(
+                Code::BadNumber,
+                st.major_span,
+                format!("{}/ names a point beyond ±{MAX_COORDINATE_MM} mm", st.major),
+            ));
+        }
+        Ok(p)
     }
 
     fn no_args(st: &Statement) -> Result<()> {
@@ -344,12 +352,14 @@ impl Interp {
     fn fedrat<'s>(&mut self, st: &'s Statement) -> Result<Option<Event<'s>>> {
         let mut args = thread::Args::new(&st.args);
         let value = match args.take() {
-            Some(a) if a.number().is_some_and(|v| v > 0.0) => a.number().unwrap_or_default(),
+            Some(a) if a.number().is_some_and(|v| v > 0.0 && v < 1e6) => {
+                a.number().unwrap_or_default()
+            }
             Some(a) => {
                 return Err(Diagnostic::error(
                     Code::OutOfRange,
                     a.span,
-                    "FEDRAT/ needs a positive feed rate first",
+                    "FEDRAT/ needs a positive feed rate (below 1e6) first",
                 ))
             }
             None => {

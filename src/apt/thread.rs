@@ -18,6 +18,9 @@ pub const MAX_CUTS: u32 = 200;
 /// print four or more decimals, so a rounding of the printed values never fails the check.
 pub const VERIFY_TOLERANCE: f64 = 0.5e-4;
 
+/// Leads beyond this (mm per revolution) are refused as typing errors.
+pub const MAX_LEAD_MM: f64 = 1000.0;
+
 /// The default tool nose angle (TLANGL).
 pub const DEFAULT_TOOL_ANGLE: f64 = 60.0;
 
@@ -89,6 +92,13 @@ impl PitchWords {
                 ))
             }
         };
+        if !(lead.is_finite() && lead <= MAX_LEAD_MM) {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                self.lead.map_or(span, |l| l.span),
+                format!("a lead of {lead} mm per revolution is beyond {MAX_LEAD_MM} mm"),
+            ));
+        }
         Ok(Pitch {
             lead,
             starts: self

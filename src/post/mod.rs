@@ -161,7 +161,8 @@ pub fn write_moves(
 }
 
 /// One motion as a JSON object in program units, X as a radius:
-/// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}`.
+/// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}` (`"dlead"` after `"lead"` when the
+/// lead varies).
 pub fn motion_json(m: &Motion, units: Units) -> String {
     let x = units.from_mm(m.to.x);
     let z = units.from_mm(m.to.z);
@@ -175,6 +176,16 @@ pub fn motion_json(m: &Motion, units: Units) -> String {
             },
             json_num(x),
             json_num(z),
+            m.pass,
+            m.line
+        ),
+        // A variable lead adds `"dlead"` (change of lead per revolution, at the move's start lead).
+        MotionKind::Thread { lead, dlead, .. } if dlead != 0.0 => format!(
+            r#"{{"kind":"thread","x":{},"z":{},"lead":{},"dlead":{},"pass":{},"line":{}}}"#,
+            json_num(x),
+            json_num(z),
+            json_num(units.from_mm(lead)),
+            json_num(units.from_mm(dlead)),
             m.pass,
             m.line
         ),
