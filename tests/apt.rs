@@ -904,3 +904,34 @@ mod properties {
         }
     }
 }
+
+#[test]
+fn decr_shrinks_the_lead_along_the_pass() {
+    let j = job(&wrap(",DEPTH,1,DECR,0.02,CHAMFR,2"));
+    assert_eq!(j.lead.dlead, -0.02);
+    let path = toolpath::build(&j).unwrap();
+    let leads: Vec<f64> = path
+        .motions
+        .iter()
+        .filter_map(|m| match m.kind {
+            MotionKind::Thread { lead, .. } if m.pass == 1 => Some(lead),
+            _ => None,
+        })
+        .collect();
+    // √(2² − 2·0.02·35) = √2.6 where the chamfer begins.
+    assert_eq!(leads.len(), 2);
+    assert_eq!(leads[0], 2.0);
+    assert!((leads[1] - 2.6f64.sqrt()).abs() < 1e-12);
+}
+
+#[test]
+fn internal_thread_retracts_toward_the_axis() {
+    let src = "UNITS/MM\nPITCH/1.5,MMPR\nGOTO/8,0,3\nTHREAD/ON,DEPTH,0.8,CUTS,4,OPTION,1,RETURN,0.5\nGOTO/9,0,3\nGOTO/9,0,-20\nTHREAD/OFF\n";
+    let j = job(src);
+    assert_eq!(j.geometry.side, Side::Internal);
+    assert_eq!(j.retract.x, 8.5);
+    let p = j.passes().unwrap();
+    assert!((p[3].start.x - 9.8).abs() < EPS);
+    // Single edge: shifted back toward the start (+Z) by tan 30° · depth.
+    assert!((p[3].offset - 0.8 * 30f64.to_radians().tan()).abs() < EPS);
+}
