@@ -23,6 +23,7 @@
 //! assert_eq!(passes.last().unwrap().depth, 1.2);
 //! ```
 
+pub mod apt;
 pub mod diag;
 pub mod dialect;
 pub mod gcode;

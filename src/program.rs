@@ -142,6 +142,7 @@ pub fn expand_gcode<R: BufRead>(
                 }
             }
             Event::Cycle { line, job, dialect } => {
+                post::expressible(&format, &job)?;
                 let passes = job.passes()?;
                 let path = toolpath::build_with(&job, &passes)?;
                 let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();

@@ -62,21 +62,33 @@ pub fn build(job: &Job) -> Result<Toolpath> {
 }
 
 /// As [`build`], reusing a pass table already computed.
+///
+/// The long axis is Z for turned threads and X for face threads ([`crate::thread::Side`]); depth
+/// grows along the other axis. With a variable lead (`dlead` ≠ 0) every synchronised move of a pass
+/// carries the lead in force where it begins: the lead grows by `dlead` per spindle revolution from
+/// `lead` at the pass's start, so after `k` revolutions the tool is `lead·k + dlead·k²/2` along the
+/// long axis and the lead there is `√(lead² + 2·dlead·s)` at a distance `s` (G34's convention).
 pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
     let g = &job.geometry;
+    let side = g.side;
     let travel = g.travel();
-    let axial = travel.z.abs();
+    let long = side.along(travel);
+    let axial = long.abs();
     if axial <= 0.0 {
         return Err(Diagnostic::error(
             Code::Geometry,
             job.span,
-            "the thread has no length along Z",
+            format!(
+                "the thread has no length along {}",
+                if side.is_face() { "X" } else { "Z" }
+            ),
         ));
     }
-    let along = Vec2::new(travel.x / axial, travel.z / axial); // per mm of axial travel
-    let axial_dir = travel.z.signum();
-    let outward = g.side.outward();
+    let along = travel.scale(1.0 / axial); // per mm along the long axis
+    let axial_dir = side.lateral().scale(long.signum());
+    let outward = side.outward();
     let lead = job.lead.lead;
+    let dlead = job.lead.dlead;
     let per_start = passes.len() * 5 + 2;
     let mut motions = Vec::with_capacity(per_start * job.lead.starts as usize + 2);
     let mut push = |kind: MotionKind, to: Pos, pass: u32| {
@@ -87,15 +99,24 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
             line: job.line,
         })
     };
-    let thread = |from: Pos, to: Pos| MotionKind::Thread {
-        lead: lead_along_long_axis(lead, to.minus(from)),
-        dlead: job.lead.dlead,
-        phase_deg: 0.0,
+    // The synchronised move from `from` to `to` of a pass whose thread begins at `origin`.
+    let thread = |origin: Pos, from: Pos, to: Pos| {
+        let s = side.along(from.minus(origin)) * long.signum();
+        let here = if dlead != 0.0 && s > 0.0 {
+            (lead * lead + 2.0 * dlead * s).sqrt()
+        } else {
+            lead
+        };
+        MotionKind::Thread {
+            lead: lead_on_move(here, to.minus(from), side.is_face()),
+            dlead,
+            phase_deg: 0.0,
+        }
     };
     for pass in passes {
         for s in 0..job.lead.starts {
             // Further starts begin further from the part, so every start keeps its full length.
-            let shift = Vec2::new(0.0, -axial_dir * job.lead.start_spacing() * f64::from(s));
+            let shift = axial_dir.scale(-job.lead.start_spacing() * f64::from(s));
             let infeed = pass.start.plus(shift);
             match job.entry {
                 Entry::Direct => push(MotionKind::Rapid, infeed, pass.n),
@@ -105,20 +126,28 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                 } => {
                     let ramp_start = infeed
                         .plus(outward.scale(up))
-                        .plus(Vec2::new(0.0, -axial_dir * before));
+                        .plus(axial_dir.scale(-before));
                     push(MotionKind::Rapid, ramp_start, pass.n);
-                    push(thread(ramp_start, infeed), infeed, pass.n);
+                    push(thread(infeed, ramp_start, infeed), infeed, pass.n);
                 }
             }
             let end = match job.exit {
                 Exit::Straight => {
                     let end = infeed.plus(travel);
-                    push(thread(infeed, end), end, pass.n);
+                    push(thread(infeed, infeed, end), end, pass.n);
                     end
                 }
                 Exit::ToRetract { run_on } => {
+                    if side.is_face() {
+                        return Err(Diagnostic::error(
+                            Code::Unsupported,
+                            job.span,
+                            "a pull-out to the retract point is defined for turned threads only",
+                        ));
+                    }
+                    let dir = long.signum();
                     // The pass's own length: from its (offset) infeed point to the programmed end Z.
-                    let own = (g.crest_end.z + shift.z - infeed.z) * axial_dir;
+                    let own = (g.crest_end.z + shift.z - infeed.z) * dir;
                     if own <= 0.0 {
                         return Err(Diagnostic::error(
                             Code::Geometry,
@@ -130,15 +159,15 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                         ));
                     }
                     let end = infeed.plus(along.scale(own));
-                    push(thread(infeed, end), end, pass.n);
+                    push(thread(infeed, infeed, end), end, pass.n);
                     // The retract X at the end: as far out as at the start, or further when the
                     // thread climbs toward the retract side.
                     let climb = (travel.x * outward.x).max(0.0);
                     let rx = job.retract.x + outward.x * climb;
                     let out = (rx - end.x) * outward.x;
                     if run_on > 0.0 && out > 0.0 {
-                        let to = Pos::new(rx, end.z + axial_dir * run_on * out);
-                        push(thread(end, to), to, pass.n);
+                        let to = Pos::new(rx, end.z + dir * run_on * out);
+                        push(thread(infeed, end, to), to, pass.n);
                     } else {
                         push(MotionKind::Rapid, Pos::new(rx, end.z), pass.n);
                     }
@@ -156,22 +185,39 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                     start_before,
                     length,
                     outward: up,
+                }
+                | Exit::FeedOut {
+                    start_before,
+                    length,
+                    outward: up,
                 } => {
                     let begin = infeed.plus(along.scale(axial - start_before));
                     let end = infeed
                         .plus(along.scale(axial - start_before + length))
                         .plus(outward.scale(up));
-                    push(thread(infeed, begin), begin, pass.n);
-                    push(thread(begin, end), end, pass.n);
+                    push(thread(infeed, infeed, begin), begin, pass.n);
+                    let kind = if matches!(job.exit, Exit::FeedOut { .. }) {
+                        MotionKind::Feed
+                    } else {
+                        thread(infeed, begin, end)
+                    };
+                    push(kind, end, pass.n);
                     end
                 }
             };
-            push(MotionKind::Rapid, Pos::new(job.retract.x, end.z), pass.n);
-            push(
-                MotionKind::Rapid,
-                Pos::new(job.retract.x, job.retract.z),
-                pass.n,
-            );
+            let (level, back) = if side.is_face() {
+                (
+                    Pos::new(end.x, job.retract.z),
+                    Pos::new(job.retract.x, job.retract.z),
+                )
+            } else {
+                (
+                    Pos::new(job.retract.x, end.z),
+                    Pos::new(job.retract.x, job.retract.z),
+                )
+            };
+            push(MotionKind::Rapid, level, pass.n);
+            push(MotionKind::Rapid, back, pass.n);
         }
     }
     let last = passes.last().map_or(0, |p| p.n);
@@ -209,6 +255,17 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
 
 /// A radius this far below zero is still the axis (rounding), not a crossing of it.
 const AXIS_TOLERANCE: f64 = 1e-9;
+
+/// The lead written on a synchronised move, given `lead` along the job's long axis (Z, or X for a
+/// face thread): the same rate per revolution, expressed along the move's own longer axis.
+pub fn lead_on_move(lead: f64, d: Vec2, face: bool) -> f64 {
+    if face {
+        let swapped = Vec2::new(d.z, d.x);
+        lead_along_long_axis(lead, swapped)
+    } else {
+        lead_along_long_axis(lead, d)
+    }
+}
 
 /// A thread's lead is set along Z; when a move (a steep pull-out, a radial screw-in) travels further
 /// in X than in Z, its longer axis is X, and keeping the same Z rate per revolution means X advances

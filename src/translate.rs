@@ -44,6 +44,7 @@ pub fn write_job(
         },
         Err(why) => why,
     };
+    post::expressible(&format, job)?;
     if let Some(c) = format.comment(&format!(
         "threadcut: plain moves, not the native cycle: {reason}"
     )) {

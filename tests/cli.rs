@@ -135,13 +135,16 @@ fn missing_word_alarm_points_at_g78() {
 
 #[test]
 fn usage_errors() {
-    let out = threadcut(&["expand", "x.nc"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--controller"));
-    let out = threadcut(&["expand", "x.nc", "-c", "nosuch"]);
-    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown controller `nosuch`"));
     let dir = temp_dir("same");
     let input = write(&dir, "in.nc", GOOD);
+    let out = threadcut(&["expand", input.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--controller"));
+    let out = threadcut(&["expand", input.to_str().unwrap(), "-c", "nosuch"]);
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown controller `nosuch`"));
+    let out = threadcut(&["expand", "no-such-file.nc", "-c", "gsk980"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot open no-such-file.nc"));
     let out = threadcut(&[
         "expand",
         input.to_str().unwrap(),

@@ -24,16 +24,28 @@ fn a_job_g78_cannot_express_falls_back_to_plain_moves_and_says_why() {
     let gsk = Machine::built_in("gsk980").unwrap();
     let src = "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3\n";
     let mut job = program::jobs(src.as_bytes(), &gsk).unwrap().remove(0);
-    job.lead.dlead = 0.01;
+    job.lead.starts = 100;
     let (text, written) = job_to_string(&gsk, &job).unwrap();
     assert!(
-        matches!(written, Written::Plain(ref why) if why.contains("constant leads")),
+        matches!(written, Written::Plain(ref why) if why.contains("1 to 99 starts")),
         "{written:?}"
     );
-    assert!(
-        text.starts_with(
-            "(threadcut: plain moves, not the native cycle: G78 cuts constant leads only)\nG0 X"
-        ),
-        "{text}"
-    );
+    assert!(text.starts_with("(threadcut: plain moves, not the native cycle: G78 allows 1 to 99 starts and 1 to 99 finishing passes)\nG0 X"), "{text}");
+}
+
+#[test]
+fn a_variable_lead_is_never_written_as_a_constant_one() {
+    // Neither G78 nor GSK's G32 can cut a lead that changes every revolution: an error, not G32 moves.
+    let gsk = Machine::built_in("gsk980").unwrap();
+    let src = "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3\n";
+    let mut job = program::jobs(src.as_bytes(), &gsk).unwrap().remove(0);
+    job.lead.dlead = 0.01;
+    match job_to_string(&gsk, &job) {
+        Err(program::Error::Input(d)) => {
+            assert_eq!(d.code, threadcut::diag::Code::Unsupported);
+            assert_eq!(d.span.line, 3);
+            assert!(d.message.contains("no variable-lead move"), "{}", d.message);
+        }
+        other => panic!("{other:?}"),
+    }
 }

@@ -1,6 +1,7 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
 
 mod output;
+mod post;
 mod render;
 
 use std::fs::File;
@@ -69,6 +70,17 @@ enum Command {
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
     },
+    /// Post an APT/CL file (THREAD, COUPLE, GOTO …) to a controller: native threading cycles where
+    /// they reproduce the toolpath exactly, plain moves otherwise.
+    Post {
+        /// The CL file (`-` for standard input).
+        file: PathBuf,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// Output file (`-` or absent: standard output). Written whole or not at all.
+        #[arg(long, short = 'o')]
+        output: Option<PathBuf>,
+    },
     /// List the built-in controller profiles.
     Controllers,
 }
@@ -132,13 +144,33 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             output,
             format,
         } => {
+            let mut input = open_input(&file)?;
+            if post::is_apt(&file, &mut input) {
+                match format {
+                    ExpandFormat::Jsonl => post::expand_jsonl(&file, input, output.as_deref())?,
+                    ExpandFormat::Gcode => {
+                        let machine = load_machine(&machine)?;
+                        post::post(&file, input, &machine, output.as_deref())?
+                    }
+                }
+                return Ok(ExitCode::SUCCESS);
+            }
             let machine = load_machine(&machine)?;
-            let input = open_input(&file)?;
             let summary = output::write(&file, output.as_deref(), |out| match format {
                 ExpandFormat::Gcode => program::expand_gcode(input, out, &machine),
                 ExpandFormat::Jsonl => program::expand_jsonl(input, out, &machine),
             })?;
             warn(&file, &summary);
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Post {
+            file,
+            machine,
+            output,
+        } => {
+            let machine = load_machine(&machine)?;
+            let input = open_input(&file)?;
+            post::post(&file, input, &machine, output.as_deref())?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Passes {
@@ -147,8 +179,12 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             json,
             output,
         } => {
+            let mut input = open_input(&file)?;
+            if post::is_apt(&file, &mut input) {
+                post::passes(&file, input, json, output.as_deref())?;
+                return Ok(ExitCode::SUCCESS);
+            }
             let machine = load_machine(&machine)?;
-            let input = open_input(&file)?;
             let summary = output::write(&file, output.as_deref(), |out| {
                 passes(input, out, &machine, json)
             })?;

@@ -544,6 +544,9 @@ impl Dialect for Gsk {
 /// The two G78 blocks that express `job`, when G78 can: the checks mirror what [`lower`] builds.
 fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, String> {
     let g = &job.geometry;
+    if g.side.is_face() {
+        return Err("G78 cuts along Z and cannot cut a face thread".into());
+    }
     if g.crest_start.z != job.start.z
         || job.retract
             != (Retract {
@@ -630,6 +633,7 @@ fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
         Exit::PullOut { .. } | Exit::ToRetract { .. } => {
             return Err("G78's tail-out ends at the thread's end".into())
         }
+        Exit::FeedOut { .. } => return Err("G78's tail-out is a threaded move".into()),
     };
     let u = job.units;
     let nd = machine.decimals(u);

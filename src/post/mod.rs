@@ -16,6 +16,10 @@ pub struct Format {
     pub thread: &'static str,
     /// The word that carries the lead on a thread move (`F` or `K`).
     pub lead_letter: char,
+    /// The variable-lead thread move and the word of its lead change per revolution (Fanuc
+    /// `G34 … K`), if the controller has one. Without it a job with a variable lead cannot be
+    /// written as plain moves: callers must refuse it (the APT post does).
+    pub variable_thread: Option<(&'static str, char)>,
     pub diameter_x: bool,
     /// Decimals of X and Z in mm and in inch programs.
     pub decimals: [u32; 2],
@@ -34,6 +38,7 @@ impl Format {
             feed: "G1",
             thread,
             lead_letter,
+            variable_thread: None,
             diameter_x: machine.diameter_x,
             decimals: [machine.decimals(Units::Mm), machine.decimals(Units::Inch)],
             lead_decimals: [4, 5],
@@ -115,6 +120,26 @@ pub fn number_on_grid(value: f64, step: f64, trailing_zeros: bool) -> String {
     number((value / step).round() * step, decimals, trailing_zeros)
 }
 
+/// Whether `format` can write `job`'s moves as plain blocks: a lead that changes every revolution
+/// needs the controller's variable-lead move.
+pub fn expressible(
+    format: &Format,
+    job: &crate::thread::Job,
+) -> Result<(), crate::diag::Diagnostic> {
+    if job.lead.dlead != 0.0 && format.variable_thread.is_none() {
+        return Err(crate::diag::Diagnostic::error(
+            crate::diag::Code::Unsupported,
+            job.span,
+            format!(
+                "the lead changes by {} mm every revolution, and this controller has no variable-lead move in threadcut",
+                job.lead.dlead
+            ),
+        )
+        .with_hint("choose a controller with a variable-lead thread move (G34)"));
+    }
+    Ok(())
+}
+
 /// A value about to be written: a non-finite number is refused here, where numbers are written, so
 /// that no `NaN` or `inf` can reach a program whatever happened upstream.
 pub fn finite(value: f64) -> io::Result<f64> {
@@ -139,10 +164,21 @@ pub fn write_moves(
     let mut line = String::with_capacity(48);
     for m in &path.motions {
         line.clear();
-        let (code, lead) = match m.kind {
-            MotionKind::Rapid => (format.rapid, None),
-            MotionKind::Feed => (format.feed, None),
-            MotionKind::Thread { lead, .. } => (format.thread, Some(lead)),
+        let (code, lead, dlead) = match m.kind {
+            MotionKind::Rapid => (format.rapid, None, None),
+            MotionKind::Feed => (format.feed, None, None),
+            MotionKind::Thread { lead, dlead, .. } => match format.variable_thread {
+                Some((code, letter)) if dlead != 0.0 => (code, Some(lead), Some((letter, dlead))),
+                // Never a variable lead as a constant one: callers check first (`expressible`);
+                // this is the last guard.
+                None if dlead != 0.0 => {
+                    return Err(io::Error::new(
+                        io::ErrorKind::InvalidData,
+                        "refusing to write a variable lead as a constant-lead move",
+                    ))
+                }
+                _ => (format.thread, Some(lead), None),
+            },
         };
         line.push_str(code);
         line.push_str(" X");
@@ -166,6 +202,15 @@ pub fn write_moves(
                 format.trailing_zeros,
             ));
         }
+        if let Some((letter, dlead)) = dlead {
+            line.push(' ');
+            line.push(letter);
+            line.push_str(&number(
+                units.from_mm(dlead),
+                format.lead_digits(units),
+                format.trailing_zeros,
+            ));
+        }
         line.push('\n');
         out.write_all(line.as_bytes())?;
     }
@@ -173,7 +218,8 @@ pub fn write_moves(
 }
 
 /// One motion as a JSON object in program units, X as a radius:
-/// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}`.
+/// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}` (`"dlead"` after `"lead"` when the
+/// lead varies).
 pub fn motion_json(m: &Motion, units: Units) -> String {
     let x = units.from_mm(m.to.x);
     let z = units.from_mm(m.to.z);
@@ -187,6 +233,16 @@ pub fn motion_json(m: &Motion, units: Units) -> String {
             },
             json_num(x),
             json_num(z),
+            m.pass,
+            m.line
+        ),
+        // A variable lead adds `"dlead"` (change of lead per revolution, at the move's start lead).
+        MotionKind::Thread { lead, dlead, .. } if dlead != 0.0 => format!(
+            r#"{{"kind":"thread","x":{},"z":{},"lead":{},"dlead":{},"pass":{},"line":{}}}"#,
+            json_num(x),
+            json_num(z),
+            json_num(units.from_mm(lead)),
+            json_num(units.from_mm(dlead)),
             m.pass,
             m.line
         ),

@@ -14,12 +14,16 @@ use crate::units::{Pos, Units, Vec2};
 
 pub use plan::{plan_passes, DepthLaw, Pass, PassKind, PassPlan};
 
-/// Which way depth grows: an external thread is cut toward −X, an internal one toward +X.
+/// Which way depth grows: an external thread is cut toward −X, an internal one toward +X. A face
+/// thread (its long axis is X) is cut toward −Z (`FaceFront`, the usual face seen from the tailstock)
+/// or toward +Z (`FaceBack`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
+#[serde(rename_all = "snake_case")]
 pub enum Side {
     External,
     Internal,
+    FaceFront,
+    FaceBack,
 }
 
 impl Side {
@@ -28,6 +32,32 @@ impl Side {
         match self {
             Side::External => Vec2::new(-1.0, 0.0),
             Side::Internal => Vec2::new(1.0, 0.0),
+            Side::FaceFront => Vec2::new(0.0, -1.0),
+            Side::FaceBack => Vec2::new(0.0, 1.0),
+        }
+    }
+
+    /// Whether the thread's long axis is X (a face thread) rather than Z.
+    pub fn is_face(self) -> bool {
+        matches!(self, Side::FaceFront | Side::FaceBack)
+    }
+
+    /// Unit vector of the thread's long axis (+Z for turned threads, +X for face threads): the
+    /// direction of the lateral offsets of [`Infeed`] and of the shift between starts.
+    pub fn lateral(self) -> Vec2 {
+        if self.is_face() {
+            Vec2::new(1.0, 0.0)
+        } else {
+            Vec2::new(0.0, 1.0)
+        }
+    }
+
+    /// A vector's component along the long axis.
+    pub fn along(self, v: Vec2) -> f64 {
+        if self.is_face() {
+            v.x
+        } else {
+            v.z
         }
     }
 
@@ -99,7 +129,8 @@ impl Lead {
     }
 }
 
-/// Which side of the tool cuts as the passes go deeper.
+/// Which side of the tool cuts as the passes go deeper. Directions are along the thread's long axis
+/// ([`Side::lateral`]): +Z for turned threads, +X for face threads.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Flank {
@@ -132,7 +163,9 @@ pub enum Infeed {
     Flank { flank: Flank, angle_deg: f64 },
     /// Passes alternate between `first` and `second`, all inside one groove: `first` passes shift as
     /// in single-flank infeed; `second` passes are their mirror image about the groove's axis
-    /// (`Centre`: on the axis).
+    /// (`Centre`: on the axis). With `first` = `Centre` the odd passes stay on the plunge line and
+    /// the even passes ride `second`'s flank (APT THREAD OPTION 2/4: "only offsets the tool on even
+    /// numbered cuts").
     Alternating {
         first: Flank,
         second: Flank,
@@ -154,6 +187,13 @@ impl Infeed {
             } => {
                 let single = first.sign() * depth * tan_deg(angle_deg);
                 let axis = self.axis(total);
+                if first == Flank::Centre {
+                    return if n % 2 == 1 {
+                        0.0
+                    } else {
+                        second.sign() * depth * tan_deg(angle_deg)
+                    };
+                }
                 if n % 2 == 1 {
                     single
                 } else {
@@ -227,9 +267,19 @@ pub enum Exit {
     /// times its X travel beyond the end (OmniTurn G33 P: "it will travel beyond Z the same amount
     /// as it has to travel in X to reach the retraction position", r = 1).
     ToRetract { run_on: f64 },
+    /// The same pull-out cut with linear (feed) interpolation, not synchronised: APT THREAD cuts
+    /// chamfers outside 30–60° this way.
+    FeedOut {
+        start_before: f64,
+        length: f64,
+        outward: f64,
+    },
 }
 
 /// Where the tool goes between passes and at the end.
+///
+/// For a face thread ([`Side::is_face`]) the roles swap: the tool retracts to `z` after each pass
+/// and returns along X to `x`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Retract {
     /// Absolute X (radius) the tool retracts to after each pass.

@@ -159,7 +159,7 @@ pub fn plan_passes(job: &Job) -> Result<Vec<Pass>> {
         job.geometry
             .crest_start
             .plus(job.geometry.side.infeed().scale(depth))
-            .plus(crate::units::Vec2::new(0.0, offset))
+            .plus(job.geometry.side.lateral().scale(offset))
     };
     let mut previous = 0.0;
     for (i, &depth) in rough.iter().enumerate() {

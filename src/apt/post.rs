@@ -1,0 +1,180 @@
+//! Posting a CL file to a controller: every THREAD/ON cycle through
+//! [`crate::translate::write_job`] (the target's native cycle when reading it back reproduces the
+//! toolpath, plain moves otherwise), every other move as a plain block in the target's
+//! [`crate::post::Format`]. Nothing here knows a controller: the target's dialect and profile do.
+
+use std::io::{BufRead, Write};
+
+use crate::diag::{Code, Diagnostic};
+use crate::dialect;
+use crate::machine::Machine;
+use crate::post::{self, Format};
+use crate::program::{Error, Summary};
+use crate::thread::Job;
+use crate::toolpath::{Motion, MotionKind, Toolpath};
+use crate::translate;
+use crate::units::{Pos, Units};
+
+use super::{run, Event};
+
+/// Writes the program for `target`. Numbers are written in the target profile's units (the
+/// controller's power-on units), whatever the CL units: no unit code is written.
+pub fn write<R: BufRead>(
+    input: R,
+    out: &mut dyn Write,
+    target: &Machine,
+) -> Result<Summary, Error> {
+    let format = dialect::open(target).map_err(Error::Setup)?.format();
+    let units = target.units;
+    let mut at: Option<Pos> = None;
+    // The feed (target units per minute or per revolution) and whether the F register holds it.
+    let mut feed: Option<(f64, bool)> = None;
+    let mut f_current = false;
+    if let Some(c) = format.comment(&format!(
+        "threadcut post for {}, {}",
+        target.name,
+        units.name()
+    )) {
+        writeln!(out, "{c}")?;
+    }
+    run(input, |interp, ev| {
+        match ev {
+            Event::Comment(text) => {
+                if let Some(c) = format.comment(text) {
+                    writeln!(out, "{c}")?;
+                }
+            }
+            Event::Feed { value, per_rev } => {
+                let v = units.from_mm(interp.units().to_mm(value));
+                feed = Some((v, per_rev));
+                f_current = false;
+                if let Some(c) = format.comment(&format!(
+                    "FEDRAT: F{} {} per {}",
+                    post::number(v, 4, false),
+                    units.name(),
+                    if per_rev { "revolution" } else { "minute" }
+                )) {
+                    writeln!(out, "{c}")?;
+                }
+            }
+            Event::Spindle(Some((rpm, cw))) => {
+                writeln!(
+                    out,
+                    "S{} M{}",
+                    post::number(rpm, 0, false).trim_end_matches('.'),
+                    if cw { 3 } else { 4 }
+                )?;
+            }
+            Event::Spindle(None) => writeln!(out, "M5")?,
+            Event::End => writeln!(out, "M30")?,
+            Event::Move(m) => {
+                let line = plain_move(&format, units, at, &m)?;
+                match m.kind {
+                    MotionKind::Feed => {
+                        let Some((f, _)) = feed else {
+                            return Err(Diagnostic::error(
+                                Code::MissingWord,
+                                crate::diag::Span::new(0, 0, m.line, 1),
+                                "GOTO at feed rate before any FEDRAT",
+                            )
+                            .with_hint("write FEDRAT/… before the first feed move, or RAPID before a rapid GOTO")
+                            .into());
+                        };
+                        let mut line = line;
+                        if !f_current {
+                            line.push_str(" F");
+                            line.push_str(&post::number(f, 4, false));
+                            f_current = true;
+                        }
+                        writeln!(out, "{line}")?;
+                    }
+                    MotionKind::Thread { .. } => {
+                        f_current = false; // F now holds a lead
+                        writeln!(out, "{line}")?;
+                    }
+                    MotionKind::Rapid => writeln!(out, "{line}")?,
+                }
+                at = Some(m.to);
+            }
+            Event::Cycle(job) => {
+                let mut job = *job;
+                job.units = units;
+                check_lead(&format, &job, target)?;
+                if let Some(c) =
+                    format.comment(&format!("THREAD/ON … THREAD/OFF of line {}", job.line))
+                {
+                    writeln!(out, "{c}")?;
+                }
+                if at != Some(job.start) {
+                    // The cycle starts at the initial point: make sure the tool is there.
+                    let m = Motion {
+                        kind: MotionKind::Rapid,
+                        to: job.start,
+                        pass: 0,
+                        line: job.line,
+                    };
+                    writeln!(out, "{}", plain_move(&format, units, at, &m)?)?;
+                }
+                translate::write_job(out, target, &job)?;
+                f_current = false;
+                at = Some(job.start);
+            }
+        }
+        Ok(())
+    })
+}
+
+/// One move as a block in the target's format (rounded once, from the absolute position).
+fn plain_move(
+    format: &Format,
+    units: Units,
+    from: Option<Pos>,
+    m: &Motion,
+) -> Result<String, Error> {
+    if let MotionKind::Thread { dlead, .. } = m.kind {
+        if dlead != 0.0 && format.variable_thread.is_none() {
+            return Err(no_variable_lead(crate::diag::Span::new(0, 0, m.line, 1)).into());
+        }
+    }
+    let path = Toolpath {
+        start: from.unwrap_or(m.to),
+        motions: vec![*m],
+    };
+    let mut buf = Vec::with_capacity(48);
+    post::write_moves(&mut buf, format, units, &path)?;
+    while buf.last() == Some(&b'\n') {
+        buf.pop();
+    }
+    Ok(String::from_utf8_lossy(&buf).into_owned())
+}
+
+fn no_variable_lead(span: crate::diag::Span) -> Diagnostic {
+    Diagnostic::error(
+        Code::Unsupported,
+        span,
+        "the target has no variable-lead thread move in threadcut: INCR/DECR cannot be posted to it",
+    )
+    .with_hint("post to a controller with a variable-lead move (G34), or cut a constant lead")
+}
+
+/// A variable lead needs the target's native cycle or its variable-lead move: plain constant-lead
+/// moves would cut the wrong thread.
+fn check_lead(format: &Format, job: &Job, target: &Machine) -> Result<(), Error> {
+    if job.lead.dlead == 0.0 || format.variable_thread.is_some() {
+        return Ok(());
+    }
+    let native = match dialect::open(target)
+        .map_err(Error::Setup)?
+        .emit_native(job)
+    {
+        Ok(lines) => {
+            let path = crate::toolpath::build(job)?;
+            translate::verify(target, job, &path, &lines).is_ok()
+        }
+        Err(_) => false,
+    };
+    if native {
+        return Ok(());
+    }
+    Err(no_variable_lead(job.span).into())
+}
