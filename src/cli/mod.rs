@@ -1,5 +1,6 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
 
+mod mill;
 mod output;
 mod render;
 
@@ -71,6 +72,19 @@ enum Command {
     },
     /// List the built-in controller profiles.
     Controllers,
+    /// Print a standard thread's diameters (min/max), thread height and turning infeed depth:
+    /// ISO metric (`M10`, `M10x1.25-6g`, `M8-4g6g`, `M12-6H`) or Unified (`"1/2-13 UNC-2A"`,
+    /// `"#10-32 UNF"`). Without a class both sides are given (6g/6H, 2A/2B).
+    Thread {
+        /// The thread's name.
+        name: Option<String>,
+        /// JSON (values in the standard's units) instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// List every thread threadcut knows.
+        #[arg(long, conflicts_with = "name")]
+        list: bool,
+    },
 }
 
 pub fn main() -> ExitCode {
@@ -118,6 +132,10 @@ fn failure(file: &Path, e: Error) -> Failure {
 
 fn run(cli: Cli) -> Result<ExitCode, Failure> {
     match cli.command {
+        Command::Thread { name, json, list } => {
+            mill::thread(name.as_deref(), json, list)?;
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Controllers => {
             let mut out = io::stdout().lock();
             for (name, _) in BUILT_IN {
