@@ -85,6 +85,9 @@ enum Command {
         #[arg(long, conflicts_with = "name")]
         list: bool,
     },
+    /// Mill a standard thread by helical interpolation (Centroid TB029): a complete block of G2/G3
+    /// full circles with absolute Z per turn, cutter compensation and lead-in/out.
+    Mill(mill::MillArgs),
 }
 
 pub fn main() -> ExitCode {
@@ -132,6 +135,10 @@ fn failure(file: &Path, e: Error) -> Failure {
 
 fn run(cli: Cli) -> Result<ExitCode, Failure> {
     match cli.command {
+        Command::Mill(args) => {
+            mill::mill(args)?;
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Thread { name, json, list } => {
             mill::thread(name.as_deref(), json, list)?;
             Ok(ExitCode::SUCCESS)
