@@ -673,3 +673,87 @@ fn directions_helper_and_climb() {
     assert_eq!(mill::climb(Side::Internal, Hand::Left), Direction::TopDown);
     assert_eq!(mill::climb(Side::External, Hand::Left), Direction::BottomUp);
 }
+
+/// The lead arcs meet the thread in phase: wherever the tool reaches into the material, the arc's
+/// Z equals the Z the helix groove has at that angle about the axis. Internal lead arcs pass through
+/// the axis (radius A/2), so they are exact; external ones are split into arcs that end in phase,
+/// leaving a small error between the joints.
+#[test]
+fn lead_arcs_are_in_phase_with_the_helix() {
+    for (side, crest, tol_of_pitch) in [
+        ("--internal", 17.294 / 2.0, 1e-6),
+        ("--external", 19.958 / 2.0, 0.003),
+    ] {
+        for dir in ["--bottom-up", "--top-down"] {
+            let out = ok(&[
+                "--thread",
+                "M20",
+                side,
+                dir,
+                "--length",
+                "10",
+                "--tool-diameter",
+                "12",
+                "--feed",
+                "300",
+                "-c",
+                "linuxcnc-mill",
+                "--comp",
+                "none",
+            ]);
+            let p = readback::read(&out).unwrap();
+            let all = arcs(&p.segments);
+            let t = turns(&p.segments);
+            let first = all.iter().position(|s| *s == t[0]).unwrap();
+            let last = all.iter().position(|s| *s == t[t.len() - 1]).unwrap();
+            let dz_dphi = (t[0].to[2] - t[0].from[2]) / t[0].sweep().unwrap();
+            let mut worst: f64 = 0.0;
+            let mut samples = 0;
+            for (k, s) in all.iter().enumerate() {
+                let z_ref = if k < first {
+                    t[0].from[2]
+                } else if k > last {
+                    t[t.len() - 1].to[2]
+                } else {
+                    continue;
+                };
+                let SegKind::Arc { center: m, .. } = s.kind else {
+                    unreachable!()
+                };
+                let r = (s.from[0] - m[0]).hypot(s.from[1] - m[1]);
+                let a0 = (s.from[1] - m[1]).atan2(s.from[0] - m[0]);
+                let sweep = s.sweep().unwrap();
+                for i in 0..=200 {
+                    let f = f64::from(i) / 200.0;
+                    let th = a0 + f * sweep;
+                    let (x, y) = (m[0] + r * th.cos(), m[1] + r * th.sin());
+                    let z = s.from[2] + f * (s.to[2] - s.from[2]);
+                    let dist = x.hypot(y);
+                    let reach = if side == "--internal" {
+                        dist + 6.0
+                    } else {
+                        dist - 6.0
+                    };
+                    let in_material = if side == "--internal" {
+                        reach > crest
+                    } else {
+                        reach < crest
+                    };
+                    if in_material {
+                        let z_helix = z_ref + dz_dphi * y.atan2(x);
+                        worst = worst.max((z - z_helix).abs());
+                        samples += 1;
+                    }
+                }
+            }
+            assert!(
+                samples > 50,
+                "{side} {dir}: the lead arcs reach into the material"
+            );
+            assert!(
+                worst <= tol_of_pitch * 2.5 + 1e-4,
+                "{side} {dir}: phase error {worst} mm"
+            );
+        }
+    }
+}

@@ -149,6 +149,11 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
                 let m = Machine::built_in(name).expect("built-in profiles parse");
                 writeln!(out, "{name:<12} {}", m.description).map_err(io_failure)?;
             }
+            for (name, _) in threadcut::mill::profile::BUILT_IN {
+                let m = threadcut::mill::profile::MillProfile::built_in(name)
+                    .expect("built-in profiles parse");
+                writeln!(out, "{name:<14} (mill) {}", m.description).map_err(io_failure)?;
+            }
             Ok(ExitCode::SUCCESS)
         }
         Command::Expand {

@@ -268,6 +268,24 @@ impl Plan {
     }
 }
 
+/// External lead arcs are split into this many arcs, each ending in phase with the helix: the
+/// largest axial error between the joints, inside the stock, falls from about 1.5 % of the pitch
+/// for one arc to about 0.1 % for four (docs/milling.md).
+pub const EXTERNAL_LEAD_PIECES: u32 = 4;
+
+/// A lead-in/lead-out pair of arcs about one centre (tool-centre radius `a`).
+#[derive(Clone, Copy, Debug)]
+struct LeadArcs {
+    a: f64,
+    m: (f64, f64),
+    cw: bool,
+    pieces: u32,
+    theta_in: f64,
+    theta_s: f64,
+    theta_out: f64,
+    feed: f64,
+}
+
 /// More radial passes than this is a typing error, not a plan.
 pub const MAX_PASSES: u32 = 1000;
 /// More turns per pass than this is a typing error (a 10 m thread of 0.25 mm pitch).
@@ -454,37 +472,64 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         let on = comp_on.then_some(comp_side);
         let s_prog = (cx + prog_r, cy);
 
-        // Lead geometry in tool-centre terms: lead radius a, centre m, start q (angle about the
-        // lead centre: a quarter turn before the start point).
-        let (lead_z_in, lead_z_out, entry, exit, lead_arcs) = match spec.lead_in {
-            LeadIn::Radial => (0.0, 0.0, None, None, None),
+        // Lead arcs, in tool-centre terms: radius a about m; S (the helix start) at angle
+        // `theta_s` about m, the lead-in start a quarter turn before it, the lead-out end a quarter
+        // turn after. Internal: internally tangent with a = A/2, so the lead circle passes through
+        // the thread axis and the angle about the axis is exactly half the angle about m (inscribed
+        // angle theorem): a Z linear along the arc is the helix's own phase at every point.
+        // External: externally tangent and turning the other way; its start clears the cylinder
+        // (a_c + a = crest + r_t + clear). There the phase is not linear in the arc angle, so the
+        // arc is split into EXTERNAL_LEAD_PIECES arcs, each ending exactly in phase.
+        let leads = match spec.lead_in {
+            LeadIn::Radial => None,
             LeadIn::Arc => {
-                let (a, mx, arc_cw) = match spec.side {
-                    Side::Internal => (a_c / 2.0, cx + a_c / 2.0, cw),
-                    // Externally tangent, turning the other way; its start (x offset a_c + a from
-                    // the axis) clears the cylinder: a_c + a = crest + r_t + clear.
+                let quarter = std::f64::consts::FRAC_PI_2;
+                let (a, m, theta_s, arc_cw, pieces) = match spec.side {
+                    Side::Internal => (a_c / 2.0, (cx + a_c / 2.0, cy), 0.0, cw, 1),
                     Side::External => {
                         let a = (crest - r) + clear;
-                        (a, cx + a_c + a, !cw)
+                        (
+                            a,
+                            (cx + a_c + a, cy),
+                            std::f64::consts::PI,
+                            !cw,
+                            EXTERNAL_LEAD_PIECES,
+                        )
                     }
                 };
-                // Tool-centre start of the lead-in: a quarter turn of the lead arc before S.
-                let q_c = (mx, cy - sigma * a);
-                let phase = (q_c.1 - cy).atan2(q_c.0 - cx).abs() / std::f64::consts::TAU;
-                let lead_r_prog = a + off;
-                let q_in = (mx, cy - sigma * lead_r_prog);
-                let q_out = (mx, cy + sigma * lead_r_prog);
-                (
-                    phase * lead,
-                    phase * lead,
-                    Some(q_in),
-                    Some(q_out),
-                    Some(((mx, cy), arc_cw, arc_feed(a, a + r_t))),
-                )
+                let turn = if arc_cw { -quarter } else { quarter };
+                Some(LeadArcs {
+                    a,
+                    m,
+                    cw: arc_cw,
+                    pieces,
+                    theta_in: theta_s - turn,
+                    theta_s,
+                    theta_out: theta_s + turn,
+                    feed: arc_feed(a, a + r_t),
+                })
             }
         };
-        let z_in = z_start - s_z * lead_z_in;
-        let z_out = z_end + s_z * lead_z_out;
+        // Phase (in turns, signed along the helix) of the tool centre at angle theta about m.
+        let phase_at = |l: &LeadArcs, theta: f64| {
+            let x = l.m.0 + l.a * theta.cos() - cx;
+            let y = l.m.1 + l.a * theta.sin() - cy;
+            sigma * y.atan2(x) / std::f64::consts::TAU
+        };
+        let prog_at = |l: &LeadArcs, theta: f64| {
+            (
+                l.m.0 + (l.a + off) * theta.cos(),
+                l.m.1 + (l.a + off) * theta.sin(),
+            )
+        };
+        let z_in = leads
+            .as_ref()
+            .map_or(z_start, |l| z_start + s_z * phase_at(l, l.theta_in) * lead);
+        let z_out = leads
+            .as_ref()
+            .map_or(z_end, |l| z_end + s_z * phase_at(l, l.theta_out) * lead);
+        let entry = leads.as_ref().map(|l| prog_at(l, l.theta_in));
+        let exit = leads.as_ref().map(|l| prog_at(l, l.theta_out));
         let ell = r_t + clear;
         // Where the pass starts and ends in XY (tool centre before compensation starts).
         let (approach, leave) = match spec.side {
@@ -514,8 +559,8 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
             None,
         );
         // 3.–4. Compensation on along a straight move to the lead-in start or the start point.
-        match (entry, lead_arcs) {
-            (Some(q), Some((m, arc_cw, f_lead))) => {
+        match (&leads, entry) {
+            (Some(l), Some(q)) => {
                 push(
                     &mut moves,
                     MoveKind::Feed,
@@ -523,16 +568,30 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                     edge_feed,
                     on,
                 );
-                push(
-                    &mut moves,
-                    MoveKind::Arc {
-                        center: m,
-                        cw: arc_cw,
-                    },
-                    P3::new(s_prog.0, s_prog.1, z_start),
-                    f_lead,
-                    on,
-                );
+                for i in 1..=l.pieces {
+                    let theta =
+                        l.theta_in + (l.theta_s - l.theta_in) * f64::from(i) / f64::from(l.pieces);
+                    let (x, y) = if i == l.pieces {
+                        s_prog
+                    } else {
+                        prog_at(l, theta)
+                    };
+                    let z = if i == l.pieces {
+                        z_start
+                    } else {
+                        z_start + s_z * phase_at(l, theta) * lead
+                    };
+                    push(
+                        &mut moves,
+                        MoveKind::Arc {
+                            center: l.m,
+                            cw: l.cw,
+                        },
+                        P3::new(x, y, z),
+                        l.feed,
+                        on,
+                    );
+                }
             }
             _ => push(
                 &mut moves,
@@ -557,17 +616,27 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
             );
         }
         // Lead-out, compensation off on the way back, rapid up.
-        if let (Some(q), Some((m, arc_cw, f_lead))) = (exit, lead_arcs) {
-            push(
-                &mut moves,
-                MoveKind::Arc {
-                    center: m,
-                    cw: arc_cw,
-                },
-                P3::new(q.0, q.1, z_out),
-                f_lead,
-                on,
-            );
+        if let (Some(l), Some(q)) = (&leads, exit) {
+            for i in 1..=l.pieces {
+                let theta =
+                    l.theta_s + (l.theta_out - l.theta_s) * f64::from(i) / f64::from(l.pieces);
+                let (x, y) = if i == l.pieces { q } else { prog_at(l, theta) };
+                let z = if i == l.pieces {
+                    z_out
+                } else {
+                    z_end + s_z * phase_at(l, theta) * lead
+                };
+                push(
+                    &mut moves,
+                    MoveKind::Arc {
+                        center: l.m,
+                        cw: l.cw,
+                    },
+                    P3::new(x, y, z),
+                    l.feed,
+                    on,
+                );
+            }
         }
         push(
             &mut moves,

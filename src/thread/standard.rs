@@ -1057,18 +1057,19 @@ fn lookup_unified(text: &str) -> Result<StandardThread> {
     let mut series = None;
     if let Some((head, word)) = rest.rsplit_once(' ') {
         if word.bytes().all(|c| c.is_ascii_alphabetic()) {
-            series =
-                Some(match word.to_ascii_uppercase().as_str() {
-                    "UNC" => Series::Unc,
-                    "UNF" => Series::Unf,
-                    "UNEF" => Series::Unef,
-                    other => return Err(bad_name(
+            series = Some(match word.to_ascii_uppercase().as_str() {
+                "UNC" => Series::Unc,
+                "UNF" => Series::Unf,
+                "UNEF" => Series::Unef,
+                other => {
+                    return Err(bad_name(
                         text,
                         format!(
                             "`{other}` is not a Unified series threadcut knows (UNC, UNF, UNEF)"
                         ),
-                    )),
-                });
+                    ))
+                }
+            });
             rest = head.trim_end();
         }
     }
