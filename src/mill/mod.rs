@@ -522,12 +522,31 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                 l.m.1 + (l.a + off) * theta.sin(),
             )
         };
-        let z_in = leads
+        // Phases at the joints of a lead, counted outward from S (index 0 = S). Beyond the thread
+        // the angle about the axis of an external lead arc turns back; Z is held there instead of
+        // reversing (the running extreme), which changes nothing where the tool is in the material.
+        let outward_phases = |l: &LeadArcs, theta_end: f64| -> Vec<f64> {
+            let mut v = vec![0.0];
+            let mut extreme = 0.0f64;
+            for k in 1..=l.pieces {
+                let theta =
+                    l.theta_s + (theta_end - l.theta_s) * f64::from(k) / f64::from(l.pieces);
+                let p = phase_at(l, theta);
+                if p.abs() > extreme.abs() {
+                    extreme = p;
+                }
+                v.push(extreme);
+            }
+            v
+        };
+        let in_ph = leads.as_ref().map(|l| outward_phases(l, l.theta_in));
+        let out_ph = leads.as_ref().map(|l| outward_phases(l, l.theta_out));
+        let z_in = in_ph
             .as_ref()
-            .map_or(z_start, |l| z_start + s_z * phase_at(l, l.theta_in) * lead);
-        let z_out = leads
+            .map_or(z_start, |v| z_start + s_z * v[v.len() - 1] * lead);
+        let z_out = out_ph
             .as_ref()
-            .map_or(z_end, |l| z_end + s_z * phase_at(l, l.theta_out) * lead);
+            .map_or(z_end, |v| z_end + s_z * v[v.len() - 1] * lead);
         let entry = leads.as_ref().map(|l| prog_at(l, l.theta_in));
         let exit = leads.as_ref().map(|l| prog_at(l, l.theta_out));
         let ell = r_t + clear;
@@ -576,11 +595,8 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                     } else {
                         prog_at(l, theta)
                     };
-                    let z = if i == l.pieces {
-                        z_start
-                    } else {
-                        z_start + s_z * phase_at(l, theta) * lead
-                    };
+                    let ph = in_ph.as_ref().map_or(0.0, |v| v[(l.pieces - i) as usize]);
+                    let z = z_start + s_z * ph * lead;
                     push(
                         &mut moves,
                         MoveKind::Arc {
@@ -621,11 +637,8 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                 let theta =
                     l.theta_s + (l.theta_out - l.theta_s) * f64::from(i) / f64::from(l.pieces);
                 let (x, y) = if i == l.pieces { q } else { prog_at(l, theta) };
-                let z = if i == l.pieces {
-                    z_out
-                } else {
-                    z_end + s_z * phase_at(l, theta) * lead
-                };
+                let ph = out_ph.as_ref().map_or(0.0, |v| v[i as usize]);
+                let z = z_end + s_z * ph * lead;
                 push(
                     &mut moves,
                     MoveKind::Arc {
