@@ -717,6 +717,13 @@ fn lead_arcs_are_in_phase_with_the_helix() {
                 } else {
                     continue;
                 };
+                // Z never reverses: every lead arc moves along Z the way the helix does (or not
+                // at all).
+                let dz = s.to[2] - s.from[2];
+                assert!(
+                    dz * (t[0].to[2] - t[0].from[2]) >= 0.0,
+                    "{side} {dir}: Z reverses: {s:?}"
+                );
                 let SegKind::Arc { center: m, .. } = s.kind else {
                     unreachable!()
                 };

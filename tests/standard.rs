@@ -348,3 +348,48 @@ fn unknown_names_suggest_the_nearest() {
         assert!(lookup(bad).is_err(), "`{bad}` must be refused");
     }
 }
+
+fn cli(args: &[&str]) -> (String, String, i32) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_threadcut"))
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+        out.status.code().unwrap_or(-1),
+    )
+}
+
+#[test]
+fn thread_command_prints_the_limits() {
+    let (out, err, code) = cli(&["thread", "M10"]);
+    assert_eq!(code, 0, "{err}");
+    for want in [
+        "M10x1.5",
+        "external 6g",
+        "internal 6H",
+        "9.968",
+        "8.862",
+        "8.676",
+        "0.9202",
+    ] {
+        assert!(out.contains(want), "`{want}` missing from\n{out}");
+    }
+    let (out, _, code) = cli(&["thread", "1/2-13 UNC-2A", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["units"], "inch");
+    assert_eq!(v["external"]["class"], "2A");
+    assert_eq!(v["external"]["major"]["max"], 0.4985);
+    assert_eq!(v["external"]["pitch"]["min"], 0.4435);
+    assert!(v["internal"].is_null());
+    let (out, err, code) = cli(&["thread", "M10x1.4"]);
+    assert_eq!(code, 2);
+    assert!(out.is_empty());
+    assert!(err.contains("M10x1.5") && err.contains("M10x1.25"), "{err}");
+    let (out, _, code) = cli(&["thread", "--list"]);
+    assert_eq!(code, 0);
+    assert!(out.lines().any(|l| l == "#10-32 UNF"));
+    assert!(out.lines().count() > 150);
+}

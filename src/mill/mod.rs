@@ -288,6 +288,8 @@ struct LeadArcs {
 
 /// More radial passes than this is a typing error, not a plan.
 pub const MAX_PASSES: u32 = 1000;
+/// More helical moves in one program than this is a typing error, not a plan.
+pub const MAX_HELIX_ARCS: u64 = 1_000_000;
 /// More turns per pass than this is a typing error (a 10 m thread of 0.25 mm pitch).
 pub const MAX_TURNS: u32 = 40_000;
 
@@ -413,6 +415,16 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         ));
     }
     let turns = turns_f as u32;
+    if u64::from(turns) * u64::from(spec.passes) > MAX_HELIX_ARCS {
+        return Err(Diagnostic::error(
+            Code::TooManyPasses,
+            Span::default(),
+            format!(
+                "--passes: {} passes of {turns} turns is more than {MAX_HELIX_ARCS} helical moves",
+                spec.passes
+            ),
+        ));
+    }
     // The top tooth reaches (teeth − 1)·P above the bottom tooth: above --start-z when the tool's
     // teeth span more than the thread.
     let flute_overhang = (span + turns_f * lead - spec.length).max(0.0);
