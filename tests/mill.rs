@@ -393,6 +393,7 @@ fn spec(side: Side, teeth: u32, passes: u32) -> MillSpec {
         teeth,
         direction: None,
         passes,
+        starts: 1,
         comp: Comp::Off,
         center: (0.0, 0.0),
         start_z: 0.0,
@@ -763,4 +764,53 @@ fn lead_arcs_are_in_phase_with_the_helix() {
             );
         }
     }
+}
+
+/// Multi-start: each turn advances one lead (starts × pitch); start j is start 0 turned by
+/// 360°·j/starts about the axis, so its groove lies j pitches along, with the same absolute Z.
+#[test]
+fn multi_start_threads_advance_one_lead() {
+    let out = ok(&[
+        "--thread",
+        "M16",
+        "--internal",
+        "--starts",
+        "2",
+        "--length",
+        "16",
+        "--tool-diameter",
+        "10",
+        "--feed",
+        "250",
+        "-c",
+        "linuxcnc-mill",
+        "--comp",
+        "none",
+    ]);
+    let p = readback::read(&out).unwrap();
+    let t = turns(&p.segments);
+    assert_eq!(
+        t.len(),
+        8,
+        "16 mm / 4 mm lead = 4 turns per start, 2 starts"
+    );
+    for s in &t {
+        assert!(
+            (s.to[2] - s.from[2] - 4.0).abs() < 1e-9,
+            "one lead per turn"
+        );
+    }
+    let (a, b) = (t[0], t[4]);
+    assert_eq!(
+        a.from[2], b.from[2],
+        "both starts begin at the thread bottom"
+    );
+    // Start 1 begins half a turn round: where start 0's groove is one pitch higher.
+    let ang = |s: &Segment| s.from[1].atan2(s.from[0]);
+    let d = (ang(&b) - ang(&a)).rem_euclid(std::f64::consts::TAU);
+    assert!((d - std::f64::consts::PI).abs() < 1e-4, "{d}");
+    // The groove of start 0 at start 1's starting angle is at its start Z + lead/2 = + one pitch;
+    // start 1 there is at its start Z: the two grooves are one pitch apart (mod the lead).
+    let z0_at = a.from[2] + 4.0 * d / std::f64::consts::TAU;
+    assert!(((z0_at - b.from[2]) - 2.0).abs() < 1e-9);
 }

@@ -233,6 +233,9 @@ pub struct MillArgs {
     /// Radial passes of equal chip area.
     #[arg(long, default_value_t = 1)]
     passes: u32,
+    /// Thread starts: each turn advances starts × pitch, each start turned 360°/starts.
+    #[arg(long, default_value_t = 1)]
+    starts: u32,
     /// Cutter compensation.
     #[arg(long, value_enum, default_value = "g41")]
     comp: CompArg,
@@ -328,6 +331,7 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
             _ => None,
         },
         passes: a.passes,
+        starts: a.starts,
         comp,
         center: parse_center(&a.center, units)?,
         start_z: units.to_mm(a.start_z),

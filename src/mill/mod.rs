@@ -146,6 +146,8 @@ pub struct MillSpec {
     pub direction: Option<Direction>,
     /// Radial passes.
     pub passes: u32,
+    /// Thread starts (1: single-start); each turn advances starts × pitch.
+    pub starts: u32,
     pub comp: Comp,
     /// Thread axis (mm).
     pub center: (f64, f64),
@@ -213,6 +215,7 @@ pub struct Plan {
     pub comp_side: CompSide,
     pub pitch: f64,
     pub lead: f64,
+    pub starts: u32,
     pub tpi: Option<f64>,
     /// Radius of the crest the cut starts from: the bore (internal) or the cylinder (external).
     pub crest_radius: f64,
@@ -402,7 +405,14 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
     };
 
     let pitch = t.pitch;
-    let lead = pitch; // single start
+    if spec.starts == 0 || spec.starts > 100 {
+        return Err(flag_error(
+            "--starts",
+            format!("between 1 and 100 starts, not {}", spec.starts),
+        ));
+    }
+    // The helix advances one lead per turn: the pitch times the number of starts.
+    let lead = pitch * f64::from(spec.starts);
     let span = f64::from(spec.teeth - 1) * pitch;
     let turns_f = ((spec.length - span) / lead - 1e-9).ceil().max(1.0);
     if turns_f > f64::from(MAX_TURNS) {
@@ -415,7 +425,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         ));
     }
     let turns = turns_f as u32;
-    if u64::from(turns) * u64::from(spec.passes) > MAX_HELIX_ARCS {
+    if u64::from(turns) * u64::from(spec.passes) * u64::from(spec.starts) > MAX_HELIX_ARCS {
         return Err(Diagnostic::error(
             Code::TooManyPasses,
             Span::default(),
@@ -459,6 +469,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
     let mut helix_feed = edge_feed;
     for (k, &r) in pass_radii.iter().enumerate() {
         let pass = k as u32 + 1;
+        let mut one: Vec<Move> = Vec::new();
         // Tool-centre radius of the helix.
         let a_c = r - inward * r_t;
         let prog_r = a_c + inward * off;
@@ -576,14 +587,14 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
 
         // 1. Rapid above the approach point, 2. feed to the starting height.
         push(
-            &mut moves,
+            &mut one,
             MoveKind::Rapid,
             P3::new(approach.0, approach.1, clearance_z),
             0.0,
             None,
         );
         push(
-            &mut moves,
+            &mut one,
             MoveKind::Feed,
             P3::new(approach.0, approach.1, z_in),
             edge_feed,
@@ -593,7 +604,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         match (&leads, entry) {
             (Some(l), Some(q)) => {
                 push(
-                    &mut moves,
+                    &mut one,
                     MoveKind::Feed,
                     P3::new(q.0, q.1, z_in),
                     edge_feed,
@@ -610,7 +621,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                     let ph = in_ph.as_ref().map_or(0.0, |v| v[(l.pieces - i) as usize]);
                     let z = z_start + s_z * ph * lead;
                     push(
-                        &mut moves,
+                        &mut one,
                         MoveKind::Arc {
                             center: l.m,
                             cw: l.cw,
@@ -622,7 +633,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                 }
             }
             _ => push(
-                &mut moves,
+                &mut one,
                 MoveKind::Feed,
                 P3::new(s_prog.0, s_prog.1, z_start),
                 edge_feed,
@@ -633,7 +644,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         for turn in 1..=turns {
             let z = z_start + s_z * f64::from(turn) * lead;
             push(
-                &mut moves,
+                &mut one,
                 MoveKind::Arc {
                     center: (cx, cy),
                     cw,
@@ -652,7 +663,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                 let ph = out_ph.as_ref().map_or(0.0, |v| v[i as usize]);
                 let z = z_end + s_z * ph * lead;
                 push(
-                    &mut moves,
+                    &mut one,
                     MoveKind::Arc {
                         center: l.m,
                         cw: l.cw,
@@ -664,19 +675,47 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
             }
         }
         push(
-            &mut moves,
+            &mut one,
             MoveKind::Feed,
             P3::new(leave.0, leave.1, z_out),
             edge_feed,
             None,
         );
         push(
-            &mut moves,
+            &mut one,
             MoveKind::Rapid,
             P3::new(leave.0, leave.1, clearance_z),
             0.0,
             None,
         );
+        // Multi-start threads: start j is start 0 turned about the axis so that its groove lies
+        // j pitches further along (angle −hand·360°·j/starts, hand +1 when counter-clockwise
+        // rises); Z is unchanged, so every start keeps the exact bottom and absolute Z.
+        let rising_ccw = (sigma > 0.0) == up;
+        for j in 0..spec.starts {
+            let angle = if rising_ccw { -1.0 } else { 1.0 } * std::f64::consts::TAU * f64::from(j)
+                / f64::from(spec.starts);
+            let (sn, cs) = angle.sin_cos();
+            let rot = |x: f64, y: f64| {
+                let (dx, dy) = (x - cx, y - cy);
+                (cx + dx * cs - dy * sn, cy + dx * sn + dy * cs)
+            };
+            for m in &one {
+                let (x, y) = rot(m.to.x, m.to.y);
+                let kind = match m.kind {
+                    MoveKind::Arc { center, cw } => MoveKind::Arc {
+                        center: rot(center.0, center.1),
+                        cw,
+                    },
+                    other => other,
+                };
+                moves.push(Move {
+                    kind,
+                    to: P3::new(x, y, m.to.z),
+                    ..*m
+                });
+            }
+        }
     }
 
     let lowest_z = moves.iter().map(|m| m.to.z).fold(f64::INFINITY, f64::min);
@@ -701,6 +740,7 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         comp_side,
         pitch,
         lead,
+        starts: spec.starts,
         tpi: t.tpi,
         crest_radius: crest,
         final_radius: root,

@@ -72,8 +72,10 @@ pub fn summary(plan: &Plan, units: Units) -> Vec<String> {
             plan.teeth
         ),
         format!(
-            "pitch {:.6} {un}, {} full turns per pass; length x threads per inch = {:.4}",
+            "pitch {:.6} {un}, {} start(s), lead {:.6} {un}, {} full turns per pass and start; length x threads per inch = {:.4}",
             u(plan.pitch),
+            plan.starts,
+            u(plan.lead),
             plan.turns,
             plan.seed_count
         ),
@@ -258,6 +260,8 @@ pub fn plan_json(plan: &Plan, units: Units) -> serde_json::Value {
         "comp_side": plan.comp_side,
         "units": units,
         "pitch": u(plan.pitch),
+        "lead": u(plan.lead),
+        "starts": plan.starts,
         "turns": plan.turns,
         "pass_radii": plan.pass_radii.iter().map(|&r| u(r)).collect::<Vec<_>>(),
         "tool_radius": u(plan.tool_radius),
