@@ -576,6 +576,22 @@ fn bad_input_names_the_flag() {
             ],
             "--feed",
         ),
+        (
+            &[
+                "--thread",
+                "M10-6g",
+                "--internal",
+                "--length",
+                "10",
+                "--tool-diameter",
+                "6",
+                "--feed",
+                "100",
+                "-c",
+                "linuxcnc-mill",
+            ],
+            "class 6g",
+        ),
     ];
     for (args, want) in cases {
         let (out, err, code) = run(args);

@@ -303,6 +303,24 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
         }
     };
     let thread = standard::lookup(&a.thread).map_err(usage)?;
+    let (given_ext, given_int) = (thread.external.is_some(), thread.internal.is_some());
+    if given_ext != given_int && given_ext != (side == Side::External) {
+        let class = thread
+            .external
+            .or(thread.internal)
+            .map(|l| l.class.to_string())
+            .unwrap_or_default();
+        return Err(Failure::Usage(format!(
+            "--thread `{}` names class {class}, which is for {} threads, but --{} was given",
+            a.thread,
+            if given_ext { "external" } else { "internal" },
+            if side == Side::External {
+                "external"
+            } else {
+                "internal"
+            }
+        )));
+    }
     let units = match a.units {
         Some(UnitsArg::Mm) => Units::Mm,
         Some(UnitsArg::Inch) => Units::Inch,
