@@ -28,6 +28,7 @@ pub mod diag;
 pub mod dialect;
 pub mod gcode;
 pub mod machine;
+pub mod mill;
 pub mod post;
 pub mod program;
 pub mod thread;

@@ -1,5 +1,6 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
 
+mod mill;
 mod output;
 mod post;
 mod render;
@@ -83,6 +84,22 @@ enum Command {
     },
     /// List the built-in controller profiles.
     Controllers,
+    /// Print a standard thread's diameters (min/max), thread height and turning infeed depth:
+    /// ISO metric (`M10`, `M10x1.25-6g`, `M8-4g6g`, `M12-6H`) or Unified (`"1/2-13 UNC-2A"`,
+    /// `"#10-32 UNF"`). Without a class both sides are given (6g/6H, 2A/2B).
+    Thread {
+        /// The thread's name.
+        name: Option<String>,
+        /// JSON (values in the standard's units) instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// List every thread threadcut knows.
+        #[arg(long, conflicts_with = "name")]
+        list: bool,
+    },
+    /// Mill a standard thread by helical interpolation (Centroid TB029): a complete block of G2/G3
+    /// full circles with absolute Z per turn, cutter compensation and lead-in/out.
+    Mill(mill::MillArgs),
 }
 
 pub fn main() -> ExitCode {
@@ -130,11 +147,24 @@ fn failure(file: &Path, e: Error) -> Failure {
 
 fn run(cli: Cli) -> Result<ExitCode, Failure> {
     match cli.command {
+        Command::Mill(args) => {
+            mill::mill(args)?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Thread { name, json, list } => {
+            mill::thread(name.as_deref(), json, list)?;
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Controllers => {
             let mut out = io::stdout().lock();
             for (name, _) in BUILT_IN {
                 let m = Machine::built_in(name).expect("built-in profiles parse");
                 writeln!(out, "{name:<12} {}", m.description).map_err(io_failure)?;
+            }
+            for (name, _) in threadcut::mill::profile::BUILT_IN {
+                let m = threadcut::mill::profile::MillProfile::built_in(name)
+                    .expect("built-in profiles parse");
+                writeln!(out, "{name:<14} (mill) {}", m.description).map_err(io_failure)?;
             }
             Ok(ExitCode::SUCCESS)
         }

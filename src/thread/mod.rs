@@ -6,6 +6,7 @@
 
 pub mod area;
 pub mod plan;
+pub mod standard;
 
 use serde::Serialize;
 

@@ -1,0 +1,390 @@
+//! `threadcut thread` (standard thread data) and `threadcut mill` (thread-milling programs).
+
+use std::io::{self, Write};
+
+use serde_json::{json, Value};
+
+use threadcut::diag::Diagnostic;
+use threadcut::thread::standard::{self, Limits, StandardThread};
+use threadcut::thread::Side;
+use threadcut::units::Units;
+
+use super::{io_failure, Failure};
+
+/// A lookup or planning error as a usage failure: the message and the hint.
+pub fn usage(d: Diagnostic) -> Failure {
+    match d.hint {
+        Some(h) => Failure::Usage(format!("{}\n  = help: {h}", d.message)),
+        None => Failure::Usage(d.message),
+    }
+}
+
+/// `threadcut thread NAME [--json]`, or `--list`.
+pub fn thread(name: Option<&str>, json: bool, list: bool) -> Result<(), Failure> {
+    let mut out = io::stdout().lock();
+    if list {
+        for n in standard::known_names() {
+            writeln!(out, "{n}").map_err(io_failure)?;
+        }
+        return Ok(());
+    }
+    let Some(name) = name else {
+        return Err(Failure::Usage(
+            "name a thread (e.g. `threadcut thread M10x1.5` or `threadcut thread \"1/2-13 UNC-2A\"`), or use --list"
+                .into(),
+        ));
+    };
+    let t = standard::lookup(name).map_err(usage)?;
+    if json {
+        let v = thread_json(&t);
+        serde_json::to_writer_pretty(&mut out, &v).map_err(|e| io_failure(e.into()))?;
+        writeln!(out).map_err(io_failure)?;
+    } else {
+        write_thread(&mut out, &t).map_err(io_failure)?;
+    }
+    Ok(())
+}
+
+fn decimals(units: Units) -> usize {
+    match units {
+        Units::Mm => 3,
+        Units::Inch => 4,
+    }
+}
+
+fn write_thread(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
+    let u = t.units;
+    let d = decimals(u);
+    let v = |mm: f64| u.from_mm(mm);
+    let family = match t.family {
+        standard::Family::Metric => "ISO metric",
+        standard::Family::Unified => "Unified inch",
+    };
+    match t.tpi {
+        Some(tpi) => writeln!(
+            out,
+            "{}  {family} {}, {tpi} threads per inch (pitch {:.6} in = {:.4} mm)",
+            t.name,
+            t.series.name(),
+            v(t.pitch),
+            t.pitch
+        )?,
+        None => writeln!(
+            out,
+            "{}  {family} {} pitch, pitch {} mm",
+            t.name,
+            t.series.name(),
+            t.pitch
+        )?,
+    }
+    let un = u.name();
+    writeln!(
+        out,
+        "basic ({un}): major {:.d$}  pitch diameter {:.d$}  minor {:.d$}  H {:.d2$}",
+        v(t.basic.major),
+        v(t.basic.pitch_diameter),
+        v(t.basic.minor),
+        v(t.basic.fundamental_height),
+        d2 = d + 2
+    )?;
+    writeln!(
+        out,
+        "thread height / turning infeed ({un}, radial): external {:.d2$} (17/24·H = 0.61343·P), internal {:.d2$} (5/8·H = 0.54127·P)",
+        v(t.external_depth),
+        v(t.internal_depth),
+        d2 = d + 1
+    )?;
+    for side in [Side::External, Side::Internal] {
+        let given = match side {
+            Side::External => t.external,
+            Side::Internal => t.internal,
+        };
+        let Some(l) = given else { continue };
+        write_limits(out, &l, u)?;
+    }
+    Ok(())
+}
+
+fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
+    let d = decimals(u);
+    let f =
+        |x: Option<f64>| x.map_or_else(|| "—".to_string(), |mm| format!("{:.d$}", u.from_mm(mm)));
+    let (side, dev) = match l.side {
+        Side::External => ("external", "es"),
+        Side::Internal => ("internal", "EI"),
+    };
+    writeln!(
+        out,
+        "{side} {}: {dev} {:+.d$} {}",
+        l.class,
+        u.from_mm(l.deviation),
+        u.name()
+    )?;
+    writeln!(out, "  {:<6} {:>10} {:>10}", "", "min", "max")?;
+    let rows: [(&str, _); 3] = match l.side {
+        Side::External => [("major", l.major), ("pitch", l.pitch), ("minor", l.minor)],
+        Side::Internal => [("minor", l.minor), ("pitch", l.pitch), ("major", l.major)],
+    };
+    for (name, r) in rows {
+        writeln!(out, "  {name:<6} {:>10} {:>10}", f(r.min), f(r.max))?;
+    }
+    if l.side == Side::External {
+        writeln!(
+            out,
+            "  (minor: rounded-root d3 / UNR maximum; the standard sets no minimum)"
+        )?;
+    }
+    Ok(())
+}
+
+fn thread_json(t: &StandardThread) -> Value {
+    let u = t.units;
+    let n = |mm: f64| json!(u.from_mm(mm));
+    // Limits are tabulated values (0.001 mm, 0.0001 in): strip the mm → inch conversion noise.
+    let o = |mm: Option<f64>| mm.map_or(Value::Null, |x| json!((u.from_mm(x) * 1e6).round() / 1e6));
+    let limits = |l: &Limits| {
+        json!({
+            "class": l.class.to_string(),
+            "deviation": (u.from_mm(l.deviation) * 1e6).round() / 1e6,
+            "major": {"min": o(l.major.min), "max": o(l.major.max)},
+            "pitch": {"min": o(l.pitch.min), "max": o(l.pitch.max)},
+            "minor": {"min": o(l.minor.min), "max": o(l.minor.max)},
+        })
+    };
+    json!({
+        "name": t.name,
+        "family": t.family,
+        "series": t.series,
+        "units": u,
+        "pitch": n(t.pitch),
+        "pitch_mm": t.pitch,
+        "tpi": t.tpi,
+        "basic": {
+            "major": n(t.basic.major),
+            "pitch_diameter": n(t.basic.pitch_diameter),
+            "minor": n(t.basic.minor),
+            "fundamental_height": n(t.basic.fundamental_height),
+        },
+        "thread_height": {"external": n(t.external_depth), "internal": n(t.internal_depth)},
+        "turning_infeed": {"external": n(t.external_depth), "internal": n(t.internal_depth)},
+        "external": t.external.as_ref().map(limits),
+        "internal": t.internal.as_ref().map(limits),
+    })
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum CompArg {
+    /// Controller compensation: G41 or G42 as TB029's table gives for the case.
+    G41,
+    /// None: the program is the tool-centre path.
+    None,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum LeadArg {
+    /// A quarter-circle tangent to the helix, climbing with it.
+    Arc,
+    /// TB029 step 4: a straight radial move to the start point.
+    Radial,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum MillFormat {
+    Gcode,
+    /// One JSON object per move (a first `plan` object, then rapid/feed/arc).
+    Jsonl,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum UnitsArg {
+    Mm,
+    Inch,
+}
+
+#[derive(clap::Args)]
+pub struct MillArgs {
+    /// Standard thread name: `M10x1.5`, `M12-6H`, `"1/2-13 UNC-2B"`, `"1-8 UNC"`.
+    #[arg(long)]
+    thread: String,
+    /// An internal thread (a nut): the bore is at the minor diameter.
+    #[arg(long, conflicts_with = "external")]
+    internal: bool,
+    /// An external thread (a bolt): the cylinder is at the major diameter.
+    #[arg(long)]
+    external: bool,
+    /// Left-hand thread (TB029 tip 4: compensation and arc directions reversed).
+    #[arg(long)]
+    left: bool,
+    /// Thread length, down from --start-z (program units).
+    #[arg(long, allow_hyphen_values = true)]
+    length: f64,
+    /// Cutting diameter of the thread mill (program units).
+    #[arg(long, allow_hyphen_values = true)]
+    tool_diameter: f64,
+    /// Thread-form teeth on the tool, one pitch apart.
+    #[arg(long, default_value_t = 1)]
+    teeth: u32,
+    /// Mill from the top down (default: the climb-milling direction).
+    #[arg(long, conflicts_with = "bottom_up")]
+    top_down: bool,
+    /// Mill from the bottom up.
+    #[arg(long)]
+    bottom_up: bool,
+    /// Radial passes of equal chip area.
+    #[arg(long, default_value_t = 1)]
+    passes: u32,
+    /// Thread starts: each turn advances starts × pitch, each start turned 360°/starts.
+    #[arg(long, default_value_t = 1)]
+    starts: u32,
+    /// Cutter compensation.
+    #[arg(long, value_enum, default_value = "g41")]
+    comp: CompArg,
+    /// Thread axis `X,Y` (program units).
+    #[arg(long, default_value = "0,0", allow_hyphen_values = true)]
+    center: String,
+    /// Top of the thread (program units).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    start_z: f64,
+    /// Feed at the cutting edge (program units per minute); arc feeds are scaled from it.
+    #[arg(long, allow_hyphen_values = true)]
+    feed: f64,
+    /// How the tool reaches the helix.
+    #[arg(long, value_enum, default_value = "arc")]
+    lead: LeadArg,
+    /// Height above --start-z for rapid moves (program units; default 5 mm / 0.2 in).
+    #[arg(long, allow_hyphen_values = true)]
+    clearance: Option<f64>,
+    /// Program units (default: the thread's own, mm for metric, inch for Unified).
+    #[arg(long, value_enum)]
+    units: Option<UnitsArg>,
+    /// Offset register for G41/G42 (the D word).
+    #[arg(long)]
+    d_register: Option<u32>,
+    /// Milling controller profile: centroid, fanuc-mill, linuxcnc-mill.
+    #[arg(long, short = 'c')]
+    controller: String,
+    #[arg(long, value_enum, default_value = "gcode")]
+    format: MillFormat,
+    /// Output file (`-` or absent: standard output). Written whole or not at all.
+    #[arg(long, short = 'o')]
+    output: Option<std::path::PathBuf>,
+}
+
+fn parse_center(text: &str, units: Units) -> Result<(f64, f64), Failure> {
+    let bad = || {
+        Failure::Usage(format!(
+            "--center: `{text}` is not `X,Y` (e.g. --center 10,-5.5)"
+        ))
+    };
+    let (x, y) = text.split_once(',').ok_or_else(bad)?;
+    let x: f64 = x.trim().parse().map_err(|_| bad())?;
+    let y: f64 = y.trim().parse().map_err(|_| bad())?;
+    Ok((units.to_mm(x), units.to_mm(y)))
+}
+
+/// `threadcut mill …`
+pub fn mill(a: MillArgs) -> Result<(), Failure> {
+    use threadcut::mill::{self, profile::MillProfile, Comp, Direction, Hand, LeadIn, MillSpec};
+
+    let profile = MillProfile::built_in(&a.controller).ok_or_else(|| {
+        Failure::Usage(format!(
+            "--controller: `{}` is not a milling controller (built in: {})",
+            a.controller,
+            MillProfile::names().join(", ")
+        ))
+    })?;
+    let side = match (a.internal, a.external) {
+        (true, false) => Side::Internal,
+        (false, true) => Side::External,
+        _ => {
+            return Err(Failure::Usage(
+                "name the side: --internal (a nut) or --external (a bolt)".into(),
+            ))
+        }
+    };
+    let thread = standard::lookup(&a.thread).map_err(usage)?;
+    let (given_ext, given_int) = (thread.external.is_some(), thread.internal.is_some());
+    if given_ext != given_int && given_ext != (side == Side::External) {
+        let class = thread
+            .external
+            .or(thread.internal)
+            .map(|l| l.class.to_string())
+            .unwrap_or_default();
+        return Err(Failure::Usage(format!(
+            "--thread `{}` names class {class}, which is for {} threads, but --{} was given",
+            a.thread,
+            if given_ext { "external" } else { "internal" },
+            if side == Side::External {
+                "external"
+            } else {
+                "internal"
+            }
+        )));
+    }
+    let units = match a.units {
+        Some(UnitsArg::Mm) => Units::Mm,
+        Some(UnitsArg::Inch) => Units::Inch,
+        None => thread.units,
+    };
+    let comp = match a.comp {
+        CompArg::G41 => Comp::Controller,
+        CompArg::None => Comp::Off,
+    };
+    if comp == Comp::Controller && profile.comp_needs_d && a.d_register.is_none() {
+        return Err(Failure::Usage(format!(
+            "--d-register: {} writes G41/G42 with a D offset number; name it (e.g. --d-register 1), or use --comp none",
+            profile.name
+        )));
+    }
+    let spec = MillSpec {
+        thread,
+        side,
+        hand: if a.left { Hand::Left } else { Hand::Right },
+        length: units.to_mm(a.length),
+        tool_diameter: units.to_mm(a.tool_diameter),
+        teeth: a.teeth,
+        direction: match (a.top_down, a.bottom_up) {
+            (true, _) => Some(Direction::TopDown),
+            (_, true) => Some(Direction::BottomUp),
+            _ => None,
+        },
+        passes: a.passes,
+        starts: a.starts,
+        comp,
+        center: parse_center(&a.center, units)?,
+        start_z: units.to_mm(a.start_z),
+        clearance: a.clearance.map_or(5.0, |c| units.to_mm(c)),
+        feed: units.to_mm(a.feed),
+        lead_in: match a.lead {
+            LeadArg::Arc => LeadIn::Arc,
+            LeadArg::Radial => LeadIn::Radial,
+        },
+        comp_feed: profile.comp_feed,
+    };
+    let plan = mill::plan(&spec).map_err(usage)?;
+    mill::profile_checks(&plan, &profile).map_err(usage)?;
+    for w in plan.warnings(units) {
+        eprintln!("threadcut: warning: {w}");
+    }
+    let opts = mill::post::Options {
+        units,
+        d_register: if comp == Comp::Controller {
+            a.d_register
+        } else {
+            None
+        },
+    };
+    super::output::write(std::path::Path::new("-"), a.output.as_deref(), |out| {
+        match a.format {
+            MillFormat::Gcode => mill::post::write_gcode(out, &plan, &profile, opts)?,
+            MillFormat::Jsonl => {
+                serde_json::to_writer(&mut *out, &mill::post::plan_json(&plan, units))
+                    .map_err(io::Error::other)?;
+                writeln!(out)?;
+                mill::post::write_jsonl(out, &plan, units)?;
+            }
+        }
+        Ok(threadcut::program::Summary::default())
+    })?;
+    Ok(())
+}
