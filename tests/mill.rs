@@ -4,8 +4,9 @@
 use std::process::Command;
 
 use threadcut::mill::readback::{self, SegKind, Segment};
+use threadcut::mill::Side;
 use threadcut::mill::{self, profile::FeedReference, Comp, Direction, Hand, LeadIn, MillSpec};
-use threadcut::thread::{standard, Side};
+use threadcut::thread::standard;
 
 fn run(args: &[&str]) -> (String, String, i32) {
     let out = Command::new(env!("CARGO_BIN_EXE_threadcut"))

@@ -1,8 +1,8 @@
 //! Standard thread data against published tables. Every expected value below is copied from the
 //! table named next to it; threadcut computes them from the ISO 965-1 / ASME B1.1 formulas.
 
+use threadcut::thread::standard::Surface as Side;
 use threadcut::thread::standard::{lookup, Family, Series};
-use threadcut::thread::Side;
 
 const MM_PER_INCH: f64 = 25.4;
 

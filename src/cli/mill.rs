@@ -5,8 +5,8 @@ use std::io::{self, Write};
 use serde_json::{json, Value};
 
 use threadcut::diag::Diagnostic;
+use threadcut::mill::Side;
 use threadcut::thread::standard::{self, Limits, StandardThread};
-use threadcut::thread::Side;
 use threadcut::units::Units;
 
 use super::{io_failure, Failure};

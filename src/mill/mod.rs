@@ -38,7 +38,6 @@ use serde::Serialize;
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::thread::standard::StandardThread;
-use crate::thread::Side;
 use profile::FeedReference;
 
 /// Hand of the thread.
@@ -67,6 +66,8 @@ pub enum Comp {
     /// The program is the tool-centre path.
     Off,
 }
+
+pub use crate::thread::standard::Surface as Side;
 
 /// G41 (tool left of the path) or G42 (right).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

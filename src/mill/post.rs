@@ -7,10 +7,10 @@ use std::io::{self, Write};
 use serde_json::json;
 
 use super::profile::MillProfile;
+use super::Side;
 use super::{CompSide, MoveKind, Plan};
 use crate::machine::CommentStyle;
 use crate::post::{json_num, number};
-use crate::thread::Side;
 use crate::units::Units;
 
 /// Output choices that are not in the profile.

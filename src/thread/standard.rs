@@ -27,7 +27,6 @@ use std::fmt;
 use serde::Serialize;
 
 use crate::diag::{Code, Diagnostic, Result, Span};
-use crate::thread::Side;
 use crate::units::{Units, MM_PER_INCH};
 
 /// `H = (√3/2)·P`: height of the fundamental triangle (ISO 68-1, ASME B1.1).
@@ -38,6 +37,15 @@ pub const EXTERNAL_DEPTH_PER_P: f64 = 17.0 / 24.0 * H_PER_P;
 /// Turning infeed (radial) of an internal thread, from the minor to the major diameter: `5/8·H =
 /// 0.54127·P` (ISO 68-1 basic thread height H1).
 pub const INTERNAL_DEPTH_PER_P: f64 = 5.0 / 8.0 * H_PER_P;
+
+/// Which surface a thread is on: a bolt's (external) or a nut's (internal). The lathe's
+/// [`Side`](crate::thread::Side) adds face threads, which standard thread tables do not describe.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Surface {
+    External,
+    Internal,
+}
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -85,28 +93,28 @@ pub enum Class {
         position: char,
     },
     /// ASME B1.1 class 1, 2 or 3; `A` external, `B` internal.
-    Unified { grade: u8, side: Side },
+    Unified { grade: u8, side: Surface },
 }
 
 impl Class {
-    pub fn side(self) -> Side {
+    pub fn side(self) -> Surface {
         match self {
-            Class::Iso { position, .. } if position.is_ascii_uppercase() => Side::Internal,
-            Class::Iso { .. } => Side::External,
+            Class::Iso { position, .. } if position.is_ascii_uppercase() => Surface::Internal,
+            Class::Iso { .. } => Surface::External,
             Class::Unified { side, .. } => side,
         }
     }
 
     /// The default class of a family and side: 6g/6H (ISO 965-1 "medium" for general use),
     /// 2A/2B (ASME B1.1, the most common class).
-    pub fn default_for(family: Family, side: Side) -> Class {
+    pub fn default_for(family: Family, side: Surface) -> Class {
         match (family, side) {
-            (Family::Metric, Side::External) => Class::Iso {
+            (Family::Metric, Surface::External) => Class::Iso {
                 pitch_grade: 6,
                 crest_grade: 6,
                 position: 'g',
             },
-            (Family::Metric, Side::Internal) => Class::Iso {
+            (Family::Metric, Surface::Internal) => Class::Iso {
                 pitch_grade: 6,
                 crest_grade: 6,
                 position: 'H',
@@ -132,7 +140,7 @@ impl fmt::Display for Class {
             Class::Unified { grade, side } => write!(
                 f,
                 "{grade}{}",
-                if side == Side::External { 'A' } else { 'B' }
+                if side == Surface::External { 'A' } else { 'B' }
             ),
         }
     }
@@ -161,7 +169,7 @@ impl Range {
 pub struct Limits {
     #[serde(serialize_with = "ser_display")]
     pub class: Class,
-    pub side: Side,
+    pub side: Surface,
     /// Fundamental deviation (ISO es/EI) or allowance (ASME), mm, signed (negative: below basic).
     pub deviation: f64,
     pub major: Range,
@@ -213,10 +221,10 @@ pub struct StandardThread {
 impl StandardThread {
     /// The limits on one side, computing them in the default class when the name did not ask for
     /// that side.
-    pub fn limits(&self, side: Side) -> Limits {
+    pub fn limits(&self, side: Surface) -> Limits {
         let given = match side {
-            Side::External => self.external,
-            Side::Internal => self.internal,
+            Surface::External => self.external,
+            Surface::Internal => self.internal,
         };
         given.unwrap_or_else(|| {
             limits_for(self, Class::default_for(self.family, side))
@@ -661,7 +669,7 @@ fn iso_limits(d: f64, p: f64, class: Class) -> std::result::Result<Limits, Strin
     let um = |v: f64| v / 1000.0;
     let dev = um(dev_um);
     let bad = |what: &str, g: u8| format!("ISO 965-1 has no grade {g} for the {what}");
-    if class.side() == Side::External {
+    if class.side() == Surface::External {
         let fp = grade_factor(pitch_grade, TD2_GRADES)
             .ok_or_else(|| bad("pitch diameter", pitch_grade))?;
         let fc = grade_factor(crest_grade, TD_GRADES)
@@ -672,7 +680,7 @@ fn iso_limits(d: f64, p: f64, class: Class) -> std::result::Result<Limits, Strin
         let pitch_max = d2 + dev;
         Ok(Limits {
             class,
-            side: Side::External,
+            side: Surface::External,
             deviation: dev,
             major: Range::both(round_to(major_max - td, 3), round_to(major_max, 3)),
             pitch: Range::both(round_to(pitch_max - td2, 3), round_to(pitch_max, 3)),
@@ -690,7 +698,7 @@ fn iso_limits(d: f64, p: f64, class: Class) -> std::result::Result<Limits, Strin
         let td1 = um(round_r40(iso_td1_6(p) * fc));
         Ok(Limits {
             class,
-            side: Side::Internal,
+            side: Surface::Internal,
             deviation: dev,
             major: Range {
                 min: Some(round_to(d + dev, 3)),
@@ -736,7 +744,7 @@ fn unified_limits(
     let two_h_addendum = r6(0.649_519_05 * p); // d − d2 = 2·(3/8)H
     let two_h_un = r6(1.082_531_75 * p); // d − D1 = 2·(5/8)H
     let two_h_unr = r6(1.190_784_93 * p); // d − d3(UNR) = 2·(11/16)H
-    if side == Side::External {
+    if side == Surface::External {
         // The allowance is 0.300 times the class 2A tolerance as tabulated (4 decimals): 5/8-11
         // gives 0.3 · 0.0055 = 0.00165 → 0.0016, as the tables print (0.6234).
         let allowance = if grade == 3 {
@@ -897,8 +905,8 @@ fn parse_class(s: &str, family: Family) -> Option<Class> {
             }
             let grade = (b[0] as char).to_digit(10)? as u8;
             let side = match b[1].to_ascii_uppercase() {
-                b'A' => Side::External,
-                b'B' => Side::Internal,
+                b'A' => Surface::External,
+                b'B' => Surface::Internal,
                 _ => return None,
             };
             Some(Class::Unified { grade, side })
@@ -1005,8 +1013,8 @@ fn fill(t: &mut StandardThread, class: Option<Class>, text: &str) -> Result<()> 
     let classes = match class {
         Some(c) => vec![c],
         None => vec![
-            Class::default_for(t.family, Side::External),
-            Class::default_for(t.family, Side::Internal),
+            Class::default_for(t.family, Surface::External),
+            Class::default_for(t.family, Surface::Internal),
         ],
     };
     for c in classes {
@@ -1018,8 +1026,8 @@ fn fill(t: &mut StandardThread, class: Option<Class>, text: &str) -> Result<()> 
             )
         })?;
         match c.side() {
-            Side::External => t.external = Some(l),
-            Side::Internal => t.internal = Some(l),
+            Surface::External => t.external = Some(l),
+            Surface::Internal => t.internal = Some(l),
         }
     }
     Ok(())
