@@ -685,7 +685,26 @@ impl OmniTurn {
                         a.n, b.n
                     ),
                 )?;
-                writeln!(out, "G33 X{}{tail}", grid(x_amount(b.start.x)))?;
+                // Reading this G33 back gives pass 1 at the start and pass 2 at min(I, X): X must
+                // not lie deeper than the written I, or a sliver third pass appears. So X is pass
+                // 2's point on the grid, pulled back toward the start when rounding would put it
+                // beyond the written I.
+                let start = x_amount(job.start.x);
+                let pass2 = x_amount(b.start.x);
+                let deeper = (pass2 - start).signum();
+                let i_written = (x_amount(i_radius) / step).round() * step;
+                let nearest = (pass2 / step).round() * step;
+                let x2 = if (nearest - start).abs() <= i_written + 1e-12 {
+                    nearest
+                } else {
+                    let target = (start + deeper * i_written) / step;
+                    if deeper < 0.0 {
+                        (target - 1e-9).ceil() * step
+                    } else {
+                        (target + 1e-9).floor() * step
+                    }
+                };
+                writeln!(out, "G33 X{}{tail}", grid(x2))?;
                 rest
             }
             _ => passes,
