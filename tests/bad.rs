@@ -12,10 +12,17 @@ struct Corpus {
 #[derive(serde::Deserialize)]
 struct Case {
     file: String,
+    /// `expand` (the default) or `post` (APT input).
+    #[serde(default = "expand")]
+    command: String,
     controller: String,
     code: String,
     at: String,
     says: String,
+}
+
+fn expand() -> String {
+    "expand".to_string()
 }
 
 #[test]
