@@ -7,7 +7,11 @@ use serde::{Deserialize, Serialize};
 use crate::units::Units;
 
 /// Built-in profiles, by name. Each is a TOML file under `profiles/`.
-pub const BUILT_IN: &[(&str, &str)] = &[("gsk980", include_str!("../profiles/gsk980.toml"))];
+pub const BUILT_IN: &[(&str, &str)] = &[
+    ("gsk980", include_str!("../profiles/gsk980.toml")),
+    ("fanuc", include_str!("../profiles/fanuc.toml")),
+    ("linuxcnc", include_str!("../profiles/linuxcnc.toml")),
+];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -71,6 +75,33 @@ pub struct GskParameters {
     pub p5145: u8,
 }
 
+/// Fanuc parameters of the threading cycles G92/G76 (Fanuc numbering, threading-notes §c.3, §e).
+/// Lengths in mm (radius).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FanucParameters {
+    /// Chamfer (thread pull-out) amount for G92/G76 in 0.1 lead, 0–127.
+    pub p5130: u8,
+    /// Chamfer angle for G92/G76 in degrees, 1–89; 0 means 45.
+    pub p5131: u8,
+    /// G76 minimum cut Δdmin (mm).
+    pub p5140: f64,
+    /// G76 finishing allowance d (mm).
+    pub p5141: f64,
+    /// G76 finishing repetitions m.
+    pub p5142: u8,
+    /// G76 tool-tip angle a (degrees).
+    pub p5143: u8,
+}
+
+/// LinuxCNC settings that are not in the program.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinuxCncSettings {
+    /// Number of spindles ([TRAJ]SPINDLES); `$` must be below it.
+    pub spindles: u8,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Machine {
@@ -88,6 +119,10 @@ pub struct Machine {
     #[serde(default)]
     pub limits: Limits,
     pub gsk: Option<GskParameters>,
+    #[serde(default)]
+    pub fanuc: Option<FanucParameters>,
+    #[serde(default)]
+    pub linuxcnc: Option<LinuxCncSettings>,
 }
 
 impl Machine {

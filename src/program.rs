@@ -85,15 +85,9 @@ pub fn run<R: BufRead>(
             Read::Settings => sink(&modal, Event::Settings { line: &line })?,
             Read::Cycle(job) => {
                 summary.cycles += 1;
-                // A cycle ends where it started.
-                modal.position = Some(job.start);
-                sink(
-                    &modal,
-                    Event::Cycle {
-                        line: &line,
-                        job,
-                    },
-                )?;
+                // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
+                modal.position = Some(job.end_point());
+                sink(&modal, Event::Cycle { line: &line, job })?;
             }
         }
         for w in &mut summary.warnings[before..] {
@@ -124,8 +118,15 @@ pub fn expand_gcode<R: BufRead>(
     out: &mut dyn Write,
     machine: &Machine,
 ) -> Result<Summary, Error> {
-    let format = dialect::open(machine).map_err(Error::Setup)?.format();
+    let d = dialect::open(machine).map_err(Error::Setup)?;
+    let base_format = d.format();
+    let distance_words = d.conventions().g90_g91_distance;
     run(input, machine, |modal, ev| {
+        // X as the program writes it at this point (LinuxCNC's G7/G8 change it mid-program).
+        let format = post::Format {
+            diameter_x: modal.diameter_x,
+            ..base_format.clone()
+        };
         match ev {
             Event::Plain { line, .. } => out.write_all(line.raw)?,
             Event::Settings { line } => {
@@ -149,7 +150,15 @@ pub fn expand_gcode<R: BufRead>(
                 )) {
                     writeln!(out, "{c}")?;
                 }
+                // The moves are absolute: under incremental distance mode, switch to G90 around them.
+                let incremental = distance_words && !modal.absolute;
+                if incremental {
+                    writeln!(out, "G90")?;
+                }
                 post::write_moves(out, &format, job.units, &path)?;
+                if incremental {
+                    writeln!(out, "G91")?;
+                }
                 restore_modal_state(out, &format, modal, &path)?;
             }
         }
@@ -177,6 +186,8 @@ fn restore_modal_state(
         MotionKind::Thread { lead, .. } => Some(lead),
         _ => None,
     });
+    // Only where the lead word is F does a thread move change the F register.
+    let last_lead = last_lead.filter(|_| format.lead_letter == 'F');
     if let (Some(f), Some(lead)) = (modal.f_word, last_lead) {
         let digits = format.lead_decimals[(modal.units == Units::Inch) as usize];
         let want = post::number(f, digits, format.trailing_zeros);

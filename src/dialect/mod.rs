@@ -2,7 +2,10 @@
 //! alarms, lowers them into the shared [`Job`](crate::thread::Job), and says how its plain moves are
 //! written. Everything two controllers share lives in [`thread`](crate::thread).
 
+pub mod fanuc;
+pub mod fanuc_family;
 pub mod gsk;
+pub mod linuxcnc;
 
 use crate::diag::{Diagnostic, Result};
 use crate::gcode::{Conventions, Line, Modal};
@@ -34,6 +37,10 @@ pub trait Dialect {
     fn format(&self) -> Format;
     /// The job as this controller's native cycle (lines without terminators), or why it cannot be.
     /// Callers never trust this text alone: [`crate::translate`] reads it back and compares motion.
+    /// Called before [`crate::translate::verify`] reads a native cycle back without the program around
+    /// it: a dialect that checks machine state set elsewhere in a program (LinuxCNC's spindle) assumes
+    /// it is ready.
+    fn assume_ready(&mut self) {}
     fn emit_native(&self, _job: &Job) -> std::result::Result<Vec<String>, String> {
         Err(format!(
             "{} has no native threading cycle in threadcut",
@@ -46,8 +53,10 @@ pub trait Dialect {
 pub fn open(machine: &Machine) -> std::result::Result<Box<dyn Dialect>, String> {
     match machine.dialect.as_str() {
         "gsk" => Ok(Box::new(gsk::Gsk::new(machine))),
+        "fanuc" => Ok(Box::new(fanuc::Fanuc::new(machine))),
+        "linuxcnc" => Ok(Box::new(linuxcnc::LinuxCnc::new(machine))),
         other => Err(format!(
-            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk)",
+            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, fanuc, linuxcnc)",
             machine.name
         )),
     }

@@ -86,7 +86,8 @@ pub fn lex_line(
                 shape.block_delete = true;
                 i += 1;
             }
-            b'a'..=b'z' | b'A'..=b'Z' => {
+            // `$` is LinuxCNC's spindle-selection word (`G76 … $1`).
+            b'a'..=b'z' | b'A'..=b'Z' | b'$' => {
                 let letter = c.to_ascii_uppercase();
                 let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
                     Diagnostic::error(

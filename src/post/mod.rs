@@ -23,6 +23,9 @@ pub struct Format {
     pub lead_decimals: [u32; 2],
     pub trailing_zeros: bool,
     pub comment: CommentStyle,
+    /// The lead word is the travel per revolution along the move's path (LinuxCNC's `G33 K`), not
+    /// along its longer axis (Fanuc's `G32 F`); the writer converts the model's lead.
+    pub lead_along_path: bool,
 }
 
 impl Format {
@@ -39,6 +42,7 @@ impl Format {
             lead_decimals: [4, 5],
             trailing_zeros: machine.output.trailing_zeros,
             comment: machine.output.comment,
+            lead_along_path: false,
         }
     }
 
@@ -112,7 +116,7 @@ pub fn write_moves(
 ) -> io::Result<()> {
     let nd = format.digits(units);
     let mut line = String::with_capacity(48);
-    for m in &path.motions {
+    for (from, m) in path.segments() {
         line.clear();
         let (code, lead) = match m.kind {
             MotionKind::Rapid => (format.rapid, None),
@@ -129,6 +133,11 @@ pub fn write_moves(
         line.push_str(" Z");
         line.push_str(&number(units.from_mm(m.to.z), nd, format.trailing_zeros));
         if let Some(lead) = lead {
+            let lead = if format.lead_along_path {
+                path_lead(lead, m.to.minus(from))
+            } else {
+                lead
+            };
             line.push(' ');
             line.push(format.lead_letter);
             line.push_str(&number(
@@ -141,6 +150,27 @@ pub fn write_moves(
         out.write_all(line.as_bytes())?;
     }
     Ok(())
+}
+
+/// The travel per revolution along a move's path, from the lead along its longer axis (the model's
+/// convention, [`crate::toolpath::lead_along_long_axis`]).
+pub fn path_lead(lead: f64, d: crate::units::Vec2) -> f64 {
+    let long = d.x.abs().max(d.z.abs());
+    if long == 0.0 {
+        lead
+    } else {
+        lead * d.x.hypot(d.z) / long
+    }
+}
+
+/// The lead along a move's longer axis, from the travel per revolution along its path.
+pub fn long_axis_lead(path_lead: f64, d: crate::units::Vec2) -> f64 {
+    let len = d.x.hypot(d.z);
+    if len == 0.0 {
+        path_lead
+    } else {
+        path_lead * d.x.abs().max(d.z.abs()) / len
+    }
 }
 
 /// One motion as a JSON object in program units, X as a radius:
