@@ -1,5 +1,6 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
 
+mod convert;
 mod output;
 mod render;
 
@@ -66,6 +67,19 @@ enum Command {
         /// JSON instead of a table.
         #[arg(long)]
         json: bool,
+        #[arg(long, short = 'o')]
+        output: Option<PathBuf>,
+    },
+    /// Rewrite a program for another controller: each threading cycle as the target's native cycle
+    /// when reading it back gives the same motion, otherwise as plain moves with a comment saying why.
+    Convert {
+        file: PathBuf,
+        /// The controller the program is written for (a built-in profile name).
+        #[arg(long)]
+        from: String,
+        /// The controller to write for (a built-in profile name).
+        #[arg(long)]
+        to: String,
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
     },
@@ -137,6 +151,26 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             let summary = output::write(&file, output.as_deref(), |out| match format {
                 ExpandFormat::Gcode => program::expand_gcode(input, out, &machine),
                 ExpandFormat::Jsonl => program::expand_jsonl(input, out, &machine),
+            })?;
+            warn(&file, &summary);
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Convert {
+            file,
+            from,
+            to,
+            output,
+        } => {
+            let load = |name: &str| {
+                load_machine(&MachineArgs {
+                    controller: Some(name.to_string()),
+                    machine: None,
+                })
+            };
+            let (from, to) = (load(&from)?, load(&to)?);
+            let input = open_input(&file)?;
+            let summary = output::write(&file, output.as_deref(), |out| {
+                convert::convert(input, out, &from, &to)
             })?;
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)

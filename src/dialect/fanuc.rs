@@ -86,7 +86,7 @@ impl Dialect for Fanuc {
     }
 
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
-        fanuc_family::native_g92(&self.machine, job)
+        fanuc_family::native_g92(&self.machine, job, false)
             .or_else(|_| fanuc_family::native_g76(&self.machine, job))
     }
 }

@@ -815,7 +815,13 @@ pub fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<Strin
 }
 
 /// The G92 block that expresses a single-pass `job`, when G92 can.
-pub fn native_g92(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, String> {
+/// `tail_words`: GSK writes the pull-out as J (short axis) and K (long axis) on the block; Fanuc
+/// takes it from parameters 5130/5131.
+pub fn native_g92(
+    machine: &Machine,
+    job: &Job,
+    tail_words: bool,
+) -> std::result::Result<Vec<String>, String> {
     let g = &job.geometry;
     let single = g.depth == 0.0
         && job.plan.finish_passes == 1
@@ -841,6 +847,24 @@ pub fn native_g92(machine: &Machine, job: &Job) -> std::result::Result<Vec<Strin
     );
     if g.taper() != 0.0 {
         block.push_str(&format!(" R{}", num(g.taper())));
+    }
+    if tail_words {
+        match job.exit {
+            Exit::Straight => block.push_str(" J0"),
+            Exit::PullOut {
+                start_before,
+                length,
+                outward,
+            } if start_before == length => {
+                block.push_str(&format!(" J{} K{}", num(outward), num(length)))
+            }
+            Exit::PullOut { .. } => return Err("G92's tail-out ends at the thread's end".into()),
+        }
+        if job.lead.starts > 1 {
+            block.push_str(&format!(" L{}", job.lead.starts));
+        }
+    } else if job.lead.starts != 1 {
+        return Err("G92 cuts one start".into());
     }
     block.push_str(&format!(
         " F{}",

@@ -562,7 +562,7 @@ impl Dialect for Gsk {
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
         // G78 first; the Fanuc-family cycles when G78 cannot; G78's reason when none can.
         native_g78(&self.machine, job).or_else(|why| {
-            fanuc_family::native_g92(&self.machine, job)
+            fanuc_family::native_g92(&self.machine, job, true)
                 .or_else(|_| fanuc_family::native_g76(&self.machine, job))
                 .map_err(|_| why)
         })
