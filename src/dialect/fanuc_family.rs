@@ -253,9 +253,9 @@ impl FanucFamily {
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
         let letters: &[u8] = if conv.tpi_letter == b'I' {
-            b"GNXZUWRPQFI"
+            b"GNXZUWRPQFIE"
         } else {
-            b"GNXZUWRPQF"
+            b"GNXZUWRPQFE"
         };
         only_words(
             line,
@@ -396,7 +396,8 @@ impl FanucFamily {
         repeat: Option<G92Modal>,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
-        let mut letters: Vec<u8> = b"GNXZUWRF".to_vec();
+        // E is read only to refuse it with its own message.
+        let mut letters: Vec<u8> = b"GNXZUWRFE".to_vec();
         if conv.tpi_letter != 0 {
             letters.push(conv.tpi_letter);
         }
