@@ -138,7 +138,8 @@ pub fn expand_gcode<R: BufRead>(
                 }
             }
             Event::Cycle { line, job } => {
-                let passes = job.passes()?;
+                // Motion needs no chip areas.
+                let passes = crate::thread::plan::plan_geometry(&job)?;
                 let path = toolpath::build_with(&job, &passes)?;
                 let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
                 if let Some(c) = format.comment(&format!(

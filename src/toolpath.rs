@@ -57,7 +57,7 @@ impl Toolpath {
 /// Builds the motion of a job: for each pass (and each start of a multi-start thread), approach,
 /// thread, pull out, retract; then return to the job's start point.
 pub fn build(job: &Job) -> Result<Toolpath> {
-    let passes = job.passes()?;
+    let passes = crate::thread::plan::plan_geometry(job)?;
     build_with(job, &passes)
 }
 

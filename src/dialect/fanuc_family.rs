@@ -119,21 +119,18 @@ impl FanucFamily {
         modal: &mut Modal,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Option<Read>> {
-        let gs: Vec<(&Word, Option<u16>)> = line
-            .words
-            .iter()
-            .filter(|w| w.letter == b'G')
-            .map(|w| (w, g_code(w.value)))
-            .collect();
-        let cycle = gs
-            .iter()
-            .find(|(_, c)| matches!(c, Some(G76) | Some(G92)))
-            .map(|&(w, c)| (w, c.expect("matched")));
-        let Some((gword, code)) = cycle else {
-            if gs
+        // No allocation: this runs on every line.
+        let gs = || {
+            line.words
                 .iter()
-                .any(|(_, c)| c.is_some_and(|c| CANCELS_G92.contains(&c)))
-            {
+                .filter(|w| w.letter == b'G')
+                .map(|w| (w, g_code(w.value)))
+        };
+        let cycle = gs()
+            .find(|(_, c)| matches!(c, Some(G76) | Some(G92)))
+            .map(|(w, c)| (w, c.expect("matched")));
+        let Some((gword, code)) = cycle else {
+            if gs().any(|(_, c)| c.is_some_and(|c| CANCELS_G92.contains(&c))) {
                 self.g92 = None;
             }
             let moves = line
@@ -148,7 +145,7 @@ impl FanucFamily {
                 _ => Ok(None),
             };
         };
-        if let Some((other, _)) = gs.iter().find(|(w, _)| w.span != gword.span) {
+        if let Some((other, _)) = gs().find(|(w, _)| w.span != gword.span) {
             return Err(Diagnostic::error(
                 Code::Conflict,
                 other.span,

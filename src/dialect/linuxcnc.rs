@@ -7,7 +7,7 @@
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::reader::g_code;
-use crate::gcode::{Conventions, Line, Modal, Word};
+use crate::gcode::{Conventions, Line, Modal};
 use crate::machine::Machine;
 use crate::post::Format;
 use crate::thread::{
@@ -380,15 +380,15 @@ impl Dialect for LinuxCnc {
         _warnings: &mut Vec<Diagnostic>,
     ) -> Result<Read> {
         self.track(line, modal);
-        let motion: Vec<(&Word, u16)> = line
+        // The motion-group G codes of the line (no allocation: this runs on every line).
+        let mut motion = line
             .words
             .iter()
             .filter(|w| w.letter == b'G')
             .filter_map(|w| g_code(w.value).map(|c| (w, c)))
-            .filter(|(_, c)| MOTION.contains(c))
-            .collect();
-        let g76 = match motion.as_slice() {
-            [] => {
+            .filter(|(_, c)| MOTION.contains(c));
+        let g76 = match (motion.next(), motion.next()) {
+            (None, _) => {
                 let axes = line.words.iter().any(|w| {
                     matches!(
                         w.letter,
@@ -400,12 +400,12 @@ impl Dialect for LinuxCnc {
                 }
                 line.span()
             }
-            [(w, G76)] => w.span,
-            [_] => {
+            (Some((w, G76)), None) => w.span,
+            (Some(_), None) => {
                 self.g76_modal = false;
                 return Ok(Read::Plain);
             }
-            [_, (second, _), ..] => {
+            (Some(_), Some((second, _))) => {
                 return Err(Diagnostic::error(
                     Code::Conflict,
                     second.span,

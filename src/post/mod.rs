@@ -78,23 +78,144 @@ impl Format {
 /// Formats `value` rounded to `decimals`, always with a decimal point (`10.`, `-0.5`), never with an
 /// exponent, never `-0.`. Rounding happens once, here, from the absolute value.
 pub fn number(value: f64, decimals: u32, trailing_zeros: bool) -> String {
+    let mut s = Vec::with_capacity(16);
+    push_number(&mut s, value, decimals, trailing_zeros);
+    String::from_utf8(s).expect("ASCII")
+}
+
+/// As [`number`], appended to `out` as ASCII bytes without allocating (the expansion's hot path).
+pub fn push_number(out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
+    match format_small(value, decimals, trailing_zeros) {
+        Some(text) => text.push_to(out),
+        None => push_number_wide(
+            out,
+            round_half_away(value * 10f64.powi(decimals as i32)),
+            decimals,
+            trailing_zeros,
+        ),
+    }
+}
+
+/// A short number's text on the stack.
+#[derive(Clone, Copy)]
+struct Small {
+    bytes: [u8; 32],
+    len: usize,
+}
+
+impl Small {
+    /// Appends the text: a fixed-size copy (inlined, no memmove call) and a truncation.
+    fn push_to(&self, out: &mut Vec<u8>) {
+        let at = out.len();
+        out.extend_from_slice(&self.bytes);
+        out.truncate(at + self.len);
+    }
+}
+
+/// The text of `value` when it has fewer than 10¹⁹ increments and fewer than 20 decimals.
+fn format_small(value: f64, decimals: u32, trailing_zeros: bool) -> Option<Small> {
     debug_assert!(
         value.is_finite(),
         "non-finite values are rejected before writing"
     );
-    let scale = 10f64.powi(decimals as i32);
-    let units = (value * scale).round();
+    let scale = if (decimals as usize) < POW10.len() {
+        POW10[decimals as usize] as f64
+    } else {
+        10f64.powi(decimals as i32)
+    };
+    let units = round_half_away(value * scale);
     let negative = units < 0.0;
+    if units.abs() >= 1e19 || decimals as usize >= 20 {
+        return None;
+    }
+    let mut v = units.abs() as u64;
+    // All digits of the scaled value, least significant first, at least `decimals + 1` of them,
+    // two at a time.
+    let mut digits = [b'0'; 24];
+    let mut n = 0;
+    while v >= 100 {
+        let pair = (v % 100) as usize * 2;
+        v /= 100;
+        digits[n] = DIGIT_PAIRS[pair + 1];
+        digits[n + 1] = DIGIT_PAIRS[pair];
+        n += 2;
+    }
+    while v != 0 {
+        digits[n] = b'0' + (v % 10) as u8;
+        v /= 10;
+        n += 1;
+    }
+    let d = decimals as usize;
+    n = n.max(d + 1);
+    // Drop trailing zeros of the fraction unless asked to keep them.
+    let mut low = 0;
+    if !trailing_zeros {
+        while low < d && digits[low] == b'0' {
+            low += 1;
+        }
+    }
+    // The text, most significant first, assembled on the stack and appended at once.
+    let mut text = [0u8; 32];
+    let mut t = 0;
+    if negative && digits[low..n].iter().any(|&b| b != b'0') {
+        text[0] = b'-';
+        t = 1;
+    }
+    for i in (d..n).rev() {
+        text[t] = digits[i];
+        t += 1;
+    }
+    text[t] = b'.';
+    t += 1;
+    for i in (low..d).rev() {
+        text[t] = digits[i];
+        t += 1;
+    }
+    Some(Small {
+        bytes: text,
+        len: t,
+    })
+}
+
+/// "00" to "99".
+const DIGIT_PAIRS: [u8; 200] = {
+    let mut t = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        t[2 * i] = b'0' + (i / 10) as u8;
+        t[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    t
+};
+
+/// `x.round()` (half away from zero) without a libm call: below 2⁵² the fraction `x − trunc(x)` is
+/// exact, so the comparison with 0.5 is too; above it every double is already an integer.
+fn round_half_away(x: f64) -> f64 {
+    if x.abs() >= 4_503_599_627_370_496.0 || x.is_nan() {
+        return x;
+    }
+    let t = x as i64 as f64;
+    let f = x - t;
+    if f >= 0.5 {
+        t + 1.0
+    } else if f <= -0.5 {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+/// The rare path for values beyond 10¹⁹ increments.
+fn push_number_wide(out: &mut Vec<u8>, units: f64, decimals: u32, trailing_zeros: bool) {
     let magnitude = units.abs() as u128;
     let divisor = 10u128.pow(decimals);
-    let whole = magnitude / divisor;
-    let frac = magnitude % divisor;
-    let mut s = String::with_capacity(16);
-    if negative && magnitude != 0 {
-        s.push('-');
+    let (whole, frac) = (magnitude / divisor, magnitude % divisor);
+    if units < 0.0 && magnitude != 0 {
+        out.push(b'-');
     }
-    s.push_str(&whole.to_string());
-    s.push('.');
+    out.extend_from_slice(whole.to_string().as_bytes());
+    out.push(b'.');
     if decimals > 0 {
         let f = format!("{:0width$}", frac, width = decimals as usize);
         let f = if trailing_zeros {
@@ -102,10 +223,20 @@ pub fn number(value: f64, decimals: u32, trailing_zeros: bool) -> String {
         } else {
             f.trim_end_matches('0')
         };
-        s.push_str(f);
+        out.extend_from_slice(f.as_bytes());
     }
-    s
 }
+
+/// Powers of ten that are exact as f64.
+const POW10: [u64; 16] = {
+    let mut t = [1u64; 16];
+    let mut i = 1;
+    while i < 16 {
+        t[i] = t[i - 1] * 10;
+        i += 1;
+    }
+    t
+};
 
 /// Writes the moves of a toolpath as plain blocks, one per motion.
 pub fn write_moves(
@@ -115,41 +246,81 @@ pub fn write_moves(
     path: &Toolpath,
 ) -> io::Result<()> {
     let nd = format.digits(units);
-    let mut line = String::with_capacity(48);
+    let ld = format.lead_digits(units);
+    let tz = format.trailing_zeros;
+    // The whole path's text is built in one buffer and written at once (flushed every 64 KiB): one
+    // copy into the writer instead of one per line.
+    let mut line: Vec<u8> = Vec::with_capacity(path.motions.len().min(2048) * 32);
+    // Consecutive moves share coordinates and leads: each is formatted once (same text either way).
+    let (mut x_cache, mut z_cache) = (Cached::default(), Cached::default());
+    let mut lead_cache = [Cached::default(), Cached::default()];
     for (from, m) in path.segments() {
-        line.clear();
+        if line.len() > 1 << 16 {
+            out.write_all(&line)?;
+            line.clear();
+        }
         let (code, lead) = match m.kind {
             MotionKind::Rapid => (format.rapid, None),
             MotionKind::Feed => (format.feed, None),
             MotionKind::Thread { lead, .. } => (format.thread, Some(lead)),
         };
-        line.push_str(code);
-        line.push_str(" X");
-        line.push_str(&number(
-            format.x_word(m.to.x, units),
-            nd,
-            format.trailing_zeros,
-        ));
-        line.push_str(" Z");
-        line.push_str(&number(units.from_mm(m.to.z), nd, format.trailing_zeros));
+        push_bytes(&mut line, code.as_bytes());
+        push_bytes(&mut line, b" X");
+        x_cache.push(&mut line, format.x_word(m.to.x, units), nd, tz);
+        push_bytes(&mut line, b" Z");
+        z_cache.push(&mut line, units.from_mm(m.to.z), nd, tz);
         if let Some(lead) = lead {
             let lead = if format.lead_along_path {
                 path_lead(lead, m.to.minus(from))
             } else {
                 lead
             };
-            line.push(' ');
-            line.push(format.lead_letter);
-            line.push_str(&number(
-                units.from_mm(lead),
-                format.lead_digits(units),
-                format.trailing_zeros,
-            ));
+            line.push(b' ');
+            let mut letter = [0u8; 4];
+            line.extend_from_slice(format.lead_letter.encode_utf8(&mut letter).as_bytes());
+            let value = units.from_mm(lead);
+            let slot = if lead_cache[0].holds(value) { 0 } else { 1 };
+            if slot == 1 && !lead_cache[1].holds(value) {
+                lead_cache.swap(0, 1);
+                lead_cache[1].push(&mut line, value, ld, tz);
+            } else {
+                lead_cache[slot].push(&mut line, value, ld, tz);
+            }
         }
-        line.push('\n');
-        out.write_all(line.as_bytes())?;
+        line.push(b'\n');
     }
-    Ok(())
+    out.write_all(&line)
+}
+
+/// Appends a few bytes; for a handful a memmove call costs more than the copy.
+fn push_bytes(out: &mut Vec<u8>, bytes: &[u8]) {
+    for &b in bytes {
+        out.push(b);
+    }
+}
+
+/// The last value formatted in one slot, and its text.
+#[derive(Default)]
+struct Cached {
+    bits: Option<u64>,
+    text: Option<Small>,
+}
+
+impl Cached {
+    fn holds(&self, value: f64) -> bool {
+        self.bits == Some(value.to_bits())
+    }
+
+    fn push(&mut self, out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
+        if !self.holds(value) {
+            self.text = format_small(value, decimals, trailing_zeros);
+            self.bits = Some(value.to_bits());
+        }
+        match &self.text {
+            Some(t) => t.push_to(out),
+            None => push_number(out, value, decimals, trailing_zeros),
+        }
+    }
 }
 
 /// The travel per revolution along a move's path, from the lead along its longer axis (the model's
@@ -221,6 +392,30 @@ mod tests {
         assert_eq!(number(0.0005, 3, false), "0.001");
         assert_eq!(number(-12.5, 0, false), "-13.");
         assert_eq!(number(1e9, 4, false), "1000000000.");
+    }
+
+    #[test]
+    fn rounding_matches_f64_round() {
+        for x in [
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            4503599627370495.5,
+            -4503599627370495.5,
+            1e300,
+            123456.4999,
+            0.0,
+            -0.0,
+        ] {
+            assert_eq!(round_half_away(x), x.round(), "{x}");
+        }
+        assert_eq!(number(-1234567.891234, 4, true), "-1234567.8912");
+        assert_eq!(number(0.0001, 4, false), "0.0001");
+        assert_eq!(number(100.0, 4, false), "100.");
     }
 
     #[test]
