@@ -225,3 +225,20 @@ fn blocks_without_a_counterpart_are_errors_at_their_word() {
         o
     );
 }
+
+#[test]
+fn the_feed_rate_comes_back_after_thread_moves_on_an_f_lead_target() {
+    // On Fanuc, G32's F is also the feed register: after the threads, a G1 that relied on the
+    // source's modal F0.2 would feed at the lead. The converter restores it before the next block.
+    let src = "G8 G21 G95\nS500 M3\nG1 X11 Z5 F0.2\nG76 P2.5 Z-30 I-0.5 J0.15 K0.76675 H1\nG1 X12 Z-31\nG33 X11 Z-40 K2\nG33 X11 Z-45 K2\nG1 X13\n";
+    let out = ok(convert("feed.ngc", src, "linuxcnc", "fanuc"));
+    assert!(
+        out.contains("G0 X22. Z-30.\nF0.2\nG1 X24. Z-31.\n"),
+        "{out}"
+    );
+    assert!(
+        // The first G33 is a taper from X12 Z-31: F is its lead along Z, 2·9/√82.
+        out.contains("G32 X22. Z-40. F1.9878\nG32 X22. Z-45. F2.\nF0.2\nG1 X26.\n"),
+        "{out}"
+    );
+}

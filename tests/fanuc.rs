@@ -177,9 +177,13 @@ fn g76_alarms() {
 
 #[test]
 fn g92_is_one_box_pass_with_the_parameter_chamfer_and_is_modal() {
-    let src = "G0 X40. Z5.\nG92 X29.2 Z-30. F2.\nX28.6\nX28.2 R-0.5\nG0 X50.\nX40.\n";
+    let src = "G0 X40. Z5.\nG92 X29.2 Z-30. F2.\nX28.6\nG4 X1.\nX28.2 R-0.5\nG0 X50.\nX40.\n";
     let js = jobs(src, &fanuc());
-    assert_eq!(js.len(), 3, "the G0 ends the modal G92");
+    assert_eq!(
+        js.len(),
+        3,
+        "a dwell is not a repeat; the G0 ends the modal G92"
+    );
     let path = toolpath::build(&js[0]).unwrap();
     // 5130 = 10: a chamfer of one lead (2 mm) at 45°, then out to X40 and back to Z5.
     let expect = [

@@ -17,6 +17,7 @@ use threadcut::gcode::{Line, Modal, MotionMode, PlainMove};
 use threadcut::machine::Machine;
 use threadcut::post::{self, long_axis_lead, path_lead, Format};
 use threadcut::program::{self, Error, Event, Summary};
+use threadcut::toolpath::{self, MotionKind};
 use threadcut::translate;
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -113,6 +114,10 @@ pub fn convert(
         header.push(format!("G90 {}", if to.diameter_x { "G7" } else { "G8" }));
     }
     let mut header = Some(header);
+    // Where the target's thread move writes its lead with F (Fanuc, GSK), F is also the feed rate:
+    // after thread moves whose F differs from the source's F register, the next other block gets
+    // the source's F back, so a later G1 does not feed at the lead.
+    let mut pending_f: Option<String> = None;
     program::run(input, from, |modal, ev| {
         let line = match &ev {
             Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
@@ -137,15 +142,47 @@ pub fn convert(
             Event::Plain { line, mv } => {
                 if line.words.is_empty() {
                     out.write_all(line.raw)?;
-                } else {
-                    let text = block(line, mv, modal, ff, tf, &sformat, &tformat, tname)?;
-                    writeln!(out, "{text}")?;
+                    return Ok(());
+                }
+                let threading = mv.is_some_and(|m| m.mode == MotionMode::Thread);
+                if !threading {
+                    if let Some(f) = pending_f.take() {
+                        if line.word(b'F').is_none() {
+                            writeln!(out, "{f}")?;
+                        }
+                    }
+                }
+                let (text, lead) = block(line, mv, modal, ff, tf, &sformat, &tformat, tname)?;
+                writeln!(out, "{text}")?;
+                if let Some(lead) = lead {
+                    pending_f = restore_f(&tformat, modal, lead);
                 }
                 Ok(())
             }
             Event::Settings { .. } => Ok(()),
             Event::Cycle { job, .. } => {
-                translate::write_job(out, to, &job)?;
+                if let Some(f) = pending_f.take() {
+                    writeln!(out, "{f}")?;
+                }
+                let written = translate::write_job(out, to, &job)?;
+                // The F register after the cycle: the native cycle's F, or the last plain thread move's.
+                let last = match written {
+                    translate::Written::Native => Some(job.lead.lead),
+                    translate::Written::Plain(_) => toolpath::build(&job)?
+                        .segments()
+                        .filter_map(|(from, m)| match m.kind {
+                            MotionKind::Thread { lead, .. } => Some(if tformat.lead_along_path {
+                                path_lead(lead, m.to.minus(from))
+                            } else {
+                                lead
+                            }),
+                            _ => None,
+                        })
+                        .last(),
+                };
+                if let Some(lead) = last {
+                    pending_f = restore_f(&tformat, modal, modal.units.from_mm(lead));
+                }
                 Ok(())
             }
         }
@@ -162,7 +199,7 @@ fn block(
     sformat: &Format,
     tformat: &Format,
     tname: &str,
-) -> Result<String, Error> {
+) -> Result<(String, Option<f64>), Error> {
     let cannot = |span, what: String| {
         Error::Input(
             Diagnostic::error(Code::Unsupported, span, what)
@@ -282,6 +319,7 @@ fn block(
             }
         }
     }
+    let mut lead_written = None;
     if in_thread {
         if let (Some(mv), Some(lead)) = (mv, mv.and_then(|m| m.lead)) {
             let d = mv.to.minus(mv.from);
@@ -296,6 +334,7 @@ fn block(
                 model
             };
             let digits = tformat.lead_decimals[(units == threadcut::units::Units::Inch) as usize];
+            lead_written = Some(units.from_mm(written));
             words.push(format!(
                 "{}{}",
                 tformat.lead_letter,
@@ -346,7 +385,20 @@ fn block(
             words.push(c);
         }
     }
-    Ok(words.join(" "))
+    Ok((words.join(" "), lead_written))
+}
+
+/// The `F…` block that gives the F register back its source value after a thread move that wrote
+/// `lead` (program units) with F, when the two differ.
+fn restore_f(tformat: &Format, modal: &Modal, lead: f64) -> Option<String> {
+    if tformat.lead_letter != 'F' {
+        return None;
+    }
+    let f = modal.f_word?;
+    let digits = tformat.lead_decimals[(modal.units == threadcut::units::Units::Inch) as usize];
+    let want = post::number(f, 6, false);
+    let have = post::number(lead, digits, false);
+    (post::number(f, digits, false) != have).then(|| format!("F{want}"))
 }
 
 /// The text of a line's comments: `(…)` groups and a `;` tail.

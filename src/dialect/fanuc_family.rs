@@ -133,10 +133,13 @@ impl FanucFamily {
             if gs().any(|(_, c)| c.is_some_and(|c| CANCELS_G92.contains(&c))) {
                 self.g92 = None;
             }
-            let moves = line
-                .words
-                .iter()
-                .any(|w| matches!(w.letter, b'X' | b'Z' | b'U' | b'W'));
+            // A repeat is a block of axis words alone: any G code (a dwell `G4 X1.`, `G50 X..`) makes
+            // the block something else.
+            let moves = gs().next().is_none()
+                && line
+                    .words
+                    .iter()
+                    .any(|w| matches!(w.letter, b'X' | b'Z' | b'U' | b'W'));
             return match self.g92 {
                 Some(m) if moves => {
                     let job = self.read_g92(conv, line, modal, line.span(), Some(m), warnings)?;
@@ -189,10 +192,17 @@ impl FanucFamily {
                 w.span,
                 format!("{name} is written without a decimal point, in least input increments"),
             )
-            .with_hint(format!(
-                "{what}: write 1.2 mm as {} on this machine",
-                (1.2 / self.increment[0]).round()
-            )));
+            .with_hint(if modal.units == Units::Inch {
+                format!(
+                    "{what}: write 0.05 inch as {} on this machine",
+                    (0.05 / self.increment[1]).round()
+                )
+            } else {
+                format!(
+                    "{what}: write 1.2 mm as {} on this machine",
+                    (1.2 / self.increment[0]).round()
+                )
+            }));
         }
         if w.value < 0.0 {
             return Err(Diagnostic::error(
