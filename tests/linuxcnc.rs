@@ -479,3 +479,29 @@ fn expand_writes_g33_k_in_the_programs_x_mode_and_ends_at_z_end() {
     assert!(back.is_empty());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn every_example_expands() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples");
+    let mut n = 0;
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        let name = path.file_name().unwrap().to_str().unwrap().to_string();
+        let controller = if name.starts_with("linuxcnc-") {
+            "linuxcnc"
+        } else if name.starts_with("fanuc-") {
+            "fanuc"
+        } else {
+            continue;
+        };
+        let text = std::fs::read(&path).unwrap();
+        let m = Machine::built_in(controller).unwrap();
+        let jobs = program::jobs(&text[..], &m).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(!jobs.is_empty(), "{name}");
+        for j in &jobs {
+            toolpath::build(j).unwrap();
+        }
+        n += 1;
+    }
+    assert!(n >= 4);
+}

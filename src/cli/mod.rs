@@ -254,12 +254,13 @@ fn passes(
         out.write_all(br#"{"cycles":["#)?;
     }
     let mut first = true;
-    let summary = program::run(input, machine, |_, ev| {
+    let summary = program::run(input, machine, |modal, ev| {
         let Event::Cycle { job, .. } = ev else {
             return Ok(());
         };
         let passes = job.passes()?;
-        let rows = program::pass_rows(&job, &passes, machine.diameter_x);
+        // X as the program writes it here (LinuxCNC's G7/G8 switch it mid-program).
+        let rows = program::pass_rows(&job, &passes, modal.diameter_x);
         if json {
             if !first {
                 out.write_all(b",")?;
