@@ -11,6 +11,8 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ("gsk980", include_str!("../profiles/gsk980.toml")),
     ("omniturn", include_str!("../profiles/omniturn.toml")),
     ("ab9", include_str!("../profiles/ab9.toml")),
+    ("fanuc", include_str!("../profiles/fanuc.toml")),
+    ("linuxcnc", include_str!("../profiles/linuxcnc.toml")),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -118,6 +120,33 @@ pub struct AbParameters {
     pub finish_passes: u32,
 }
 
+/// Fanuc parameters of the threading cycles G92/G76 (Fanuc numbering, threading-notes §c.3, §e).
+/// Lengths in mm (radius).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FanucParameters {
+    /// Chamfer (thread pull-out) amount for G92/G76 in 0.1 lead, 0–127.
+    pub p5130: u8,
+    /// Chamfer angle for G92/G76 in degrees, 1–89; 0 means 45.
+    pub p5131: u8,
+    /// G76 minimum cut Δdmin (mm).
+    pub p5140: f64,
+    /// G76 finishing allowance d (mm).
+    pub p5141: f64,
+    /// G76 finishing repetitions m.
+    pub p5142: u8,
+    /// G76 tool-tip angle a (degrees).
+    pub p5143: u8,
+}
+
+/// LinuxCNC settings that are not in the program.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LinuxCncSettings {
+    /// Number of spindles ([TRAJ]SPINDLES); `$` must be below it.
+    pub spindles: u8,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Machine {
@@ -139,6 +168,10 @@ pub struct Machine {
     pub omniturn: Option<OmniTurnParameters>,
     #[serde(default)]
     pub ab9: Option<AbParameters>,
+    #[serde(default)]
+    pub fanuc: Option<FanucParameters>,
+    #[serde(default)]
+    pub linuxcnc: Option<LinuxCncSettings>,
 }
 
 impl Machine {

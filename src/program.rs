@@ -89,8 +89,8 @@ pub fn run<R: BufRead>(
             Read::Settings => sink(&modal, Event::Settings { line: &line })?,
             Read::Cycle(job) => {
                 summary.cycles += 1;
-                // A cycle ends where it started.
-                modal.position = Some(job.start);
+                // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
+                modal.position = Some(job.end_point());
                 sink(
                     &modal,
                     Event::Cycle {
@@ -129,8 +129,15 @@ pub fn expand_gcode<R: BufRead>(
     out: &mut dyn Write,
     machine: &Machine,
 ) -> Result<Summary, Error> {
-    let format = dialect::open(machine).map_err(Error::Setup)?.format();
+    let d = dialect::open(machine).map_err(Error::Setup)?;
+    let base_format = d.format();
+    let distance_words = d.conventions().g90_g91_distance;
     run(input, machine, |modal, ev| {
+        // X as the program writes it at this point (LinuxCNC's G7/G8 change it mid-program).
+        let format = post::Format {
+            diameter_x: modal.diameter_x,
+            ..base_format.clone()
+        };
         match ev {
             Event::Plain { line, .. } => out.write_all(line.raw)?,
             Event::Settings { line } => {
@@ -143,7 +150,8 @@ pub fn expand_gcode<R: BufRead>(
             }
             Event::Cycle { line, job, dialect } => {
                 post::expressible(&format, &job)?;
-                let passes = job.passes()?;
+                // Motion needs no chip areas.
+                let passes = crate::thread::plan::plan_geometry(&job)?;
                 let path = toolpath::build_with(&job, &passes)?;
                 let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
                 if let Some(c) = format.comment(&format!(
@@ -160,7 +168,16 @@ pub fn expand_gcode<R: BufRead>(
                     // original cycle does.
                     Some(written) => written?,
                     None => {
+                        // The moves are absolute: under incremental distance mode, switch to G90
+                        // around them.
+                        let incremental = distance_words && !modal.absolute;
+                        if incremental {
+                            writeln!(out, "G90")?;
+                        }
                         post::write_moves(out, &format, job.units, &path)?;
+                        if incremental {
+                            writeln!(out, "G91")?;
+                        }
                         restore_modal_state(out, &format, modal, &path)?;
                     }
                 }
@@ -190,6 +207,8 @@ fn restore_modal_state(
         MotionKind::Thread { lead, .. } => Some(lead),
         _ => None,
     });
+    // Only where the lead word is F does a thread move change the F register.
+    let last_lead = last_lead.filter(|_| format.lead_letter == 'F');
     if let (Some(f), Some(lead)) = (modal.f_word, last_lead) {
         let digits = format.lead_decimals[(modal.units == Units::Inch) as usize];
         let want = post::number(f, digits, format.trailing_zeros);
@@ -213,6 +232,11 @@ pub fn expand_jsonl<R: BufRead>(
     out: &mut dyn Write,
     machine: &Machine,
 ) -> Result<Summary, Error> {
+    // Leads in JSON are along the move's longer axis, whatever the controller's lead word means.
+    let along_path = dialect::open(machine)
+        .map_err(Error::Setup)?
+        .format()
+        .lead_along_path;
     run(input, machine, |modal, ev| {
         match ev {
             Event::Plain { line, mv: Some(mv) } => {
@@ -228,7 +252,12 @@ pub fn expand_jsonl<R: BufRead>(
                     MotionMode::Feed => post::motion_json(&m(MotionKind::Feed), units),
                     MotionMode::Thread => post::motion_json(
                         &m(MotionKind::Thread {
-                            lead: mv.lead.unwrap_or(0.0),
+                            lead: match mv.lead {
+                                Some(k) if along_path => {
+                                    post::long_axis_lead(k, mv.to.minus(mv.from))
+                                }
+                                other => other.unwrap_or(0.0),
+                            },
                             dlead: 0.0,
                             phase_deg: 0.0,
                         }),

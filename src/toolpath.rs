@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::diag::{Code, Diagnostic, Result};
-use crate::thread::{Entry, Exit, Job, Pass};
+use crate::thread::{Entry, Exit, Job, Pass, ReturnPath};
 use crate::units::{Pos, Vec2};
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -57,7 +57,7 @@ impl Toolpath {
 /// Builds the motion of a job: for each pass (and each start of a multi-start thread), approach,
 /// thread, pull out, retract; then return to the job's start point.
 pub fn build(job: &Job) -> Result<Toolpath> {
-    let passes = job.passes()?;
+    let passes = crate::thread::plan::plan_geometry(job)?;
     build_with(job, &passes)
 }
 
@@ -113,13 +113,24 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
             phase_deg: 0.0,
         }
     };
+    let diagonal = match job.return_path {
+        ReturnPath::Box => None,
+        ReturnPath::Diagonal { clearance, end } => Some((clearance, end)),
+    };
     for pass in passes {
         for s in 0..job.lead.starts {
             // Further starts begin further from the part, so every start keeps its full length.
             let shift = axial_dir.scale(-job.lead.start_spacing() * f64::from(s));
             let infeed = pass.start.plus(shift);
+            // LinuxCNC: the pass's own retract X, `clearance` outward of its cut X.
+            let back_x = diagonal.map(|(clearance, _)| infeed.plus(outward.scale(clearance)).x);
             match job.entry {
-                Entry::Direct => push(MotionKind::Rapid, infeed, pass.n),
+                Entry::Direct => {
+                    if let Some(x) = back_x {
+                        push(MotionKind::Rapid, Pos::new(x, infeed.z), pass.n);
+                    }
+                    push(MotionKind::Rapid, infeed, pass.n)
+                }
                 Entry::Ramp {
                     outward: up,
                     before,
@@ -127,7 +138,29 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                     let ramp_start = infeed
                         .plus(outward.scale(up))
                         .plus(axial_dir.scale(-before));
-                    push(MotionKind::Rapid, ramp_start, pass.n);
+                    match back_x {
+                        Some(x) => {
+                            let back = Pos::new(x, ramp_start.z);
+                            push(MotionKind::Rapid, back, pass.n);
+                            // Synchronised in to the ramp's start at the ramp's rate along its path.
+                            let ramp = infeed.minus(ramp_start);
+                            let path_rate = if ramp.z == 0.0 {
+                                lead
+                            } else {
+                                lead * ramp.x.hypot(ramp.z) / ramp.z.abs()
+                            };
+                            push(
+                                MotionKind::Thread {
+                                    lead: lead_along_long_axis(path_rate, ramp_start.minus(back)),
+                                    dlead: job.lead.dlead,
+                                    phase_deg: 0.0,
+                                },
+                                ramp_start,
+                                pass.n,
+                            );
+                        }
+                        None => push(MotionKind::Rapid, ramp_start, pass.n),
+                    }
                     push(thread(infeed, ramp_start, infeed), infeed, pass.n);
                 }
             }
@@ -205,26 +238,33 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                     end
                 }
             };
-            let (level, back) = if side.is_face() {
-                (
-                    Pos::new(end.x, job.retract.z),
-                    Pos::new(job.retract.x, job.retract.z),
-                )
-            } else {
-                (
-                    Pos::new(job.retract.x, end.z),
-                    Pos::new(job.retract.x, job.retract.z),
-                )
-            };
-            push(MotionKind::Rapid, level, pass.n);
-            push(MotionKind::Rapid, back, pass.n);
+            match back_x {
+                // LinuxCNC: out to the pass's own retract X only; the next pass goes back diagonally.
+                Some(x) => push(MotionKind::Rapid, Pos::new(x, end.z), pass.n),
+                None => {
+                    let (level, back) = if side.is_face() {
+                        (
+                            Pos::new(end.x, job.retract.z),
+                            Pos::new(job.retract.x, job.retract.z),
+                        )
+                    } else {
+                        (
+                            Pos::new(job.retract.x, end.z),
+                            Pos::new(job.retract.x, job.retract.z),
+                        )
+                    };
+                    push(MotionKind::Rapid, level, pass.n);
+                    push(MotionKind::Rapid, back, pass.n);
+                }
+            }
         }
     }
     let last = passes.last().map_or(0, |p| p.n);
-    if motions.last().map(|m| m.to) != Some(job.start) {
+    let finish = job.end_point();
+    if diagonal.is_some() || motions.last().map(|m| m.to) != Some(finish) {
         motions.push(Motion {
             kind: MotionKind::Rapid,
-            to: job.start,
+            to: finish,
             pass: last,
             line: job.line,
         });

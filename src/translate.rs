@@ -62,6 +62,7 @@ pub fn verify(
     lines: &[String],
 ) -> Result<(), String> {
     let mut d = dialect::open(target)?;
+    d.assume_ready();
     let conv = d.conventions().clone();
     let mut modal = Modal::new(
         &conv,

@@ -929,6 +929,7 @@ pub fn lower(t: &ThreadOn, c: &Contour, pitch: Pitch, units: Units, off: Span) -
         entry: Entry::Direct,
         exit,
         retract,
+        return_path: crate::thread::ReturnPath::Box,
     })
 }
 

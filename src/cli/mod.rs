@@ -1,5 +1,6 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
 
+mod convert;
 mod mill;
 mod output;
 mod post;
@@ -79,6 +80,19 @@ enum Command {
         #[command(flatten)]
         machine: MachineArgs,
         /// Output file (`-` or absent: standard output). Written whole or not at all.
+        #[arg(long, short = 'o')]
+        output: Option<PathBuf>,
+    },
+    /// Rewrite a program for another controller: each threading cycle as the target's native cycle
+    /// when reading it back gives the same motion, otherwise as plain moves with a comment saying why.
+    Convert {
+        file: PathBuf,
+        /// The controller the program is written for (a built-in profile name).
+        #[arg(long)]
+        from: String,
+        /// The controller to write for (a built-in profile name).
+        #[arg(long)]
+        to: String,
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
     },
@@ -203,6 +217,26 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             post::post(&file, input, &machine, output.as_deref())?;
             Ok(ExitCode::SUCCESS)
         }
+        Command::Convert {
+            file,
+            from,
+            to,
+            output,
+        } => {
+            let load = |name: &str| {
+                load_machine(&MachineArgs {
+                    controller: Some(name.to_string()),
+                    machine: None,
+                })
+            };
+            let (from, to) = (load(&from)?, load(&to)?);
+            let input = open_input(&file)?;
+            let summary = output::write(&file, output.as_deref(), |out| {
+                convert::convert(input, out, &from, &to)
+            })?;
+            warn(&file, &summary);
+            Ok(ExitCode::SUCCESS)
+        }
         Command::Passes {
             file,
             machine,
@@ -291,7 +325,8 @@ fn passes(
             return Ok(());
         };
         let passes = job.passes()?;
-        // X as the program writes it at the cycle (OmniTurn's G72/G73 switch it mid-program).
+        // X as the program writes it at the cycle (OmniTurn's G72/G73 and LinuxCNC's G7/G8 switch it
+        // mid-program).
         let rows = program::pass_rows(&job, &passes, modal.diameter_x);
         if json {
             if !first {

@@ -14,7 +14,7 @@ use crate::machine::{AbParameters, EWord, Machine};
 use crate::post::{self, Format};
 use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
-    Retract, Side,
+    Retract, ReturnPath, Side,
 };
 use crate::units::{Pos, MM_PER_INCH};
 
@@ -51,6 +51,7 @@ impl AllenBradley {
                 g90_g91_distance: true,
                 diameter_x: machine.diameter_x,
                 thread_move: G33,
+                lead_letter: b'F',
                 tpi_letter: if params.e_word == EWord::ThreadsPerInch {
                     b'E'
                 } else {
@@ -370,6 +371,7 @@ impl AllenBradley {
                 x: c.start.x,
                 z: c.start.z,
             },
+            return_path: ReturnPath::Box,
         })
     }
 }

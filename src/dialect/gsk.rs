@@ -13,10 +13,11 @@ use crate::machine::{GskParameters, IncrementSystem, Machine};
 use crate::post::Format;
 use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
-    Retract, Side,
+    Retract, ReturnPath, Side,
 };
 use crate::units::{Pos, Units};
 
+use super::fanuc_family::{self, FanucFamily, Flavour, ThreadParameters};
 use super::{Dialect, Read};
 
 const G78: u16 = 780;
@@ -59,6 +60,8 @@ pub struct Gsk {
     /// J and K are modal (§3): the last values written, in mm.
     tail_j: Option<f64>,
     tail_k: Option<f64>,
+    /// G76 and G92 are the Fanuc family's, shared with `--controller fanuc`.
+    family: FanucFamily,
 }
 
 /// The built-in parameter values when a profile has no `[gsk]` table.
@@ -78,11 +81,27 @@ impl Gsk {
                 diameter_x: machine.diameter_x,
                 thread_move: 320,
                 tpi_letter: b'I',
+                lead_letter: b'F',
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
             },
             machine: machine.clone(),
             settings: Settings::from_parameters(&params),
+            family: FanucFamily::new(
+                Flavour {
+                    controller: "gsk980",
+                    gsk_g92_words: true,
+                },
+                ThreadParameters {
+                    chamfer_tenths: u32::from(params.p5130),
+                    chamfer_angle: u32::from(params.p5131),
+                    min_cut_mm: params.p5140,
+                    allowance_mm: params.p5141,
+                    finish_passes: u32::from(params.p5142),
+                    tool_angle: u32::from(params.p5143),
+                },
+                machine,
+            ),
             params,
             tail_j: None,
             tail_k: None,
@@ -482,6 +501,7 @@ fn lower<F: Fn(f64) -> f64>(
         },
         exit,
         retract: Retract { x: i.a.x, z: i.a.z },
+        return_path: ReturnPath::Box,
     })
 }
 
@@ -500,6 +520,9 @@ impl Dialect for Gsk {
         modal: &mut Modal,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Read> {
+        if let Some(read) = self.family.read(&self.conv, line, modal, warnings)? {
+            return Ok(read);
+        }
         let Some(g78) = line
             .words
             .iter()
@@ -537,7 +560,12 @@ impl Dialect for Gsk {
     }
 
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
-        native_g78(&self.machine, job)
+        // G78 first; the Fanuc-family cycles when G78 cannot; G78's reason when none can.
+        native_g78(&self.machine, job).or_else(|why| {
+            fanuc_family::native_g92(&self.machine, job, true)
+                .or_else(|_| fanuc_family::native_g76(&self.machine, job))
+                .map_err(|_| why)
+        })
     }
 }
 

@@ -3,7 +3,10 @@
 //! written. Everything two controllers share lives in [`thread`](crate::thread).
 
 pub mod allen_bradley;
+pub mod fanuc;
+pub mod fanuc_family;
 pub mod gsk;
+pub mod linuxcnc;
 pub mod omniturn;
 
 use crate::diag::{Diagnostic, Result};
@@ -37,6 +40,10 @@ pub trait Dialect {
     fn format(&self) -> Format;
     /// The job as this controller's native cycle (lines without terminators), or why it cannot be.
     /// Callers never trust this text alone: [`crate::translate`] reads it back and compares motion.
+    /// Called before [`crate::translate::verify`] reads a native cycle back without the program around
+    /// it: a dialect that checks machine state set elsewhere in a program (LinuxCNC's spindle) assumes
+    /// it is ready.
+    fn assume_ready(&mut self) {}
     fn emit_native(&self, _job: &Job) -> std::result::Result<Vec<String>, String> {
         Err(format!(
             "{} has no native threading cycle in threadcut",
@@ -67,8 +74,10 @@ pub fn open(machine: &Machine) -> std::result::Result<Box<dyn Dialect>, String> 
         "gsk" => Ok(Box::new(gsk::Gsk::new(machine))),
         "omniturn" => Ok(Box::new(omniturn::OmniTurn::new(machine))),
         "allen_bradley" => Ok(Box::new(allen_bradley::AllenBradley::new(machine))),
+        "fanuc" => Ok(Box::new(fanuc::Fanuc::new(machine))),
+        "linuxcnc" => Ok(Box::new(linuxcnc::LinuxCnc::new(machine))),
         other => Err(format!(
-            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley)",
+            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, linuxcnc)",
             machine.name
         )),
     }

@@ -16,7 +16,7 @@ use crate::machine::{Machine, OmniTurnParameters};
 use crate::post::{self, Format};
 use crate::thread::{
     DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, Pass, PassPlan,
-    Retract, Side,
+    Retract, ReturnPath, Side,
 };
 use crate::toolpath::Toolpath;
 use crate::units::{Pos, Units, MM_PER_INCH};
@@ -87,6 +87,7 @@ impl OmniTurn {
                 g90_g91_distance: true,
                 diameter_x: machine.diameter_x,
                 thread_move: G33,
+                lead_letter: b'K',
                 tpi_letter: 0,
                 set_position: G92,
                 canned_cycles: &[],
@@ -472,6 +473,7 @@ impl OmniTurn {
                 x: start.x + side.outward().x * RETRACT_TIMES_I * step,
                 z: start.z,
             },
+            return_path: ReturnPath::Box,
         })
     }
 

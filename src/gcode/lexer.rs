@@ -105,7 +105,8 @@ pub fn lex_line_with(
                 shape.block_delete = true;
                 i += 1;
             }
-            b'a'..=b'z' | b'A'..=b'Z' => {
+            // `$` is LinuxCNC's spindle-selection word (`G76 … $1`).
+            b'a'..=b'z' | b'A'..=b'Z' | b'$' => {
                 let letter = c.to_ascii_uppercase();
                 if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
                     words.push(Word {

@@ -21,6 +21,8 @@ pub struct Conventions {
     pub thread_move: u16,
     /// The word that carries threads per inch on the thread move (GSK/Fanuc: `I`; none: 0).
     pub tpi_letter: u8,
+    /// The word that carries the lead on the thread move (`F` on Fanuc/GSK, `K` on LinuxCNC's G33).
+    pub lead_letter: u8,
     /// Sets the current position without motion (`G50` on GSK/Fanuc A, `G92` elsewhere; 0: none).
     pub set_position: u16,
     /// G codes that run a canned cycle and leave the tool where it started.
@@ -250,7 +252,7 @@ impl Modal {
 
     /// Reads F (lead in program units per revolution) or the dialect's TPI word into the modal lead.
     pub fn read_lead(&mut self, conv: &Conventions, line: &Line) -> Result<()> {
-        let f = line.word(b'F');
+        let f = line.word(conv.lead_letter);
         let tpi = (conv.tpi_letter != 0)
             .then(|| line.word(conv.tpi_letter))
             .flatten();
@@ -260,13 +262,19 @@ impl Modal {
                 i.span,
                 "F (lead) and I (threads per inch) in one block",
             )
-            .with_hint(format!("keep one of them; F{} was also given", f.value))),
+            .with_hint(format!(
+                "keep one of them; {}{} was also given",
+                conv.lead_letter as char, f.value
+            ))),
             (Some(f), None) => {
                 if f.value <= 0.0 {
                     return Err(Diagnostic::error(
                         Code::OutOfRange,
                         f.span,
-                        format!("F{} lead must be positive", f.value),
+                        format!(
+                            "{}{} lead must be positive",
+                            conv.lead_letter as char, f.value
+                        ),
                     ));
                 }
                 self.lead = Some(self.length_mm(f));
@@ -308,6 +316,7 @@ mod tests {
             diameter_x: true,
             thread_move: 320,
             tpi_letter: b'I',
+            lead_letter: b'F',
             set_position: 500,
             canned_cycles: &[900, 920, 940, 710, 720, 730, 700, 760, 780],
         }

@@ -27,6 +27,9 @@ pub struct Format {
     pub lead_decimals: [u32; 2],
     pub trailing_zeros: bool,
     pub comment: CommentStyle,
+    /// The lead word is the travel per revolution along the move's path (LinuxCNC's `G33 K`), not
+    /// along its longer axis (Fanuc's `G32 F`); the writer converts the model's lead.
+    pub lead_along_path: bool,
 }
 
 impl Format {
@@ -44,6 +47,7 @@ impl Format {
             lead_decimals: [4, 5],
             trailing_zeros: machine.output.trailing_zeros,
             comment: machine.output.comment,
+            lead_along_path: false,
         }
     }
 
@@ -79,23 +83,144 @@ impl Format {
 /// Formats `value` rounded to `decimals`, always with a decimal point (`10.`, `-0.5`), never with an
 /// exponent, never `-0.`. Rounding happens once, here, from the absolute value.
 pub fn number(value: f64, decimals: u32, trailing_zeros: bool) -> String {
+    let mut s = Vec::with_capacity(16);
+    push_number(&mut s, value, decimals, trailing_zeros);
+    String::from_utf8(s).expect("ASCII")
+}
+
+/// As [`number`], appended to `out` as ASCII bytes without allocating (the expansion's hot path).
+pub fn push_number(out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
+    match format_small(value, decimals, trailing_zeros) {
+        Some(text) => text.push_to(out),
+        None => push_number_wide(
+            out,
+            round_half_away(value * 10f64.powi(decimals as i32)),
+            decimals,
+            trailing_zeros,
+        ),
+    }
+}
+
+/// A short number's text on the stack.
+#[derive(Clone, Copy)]
+struct Small {
+    bytes: [u8; 32],
+    len: usize,
+}
+
+impl Small {
+    /// Appends the text: a fixed-size copy (inlined, no memmove call) and a truncation.
+    fn push_to(&self, out: &mut Vec<u8>) {
+        let at = out.len();
+        out.extend_from_slice(&self.bytes);
+        out.truncate(at + self.len);
+    }
+}
+
+/// The text of `value` when it has fewer than 10¹⁹ increments and fewer than 20 decimals.
+fn format_small(value: f64, decimals: u32, trailing_zeros: bool) -> Option<Small> {
     debug_assert!(
         value.is_finite(),
         "non-finite values are rejected before writing"
     );
-    let scale = 10f64.powi(decimals as i32);
-    let units = (value * scale).round();
+    let scale = if (decimals as usize) < POW10.len() {
+        POW10[decimals as usize] as f64
+    } else {
+        10f64.powi(decimals as i32)
+    };
+    let units = round_half_away(value * scale);
     let negative = units < 0.0;
+    if units.abs() >= 1e19 || decimals as usize >= 20 {
+        return None;
+    }
+    let mut v = units.abs() as u64;
+    // All digits of the scaled value, least significant first, at least `decimals + 1` of them,
+    // two at a time.
+    let mut digits = [b'0'; 24];
+    let mut n = 0;
+    while v >= 100 {
+        let pair = (v % 100) as usize * 2;
+        v /= 100;
+        digits[n] = DIGIT_PAIRS[pair + 1];
+        digits[n + 1] = DIGIT_PAIRS[pair];
+        n += 2;
+    }
+    while v != 0 {
+        digits[n] = b'0' + (v % 10) as u8;
+        v /= 10;
+        n += 1;
+    }
+    let d = decimals as usize;
+    n = n.max(d + 1);
+    // Drop trailing zeros of the fraction unless asked to keep them.
+    let mut low = 0;
+    if !trailing_zeros {
+        while low < d && digits[low] == b'0' {
+            low += 1;
+        }
+    }
+    // The text, most significant first, assembled on the stack and appended at once.
+    let mut text = [0u8; 32];
+    let mut t = 0;
+    if negative && digits[low..n].iter().any(|&b| b != b'0') {
+        text[0] = b'-';
+        t = 1;
+    }
+    for i in (d..n).rev() {
+        text[t] = digits[i];
+        t += 1;
+    }
+    text[t] = b'.';
+    t += 1;
+    for i in (low..d).rev() {
+        text[t] = digits[i];
+        t += 1;
+    }
+    Some(Small {
+        bytes: text,
+        len: t,
+    })
+}
+
+/// "00" to "99".
+const DIGIT_PAIRS: [u8; 200] = {
+    let mut t = [0u8; 200];
+    let mut i = 0;
+    while i < 100 {
+        t[2 * i] = b'0' + (i / 10) as u8;
+        t[2 * i + 1] = b'0' + (i % 10) as u8;
+        i += 1;
+    }
+    t
+};
+
+/// `x.round()` (half away from zero) without a libm call: below 2⁵² the fraction `x − trunc(x)` is
+/// exact, so the comparison with 0.5 is too; above it every double is already an integer.
+fn round_half_away(x: f64) -> f64 {
+    if x.abs() >= 4_503_599_627_370_496.0 || x.is_nan() {
+        return x;
+    }
+    let t = x as i64 as f64;
+    let f = x - t;
+    if f >= 0.5 {
+        t + 1.0
+    } else if f <= -0.5 {
+        t - 1.0
+    } else {
+        t
+    }
+}
+
+/// The rare path for values beyond 10¹⁹ increments.
+fn push_number_wide(out: &mut Vec<u8>, units: f64, decimals: u32, trailing_zeros: bool) {
     let magnitude = units.abs() as u128;
     let divisor = 10u128.pow(decimals);
-    let whole = magnitude / divisor;
-    let frac = magnitude % divisor;
-    let mut s = String::with_capacity(16);
-    if negative && magnitude != 0 {
-        s.push('-');
+    let (whole, frac) = (magnitude / divisor, magnitude % divisor);
+    if units < 0.0 && magnitude != 0 {
+        out.push(b'-');
     }
-    s.push_str(&whole.to_string());
-    s.push('.');
+    out.extend_from_slice(whole.to_string().as_bytes());
+    out.push(b'.');
     if decimals > 0 {
         let f = format!("{:0width$}", frac, width = decimals as usize);
         let f = if trailing_zeros {
@@ -103,9 +228,8 @@ pub fn number(value: f64, decimals: u32, trailing_zeros: bool) -> String {
         } else {
             f.trim_end_matches('0')
         };
-        s.push_str(f);
+        out.extend_from_slice(f.as_bytes());
     }
-    s
 }
 
 /// Formats `value` rounded once to a multiple of `step` (a controller resolution such as OmniTurn's
@@ -152,6 +276,16 @@ pub fn finite(value: f64) -> io::Result<f64> {
         ))
     }
 }
+/// Powers of ten that are exact as f64.
+const POW10: [u64; 16] = {
+    let mut t = [1u64; 16];
+    let mut i = 1;
+    while i < 16 {
+        t[i] = t[i - 1] * 10;
+        i += 1;
+    }
+    t
+};
 
 /// Writes the moves of a toolpath as plain blocks, one per motion.
 pub fn write_moves(
@@ -161,9 +295,19 @@ pub fn write_moves(
     path: &Toolpath,
 ) -> io::Result<()> {
     let nd = format.digits(units);
-    let mut line = String::with_capacity(48);
-    for m in &path.motions {
-        line.clear();
+    let ld = format.lead_digits(units);
+    let tz = format.trailing_zeros;
+    // The whole path's text is built in one buffer and written at once (flushed every 64 KiB): one
+    // copy into the writer instead of one per line.
+    let mut line: Vec<u8> = Vec::with_capacity(path.motions.len().min(2048) * 32);
+    // Consecutive moves share coordinates and leads: each is formatted once (same text either way).
+    let (mut x_cache, mut z_cache) = (Cached::default(), Cached::default());
+    let mut lead_cache = [Cached::default(), Cached::default()];
+    for (from, m) in path.segments() {
+        if line.len() > 1 << 16 {
+            out.write_all(&line)?;
+            line.clear();
+        }
         let (code, lead, dlead) = match m.kind {
             MotionKind::Rapid => (format.rapid, None, None),
             MotionKind::Feed => (format.feed, None, None),
@@ -180,41 +324,90 @@ pub fn write_moves(
                 _ => (format.thread, Some(lead), None),
             },
         };
-        line.push_str(code);
-        line.push_str(" X");
-        line.push_str(&number(
-            finite(format.x_word(m.to.x, units))?,
-            nd,
-            format.trailing_zeros,
-        ));
-        line.push_str(" Z");
-        line.push_str(&number(
-            finite(units.from_mm(m.to.z))?,
-            nd,
-            format.trailing_zeros,
-        ));
+        push_bytes(&mut line, code.as_bytes());
+        push_bytes(&mut line, b" X");
+        x_cache.push(&mut line, finite(format.x_word(m.to.x, units))?, nd, tz);
+        push_bytes(&mut line, b" Z");
+        z_cache.push(&mut line, finite(units.from_mm(m.to.z))?, nd, tz);
         if let Some(lead) = lead {
-            line.push(' ');
-            line.push(format.lead_letter);
-            line.push_str(&number(
-                finite(units.from_mm(lead))?,
-                format.lead_digits(units),
-                format.trailing_zeros,
-            ));
+            let lead = if format.lead_along_path {
+                path_lead(lead, m.to.minus(from))
+            } else {
+                lead
+            };
+            line.push(b' ');
+            let mut letter = [0u8; 4];
+            line.extend_from_slice(format.lead_letter.encode_utf8(&mut letter).as_bytes());
+            let value = finite(units.from_mm(lead))?;
+            let slot = if lead_cache[0].holds(value) { 0 } else { 1 };
+            if slot == 1 && !lead_cache[1].holds(value) {
+                lead_cache.swap(0, 1);
+                lead_cache[1].push(&mut line, value, ld, tz);
+            } else {
+                lead_cache[slot].push(&mut line, value, ld, tz);
+            }
         }
         if let Some((letter, dlead)) = dlead {
-            line.push(' ');
-            line.push(letter);
-            line.push_str(&number(
-                units.from_mm(dlead),
-                format.lead_digits(units),
-                format.trailing_zeros,
-            ));
+            line.push(b' ');
+            let mut buf = [0u8; 4];
+            line.extend_from_slice(letter.encode_utf8(&mut buf).as_bytes());
+            push_number(&mut line, finite(units.from_mm(dlead))?, ld, tz);
         }
-        line.push('\n');
-        out.write_all(line.as_bytes())?;
+        line.push(b'\n');
     }
-    Ok(())
+    out.write_all(&line)
+}
+
+/// Appends a few bytes; for a handful a memmove call costs more than the copy.
+fn push_bytes(out: &mut Vec<u8>, bytes: &[u8]) {
+    for &b in bytes {
+        out.push(b);
+    }
+}
+
+/// The last value formatted in one slot, and its text.
+#[derive(Default)]
+struct Cached {
+    bits: Option<u64>,
+    text: Option<Small>,
+}
+
+impl Cached {
+    fn holds(&self, value: f64) -> bool {
+        self.bits == Some(value.to_bits())
+    }
+
+    fn push(&mut self, out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
+        if !self.holds(value) {
+            self.text = format_small(value, decimals, trailing_zeros);
+            self.bits = Some(value.to_bits());
+        }
+        match &self.text {
+            Some(t) => t.push_to(out),
+            None => push_number(out, value, decimals, trailing_zeros),
+        }
+    }
+}
+
+/// The travel per revolution along a move's path, from the lead along its longer axis (the model's
+/// convention, [`crate::toolpath::lead_along_long_axis`]).
+pub fn path_lead(lead: f64, d: crate::units::Vec2) -> f64 {
+    let long = d.x.abs().max(d.z.abs());
+    if long == 0.0 {
+        lead
+    } else {
+        lead * d.x.hypot(d.z) / long
+    }
+}
+
+/// The lead along a move's longer axis, from the travel per revolution along its path.
+pub fn long_axis_lead(path_lead: f64, d: crate::units::Vec2) -> f64 {
+    let len = d.x.hypot(d.z);
+    if len == 0.0 {
+        path_lead
+    } else {
+        path_lead * d.x.abs().max(d.z.abs()) / len
+    }
 }
 
 /// One motion as a JSON object in program units, X as a radius:
@@ -285,6 +478,30 @@ mod tests {
         assert_eq!(number_on_grid(0.33333, 0.00025, false), "0.33325");
         assert_eq!(number_on_grid(0.33333, 0.0005, true), "0.3335");
         assert_eq!(number_on_grid(-0.5, 0.00005, false), "-0.5");
+    }
+
+    #[test]
+    fn rounding_matches_f64_round() {
+        for x in [
+            0.5,
+            -0.5,
+            1.5,
+            2.5,
+            -2.5,
+            0.49999999999999994,
+            -0.49999999999999994,
+            4503599627370495.5,
+            -4503599627370495.5,
+            1e300,
+            123456.4999,
+            0.0,
+            -0.0,
+        ] {
+            assert_eq!(round_half_away(x), x.round(), "{x}");
+        }
+        assert_eq!(number(-1234567.891234, 4, true), "-1234567.8912");
+        assert_eq!(number(0.0001, 4, false), "0.0001");
+        assert_eq!(number(100.0, 4, false), "100.");
     }
 
     #[test]

@@ -289,6 +289,22 @@ pub struct Retract {
     pub z: f64,
 }
 
+/// How the tool travels between passes and where the cycle leaves it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ReturnPath {
+    /// After each pass: rapid out to `retract.x`, rapid back along Z to `retract.z`; after the last
+    /// pass, rapid to the job's start if not there (Fanuc G76/G92, GSK G78).
+    Box,
+    /// LinuxCNC G76 (`shared/reference/linuxcnc-g76.md` §1.4): each pass starts with a rapid to its
+    /// own "back" point, `clearance` outward of the pass's cut X at the Z where the pass (or its entry
+    /// ramp) begins, ends with a radial rapid out to that same X, and the next pass's back point is
+    /// reached by a diagonal rapid. An entry ramp is preceded by a synchronised radial move from the
+    /// back point to the ramp's start, at the ramp's rate along its path. After the last pass the tool
+    /// rapids to `end` (always emitted, even when it is a zero-length move).
+    Diagonal { clearance: f64, end: Pos },
+}
+
 /// One threading cycle in machine-neutral terms.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Job {
@@ -311,9 +327,18 @@ pub struct Job {
     pub entry: Entry,
     pub exit: Exit,
     pub retract: Retract,
+    pub return_path: ReturnPath,
 }
 
 impl Job {
+    /// Where the tool is when the cycle is over.
+    pub fn end_point(&self) -> Pos {
+        match self.return_path {
+            ReturnPath::Box => self.start,
+            ReturnPath::Diagonal { end, .. } => end,
+        }
+    }
+
     /// The pass table: depths, increments, infeed points, chip areas.
     pub fn passes(&self) -> crate::diag::Result<Vec<Pass>> {
         plan_passes(self)

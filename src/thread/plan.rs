@@ -148,6 +148,20 @@ fn too_many(limit: f64, first: f64) -> Diagnostic {
 
 /// The full pass table of a job: rough passes, then finishing passes at full depth.
 pub fn plan_passes(job: &Job) -> Result<Vec<Pass>> {
+    let mut passes = plan_geometry(job)?;
+    let t = super::tan_deg(job.tool_angle_deg / 2.0);
+    let cuts: Vec<(f64, f64)> = passes.iter().map(|p| (p.offset, p.depth)).collect();
+    let areas = area::chip_areas(&cuts, t);
+    let sum: f64 = areas.iter().sum();
+    for (p, a) in passes.iter_mut().zip(areas) {
+        p.area = a;
+        p.share = if sum > 0.0 { a / sum } else { 0.0 };
+    }
+    Ok(passes)
+}
+
+/// The pass table without chip areas (`area` and `share` are 0): all that motion needs.
+pub fn plan_geometry(job: &Job) -> Result<Vec<Pass>> {
     let total = job.geometry.depth;
     let limit = total - job.plan.finish_allowance;
     let rough = rough_depths(&job.plan.law, limit).map_err(|mut e| {
@@ -193,14 +207,6 @@ pub fn plan_passes(job: &Job) -> Result<Vec<Pass>> {
             area: 0.0,
             share: 0.0,
         });
-    }
-    let t = super::tan_deg(job.tool_angle_deg / 2.0);
-    let cuts: Vec<(f64, f64)> = passes.iter().map(|p| (p.offset, p.depth)).collect();
-    let areas = area::chip_areas(&cuts, t);
-    let sum: f64 = areas.iter().sum();
-    for (p, a) in passes.iter_mut().zip(areas) {
-        p.area = a;
-        p.share = if sum > 0.0 { a / sum } else { 0.0 };
     }
     Ok(passes)
 }

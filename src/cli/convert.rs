@@ -1,0 +1,431 @@
+//! `threadcut convert FILE --from C1 --to C2`: a program for one controller rewritten for another.
+//!
+//! * Each threading cycle goes through the model and [`threadcut::translate::write_job`]: the target's
+//!   native cycle when reading it back reproduces the motion, plain moves with a comment otherwise.
+//! * Other blocks are rewritten word by word where the words mean the same thing on both controllers:
+//!   positions become absolute in the target's X convention (diameter or radius; U/W, G91, G7/G8 are
+//!   absorbed), numbers always carry a decimal point, the synchronised move becomes the target's
+//!   (G32 F ↔ G33 K, with the lead converted between "along the longer axis" and "along the path").
+//!   A word with no counterpart is an error at its line and column. Details: `docs/translation.md`.
+
+use std::io::Write;
+
+use threadcut::diag::{Code, Diagnostic};
+use threadcut::dialect;
+use threadcut::gcode::reader::g_code;
+use threadcut::gcode::{Line, Modal, MotionMode, PlainMove};
+use threadcut::machine::Machine;
+use threadcut::post::{self, long_axis_lead, path_lead, Format};
+use threadcut::program::{self, Error, Event, Summary};
+use threadcut::toolpath::{self, MotionKind};
+use threadcut::translate;
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Family {
+    /// Fanuc system A and its copies (GSK): G32 F, U/W, G98/G99, G50.
+    Fanuc,
+    /// LinuxCNC: G33 K, G90/G91, G7/G8, G94/G95.
+    LinuxCnc,
+}
+
+fn family(m: &Machine) -> Family {
+    if m.dialect == "linuxcnc" {
+        Family::LinuxCnc
+    } else {
+        Family::Fanuc
+    }
+}
+
+/// What a G code (×10) of the source becomes on the target: `Ok(Some(code))`, `Ok(None)` when the
+/// rewrite absorbs it (distance and diameter modes), `Err` when it has no counterpart.
+fn map_g(code: u16, from: Family, to: Family) -> Result<Option<u16>, ()> {
+    use Family::*;
+    let thread = |f: Family| if f == Fanuc { 320 } else { 330 };
+    Ok(Some(match (code, from) {
+        (0 | 10 | 20 | 30 | 40 | 170 | 180 | 190 | 200 | 210 | 400 | 410 | 420 | 960 | 970, _) => {
+            code
+        }
+        (540..=590, _) => code,
+        (320, Fanuc) | (330, LinuxCnc) => thread(to),
+        (980, Fanuc) => {
+            if to == Fanuc {
+                980
+            } else {
+                940
+            }
+        }
+        (990, Fanuc) => {
+            if to == Fanuc {
+                990
+            } else {
+                950
+            }
+        }
+        (940, LinuxCnc) => {
+            if to == Fanuc {
+                980
+            } else {
+                940
+            }
+        }
+        (950, LinuxCnc) => {
+            if to == Fanuc {
+                990
+            } else {
+                950
+            }
+        }
+        (70 | 80 | 900 | 910, LinuxCnc) => return Ok(None),
+        (500 | 280, Fanuc) if to == Fanuc => code,
+        _ => return Err(()),
+    }))
+}
+
+fn g_text(code: u16) -> String {
+    if code.is_multiple_of(10) {
+        format!("G{}", code / 10)
+    } else {
+        format!("G{}.{}", code / 10, code % 10)
+    }
+}
+
+pub fn convert(
+    input: Box<dyn std::io::BufRead>,
+    out: &mut dyn Write,
+    from: &Machine,
+    to: &Machine,
+) -> Result<Summary, Error> {
+    let target = dialect::open(to).map_err(Error::Setup)?;
+    let tformat = target.format();
+    let tname = target.name();
+    let source = dialect::open(from).map_err(Error::Setup)?;
+    let sformat = source.format();
+    let sname = source.name();
+    drop((target, source));
+    let same = from == to;
+    let (ff, tf) = (family(from), family(to));
+    // A header before the first line that is not a `%` delimiter: what was converted, and for
+    // LinuxCNC the modes the rewritten positions assume (absolute, the profile's X convention).
+    let mut header = Vec::new();
+    if let Some(c) = tformat.comment(&format!("threadcut convert: {sname} to {tname}")) {
+        header.push(c);
+    }
+    if tf == Family::LinuxCnc && !same {
+        header.push(format!("G90 {}", if to.diameter_x { "G7" } else { "G8" }));
+    }
+    let mut header = Some(header);
+    // Where the target's thread move writes its lead with F (Fanuc, GSK), F is also the feed rate:
+    // after thread moves whose F differs from the source's F register, the next other block gets
+    // the source's F back, so a later G1 does not feed at the lead.
+    let mut pending_f: Option<String> = None;
+    program::run(input, from, |modal, ev| {
+        let line = match &ev {
+            Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
+                line
+            }
+        };
+        if !line.shape.percent {
+            if let Some(h) = header.take() {
+                for l in h {
+                    writeln!(out, "{l}")?;
+                }
+            }
+        }
+        match ev {
+            // Same controller: every line, cycles included, is already right.
+            Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. }
+                if same =>
+            {
+                out.write_all(line.raw)?;
+                Ok(())
+            }
+            Event::Plain { line, mv } => {
+                if line.words.is_empty() {
+                    out.write_all(line.raw)?;
+                    return Ok(());
+                }
+                let threading = mv.is_some_and(|m| m.mode == MotionMode::Thread);
+                if !threading {
+                    if let Some(f) = pending_f.take() {
+                        if line.word(b'F').is_none() {
+                            writeln!(out, "{f}")?;
+                        }
+                    }
+                }
+                let (text, lead) = block(line, mv, modal, ff, tf, &sformat, &tformat, tname)?;
+                writeln!(out, "{text}")?;
+                if let Some(lead) = lead {
+                    pending_f = restore_f(&tformat, modal, lead);
+                }
+                Ok(())
+            }
+            Event::Settings { .. } => Ok(()),
+            Event::Cycle { job, .. } => {
+                if let Some(f) = pending_f.take() {
+                    writeln!(out, "{f}")?;
+                }
+                let written = translate::write_job(out, to, &job)?;
+                // The F register after the cycle: the native cycle's F, or the last plain thread move's.
+                let last = match written {
+                    translate::Written::Native => Some(job.lead.lead),
+                    translate::Written::Plain(_) => toolpath::build(&job)?
+                        .segments()
+                        .filter_map(|(from, m)| match m.kind {
+                            MotionKind::Thread { lead, .. } => Some(if tformat.lead_along_path {
+                                path_lead(lead, m.to.minus(from))
+                            } else {
+                                lead
+                            }),
+                            _ => None,
+                        })
+                        .last(),
+                };
+                if let Some(lead) = last {
+                    pending_f = restore_f(&tformat, modal, modal.units.from_mm(lead));
+                }
+                Ok(())
+            }
+        }
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn block(
+    line: &Line,
+    mv: Option<PlainMove>,
+    modal: &Modal,
+    from: Family,
+    to: Family,
+    sformat: &Format,
+    tformat: &Format,
+    tname: &str,
+) -> Result<(String, Option<f64>), Error> {
+    let cannot = |span, what: String| {
+        Error::Input(
+            Diagnostic::error(Code::Unsupported, span, what)
+                .with_hint("rewrite this block by hand for the target, or remove it"),
+        )
+    };
+    let units = modal.units;
+    let nd = tformat.decimals[(units == threadcut::units::Units::Inch) as usize];
+    let num = |v: f64| post::number(v, nd, false);
+    let mut words: Vec<String> = Vec::new();
+    let mut thread = false;
+    let mut dwell = false;
+    for w in line.words.iter().filter(|w| w.letter == b'G') {
+        let code = g_code(w.value)
+            .ok_or_else(|| cannot(w.span, format!("G{} is not a G code", w.value)))?;
+        match map_g(code, from, to) {
+            Ok(Some(c)) => {
+                thread |= c == 320 || c == 330;
+                dwell |= c == 40;
+                words.push(g_text(c));
+            }
+            Ok(None) => {}
+            Err(()) => {
+                return Err(cannot(
+                    w.span,
+                    format!(
+                        "{} has no counterpart on {tname} that threadcut can write",
+                        g_text(code)
+                    ),
+                ))
+            }
+        }
+    }
+    if let Some(n) = line.word(b'N') {
+        words.insert(0, format!("N{}", n.value));
+    }
+    let in_thread = thread || (modal.motion == MotionMode::Thread && mv.is_some());
+    // A move without its motion code relies on the modal one, which a native cycle written before
+    // it may have changed on the target: always name it.
+    let named = line
+        .words
+        .iter()
+        .any(|w| w.letter == b'G' && matches!(g_code(w.value), Some(0 | 10 | 20 | 30 | 320 | 330)));
+    if mv.is_some() && !named {
+        let code = match modal.motion {
+            MotionMode::Rapid => Some("G0"),
+            MotionMode::Feed => Some("G1"),
+            MotionMode::ArcCw => Some("G2"),
+            MotionMode::ArcCcw => Some("G3"),
+            MotionMode::Thread => Some(tformat.thread),
+            MotionMode::Cycle => None,
+        };
+        if let Some(code) = code {
+            words.push(code.to_string());
+        }
+    }
+    if modal.motion == MotionMode::Cycle
+        && line
+            .words
+            .iter()
+            .any(|w| matches!(w.letter, b'X' | b'Z' | b'U' | b'W'))
+    {
+        return Err(cannot(
+            line.span(),
+            "the words of a canned cycle other than threading are not converted".into(),
+        ));
+    }
+    // Positions: absolute, in the target's X convention.
+    let has = |l: u8| line.word(l).is_some();
+    let x_written = has(b'X') || (from == Family::Fanuc && has(b'U'));
+    let z_written = has(b'Z') || (from == Family::Fanuc && has(b'W'));
+    if dwell {
+        let seconds = match from {
+            Family::Fanuc => line
+                .word(b'X')
+                .or(line.word(b'U'))
+                .map(|w| w.value)
+                .or(line.word(b'P').map(|p| p.value / 1000.0)),
+            Family::LinuxCnc => line.word(b'P').map(|p| p.value),
+        };
+        if let Some(s) = seconds {
+            words.push(match to {
+                Family::Fanuc => format!("X{}", post::number(s, 3, false)),
+                Family::LinuxCnc => format!("P{}", post::number(s, 3, false)),
+            });
+        }
+    } else if x_written || z_written {
+        match modal.position {
+            Some(p) => {
+                if x_written {
+                    words.push(format!("X{}", num(tformat.x_word(p.x, units))));
+                }
+                if z_written {
+                    words.push(format!("Z{}", num(units.from_mm(p.z))));
+                }
+            }
+            None => {
+                // Position unknown: only absolute words can be rewritten.
+                for w in line.words {
+                    match w.letter {
+                        b'X' if modal.absolute => words.push(format!(
+                            "X{}",
+                            num(tformat.x_word(modal.x_to_mm(modal.value(w)), units))
+                        )),
+                        b'Z' if modal.absolute => {
+                            words.push(format!("Z{}", num(modal.value(w))))
+                        }
+                        b'X' | b'Z' | b'U' | b'W' => {
+                            return Err(cannot(
+                                w.span,
+                                "an incremental move from an unknown position cannot be rewritten as an absolute one".into(),
+                            ))
+                        }
+                        _ => {}
+                    }
+                }
+            }
+        }
+    }
+    let mut lead_written = None;
+    if in_thread {
+        if let (Some(mv), Some(lead)) = (mv, mv.and_then(|m| m.lead)) {
+            let d = mv.to.minus(mv.from);
+            let model = if sformat.lead_along_path {
+                long_axis_lead(lead, d)
+            } else {
+                lead
+            };
+            let written = if tformat.lead_along_path {
+                path_lead(model, d)
+            } else {
+                model
+            };
+            let digits = tformat.lead_decimals[(units == threadcut::units::Units::Inch) as usize];
+            lead_written = Some(units.from_mm(written));
+            words.push(format!(
+                "{}{}",
+                tformat.lead_letter,
+                post::number(units.from_mm(written), digits, false)
+            ));
+        }
+    }
+    for w in line.words {
+        let text = || {
+            format!(
+                "{}{}",
+                w.letter as char,
+                threadcut::gcode::lexer::show(w.raw(line.text))
+            )
+        };
+        match w.letter {
+            b'G' | b'N' | b'X' | b'Z' => {}
+            b'U' | b'W' if from == Family::Fanuc => {}
+            b'P' if dwell => {}
+            b'M' | b'S' => words.push(text()),
+            b'F' if from == Family::Fanuc && in_thread => {}
+            b'K' if from == Family::LinuxCnc && in_thread => {}
+            b'F' => words.push(format!("F{}", post::number(modal.value(w), 6, false))),
+            b'R' if matches!(modal.motion, MotionMode::ArcCw | MotionMode::ArcCcw) => {
+                words.push(format!("R{}", num(modal.value(w))))
+            }
+            b'T' | b'O' if from == to => words.push(text()),
+            // A Fanuc program number is a subroutine label on LinuxCNC: kept as a comment.
+            b'O' => {
+                if let Some(c) = tformat.comment(&format!("program {}", text())) {
+                    words.push(c);
+                }
+            }
+            _ => {
+                return Err(cannot(
+                    w.span,
+                    format!(
+                    "{} means something else on {tname}, or nothing: threadcut does not rewrite it",
+                    text()
+                ),
+                ))
+            }
+        }
+    }
+    let comments = comments(line.text);
+    if !comments.is_empty() {
+        if let Some(c) = tformat.comment(&comments) {
+            words.push(c);
+        }
+    }
+    Ok((words.join(" "), lead_written))
+}
+
+/// The `F…` block that gives the F register back its source value after a thread move that wrote
+/// `lead` (program units) with F, when the two differ.
+fn restore_f(tformat: &Format, modal: &Modal, lead: f64) -> Option<String> {
+    if tformat.lead_letter != 'F' {
+        return None;
+    }
+    let f = modal.f_word?;
+    let digits = tformat.lead_decimals[(modal.units == threadcut::units::Units::Inch) as usize];
+    let want = post::number(f, 6, false);
+    let have = post::number(lead, digits, false);
+    (post::number(f, digits, false) != have).then(|| format!("F{want}"))
+}
+
+/// The text of a line's comments: `(…)` groups and a `;` tail.
+fn comments(text: &[u8]) -> String {
+    let mut parts = Vec::new();
+    let mut i = 0;
+    while i < text.len() {
+        match text[i] {
+            b'(' => {
+                let end = text[i..]
+                    .iter()
+                    .position(|&c| c == b')')
+                    .map_or(text.len(), |p| i + p);
+                parts.push(
+                    String::from_utf8_lossy(&text[i + 1..end])
+                        .trim()
+                        .to_string(),
+                );
+                i = end + 1;
+            }
+            b';' => {
+                parts.push(String::from_utf8_lossy(&text[i + 1..]).trim().to_string());
+                break;
+            }
+            _ => i += 1,
+        }
+    }
+    parts.retain(|p| !p.is_empty());
+    parts.join("; ")
+}

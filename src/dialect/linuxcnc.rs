@@ -1,0 +1,512 @@
+//! LinuxCNC lathes (rs274ngc interpreter): the G76 threading cycle `G76 P Z I J K [R] [Q] [H] [E] [L] [$]`
+//! exactly as `shared/reference/linuxcnc-g76.md` describes it, G33 K as the synchronised move, G7/G8
+//! diameter/radius mode, G90/G91 distance mode.
+//!
+//! Where LinuxCNC's code has a bug the notes list, threadcut follows LinuxCNC's documentation; each
+//! deviation is a row of `docs/dialects/linuxcnc-g76.md`.
+
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::reader::g_code;
+use crate::gcode::{Conventions, Line, Modal};
+use crate::machine::Machine;
+use crate::post::Format;
+use crate::thread::{
+    DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan, Retract,
+    ReturnPath, Side,
+};
+use crate::units::Pos;
+
+use super::{Dialect, Read};
+
+const G76: u16 = 760;
+
+/// Motion-group G codes (×10): one of them on a line ends the modal G76.
+const MOTION: &[u16] = &[
+    0, 10, 20, 30, 50, 51, 52, 330, 331, 382, 383, 384, 385, 730, 740, 760, 800, 810, 820, 830,
+    840, 850, 860, 870, 880, 890,
+];
+
+pub struct LinuxCnc {
+    conv: Conventions,
+    machine: Machine,
+    spindles: u8,
+    /// Which spindles turn (M3/M4 on, M5 off).
+    turning: Vec<bool>,
+    /// G76 is modal: a later block with axis words and no motion code is another G76.
+    g76_modal: bool,
+    cutter_comp: bool,
+    /// Active plane ×10 (G17 170, G18 180, G19 190).
+    plane: u16,
+}
+
+impl LinuxCnc {
+    pub fn new(machine: &Machine) -> LinuxCnc {
+        let spindles = machine.linuxcnc.as_ref().map_or(1, |l| l.spindles.max(1));
+        LinuxCnc {
+            conv: Conventions {
+                uw_incremental: false,
+                g90_g91_distance: true,
+                diameter_x: machine.diameter_x,
+                thread_move: 330,
+                tpi_letter: 0,
+                lead_letter: b'K',
+                // G92 sets coordinate offsets: the tool does not move.
+                set_position: 920,
+                canned_cycles: &[730, 740, 810, 820, 830, 840, 850, 860, 870, 880, 890],
+            },
+            machine: machine.clone(),
+            spindles,
+            turning: vec![false; usize::from(spindles)],
+            g76_modal: false,
+            cutter_comp: false,
+            plane: 180,
+        }
+    }
+
+    /// Modal state this dialect keeps itself: G7/G8, plane, cutter compensation, spindles.
+    fn track(&mut self, line: &Line, modal: &mut Modal) {
+        let selected = line
+            .word(b'$')
+            .map(|w| w.value)
+            .filter(|v| v.fract() == 0.0 && *v >= 0.0 && *v < f64::from(self.spindles))
+            .map(|v| v as usize);
+        for w in line.words {
+            match (w.letter, g_code(w.value)) {
+                (b'G', Some(70)) => modal.diameter_x = true,
+                (b'G', Some(80)) => modal.diameter_x = false,
+                (b'G', Some(c @ (170 | 180 | 190))) => self.plane = c,
+                (b'G', Some(400)) => self.cutter_comp = false,
+                (b'G', Some(410 | 411 | 420 | 421)) => self.cutter_comp = true,
+                (b'M', Some(30 | 40)) => match selected {
+                    Some(s) => self.turning[s] = true,
+                    None => self.turning[0] = true,
+                },
+                (b'M', Some(50)) => match selected {
+                    Some(s) => self.turning[s] = false,
+                    None => self.turning.iter_mut().for_each(|t| *t = false),
+                },
+                (b'M', Some(20 | 300)) => self.turning.iter_mut().for_each(|t| *t = false),
+                _ => {}
+            }
+        }
+    }
+
+    fn read_g76(&mut self, line: &Line, modal: &Modal, g76: Span) -> Result<Job> {
+        let err = |span: Span, code: Code, msg: &str| Diagnostic::error(code, span, msg);
+        // Parse stage, in line order: H and L are integers, H ≥ -1 and L ≥ 0 in LinuxCNC; threadcut
+        // also refuses H-1, which LinuxCNC accepts and which skips the full-depth pass (deviation).
+        for w in line.words {
+            if matches!(w.letter, b'H' | b'L') {
+                if w.value.fract() != 0.0 {
+                    return Err(err(w.span, Code::Syntax, "Non integer value for integer"));
+                }
+                if w.letter == b'H' && w.value < 0.0 {
+                    return Err(err(w.span, Code::OutOfRange, "Negative h word used")
+                        .with_hint("H is the number of spring passes: 0 or more (LinuxCNC accepts H-1 and then never cuts to K; threadcut refuses it)"));
+                }
+                if w.letter == b'L' && w.value < 0.0 {
+                    return Err(err(w.span, Code::OutOfRange, "Negative l word used"));
+                }
+            }
+        }
+        let axis = |l: u8| line.word(l);
+        if !line.words.iter().any(|w| {
+            matches!(
+                w.letter,
+                b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W'
+            )
+        }) {
+            return Err(
+                err(g76, Code::MissingWord, "All axes missing with motion code")
+                    .with_hint("G76 needs Z, the end of the drive line"),
+            );
+        }
+        let p =
+            match line.word(b'P') {
+                Some(p) if p.value != -1.0 => p,
+                _ => return Err(
+                    err(g76, Code::MissingWord, "P word missing with G76").with_hint(
+                        "G76 is modal, but P, I, J and K are not: write them on every G76 block",
+                    ),
+                ),
+            };
+        let (Some(i), Some(j), Some(k)) = (line.word(b'I'), line.word(b'J'), line.word(b'K'))
+        else {
+            return Err(err(
+                g76,
+                Code::MissingWord,
+                "I J or K words missing with G76",
+            ));
+        };
+        if let Some(d) = line.word(b'$') {
+            if d.value.fract() != 0.0 || d.value < 0.0 || d.value >= f64::from(self.spindles) {
+                return Err(err(
+                    d.span,
+                    Code::OutOfRange,
+                    "Invalid D-number in G76 cycle",
+                ));
+            }
+        }
+        let spindle = line.word(b'$').map_or(0, |d| d.value as usize);
+        if !self.turning[spindle] {
+            return Err(err(
+                g76,
+                Code::Conflict,
+                &format!("Chosen spindle ({spindle}) not turning in G76"),
+            )
+            .with_hint("start the spindle with M3 or M4 before the cycle"));
+        }
+        if let Some(w) = line
+            .words
+            .iter()
+            .find(|w| matches!(w.letter, b'A' | b'B' | b'C' | b'U' | b'V' | b'W'))
+        {
+            return Err(err(
+                w.span,
+                Code::Unsupported,
+                "Cannot move rotary axes with G76",
+            ));
+        }
+        if self.cutter_comp {
+            return Err(err(
+                g76,
+                Code::Conflict,
+                "Cannot use G76 threading cycle with cutter radius compensation on",
+            )
+            .with_hint("cancel compensation with G40 first (LinuxCNC itself runs a plain move instead when the radius is not 0; threadcut always refuses)"));
+        }
+        let units = modal.units;
+        let half = if modal.diameter_x { 0.5 } else { 1.0 };
+        let (iv, jv, kv) = (
+            units.to_mm(i.value * half),
+            units.to_mm(j.value * half),
+            units.to_mm(k.value * half),
+        );
+        if iv == 0.0 {
+            return Err(err(i.span, Code::OutOfRange, "In G76, I must not be 0"));
+        }
+        if jv <= 0.0 {
+            return Err(err(
+                j.span,
+                Code::OutOfRange,
+                "In G76, J must be greater than 0",
+            ));
+        }
+        if kv <= jv {
+            return Err(err(
+                k.span,
+                Code::OutOfRange,
+                "In G76, K must be greater than J",
+            ));
+        }
+        // LinuxCNC's documented errors that its code does not raise (deviations, see the docs file).
+        if self.plane != 180 {
+            return Err(err(
+                g76,
+                Code::Unsupported,
+                &format!(
+                    "G76 cuts in the ZX plane, and the active plane is G{}",
+                    self.plane / 10
+                ),
+            )
+            .with_hint(
+                "select G18 before the cycle (LinuxCNC's documentation lists this as an error)",
+            ));
+        }
+        if let Some(w) = axis(b'X').or(axis(b'Y')) {
+            return Err(err(
+                w.span,
+                Code::Unsupported,
+                &format!("{} is not a word of G76: the drive line starts where the tool is", w.letter as char),
+            )
+            .with_hint("position X with a G0 before the cycle (LinuxCNC's documentation lists other axis words as an error)"));
+        }
+        let z = axis(b'Z').ok_or_else(|| {
+            err(g76, Code::MissingWord, "All axes missing with motion code")
+                .with_hint("G76 needs Z, the end of the drive line")
+        })?;
+        if p.value <= 0.0 {
+            return Err(err(
+                p.span,
+                Code::OutOfRange,
+                &format!("In G76, P (the pitch) must be positive, not {}", p.value),
+            ));
+        }
+        let r = match line.word(b'R') {
+            None => 1.0,
+            Some(r) if r.value >= 1.0 => r.value,
+            Some(r) => {
+                return Err(err(
+                    r.span,
+                    Code::OutOfRange,
+                    &format!("In G76, R (the depth degression) must be at least 1.0, not {}", r.value),
+                )
+                .with_hint("LinuxCNC's documentation lists R below 1.0 as an error; its code silently uses 1.0"))
+            }
+        };
+        let a = modal.position.ok_or_else(|| {
+            err(
+                g76,
+                Code::UnknownPosition,
+                "G76 starts its drive line where the tool is, and the tool's position is not known here",
+            )
+            .with_hint("position the tool with G0 X.. Z.. before the cycle")
+        })?;
+        let z_end = if modal.absolute {
+            units.to_mm(z.value)
+        } else {
+            a.z + units.to_mm(z.value)
+        };
+        if z_end == a.z {
+            return Err(err(
+                z.span,
+                Code::Geometry,
+                "the drive line has no length: Z equals the current Z",
+            ));
+        }
+        let lead = units.to_mm(p.value);
+        let dir = (z_end - a.z).signum();
+        let h = kv;
+        let q_word = line.word(b'Q').map_or(0.0, |q| q.value);
+        // Z end above Z start mirrors everything (q = -q).
+        let q = if dir > 0.0 { -q_word } else { q_word };
+        let taper = line
+            .word(b'E')
+            .map_or(0.0, |e| units.to_mm(e.value).max(0.0));
+        let l = line.word(b'L').map_or(0, |l| l.value as u64);
+        if taper > 0.0 && l & 3 != 0 && taper > (z_end - a.z).abs() / 2.0 {
+            let e = line.word(b'E').expect("taper > 0");
+            return Err(err(
+                e.span,
+                Code::Geometry,
+                &format!(
+                    "E{} is longer than half the drive line ({} along Z)",
+                    e.value,
+                    units.from_mm((z_end - a.z).abs())
+                ),
+            )
+            .with_hint(
+                "LinuxCNC's documentation lists this as an error; its code runs the ramps anyway",
+            ));
+        }
+        let entry_taper = taper > 0.0 && l & 1 != 0;
+        let exit_taper = taper > 0.0 && l & 2 != 0;
+        let side = if iv > 0.0 {
+            Side::Internal
+        } else {
+            Side::External
+        };
+        let crest_x = a.x + side.infeed().x * iv.abs();
+        let target_z = z_end + h * q.to_radians().tan();
+        let infeed = if q == 0.0 {
+            Infeed::Radial
+        } else if q > 0.0 {
+            Infeed::Flank {
+                flank: Flank::Right,
+                angle_deg: q,
+            }
+        } else {
+            Infeed::Flank {
+                flank: Flank::Left,
+                angle_deg: -q,
+            }
+        };
+        let spring = line.word(b'H').map_or(0, |h| h.value as u32);
+        Ok(Job {
+            line: line.number,
+            span: g76,
+            controller: "linuxcnc",
+            units,
+            start: a,
+            geometry: Geometry {
+                crest_start: Pos::new(crest_x, a.z + if entry_taper { dir * taper } else { 0.0 }),
+                crest_end: Pos::new(crest_x, target_z),
+                depth: h,
+                side,
+            },
+            lead: Lead::constant(lead),
+            plan: PassPlan {
+                law: DepthLaw::Power {
+                    first: jv,
+                    degression: r,
+                    min_step: 0.0,
+                },
+                finish_allowance: 0.0,
+                finish_passes: spring,
+            },
+            infeed,
+            finish_at: FinishPosition::Axis,
+            // LinuxCNC does not know the tool: chip areas assume a 60° insert.
+            tool_angle_deg: 60.0,
+            entry: if entry_taper {
+                Entry::Ramp {
+                    outward: h,
+                    before: taper,
+                }
+            } else {
+                Entry::Direct
+            },
+            exit: if exit_taper {
+                Exit::PullOut {
+                    start_before: taper,
+                    length: taper,
+                    outward: h,
+                }
+            } else {
+                Exit::Straight
+            },
+            retract: Retract { x: a.x, z: a.z },
+            return_path: ReturnPath::Diagonal {
+                clearance: iv.abs() + h,
+                end: Pos::new(a.x, z_end),
+            },
+        })
+    }
+}
+
+impl Dialect for LinuxCnc {
+    fn name(&self) -> &'static str {
+        "linuxcnc"
+    }
+
+    fn conventions(&self) -> &Conventions {
+        &self.conv
+    }
+
+    fn read(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        _warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read> {
+        self.track(line, modal);
+        // The motion-group G codes of the line (no allocation: this runs on every line).
+        let mut motion = line
+            .words
+            .iter()
+            .filter(|w| w.letter == b'G')
+            .filter_map(|w| g_code(w.value).map(|c| (w, c)))
+            .filter(|(_, c)| MOTION.contains(c));
+        let g76 = match (motion.next(), motion.next()) {
+            (None, _) => {
+                let axes = line.words.iter().any(|w| {
+                    matches!(
+                        w.letter,
+                        b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W'
+                    )
+                });
+                if !(self.g76_modal && axes) {
+                    return Ok(Read::Plain);
+                }
+                line.span()
+            }
+            (Some((w, G76)), None) => w.span,
+            (Some(_), None) => {
+                self.g76_modal = false;
+                return Ok(Read::Plain);
+            }
+            (Some(_), Some((second, _))) => {
+                return Err(Diagnostic::error(
+                    Code::Conflict,
+                    second.span,
+                    "Two G codes used from same modal group",
+                ))
+            }
+        };
+        self.g76_modal = true;
+        let job = self.read_g76(line, modal, g76)?;
+        Ok(Read::Cycle(Box::new(job)))
+    }
+
+    fn format(&self) -> Format {
+        Format {
+            lead_decimals: [6, 7],
+            lead_along_path: true,
+            ..Format::lathe(&self.machine, "G33", 'K')
+        }
+    }
+
+    fn assume_ready(&mut self) {
+        self.turning.iter_mut().for_each(|t| *t = true);
+    }
+
+    fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        native_g76(&self.machine, job)
+    }
+}
+
+/// The G76 block that expresses `job`, when LinuxCNC's G76 can (the read-back check decides).
+fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, String> {
+    let g = &job.geometry;
+    let ReturnPath::Diagonal { clearance, end } = job.return_path else {
+        return Err(
+            "LinuxCNC's G76 retracts each pass to its own X and ends at the Z end, and this job returns to its start point".into(),
+        );
+    };
+    if g.taper() != 0.0 || job.lead.starts != 1 || job.lead.dlead != 0.0 {
+        return Err("LinuxCNC's G76 cuts straight single-start threads of constant lead".into());
+    }
+    if job.plan.finish_allowance != 0.0 {
+        return Err("LinuxCNC's G76 has no finishing allowance".into());
+    }
+    let DepthLaw::Power {
+        first,
+        degression,
+        min_step,
+    } = job.plan.law
+    else {
+        return Err("LinuxCNC's G76 cuts the depth law J·n^(1/R) only".into());
+    };
+    if min_step != 0.0 || degression < 1.0 {
+        return Err("LinuxCNC's G76 has no minimum cut and R ≥ 1".into());
+    }
+    let i = clearance - g.depth;
+    let q = match job.infeed {
+        Infeed::Radial => 0.0,
+        Infeed::Flank { flank, angle_deg } => {
+            let along = (end.z - job.start.z).signum();
+            // Positive Q moves deeper passes in the cutting direction.
+            flank.sign() * along * angle_deg
+        }
+        Infeed::Alternating { .. } => return Err("LinuxCNC's G76 infeeds on one flank".into()),
+    };
+    let e = match (job.entry, job.exit) {
+        (Entry::Direct, Exit::Straight) => None,
+        (Entry::Ramp { before, .. }, Exit::Straight) => Some((before, 1)),
+        (Entry::Direct, Exit::PullOut { length, .. }) => Some((length, 2)),
+        (Entry::Ramp { before, .. }, Exit::PullOut { length, .. }) if before == length => {
+            Some((length, 3))
+        }
+        _ => return Err("LinuxCNC's G76 ramps in and out over the same length E".into()),
+    };
+    let u = job.units;
+    let num = |mm: f64| crate::post::number(u.from_mm(mm), 6, false);
+    let signed_i = match g.side {
+        Side::External => -i,
+        Side::Internal => i,
+        Side::FaceFront | Side::FaceBack => return Err("LinuxCNC's G76 cuts along Z only".into()),
+    };
+    let mut block = format!(
+        "G76 P{} Z{} I{} J{} K{}",
+        num(job.lead.lead),
+        num(end.z),
+        num(signed_i),
+        num(first),
+        num(g.depth)
+    );
+    if degression != 1.0 {
+        block.push_str(&format!(" R{}", crate::post::number(degression, 6, false)));
+    }
+    if q != 0.0 {
+        block.push_str(&format!(" Q{}", crate::post::number(q, 6, false)));
+    }
+    if job.plan.finish_passes > 0 {
+        block.push_str(&format!(" H{}", job.plan.finish_passes));
+    }
+    if let Some((len, l)) = e {
+        block.push_str(&format!(" E{} L{l}", num(len)));
+    }
+    let _ = machine;
+    // The block is written in radius mode and absolute distance: wrap it when the program differs.
+    Ok(vec![block])
+}

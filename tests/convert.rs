@@ -1,0 +1,244 @@
+//! `threadcut convert`: native cycles where reading them back reproduces the motion, plain moves
+//! with a reason otherwise, other blocks rewritten where they mean the same thing.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use threadcut::gcode::MotionMode;
+use threadcut::machine::Machine;
+use threadcut::program::{self, Event};
+use threadcut::toolpath::{self, MotionKind};
+use threadcut::translate::{job_to_string, Written};
+use threadcut::units::Pos;
+
+fn file(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("threadcut-convert-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn convert(name: &str, text: &str, from: &str, to: &str) -> Output {
+    let p = file(name, text);
+    Command::new(env!("CARGO_BIN_EXE_threadcut"))
+        .args(["convert", p.to_str().unwrap(), "--from", from, "--to", to])
+        .output()
+        .unwrap()
+}
+
+fn ok(o: Output) -> String {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8(o.stdout).unwrap()
+}
+
+/// Every move the program makes on `controller`: plain moves and expanded cycles, as
+/// (rapid?, end point, lead along the longer axis).
+fn motion(text: &str, controller: &str) -> Vec<(bool, Pos, f64)> {
+    let m = Machine::built_in(controller).unwrap();
+    let mut moves = Vec::new();
+    program::run(text.as_bytes(), &m, |_, ev| {
+        match ev {
+            Event::Plain { mv: Some(mv), .. } => {
+                let lead = match mv.lead {
+                    // LinuxCNC's K is along the path.
+                    Some(k) if controller == "linuxcnc" => {
+                        threadcut::post::long_axis_lead(k, mv.to.minus(mv.from))
+                    }
+                    Some(f) => f,
+                    None => 0.0,
+                };
+                moves.push((mv.mode == MotionMode::Rapid, mv.to, lead));
+            }
+            Event::Cycle { job, .. } => {
+                for mo in toolpath::build(&job)?.motions {
+                    let lead = match mo.kind {
+                        MotionKind::Thread { lead, .. } => lead,
+                        _ => 0.0,
+                    };
+                    moves.push((mo.kind == MotionKind::Rapid, mo.to, lead));
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    })
+    .unwrap_or_else(|e| panic!("{e}\n{text}"));
+    moves
+}
+
+fn same_motion(a: &[(bool, Pos, f64)], b: &[(bool, Pos, f64)], tol: f64) {
+    // Zero-length moves (LinuxCNC's final rapid) carry no motion.
+    let strip = |v: &[(bool, Pos, f64)]| {
+        let mut out: Vec<(bool, Pos, f64)> = Vec::new();
+        for &m in v {
+            if out.last().is_some_and(|l| l.1.distance(m.1) < 1e-12) {
+                continue;
+            }
+            out.push(m);
+        }
+        out
+    };
+    let (a, b) = (strip(a), strip(b));
+    assert_eq!(a.len(), b.len(), "\n{a:?}\n{b:?}");
+    for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+        assert_eq!(x.0, y.0, "move {i}: {x:?} {y:?}");
+        let d = x.1.minus(y.1);
+        assert!(
+            d.x.abs() <= tol && d.z.abs() <= tol,
+            "move {i}: {x:?} {y:?}"
+        );
+        assert!((x.2 - y.2).abs() <= 1e-4, "move {i}: lead {x:?} {y:?}");
+    }
+}
+
+const FANUC_M30: &str = "G21 G99\nG97 S600 M3\nG0 X32. Z5.\nG76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\nG0 X100. Z100.\nM30\n";
+
+#[test]
+fn fanuc_g76_becomes_gsk_g76_natively_and_back() {
+    let gsk = ok(convert("f.nc", FANUC_M30, "fanuc", "gsk980"));
+    assert!(
+        gsk.contains("G76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\n"),
+        "{gsk}"
+    );
+    same_motion(&motion(FANUC_M30, "fanuc"), &motion(&gsk, "gsk980"), 1e-9);
+    let back = ok(convert("g.nc", &gsk, "gsk980", "fanuc"));
+    assert!(
+        back.contains("G76 X27.546 Z-30. P1227 Q400 F2.\n"),
+        "{back}"
+    );
+    same_motion(&motion(&back, "fanuc"), &motion(FANUC_M30, "fanuc"), 1e-9);
+}
+
+#[test]
+fn fanuc_g92_becomes_gsk_g92_with_its_chamfer_as_j_k() {
+    let src = "G0 X40. Z5.\nG92 X29.2 Z-30. F2.\nX28.6\nG0 X100.\n";
+    let gsk = ok(convert("g92.nc", src, "fanuc", "gsk980"));
+    assert!(
+        gsk.contains("G92 X29.2 Z-30. J2. K2. F2.\nG92 X28.6 Z-30. J2. K2. F2.\n"),
+        "{gsk}"
+    );
+    same_motion(&motion(src, "fanuc"), &motion(&gsk, "gsk980"), 1e-9);
+}
+
+#[test]
+fn linuxcnc_to_fanuc_is_plain_g32_moves_with_the_reason() {
+    let src = "G7 G21 G18\nS500 M3\nG0 X22 Z5\nG76 P2.5 Z-30 I-1.0 J0.3 R1.5 K1.5335 Q29.5 H2 E2 L2\nG0 X40\nM2\n";
+    let out = ok(convert("l.ngc", src, "linuxcnc", "fanuc"));
+    assert!(
+        out.contains(
+            "(threadcut: plain moves, not the native cycle: G76 retracts to the start point's X"
+        ),
+        "{out}"
+    );
+    assert!(out.contains("\nG21 G18\n") && !out.contains("G7 "), "{out}");
+    assert!(out.contains("G32 X20.7 Z-27.651 F2.5\n"), "{out}");
+    // The converted program moves as LinuxCNC does, to the target's 0.001 mm (diameter) output.
+    same_motion(
+        &motion(src, "linuxcnc"),
+        &motion(&out, "fanuc"),
+        0.5e-3 + 1e-9,
+    );
+}
+
+#[test]
+fn fanuc_to_linuxcnc_writes_g33_k_along_the_path() {
+    // A taper G32: F is the lead along Z (the longer axis); LinuxCNC's K is along the path.
+    let src = "G0 X20. Z5.\nG32 X24. Z-15. F2.\nG0 X40.\n";
+    let out = ok(convert("t.nc", src, "fanuc", "linuxcnc"));
+    let k = 2.0 * (2.0f64).hypot(20.0) / 20.0;
+    assert!(
+        out.contains(&format!(
+            "G33 X12. Z-15. K{}\n",
+            threadcut::post::number(k, 6, false)
+        )),
+        "{out}"
+    );
+    assert!(
+        out.starts_with("(threadcut convert: fanuc to linuxcnc)\nG90 G8\n"),
+        "{out}"
+    );
+    same_motion(&motion(src, "fanuc"), &motion(&out, "linuxcnc"), 1e-4);
+    // A G76 becomes plain G33 moves: LinuxCNC's G76 cannot return to the start point.
+    let g76 = ok(convert("g76.nc", FANUC_M30, "fanuc", "linuxcnc"));
+    assert!(
+        g76.contains("LinuxCNC's G76 retracts each pass to its own X"),
+        "{g76}"
+    );
+    assert!(
+        g76.contains("G95"),
+        "G99 (feed per revolution) is G95: {g76}"
+    );
+    same_motion(
+        &motion(FANUC_M30, "fanuc"),
+        &motion(&g76, "linuxcnc"),
+        0.5e-4 + 1e-9,
+    );
+}
+
+#[test]
+fn linuxcnc_g76_round_trips_natively() {
+    let m = Machine::built_in("linuxcnc").unwrap();
+    for src in [
+        "G8\nM3\nG0 X11 Z5\nG76 P2.5 Z-30 I-0.5 J0.15 K0.76675 R1.5 Q29.5 H2 E2 L2\n",
+        "G8\nM3\nG0 X6 Z-40\nG76 P1.75 Z2 I1.2 J0.1 K0.95 Q30 H1 E1.5 L3\n",
+        "G7\nM3\nG0 X22 Z5\nG76 P2 Z-20 I-1 J0.2 K2.4 R2\n",
+    ] {
+        let job = &program::jobs(src.as_bytes(), &m).unwrap()[0];
+        let (text, written) = job_to_string(&m, job).unwrap();
+        assert_eq!(written, Written::Native, "{src}\n{text}");
+        assert!(text.starts_with("G76 P"), "{text}");
+    }
+}
+
+#[test]
+fn same_controller_is_a_copy() {
+    let src = "G7 G21 G18\nS500 M3\nG0 X22 Z5\nG76 P2.5 Z-30 I-1.0 J0.3 R1.5 K1.5335 Q29.5 H2 E2 L2\nM2\n";
+    let out = ok(convert("same.ngc", src, "linuxcnc", "linuxcnc"));
+    assert_eq!(
+        out,
+        format!("(threadcut convert: linuxcnc to linuxcnc)\n{src}")
+    );
+}
+
+#[test]
+fn blocks_without_a_counterpart_are_errors_at_their_word() {
+    let src = "G21\nG0 X32. Z5.\nT0101\n";
+    let o = convert("t.nc", src, "fanuc", "linuxcnc");
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("t.nc:3:1") && err.contains("T0101"), "{err}");
+    let o = convert("g50.nc", "G50 X100. Z100.\n", "fanuc", "linuxcnc");
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("G50"));
+    // G2 with centre words: not rewritten rather than guessed.
+    let o = convert(
+        "arc.ngc",
+        "G8\nG0 X10 Z0\nG2 X12 Z-2 I2 K0\n",
+        "linuxcnc",
+        "fanuc",
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&o.stderr).contains(":3:"),
+        "{:?}",
+        o
+    );
+}
+
+#[test]
+fn the_feed_rate_comes_back_after_thread_moves_on_an_f_lead_target() {
+    // On Fanuc, G32's F is also the feed register: after the threads, a G1 that relied on the
+    // source's modal F0.2 would feed at the lead. The converter restores it before the next block.
+    let src = "G8 G21 G95\nS500 M3\nG1 X11 Z5 F0.2\nG76 P2.5 Z-30 I-0.5 J0.15 K0.76675 H1\nG1 X12 Z-31\nG33 X11 Z-40 K2\nG33 X11 Z-45 K2\nG1 X13\n";
+    let out = ok(convert("feed.ngc", src, "linuxcnc", "fanuc"));
+    assert!(
+        out.contains("G0 X22. Z-30.\nF0.2\nG1 X24. Z-31.\n"),
+        "{out}"
+    );
+    assert!(
+        // The first G33 is a taper from X12 Z-31: F is its lead along Z, 2·9/√82.
+        out.contains("G32 X22. Z-40. F1.9878\nG32 X22. Z-45. F2.\nF0.2\nG1 X26.\n"),
+        "{out}"
+    );
+}
