@@ -43,7 +43,7 @@ fn every_bad_program_gets_its_diagnostic_and_leaves_no_file() {
         let output = out_dir.join("out.nc");
         let run = Command::new(env!("CARGO_BIN_EXE_threadcut"))
             .args([
-                "expand",
+                case.command.as_str(),
                 input.to_str().unwrap(),
                 "--controller",
                 &case.controller,
