@@ -232,11 +232,6 @@ pub fn expand_jsonl<R: BufRead>(
     out: &mut dyn Write,
     machine: &Machine,
 ) -> Result<Summary, Error> {
-    // Leads in JSON are along the move's longer axis, whatever the controller's lead word means.
-    let along_path = dialect::open(machine)
-        .map_err(Error::Setup)?
-        .format()
-        .lead_along_path;
     run(input, machine, |modal, ev| {
         match ev {
             Event::Plain { line, mv: Some(mv) } => {
@@ -252,12 +247,8 @@ pub fn expand_jsonl<R: BufRead>(
                     MotionMode::Feed => post::motion_json(&m(MotionKind::Feed), units),
                     MotionMode::Thread => post::motion_json(
                         &m(MotionKind::Thread {
-                            lead: match mv.lead {
-                                Some(k) if along_path => {
-                                    post::long_axis_lead(k, mv.to.minus(mv.from))
-                                }
-                                other => other.unwrap_or(0.0),
-                            },
+                            // Already along the move's longer axis (`Modal::apply`).
+                            lead: mv.lead.unwrap_or(0.0),
                             dlead: 0.0,
                             phase_deg: 0.0,
                         }),

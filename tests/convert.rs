@@ -40,14 +40,9 @@ fn motion(text: &str, controller: &str) -> Vec<(bool, Pos, f64)> {
     program::run(text.as_bytes(), &m, |_, ev| {
         match ev {
             Event::Plain { mv: Some(mv), .. } => {
-                let lead = match mv.lead {
-                    // LinuxCNC's K is along the path.
-                    Some(k) if controller == "linuxcnc" => {
-                        threadcut::post::long_axis_lead(k, mv.to.minus(mv.from))
-                    }
-                    Some(f) => f,
-                    None => 0.0,
-                };
+                // Along the longer axis whatever the lead word means (LinuxCNC's K is along the
+                // path): the reader converts it.
+                let lead = mv.lead.unwrap_or(0.0);
                 moves.push((mv.mode == MotionMode::Rapid, mv.to, lead));
             }
             Event::Cycle { job, .. } => {

@@ -1,5 +1,5 @@
 //! Properties every controller's cycles must have, over random valid cycles: the toolpath starts
-//! and ends at the cycle's start point, thread moves carry the cycle's lead, the last pass reaches
+//! at the cycle's start point and ends at its end point, thread moves carry the cycle's lead, the last pass reaches
 //! full depth, and reading the expanded program back reproduces every synchronised move within the
 //! output resolution. One harness, one generator per controller.
 
@@ -47,10 +47,11 @@ fn check(controller: &str, src: &str, tolerance_mm: f64) -> Result<(), TestCaseE
     let passes = job.passes().unwrap();
     let path = toolpath::build(job).unwrap();
     prop_assert_eq!(path.start, job.start);
+    // Fanuc-style cycles end where they started; LinuxCNC's G76 at the end of its drive line.
     prop_assert_eq!(
         path.end(),
-        job.start,
-        "the cycle must end where it started\n{}",
+        job.end_point(),
+        "the cycle must end at its end point\n{}",
         src
     );
     prop_assert_eq!(passes.last().unwrap().depth, job.geometry.depth);
@@ -58,8 +59,12 @@ fn check(controller: &str, src: &str, tolerance_mm: f64) -> Result<(), TestCaseE
         prop_assert!(m.to.is_finite());
         if let MotionKind::Thread { lead, .. } = m.kind {
             let d = m.to.minus(from);
+            if d.z == 0.0 {
+                // A radial synchronised move (a screw-in) has no Z rate to compare.
+                continue;
+            }
             // Along Z the lead is the cycle's; a steeper move keeps Z's rate per revolution.
-            let expect = if d.x.abs() <= d.z.abs() || d.z == 0.0 {
+            let expect = if d.x.abs() <= d.z.abs() {
                 job.lead.lead
             } else {
                 job.lead.lead * d.x.abs() / d.z.abs()
@@ -139,6 +144,54 @@ proptest! {
         );
         // Inch, 4 decimals on diameter: radius within 0.00005" = 0.00127 mm.
         check("ab9", &src, 0.000_05 * 25.4 + 1e-9)?;
+    }
+
+    #[test]
+    fn fanuc_g76(
+        root in 10.0..40.0f64,
+        height_um in 400u32..2500,
+        first_frac in 0.15..0.9f64,
+        length in 10.0..60.0f64,
+        chamfer in 0u32..20,
+        angle in prop_oneof![Just(60u32), Just(55), Just(29), Just(0)],
+        lead in 0.5..4.0f64,
+    ) {
+        let start = root + 2.0 * f64::from(height_um) / 1000.0 + 4.0;
+        let first_um = (f64::from(height_um) * first_frac) as u32 + 1;
+        let src = format!(
+            "G21 G99\nG97 S600 M3\nG0 X{start:.3} Z5.\nG76 P01{chamfer:02}{angle:02} Q50 R0.02\nG76 X{root:.3} Z{:.3} P{height_um} Q{first_um} F{lead:.3}\n",
+            -length
+        );
+        check("fanuc", &src, 0.0005 + 1e-9)?;
+    }
+
+    #[test]
+    fn linuxcnc_g76(
+        external in any::<bool>(),
+        pitch in 0.5..3.0f64,
+        start_gap in 0.3..1.5f64,
+        first in 0.05..0.4f64,
+        full_frac in 0.4..1.0f64,
+        r in prop_oneof![Just(1.0f64), Just(1.5), Just(2.0), Just(2.5)],
+        q in prop_oneof![Just(0.0f64), Just(29.5)],
+        h in 0u32..3,
+        taper in prop_oneof![Just(None), (1u32..4, 0.5..3.0f64).prop_map(Some)],
+        length in 15.0..60.0f64,
+    ) {
+        // Radius mode (G8): the drive line is where the tool stands, I is the offset to the crest.
+        let x = if external { 12.0 } else { 8.0 };
+        let i = if external { -start_gap } else { start_gap };
+        let k = pitch * 0.6134 * full_frac + first;
+        let mut src = format!(
+            "G8 G21 G18\nS500 M3\nG0 X{x} Z5\nG76 P{pitch:.4} Z{:.4} I{i:.4} J{first:.4} K{k:.4} R{r} Q{q} H{h}",
+            5.0 - length
+        );
+        if let Some((l, e)) = taper {
+            src.push_str(&format!(" E{e:.4} L{l}"));
+        }
+        src.push('\n');
+        // LinuxCNC writes 4 decimals in mm (profile); radius mode: half a step.
+        check("linuxcnc", &src, 0.000_05 + 1e-9)?;
     }
 
     #[test]

@@ -15,7 +15,7 @@ use threadcut::dialect;
 use threadcut::gcode::reader::g_code;
 use threadcut::gcode::{Line, Modal, MotionMode, PlainMove};
 use threadcut::machine::Machine;
-use threadcut::post::{self, long_axis_lead, path_lead, Format};
+use threadcut::post::{self, path_lead, Format};
 use threadcut::program::{self, Error, Event, Summary};
 use threadcut::toolpath::{self, MotionKind};
 use threadcut::translate;
@@ -99,7 +99,6 @@ pub fn convert(
     let tformat = target.format();
     let tname = target.name();
     let source = dialect::open(from).map_err(Error::Setup)?;
-    let sformat = source.format();
     let sname = source.name();
     drop((target, source));
     let same = from == to;
@@ -152,7 +151,7 @@ pub fn convert(
                         }
                     }
                 }
-                let (text, lead) = block(line, mv, modal, ff, tf, &sformat, &tformat, tname)?;
+                let (text, lead) = block(line, mv, modal, ff, tf, &tformat, tname)?;
                 writeln!(out, "{text}")?;
                 if let Some(lead) = lead {
                     pending_f = restore_f(&tformat, modal, lead);
@@ -196,7 +195,6 @@ fn block(
     modal: &Modal,
     from: Family,
     to: Family,
-    sformat: &Format,
     tformat: &Format,
     tname: &str,
 ) -> Result<(String, Option<f64>), Error> {
@@ -323,11 +321,8 @@ fn block(
     if in_thread {
         if let (Some(mv), Some(lead)) = (mv, mv.and_then(|m| m.lead)) {
             let d = mv.to.minus(mv.from);
-            let model = if sformat.lead_along_path {
-                long_axis_lead(lead, d)
-            } else {
-                lead
-            };
+            // `Modal::apply` already gives the lead along the longer axis.
+            let model = lead;
             let written = if tformat.lead_along_path {
                 path_lead(model, d)
             } else {

@@ -52,6 +52,7 @@ impl AllenBradley {
                 diameter_x: machine.diameter_x,
                 thread_move: G33,
                 lead_letter: b'F',
+                lead_along_path: false,
                 tpi_letter: if params.e_word == EWord::ThreadsPerInch {
                     b'E'
                 } else {

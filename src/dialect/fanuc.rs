@@ -44,6 +44,7 @@ impl Fanuc {
                 // E on G32 is TPI on some series and a precise lead on others: not read.
                 tpi_letter: 0,
                 lead_letter: b'F',
+                lead_along_path: false,
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 900, 920, 940],
             },

@@ -82,6 +82,7 @@ impl Gsk {
                 thread_move: 320,
                 tpi_letter: b'I',
                 lead_letter: b'F',
+                lead_along_path: false,
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
             },

@@ -50,6 +50,7 @@ impl LinuxCnc {
                 thread_move: 330,
                 tpi_letter: 0,
                 lead_letter: b'K',
+                lead_along_path: true,
                 // G92 sets coordinate offsets: the tool does not move.
                 set_position: 920,
                 canned_cycles: &[730, 740, 810, 820, 830, 840, 850, 860, 870, 880, 890],

@@ -88,6 +88,7 @@ impl OmniTurn {
                 diameter_x: machine.diameter_x,
                 thread_move: G33,
                 lead_letter: b'K',
+                lead_along_path: false,
                 tpi_letter: 0,
                 set_position: G92,
                 canned_cycles: &[],

@@ -23,6 +23,9 @@ pub struct Conventions {
     pub tpi_letter: u8,
     /// The word that carries the lead on the thread move (`F` on Fanuc/GSK, `K` on LinuxCNC's G33).
     pub lead_letter: u8,
+    /// The lead word is the travel per revolution along the move's path (LinuxCNC's G33 K), not
+    /// along its longer axis; `apply` converts it, so every `PlainMove::lead` is the model's.
+    pub lead_along_path: bool,
     /// Sets the current position without motion (`G50` on GSK/Fanuc A, `G92` elsewhere; 0: none).
     pub set_position: u16,
     /// G codes that run a canned cycle and leave the tool where it started.
@@ -235,10 +238,15 @@ impl Modal {
         let to = self.target(conv, line, from)?;
         self.position = Some(to);
         let lead = if self.motion == MotionMode::Thread {
-            Some(self.lead.ok_or_else(|| {
+            let lead = self.lead.ok_or_else(|| {
                 Diagnostic::error(Code::MissingWord, line.span(), "thread move without a lead")
                     .with_hint("program F (lead) on the first thread move")
-            })?)
+            })?;
+            Some(if conv.lead_along_path {
+                crate::post::long_axis_lead(lead, to.minus(from))
+            } else {
+                lead
+            })
         } else {
             None
         };
@@ -317,6 +325,7 @@ mod tests {
             thread_move: 320,
             tpi_letter: b'I',
             lead_letter: b'F',
+            lead_along_path: false,
             set_position: 500,
             canned_cycles: &[900, 920, 940, 710, 720, 730, 700, 760, 780],
         }
