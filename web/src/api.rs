@@ -1,0 +1,245 @@
+//! The page's API: JSON in, JSON out, over the `threadcut` library. Plain Rust (tested natively);
+//! `lib.rs` only wraps these functions for wasm-bindgen.
+
+use serde::Deserialize;
+use serde_json::{json, Map, Value};
+
+use threadcut::diag::Diagnostic;
+use threadcut::machine::{Machine, BUILT_IN};
+use threadcut::program::{self, Error, Event};
+use threadcut::thread::standard::{self, Surface};
+use threadcut::toolpath;
+
+use crate::forms::{self, Placed};
+
+/// More motions than this are not sent to the page (the plots and the G-code still cover them all).
+pub const MAX_MOTIONS: usize = 20_000;
+
+fn error(message: impl Into<String>) -> Value {
+    json!({"ok": false, "error": message.into()})
+}
+
+/// Every built-in lathe controller, and the cycle form of those that have one.
+pub fn controllers() -> Value {
+    let list: Vec<Value> = BUILT_IN
+        .iter()
+        .filter_map(|(name, _)| Machine::built_in(name))
+        .map(|m| {
+            let form = forms::form(&m.name);
+            json!({
+                "name": m.name,
+                "description": m.description,
+                "units": m.units,
+                "diameter_x": m.diameter_x,
+                "form": form,
+            })
+        })
+        .collect();
+    json!({"ok": true, "controllers": list})
+}
+
+/// A standard thread's data (mm) with the limits of both sides.
+pub fn thread(name: &str) -> Value {
+    match standard::lookup(name) {
+        Ok(t) => {
+            let ext = t.limits(Surface::External);
+            let int = t.limits(Surface::Internal);
+            json!({
+                "ok": true,
+                "thread": t,
+                "external": ext,
+                "internal": int,
+            })
+        }
+        Err(d) => json!({"ok": false, "error": d.message, "hint": d.hint}),
+    }
+}
+
+#[derive(Deserialize)]
+struct FormRequest {
+    controller: String,
+    thread: String,
+    #[serde(default)]
+    internal: bool,
+}
+
+/// The values of a controller's form filled in from a standard thread.
+pub fn fill(request: &str) -> Value {
+    let r: FormRequest = match serde_json::from_str(request) {
+        Ok(r) => r,
+        Err(e) => return error(format!("bad request: {e}")),
+    };
+    if forms::form(&r.controller).is_none() {
+        return error(format!("no cycle form for controller `{}`", r.controller));
+    }
+    let t = match standard::lookup(&r.thread) {
+        Ok(t) => t,
+        Err(d) => return json!({"ok": false, "error": d.message, "hint": d.hint}),
+    };
+    let side = if r.internal {
+        Surface::Internal
+    } else {
+        Surface::External
+    };
+    let values: Map<String, Value> = forms::fill(&r.controller, &t, side)
+        .into_iter()
+        .map(|(k, v)| (k.to_string(), Value::String(v)))
+        .collect();
+    json!({"ok": true, "thread": t.name, "values": values})
+}
+
+#[derive(Deserialize)]
+struct PlanRequest {
+    controller: String,
+    values: Map<String, Value>,
+}
+
+/// The program a form's values make, analysed; each diagnostic names the field it points into.
+pub fn plan(request: &str) -> Value {
+    let r: PlanRequest = match serde_json::from_str(request) {
+        Ok(r) => r,
+        Err(e) => return error(format!("bad request: {e}")),
+    };
+    let Some(form) = forms::form(&r.controller) else {
+        return error(format!("no cycle form for controller `{}`", r.controller));
+    };
+    let (text, placed) = form.program(|id| match r.values.get(id) {
+        Some(Value::String(s)) => Some(s.clone()),
+        Some(Value::Number(n)) => Some(n.to_string()),
+        _ => None,
+    });
+    let mut out = analyse_text(&r.controller, &text, Some(&placed));
+    if let Some(o) = out.as_object_mut() {
+        o.insert("fields".into(), json!(placed));
+    }
+    out
+}
+
+#[derive(Deserialize)]
+struct AnalyseRequest {
+    controller: String,
+    program: String,
+}
+
+/// A pasted program, analysed as the CLI would.
+pub fn analyse(request: &str) -> Value {
+    match serde_json::from_str::<AnalyseRequest>(request) {
+        Ok(r) => analyse_text(&r.controller, &r.program, None),
+        Err(e) => error(format!("bad request: {e}")),
+    }
+}
+
+fn diagnostic(d: &Diagnostic, placed: Option<&[Placed]>) -> Value {
+    let s = d.span;
+    let field = placed.and_then(|p| forms::field_at(p, s.line, s.column, s.len));
+    json!({
+        "severity": d.severity,
+        "code": d.code.as_str(),
+        "message": d.message,
+        "hint": d.hint,
+        "line": s.line,
+        "column": s.column,
+        "len": s.len,
+        "start": s.start,
+        "field": field,
+    })
+}
+
+/// Everything the page shows for one program: the pass table of each cycle (the rows of
+/// `threadcut passes --json`), the expanded G-code (`threadcut expand`), the motions (`threadcut
+/// expand --format jsonl`), the plots and the diagnostics with their spans.
+pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> Value {
+    let Some(machine) = Machine::built_in(controller) else {
+        let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+        return error(format!(
+            "unknown controller `{controller}` (built in: {})",
+            names.join(", ")
+        ));
+    };
+    let mut diagnostics = Vec::new();
+    let mut failed = false;
+    let fail = |e: Error, diagnostics: &mut Vec<Value>, failed: &mut bool| {
+        *failed = true;
+        match e {
+            Error::Input(d) => diagnostics.push(diagnostic(&d, placed)),
+            other => diagnostics.push(json!({
+                "severity": "error", "code": null, "message": other.to_string(),
+                "hint": null, "line": 0, "column": 0, "len": 0, "start": 0, "field": null,
+            })),
+        }
+    };
+
+    // The pass tables, cycle by cycle.
+    let mut cycles = Vec::new();
+    let mut lines = 0;
+    let run = program::run(text.as_bytes(), &machine, |modal, ev| {
+        let Event::Cycle { job, .. } = ev else {
+            return Ok(());
+        };
+        let passes = job.passes()?;
+        // Builds the toolpath too, so that a cycle that cannot be cut fails here, at its line.
+        toolpath::build_with(&job, &passes)?;
+        let rows = program::pass_rows(&job, &passes, modal.diameter_x);
+        cycles.push(json!({
+            "line": job.line,
+            "controller": job.controller,
+            "units": job.units,
+            "passes": rows,
+        }));
+        Ok(())
+    });
+    match run {
+        Ok(summary) => {
+            lines = summary.lines;
+            diagnostics.extend(summary.warnings.iter().map(|w| diagnostic(w, placed)));
+        }
+        Err(e) => fail(e, &mut diagnostics, &mut failed),
+    }
+
+    // The expanded program and the motions, exactly as `threadcut expand` writes them.
+    let mut gcode = None;
+    let mut motions = Vec::new();
+    let mut motions_total = 0usize;
+    if !failed {
+        let mut buf = Vec::new();
+        match program::expand_gcode(text.as_bytes(), &mut buf, &machine) {
+            Ok(_) => gcode = Some(String::from_utf8_lossy(&buf).into_owned()),
+            Err(e) => fail(e, &mut diagnostics, &mut failed),
+        }
+    }
+    if !failed {
+        let mut buf = Vec::new();
+        match program::expand_jsonl(text.as_bytes(), &mut buf, &machine) {
+            Ok(_) => {
+                for l in String::from_utf8_lossy(&buf).lines() {
+                    motions_total += 1;
+                    if motions.len() < MAX_MOTIONS {
+                        if let Ok(v) = serde_json::from_str::<Value>(l) {
+                            motions.push(v);
+                        }
+                    }
+                }
+            }
+            Err(e) => fail(e, &mut diagnostics, &mut failed),
+        }
+    }
+    let svg = if failed { None } else { plots(text, &machine) };
+
+    json!({
+        "ok": !failed,
+        "controller": controller,
+        "program": text,
+        "lines": lines,
+        "cycles": cycles,
+        "gcode": gcode,
+        "motions": motions,
+        "motions_total": motions_total,
+        "svg": svg,
+        "diagnostics": diagnostics,
+    })
+}
+
+/// The plots of every cycle: not yet available in the library.
+fn plots(_text: &str, _machine: &Machine) -> Option<String> {
+    None
+}

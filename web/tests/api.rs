@@ -1,0 +1,189 @@
+//! The page's API, natively: the same functions the wasm module exports.
+
+use serde_json::{json, Value};
+use threadcut_web::api;
+
+fn values(controller: &str, thread: &str) -> Value {
+    let v = api::fill(&json!({"controller": controller, "thread": thread}).to_string());
+    assert_eq!(v["ok"], true, "{v}");
+    v["values"].clone()
+}
+
+fn plan(controller: &str, values: &Value) -> Value {
+    api::plan(&json!({"controller": controller, "values": values}).to_string())
+}
+
+#[test]
+fn every_form_has_unique_field_ids_and_belongs_to_a_built_in_controller() {
+    let c = api::controllers();
+    let list = c["controllers"].as_array().unwrap();
+    assert_eq!(list.len(), threadcut::machine::BUILT_IN.len());
+    for name in threadcut_web::forms::CONTROLLERS {
+        let form = threadcut_web::forms::form(name).unwrap();
+        let mut ids: Vec<&str> = form.fields().map(|f| f.id).collect();
+        let n = ids.len();
+        ids.sort();
+        ids.dedup();
+        assert_eq!(ids.len(), n, "{name}: duplicate field ids");
+        assert!(list
+            .iter()
+            .any(|m| m["name"] == *name && m["form"].is_object()));
+    }
+}
+
+/// M20x2.5 external on GSK G78: k = 17/24·H = 0.613435·2.5 = 1.534 (to 0.001), root diameter
+/// 20 − 2·1.534 = 16.932, R 0.05, Δd = (1.534 − 0.05)/√10 = 0.47 (to 0.01), Δdmin 0.1, left-flank
+/// infeed at 60°. Depths d_n = max(0.47·√n, d_{n−1} + 0.1), clipped at k − d = 1.484:
+/// 0.47, 0.66468, 0.81406, 0.94, 1.05095, 1.15126, 1.25126 (√7·0.47 = 1.24350 < 1.15126 + 0.1),
+/// 1.35126, 1.45126, 1.484; then two finishing passes at 1.534.
+#[test]
+fn m20x2_5_on_gsk_g78_plans_the_hand_computed_passes() {
+    let v = values("gsk980", "M20x2.5");
+    assert_eq!(v["x"], "16.932");
+    assert_eq!(v["k"], "1.534");
+    assert_eq!(v["dd"], "0.47");
+    assert_eq!(v["lead"], "2.5");
+    let out = plan("gsk980", &v);
+    assert_eq!(out["ok"], true, "{out}");
+    assert!(out["program"]
+        .as_str()
+        .unwrap()
+        .contains("G78 X16.932 Z-30. P1.534 Q0.47 F2.5\n"));
+    let rows = out["cycles"][0]["passes"].as_array().unwrap();
+    let depths: Vec<f64> = rows.iter().map(|r| r["depth"].as_f64().unwrap()).collect();
+    let want = [
+        0.47,
+        0.47 * 2f64.sqrt(),
+        0.47 * 3f64.sqrt(),
+        0.94,
+        0.47 * 5f64.sqrt(),
+        0.47 * 6f64.sqrt(),
+        0.47 * 6f64.sqrt() + 0.1,
+        0.47 * 6f64.sqrt() + 0.2,
+        0.47 * 6f64.sqrt() + 0.3,
+        1.484,
+        1.534,
+        1.534,
+    ];
+    assert_eq!(depths.len(), want.len(), "{depths:?}");
+    for (d, w) in depths.iter().zip(want) {
+        assert!((d - w).abs() < 1e-9, "{depths:?}");
+    }
+    // X on diameter from the 20 mm crest; Z shifted along the left flank by d·tan 30°.
+    assert!((rows[0]["x"].as_f64().unwrap() - 19.06).abs() < 1e-9);
+    // Start Z: three leads of run-up, 7.5.
+    assert_eq!(v["sz"], "7.5");
+    let z0 = 7.5 + 0.47 * 30f64.to_radians().tan();
+    assert!(
+        (rows[0]["z"].as_f64().unwrap() - z0).abs() < 1e-9,
+        "{} {z0}",
+        rows[0]
+    );
+    assert_eq!(rows[10]["kind"], "finish");
+    // The expanded program is `threadcut expand`'s: the G78 blocks become G0/G32 moves.
+    let gcode = out["gcode"].as_str().unwrap();
+    assert!(!gcode.contains("G78"));
+    assert_eq!(gcode.matches("G32").count(), 12, "{gcode}");
+    // One thread motion per pass.
+    let threads = out["motions"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|m| m["kind"] == "thread")
+        .count();
+    assert_eq!(threads, 12);
+    assert!(out["diagnostics"].as_array().unwrap().is_empty());
+}
+
+#[test]
+fn a_bad_packed_digit_points_at_its_own_field() {
+    let mut v = values("gsk980", "M20x2.5");
+    v["r"] = json!("5");
+    let out = plan("gsk980", &v);
+    assert_eq!(out["ok"], false);
+    let d = &out["diagnostics"][0];
+    assert_eq!(d["code"], "E004", "{d}");
+    assert_eq!(d["field"], "r", "{d}");
+    assert_eq!(d["line"], 3);
+    // `G78 P02` then the r digits at column 8.
+    assert_eq!(d["column"], 8);
+    assert!(out["cycles"].as_array().unwrap().is_empty());
+    assert!(out["gcode"].is_null());
+}
+
+#[test]
+fn a_malformed_number_points_at_its_field() {
+    let mut v = values("fanuc", "M20x2.5");
+    v["x"] = json!("16.9.3");
+    let out = plan("fanuc", &v);
+    assert_eq!(out["ok"], false);
+    assert_eq!(out["diagnostics"][0]["field"], "x", "{out}");
+}
+
+#[test]
+fn every_form_plans_a_standard_thread_without_diagnostics() {
+    for c in threadcut_web::forms::CONTROLLERS {
+        for thread in ["M20x2.5", "M6", "1/2-13 UNC"] {
+            let out = plan(c, &values(c, thread));
+            assert_eq!(out["ok"], true, "{c} {thread}: {}", out["diagnostics"]);
+            let errors: Vec<&Value> = out["diagnostics"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .filter(|d| d["severity"] == "error")
+                .collect();
+            assert!(errors.is_empty(), "{c} {thread}: {errors:?}");
+            let rows = out["cycles"][0]["passes"].as_array().unwrap();
+            assert!(rows.len() >= 3, "{c} {thread}");
+        }
+    }
+}
+
+#[test]
+fn internal_threads_cut_outward() {
+    for c in threadcut_web::forms::CONTROLLERS {
+        let v =
+            api::fill(&json!({"controller": c, "thread": "M20x2.5", "internal": true}).to_string());
+        let out = plan(c, &v["values"]);
+        assert_eq!(out["ok"], true, "{c}: {}", out["diagnostics"]);
+        let rows = out["cycles"][0]["passes"].as_array().unwrap();
+        let x: Vec<f64> = rows.iter().map(|r| r["x"].as_f64().unwrap()).collect();
+        assert!(x.windows(2).all(|w| w[1] >= w[0]), "{c}: {x:?}");
+    }
+}
+
+#[test]
+fn a_pasted_program_is_analysed_with_the_error_place() {
+    let program = "G00 X32 Z5\nG78 P020545 Q0.15 R0.5\nG78 X27.546 Z-30 P1.227 Q0.4 F2\n";
+    let out = api::analyse(&json!({"controller": "gsk980", "program": program}).to_string());
+    assert_eq!(out["ok"], false);
+    let d = &out["diagnostics"][0];
+    assert_eq!(
+        (d["line"].clone(), d["column"].clone()),
+        (json!(2), json!(8))
+    );
+    assert_eq!(d["len"], 2);
+    assert!(d["field"].is_null());
+
+    let good = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/gsk-g78.nc"
+    ))
+    .unwrap();
+    let out = api::analyse(&json!({"controller": "gsk980", "program": good}).to_string());
+    assert_eq!(out["ok"], true, "{out}");
+    assert_eq!(out["cycles"].as_array().unwrap().len(), 2);
+}
+
+#[test]
+fn unknown_names_are_errors_not_panics() {
+    assert_eq!(api::thread("M7x9")["ok"], false);
+    assert_eq!(
+        api::fill(r#"{"controller":"nope","thread":"M6"}"#)["ok"],
+        false
+    );
+    assert_eq!(api::plan("not json")["ok"], false);
+    let out = api::analyse(r#"{"controller":"nope","program":"G0 X1"}"#);
+    assert_eq!(out["ok"], false);
+    assert!(out["error"].as_str().unwrap().contains("gsk980"));
+}
