@@ -334,7 +334,7 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
     );
     let units = if u == Units::Mm { "21" } else { "20" };
     let n = |v: f64| number(v, d as usize);
-    let incr = |v: f64| format!("{}", (v * 10f64.powi(d as i32)).round() as i64);
+    let incr = |v: f64| format!("{}", (v * 10f64.powi(d)).round() as i64);
     let mut v = vec![
         ("units", units.to_string()),
         ("sx", n(sx)),
