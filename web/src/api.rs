@@ -19,7 +19,8 @@ fn error(message: impl Into<String>) -> Value {
     json!({"ok": false, "error": message.into()})
 }
 
-/// Every built-in lathe controller, and the cycle form of those that have one.
+/// Every built-in lathe controller, the cycle form of those that have one, and the names of the
+/// standard threads threadcut knows.
 pub fn controllers() -> Value {
     let list: Vec<Value> = BUILT_IN
         .iter()
@@ -35,7 +36,7 @@ pub fn controllers() -> Value {
             })
         })
         .collect();
-    json!({"ok": true, "controllers": list})
+    json!({"ok": true, "controllers": list, "threads": standard::known_names()})
 }
 
 /// A standard thread's data (mm) with the limits of both sides.

@@ -1,0 +1,116 @@
+// End-to-end test of the thread planner page: serves web/www on 127.0.0.1, drives it in headless
+// Debian Chromium (playwright-core, no downloaded browser), plans an M20x2.5 thread on GSK G78,
+// edits a word into an alarm, pastes a bad program, and saves screenshots next to this file.
+//
+//   web/build.sh && (cd web/e2e && npm ci && node test.mjs)
+//
+// CHROMIUM=/path/to/chromium overrides /usr/bin/chromium.
+import { createServer } from 'node:http';
+import { readFile } from 'node:fs/promises';
+import { existsSync } from 'node:fs';
+import { join, extname, normalize, dirname } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import assert from 'node:assert/strict';
+import { chromium } from 'playwright-core';
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = join(here, '..', 'www');
+if (!existsSync(join(root, 'pkg', 'threadcut_web_bg.wasm'))) {
+  console.error('web/www/pkg/ is missing: run web/build.sh first');
+  process.exit(1);
+}
+
+// A static file server on 127.0.0.1 (the page needs no network beyond its own files).
+const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.wasm': 'application/wasm' };
+const server = createServer(async (req, res) => {
+  const path = normalize(decodeURIComponent(new URL(req.url, 'http://x').pathname)).replace(/^(\.\.[/\\])+/, '');
+  const file = join(root, path.endsWith('/') ? path + 'index.html' : path);
+  try {
+    const body = await readFile(file);
+    res.writeHead(200, { 'content-type': types[extname(file)] || 'application/octet-stream' });
+    res.end(body);
+  } catch {
+    res.writeHead(404);
+    res.end('not found');
+  }
+});
+await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
+const url = `http://127.0.0.1:${server.address().port}/`;
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync'],
+});
+const problems = [];
+let failed = false;
+try {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 1000 } });
+  page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
+  page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
+  // No request may leave 127.0.0.1.
+  page.on('request', (r) => { if (!r.url().startsWith(url) && !r.url().startsWith('blob:')) problems.push(`network: ${r.url()}`); });
+
+  await page.goto(url);
+  await page.waitForSelector('body[data-ready="true"]', { timeout: 20000 });
+
+  // 1. Plan M20x2.5 external on GSK G78.
+  await page.selectOption('#controller', 'gsk980');
+  await page.fill('#thread', 'M20x2.5');
+  await page.click('#fill');
+  await page.waitForSelector('#passes tbody tr');
+  const rows = await page.$$eval('#passes tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
+  // Hand-computed in web/tests/api.rs: ten rough passes (first 0.470 deep, X 19.060) and two
+  // finishing passes at the 1.534 thread height.
+  assert.equal(rows.length, 12, `pass rows: ${JSON.stringify(rows)}`);
+  assert.deepEqual(rows[0].slice(0, 5), ['1', 'rough', '0.470', '0.470', '19.060']);
+  assert.deepEqual(rows[11].slice(0, 3), ['12', 'finish', '1.534']);
+  assert.equal(await page.inputValue('#form input[data-field="x"]'), '16.932');
+  const gcode = await page.textContent('#gcode');
+  assert.equal((gcode.match(/G32/g) || []).length, 12, gcode);
+  assert.ok(!gcode.includes('G78'), 'the expanded program has no G78 left');
+  const plot = await page.$eval('#plot', (el) => {
+    const svg = el.querySelector('svg');
+    if (!svg) return null;
+    const box = svg.getBoundingClientRect();
+    return { shapes: svg.querySelectorAll('path, polyline, polygon, line, rect').length, w: box.width, h: box.height };
+  });
+  assert.ok(plot, 'the plot is an SVG');
+  assert.ok(plot.shapes > 10 && plot.w > 100 && plot.h > 100, `plot: ${JSON.stringify(plot)}`);
+  assert.match(await page.textContent('#diagnostics'), /No errors or warnings/);
+  await page.screenshot({ path: join(here, 'screenshot.png'), fullPage: true });
+
+  // 2. A live edit: the infeed mode digit r = 5 is out of range; that field is highlighted.
+  await page.fill('#form input[data-field="r"]', '5');
+  await page.waitForSelector('#form input[data-field="r"].bad');
+  assert.match(await page.textContent('#diagnostics li.error'), /E004.*P\(r\)=05/s);
+  assert.equal(await page.$$eval('#form input.bad', (els) => els.length), 1);
+  assert.equal(await page.$$eval('#passes tbody tr', (trs) => trs.length), 0);
+  await page.fill('#form input[data-field="r"]', '1');
+  await page.waitForSelector('#passes tbody tr');
+  assert.equal(await page.$$eval('#form input.bad', (els) => els.length), 0);
+
+  // 3. A pasted program with the seed's P020545: the error is marked in the listing at 2:8.
+  await page.click('#tab-paste');
+  await page.fill('#source', 'G00 X32 Z5\nG78 P020545 Q0.15 R0.5\nG78 X27.546 Z-30 P1.227 Q0.4 F2\n');
+  await page.click('#analyse');
+  await page.waitForSelector('#listing mark.err');
+  assert.equal(await page.textContent('#listing mark.err'), '05');
+  const diag = await page.textContent('#diagnostics li.error');
+  assert.match(diag, /E004/);
+  assert.match(diag, /line 2, column 8/);
+  assert.match(await page.textContent('#gcode'), /no output/);
+  await page.screenshot({ path: join(here, 'screenshot-error.png'), fullPage: true });
+
+  assert.deepEqual(problems, []);
+  console.log(`e2e: ok (${url}; screenshots in web/e2e/)`);
+} catch (e) {
+  failed = true;
+  console.error(e);
+  if (problems.length) console.error(problems.join('\n'));
+} finally {
+  await browser.close();
+  server.close();
+}
+process.exit(failed ? 1 : 0);
