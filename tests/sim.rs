@@ -298,13 +298,28 @@ fn alternating_infeed_leaves_ridges_and_overcut_when_it_finishes_off_axis() {
     let passes = j.passes().unwrap();
     let s = sim::section(&j, &passes, &Tool::sharp(60.0), 0.0).unwrap();
     let g = s.groove;
-    assert!(g.overcut_area > 1e-3, "{g:?}");
-    assert!(g.left_in_form > 1e-3, "{g:?}");
     // The finish pass sits at pass 2's offset, not on the axis.
     assert_eq!(passes[2].offset, passes[1].offset);
-    assert!((passes[2].offset - g.axis).abs() > 1e-3);
-    // Pitch diameter: an external groove as wide as the target at the pitch line or wider.
-    assert!(g.pitch_diameter_error.is_some());
+    let tan25 = 25f64.to_radians().tan();
+    let (u1, u2) = (0.6 * tan25, 2.0 * tan25 - 0.9 * tan25);
+    assert!(close(g.axis, tan25, 1e-12));
+    // Pass 1's tent (u1, 0.6) pokes out of the finish tent (u2, 1.0): they meet at
+    // (0.6 + 1.0 − (u2 − u1)/t)/2, which leaves a ridge below pass 1's tip.
+    let valley = (1.6 - (u2 - u1) / T30) / 2.0;
+    assert!(close(g.ridge, 0.6 - valley, 1e-9), "{g:?}");
+    // Pitch line: the 1.0-deep target is 1.0 wide (half the 2 mm pitch) at 1 − 0.5/t. There the
+    // groove runs from pass 1's left flank to the finish pass's right flank.
+    let v = 1.0 - 0.5 / T30;
+    assert!(close(g.pitch_line_depth.unwrap(), v, 1e-9));
+    let (left, right) = (u1 - (0.6 - v) * T30, u2 + (1.0 - v) * T30);
+    assert!(close(g.centre, (left + right) / 2.0, 1e-9));
+    // 2.2 µm too wide: an external pitch diameter 2.2/tan 30° = 3.8 µm undersize.
+    let excess = (right - left) - 1.0;
+    assert!(
+        close(g.pitch_diameter_error.unwrap(), -excess / T30, 1e-9),
+        "{g:?}"
+    );
+    assert!(g.overcut_area > 1e-4 && g.left_in_form > 1e-4, "{g:?}");
 }
 
 #[test]

@@ -35,6 +35,8 @@ pub const MAX_COORD: f64 = 500.0;
 pub const AREA_EPSILON: f64 = 1e-9;
 /// A chip edge this close (mm) to the tool's outline lies on the cutting edge.
 const ON_TOOL: f64 = 1e-5;
+/// Bisections stop when the interval is this narrow (mm): far below any machine's resolution.
+const BISECTION_WIDTH: f64 = 1e-10;
 /// Below this share of the chip, a side of the tool is not counted as cutting.
 pub const FLANK_SHARE_MIN: f64 = 0.25;
 
@@ -85,13 +87,16 @@ pub struct PassSim {
 /// full depth on the groove's axis would cut (the cycle's depth and angle).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct GrooveReport {
-    /// Lateral position of the groove's axis.
+    /// Lateral position of the groove's axis as the infeed law places it.
     pub axis: f64,
+    /// Where the groove's centre ended up (at the pitch line, else half way down); the target
+    /// form is placed here, since a groove shifted along the thread's axis is the same thread.
+    pub centre: f64,
     /// The cycle's thread depth.
     pub depth_target: f64,
     /// Deepest point cut, anywhere.
     pub depth_reached: f64,
-    /// Depth cut on the groove's axis.
+    /// Depth cut on the groove's centre line.
     pub depth_at_axis: f64,
     /// Angles of the groove's flanks from the radial direction (degrees), measured between 20 % and
     /// 60 % of the depth reached; the target is half the tool angle.
@@ -170,12 +175,12 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
         (u_lo, bottom),
     ])]];
     let mut material: Shapes = blank.clone();
-    let mut buf = BooleanExtractionBuffer::default();
+    let mut engine = Engine::new();
     let mut sims = Vec::with_capacity(passes.len());
     for p in passes {
         let outline = tool.outline(p.offset, p.depth, tool_top);
         let cutter = vec![vec![contour(&outline)]];
-        let (chip, rest) = cut(&material, &cutter, &mut buf);
+        let (chip, rest) = engine.cut(&material, &cutter);
         let area = shapes_area(&chip);
         let (left_share, flank, max_thickness) = if area > AREA_EPSILON {
             let left = chip
@@ -215,7 +220,13 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
             0.0
         };
     }
-    let groove = groove_report(job, passes, tool, &blank, &material, total_area, tool_top);
+    let end = Final {
+        blank: &blank,
+        material: &material,
+        total_area,
+        tool_top,
+    };
+    let groove = groove_report(job, passes, tool, &mut engine, &end);
     Ok(Section {
         tool: *tool,
         stock_above,
@@ -236,19 +247,30 @@ fn to_float(p: IntPoint<i32>) -> (f64, f64) {
     (f64::from(p.x) * GRID, f64::from(p.y) * GRID)
 }
 
-/// material ∩ tool and material − tool from one graph.
-fn cut(
-    material: &Shapes,
-    cutter: &Shapes,
-    buf: &mut BooleanExtractionBuffer<i32>,
-) -> (Shapes, Shapes) {
-    let mut overlay = Overlay::from_subj_and_clip(material, cutter);
-    match overlay.build_graph_view(FillRule::NonZero) {
-        Some(graph) => (
-            graph.extract_shapes(OverlayRule::Intersect, buf),
-            graph.extract_shapes(OverlayRule::Difference, buf),
-        ),
-        None => (Vec::new(), material.clone()),
+/// The boolean engine with its buffers, kept from one pass to the next.
+struct Engine {
+    overlay: Overlay<i32>,
+    buf: BooleanExtractionBuffer<i32>,
+}
+
+impl Engine {
+    fn new() -> Engine {
+        Engine {
+            overlay: Overlay::new(64),
+            buf: BooleanExtractionBuffer::default(),
+        }
+    }
+
+    /// material ∩ tool and material − tool from one graph.
+    fn cut(&mut self, material: &Shapes, cutter: &Shapes) -> (Shapes, Shapes) {
+        self.overlay.reinit_with_subj_and_clip(material, cutter);
+        match self.overlay.build_graph_view(FillRule::NonZero) {
+            Some(graph) => (
+                graph.extract_shapes(OverlayRule::Intersect, &mut self.buf),
+                graph.extract_shapes(OverlayRule::Difference, &mut self.buf),
+            ),
+            None => (Vec::new(), material.clone()),
+        }
     }
 }
 
@@ -298,43 +320,79 @@ fn clipped_area(c: &Contour, at: f64) -> f64 {
     twice / 2.0
 }
 
-fn point_segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len2 = dx * dx + dy * dy;
-    let k = if len2 > 0.0 {
-        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p.0 - a.0 - k * dx).hypot(p.1 - a.1 - k * dy)
-}
+/// The tool's outline as inward half-planes: a point inside the (convex) tool lies
+/// `n·p − c ≥ 0` from each edge's line, and its distance to the outline is the least of these.
+struct EdgeLines(Vec<(f64, f64, f64)>);
 
-/// Distance from `p` to the tool's cutting edge (its outline without the closing top edge).
-fn edge_distance(p: (f64, f64), outline: &[(f64, f64)]) -> f64 {
-    outline
-        .windows(2)
-        .map(|w| point_segment_distance(p, w[0], w[1]))
-        .fold(f64::INFINITY, f64::min)
+impl EdgeLines {
+    fn new(outline: &[(f64, f64)]) -> EdgeLines {
+        let n = outline.len();
+        // Inward normals: to the right of each edge for a clockwise outline, left otherwise.
+        let twice: f64 = (0..n)
+            .map(|i| {
+                let (a, b) = (outline[i], outline[(i + 1) % n]);
+                a.0 * b.1 - b.0 * a.1
+            })
+            .sum();
+        let turn = if twice < 0.0 { 1.0 } else { -1.0 };
+        let mut lines: Vec<(f64, (f64, f64, f64))> = (0..n)
+            .filter_map(|i| {
+                let (a, b) = (outline[i], outline[(i + 1) % n]);
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                let len = dx.hypot(dy);
+                (len > 0.0).then(|| {
+                    let (nx, ny) = (turn * dy / len, -turn * dx / len);
+                    (len, (nx, ny, nx * a.0 + ny * a.1))
+                })
+            })
+            .collect();
+        // Longest edges (the flanks) first: they are the nearest to most points, which lets
+        // `depth_inside` stop early.
+        lines.sort_by(|a, b| b.0.total_cmp(&a.0));
+        EdgeLines(lines.into_iter().map(|l| l.1).collect())
+    }
+
+    /// Distance from a point inside the tool to its outline, or some value ≤ `floor` as soon as
+    /// it is known to be no more than `floor`.
+    fn depth_inside(&self, p: (f64, f64), floor: f64) -> f64 {
+        let mut min = f64::INFINITY;
+        for &(nx, ny, c) in &self.0 {
+            min = min.min(nx * p.0 + ny * p.1 - c);
+            if min <= floor {
+                break;
+            }
+        }
+        min
+    }
 }
 
 /// The largest distance from the chip's old-surface side to the cutting edge, sampled at the
 /// vertices and midpoints of the chip's edges that do not lie on the tool.
 fn thickness(chip: &Shapes, outline: &[(f64, f64)]) -> f64 {
+    let lines = EdgeLines::new(outline);
     let mut max: f64 = 0.0;
     for c in chip.iter().flatten() {
         let n = c.len();
         for i in 0..n {
             let (a, b) = (to_float(c[i]), to_float(c[(i + 1) % n]));
             let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
-            if edge_distance(mid, outline) <= ON_TOOL {
+            if lines.depth_inside(mid, ON_TOOL) <= ON_TOOL {
                 continue;
             }
             for p in [a, mid, b] {
-                max = max.max(edge_distance(p, outline));
+                max = max.max(lines.depth_inside(p, max));
             }
         }
     }
     max
+}
+
+/// The state after the last pass.
+struct Final<'a> {
+    blank: &'a Shapes,
+    material: &'a Shapes,
+    total_area: f64,
+    tool_top: f64,
 }
 
 /// The groove the passes leave, against the target form.
@@ -342,26 +400,24 @@ fn groove_report(
     job: &Job,
     passes: &[Pass],
     tool: &Tool,
-    blank: &Shapes,
-    material: &Shapes,
-    total_area: f64,
-    tool_top: f64,
+    engine: &mut Engine,
+    cut: &Final,
 ) -> GrooveReport {
     let total = job.geometry.depth;
     let axis = job.infeed.axis(total);
-    let t = tool.slope();
+    let form = tool.form();
+    let t = form.t;
     let cuts: Vec<(f64, f64)> = passes.iter().map(|p| (p.offset, p.depth)).collect();
     let depth_reached = cuts.iter().map(|c| c.1).fold(0.0, f64::max);
     let envelope = |u: f64| {
         cuts.iter()
-            .map(|&(u0, d)| tool.bottom_at(u0, d, u))
+            .map(|&(u0, d)| form.bottom_at(u0, d, u))
             .fold(f64::NEG_INFINITY, f64::max)
     };
-    let depth_at_axis = envelope(axis).max(0.0);
     // The groove's edges at depth v: the outermost tool edges that reach it.
     let edges = |v: f64| {
         cuts.iter()
-            .filter_map(|&(u0, d)| tool.span_at(u0, d, v))
+            .filter_map(|&(u0, d)| form.span_at(u0, d, v))
             .fold(None, |acc: Option<(f64, f64)>, (l, r)| match acc {
                 None => Some((l, r)),
                 Some((a, b)) => Some((a.min(l), b.max(r))),
@@ -377,10 +433,10 @@ fn groove_report(
     };
     // Pitch line: where the target groove (the tool at full depth on the axis) is half a pitch wide.
     let pitch = job.lead.start_spacing();
-    let target_width = |v: f64| tool.span_at(axis, total, v).map_or(0.0, |(l, r)| r - l);
+    let target_width = |v: f64| form.span_at(axis, total, v).map_or(0.0, |(l, r)| r - l);
     let pitch_line_depth = if pitch > 0.0 && target_width(0.0) >= pitch / 2.0 {
         let (mut a, mut b) = (0.0, total);
-        for _ in 0..100 {
+        while b - a > BISECTION_WIDTH {
             let m = (a + b) / 2.0;
             if target_width(m) >= pitch / 2.0 {
                 a = m;
@@ -401,15 +457,20 @@ fn groove_report(
         };
         sign * excess / t
     });
-    let ridge = ridge_height(&cuts, tool);
+    let ridge = ridge_height(&cuts, &form);
+    // Where the groove actually is: its centre at the pitch line (else half way down). A thread
+    // shifted bodily along its axis is still the same thread, so the form is judged there.
+    let centre =
+        edges(pitch_line_depth.unwrap_or(0.5 * depth_reached)).map_or(axis, |(l, r)| (l + r) / 2.0);
+    let depth_at_axis = envelope(centre).max(0.0);
     // Overcut = removed − (removed ∩ target) = total − (target ∩ blank − target ∩ material).
-    let target = vec![vec![contour(&tool.outline(axis, total, tool_top))]];
-    let mut buf = BooleanExtractionBuffer::default();
-    let in_blank = shapes_area(&cut(blank, &target, &mut buf).0);
-    let left_in_form = shapes_area(&cut(material, &target, &mut buf).0);
-    let overcut_area = (total_area - (in_blank - left_in_form)).max(0.0);
+    let target = vec![vec![contour(&tool.outline(centre, total, cut.tool_top))]];
+    let in_blank = shapes_area(&engine.cut(cut.blank, &target).0);
+    let left_in_form = shapes_area(&engine.cut(cut.material, &target).0);
+    let overcut_area = (cut.total_area - (in_blank - left_in_form)).max(0.0);
     GrooveReport {
         axis,
+        centre,
         depth_target: total,
         depth_reached,
         depth_at_axis,
@@ -423,43 +484,49 @@ fn groove_report(
     }
 }
 
-/// The highest ridge between neighbouring tips: between two adjacent tip positions the groove's
-/// bottom is the upper envelope of the tools whose tips lie to the left (falling) and to the right
-/// (rising); its lowest point is where the two envelopes cross.
-fn ridge_height(cuts: &[(f64, f64)], tool: &Tool) -> f64 {
-    let mut tips: Vec<(f64, f64)> = cuts.to_vec();
-    tips.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut ridge: f64 = 0.0;
-    for i in 1..tips.len() {
-        let (ua, ub) = (tips[i - 1].0, tips[i].0);
-        if ub - ua <= GRID {
+/// The highest ridge left standing between tips: the most the groove's bottom dips below the
+/// shallower of the deepest points on either side of it.
+///
+/// Every tool outline is the same shape translated, and that shape is a V widened by a disk (nose)
+/// or a segment (flat), so one outline lies inside another exactly when its V does: the cone test
+/// `d_i − |u_k − u_i|/t ≥ d_k`. Between neighbouring outlines that no other one contains, the
+/// bottom is the higher of the two, and its lowest point is where they cross.
+fn ridge_height(cuts: &[(f64, f64)], form: &tool::Form) -> f64 {
+    let mut sorted: Vec<(f64, f64)> = cuts.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    let covers = |a: (f64, f64), b: (f64, f64)| a.1 - (a.0 - b.0).abs() / form.t >= b.1;
+    let mut kept: Vec<(f64, f64)> = Vec::with_capacity(sorted.len());
+    for tip in sorted {
+        if kept.last().is_some_and(|&last| covers(last, tip)) {
             continue;
         }
-        let falling = |u: f64| {
-            tips[..i]
-                .iter()
-                .map(|&(u0, d)| tool.bottom_at(u0, d, u))
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
-        let rising = |u: f64| {
-            tips[i..]
-                .iter()
-                .map(|&(u0, d)| tool.bottom_at(u0, d, u))
-                .fold(f64::NEG_INFINITY, f64::max)
-        };
+        while kept.last().is_some_and(|&last| covers(tip, last)) {
+            kept.pop();
+        }
+        kept.push(tip);
+    }
+    let n = kept.len();
+    let mut left_peak = vec![0.0_f64; n];
+    let mut right_peak = vec![0.0_f64; n];
+    for i in 0..n {
+        left_peak[i] = kept[i].1.max(if i > 0 { left_peak[i - 1] } else { 0.0 });
+        let j = n - 1 - i;
+        right_peak[j] = kept[j].1.max(if i > 0 { right_peak[j + 1] } else { 0.0 });
+    }
+    let mut ridge: f64 = 0.0;
+    for i in 1..n {
+        let ((ua, da), (ub, db)) = (kept[i - 1], kept[i]);
         let (mut a, mut b) = (ua, ub);
-        for _ in 0..100 {
+        while b - a > BISECTION_WIDTH {
             let m = (a + b) / 2.0;
-            if falling(m) > rising(m) {
+            if form.bottom_at(ua, da, m) > form.bottom_at(ub, db, m) {
                 a = m;
             } else {
                 b = m;
             }
         }
-        let valley = falling(a).max(rising(a));
-        let left_peak = tips[..i].iter().map(|c| c.1).fold(0.0, f64::max);
-        let right_peak = tips[i..].iter().map(|c| c.1).fold(0.0, f64::max);
-        ridge = ridge.max(left_peak.min(right_peak) - valley.max(0.0));
+        let valley = form.bottom_at(ua, da, a).max(form.bottom_at(ub, db, a));
+        ridge = ridge.max(left_peak[i - 1].min(right_peak[i]) - valley.max(0.0));
     }
     ridge.max(0.0)
 }
@@ -471,13 +538,13 @@ mod tests {
     #[test]
     fn ridge_between_two_sharp_tips() {
         // t = tan 45° = 1 (90° tool): tips 1 deep at u = 0 and u = 1 meet at depth 0.5.
-        let r = ridge_height(&[(0.0, 1.0), (1.0, 1.0)], &Tool::sharp(90.0));
+        let r = ridge_height(&[(0.0, 1.0), (1.0, 1.0)], &Tool::sharp(90.0).form());
         assert!((r - 0.5).abs() < 1e-9, "{r}");
         // Unequal tips: the ridge is measured from the shallower one: 0.8 − 0.4.
-        let r = ridge_height(&[(0.0, 1.0), (1.0, 0.8)], &Tool::sharp(90.0));
+        let r = ridge_height(&[(0.0, 1.0), (1.0, 0.8)], &Tool::sharp(90.0).form());
         assert!((r - 0.4).abs() < 1e-9, "{r}");
         // One tip inside the other's V: no ridge.
-        let r = ridge_height(&[(0.0, 1.0), (0.1, 0.5)], &Tool::sharp(90.0));
+        let r = ridge_height(&[(0.0, 1.0), (0.1, 0.5)], &Tool::sharp(90.0).form());
         assert!(r.abs() < 1e-12, "{r}");
     }
 

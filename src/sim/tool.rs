@@ -82,49 +82,34 @@ impl Tool {
         }
     }
 
+    /// The tool's form with its trigonometry worked out once, for repeated queries.
+    pub fn form(&self) -> Form {
+        let half = (self.angle_deg / 2.0).to_radians();
+        let (radius, half_flat) = match self.tip {
+            Tip::Sharp => (0.0, 0.0),
+            Tip::Radius { radius } => (radius, 0.0),
+            Tip::Flat { width } => (0.0, width / 2.0),
+        };
+        Form {
+            t: half.tan(),
+            radius,
+            arc_half_width: radius * half.cos(),
+            arc_height: radius * (1.0 - half.sin()),
+            apex: self.apex_below_lowest(),
+            half_flat,
+        }
+    }
+
     /// The lateral interval `[left, right]` the tool occupies at depth `v` when placed at
     /// `(u0, d)`, or `None` if the tool does not reach that depth.
     pub fn span_at(&self, u0: f64, d: f64, v: f64) -> Option<(f64, f64)> {
-        if v > d {
-            return None;
-        }
-        let t = self.slope();
-        let half = match self.tip {
-            Tip::Sharp => (d - v) * t,
-            Tip::Flat { width } => width / 2.0 + (d - v) * t,
-            Tip::Radius { radius } => {
-                let a = (self.angle_deg / 2.0).to_radians();
-                // The arc spans depths from d up to d − r(1 − sin α); above it the flanks.
-                let above_arc = d - radius * (1.0 - a.sin());
-                if v >= above_arc {
-                    let dy = radius - (d - v);
-                    (radius * radius - dy * dy).max(0.0).sqrt()
-                } else {
-                    let apex = d + self.apex_below_lowest();
-                    (apex - v) * t
-                }
-            }
-        };
-        Some((u0 - half, u0 + half))
+        self.form().span_at(u0, d, v)
     }
 
     /// The depth of the tool's lower edge at lateral position `u` when placed at `(u0, d)`
     /// (smaller further from the tip; negative above the crest line).
     pub fn bottom_at(&self, u0: f64, d: f64, u: f64) -> f64 {
-        let t = self.slope();
-        let off = (u - u0).abs();
-        match self.tip {
-            Tip::Sharp => d - off / t,
-            Tip::Flat { width } => d - (off - width / 2.0).max(0.0) / t,
-            Tip::Radius { radius } => {
-                let a = (self.angle_deg / 2.0).to_radians();
-                if off <= radius * a.cos() {
-                    d - radius + (radius * radius - off * off).max(0.0).sqrt()
-                } else {
-                    d + self.apex_below_lowest() - off / t
-                }
-            }
-        }
+        self.form().bottom_at(u0, d, u)
     }
 
     /// The tool's outline placed at `(u0, d)`: from the top of the left flank down round the tip and
@@ -160,6 +145,45 @@ impl Tool {
         }
         pts.push((u0 + top_half, top));
         pts
+    }
+}
+
+/// A tool's form, precomputed: what [`Tool::span_at`] and [`Tool::bottom_at`] need.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Form {
+    /// tan of the half angle.
+    pub t: f64,
+    pub radius: f64,
+    /// Half the lateral extent of the nose arc, r·cos α.
+    pub arc_half_width: f64,
+    /// Height of the nose arc above the lowest point, r·(1 − sin α).
+    pub arc_height: f64,
+    /// See [`Tool::apex_below_lowest`].
+    pub apex: f64,
+    pub half_flat: f64,
+}
+
+impl Form {
+    pub fn span_at(&self, u0: f64, d: f64, v: f64) -> Option<(f64, f64)> {
+        if v > d {
+            return None;
+        }
+        let half = if self.radius > 0.0 && v >= d - self.arc_height {
+            let dy = self.radius - (d - v);
+            (self.radius * self.radius - dy * dy).max(0.0).sqrt()
+        } else {
+            (d + self.apex - v) * self.t
+        };
+        Some((u0 - half, u0 + half))
+    }
+
+    pub fn bottom_at(&self, u0: f64, d: f64, u: f64) -> f64 {
+        let off = (u - u0).abs();
+        if self.radius > 0.0 && off <= self.arc_half_width {
+            d - self.radius + (self.radius * self.radius - off * off).max(0.0).sqrt()
+        } else {
+            d + self.apex - off / self.t
+        }
     }
 }
 
