@@ -29,6 +29,7 @@ pub mod gcode;
 pub mod machine;
 pub mod post;
 pub mod program;
+pub mod render;
 pub mod sim;
 pub mod thread;
 pub mod toolpath;

@@ -1,6 +1,8 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
 
+mod check;
 mod output;
+mod plot;
 mod render;
 
 use std::fs::File;
@@ -36,6 +38,41 @@ struct MachineArgs {
     machine: Option<PathBuf>,
 }
 
+/// The tool's tip for the simulated section (sharp when neither is given); the angle is the cycle's.
+#[derive(clap::Args)]
+struct ToolArgs {
+    /// Nose radius of the tool (program units).
+    #[arg(long, value_name = "R", conflicts_with = "tip_flat")]
+    nose_radius: Option<f64>,
+    /// Width of a flat tip (program units).
+    #[arg(long, value_name = "W")]
+    tip_flat: Option<f64>,
+}
+
+impl ToolArgs {
+    fn tip(&self) -> Result<threadcut::sim::Tip, Failure> {
+        use threadcut::sim::Tip;
+        let check = |name: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(Failure::Usage(format!(
+                    "--{name} {v}: expected a length of 0 or more"
+                )))
+            }
+        };
+        Ok(match (self.nose_radius, self.tip_flat) {
+            (Some(r), _) => Tip::Radius {
+                radius: check("nose-radius", r)?,
+            },
+            (None, Some(w)) => Tip::Flat {
+                width: check("tip-flat", w)?,
+            },
+            (None, None) => Tip::Sharp,
+        })
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum ExpandFormat {
     /// The program with each cycle replaced by plain moves in the controller's format.
@@ -68,6 +105,33 @@ enum Command {
         json: bool,
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
+    },
+    /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
+    /// feed and lead limits, run-up, depth and form. Exit status 2 on any error.
+    Check {
+        file: PathBuf,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// Diameter of the blank (program units); default: the cycle's crest line.
+        #[arg(long, value_name = "D")]
+        stock_diameter: Option<f64>,
+        /// Z of the blank's face on the thread's start side (program units); default: where
+        /// the thread starts.
+        #[arg(long, value_name = "Z")]
+        stock_start: Option<f64>,
+        #[command(flatten)]
+        tool: ToolArgs,
+    },
+    /// Draw each cycle's pass diagram and XZ toolpath into one SVG.
+    Plot {
+        file: PathBuf,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// The SVG file to write (`-`: standard output).
+        #[arg(long, short = 'o')]
+        output: PathBuf,
+        #[command(flatten)]
+        tool: ToolArgs,
     },
     /// List the built-in controller profiles.
     Controllers,
@@ -141,6 +205,19 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Check {
+            file,
+            machine,
+            stock_diameter,
+            stock_start,
+            tool,
+        } => check::run(&file, &machine, stock_diameter, stock_start, &tool),
+        Command::Plot {
+            file,
+            machine,
+            output,
+            tool,
+        } => plot::run(&file, &machine, &output, &tool),
         Command::Passes {
             file,
             machine,

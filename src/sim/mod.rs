@@ -11,6 +11,7 @@
 //! The section is the same for every controller: it reads only the [`Job`] and its pass table, and
 //! it is the same for every start of a multi-start thread (each start cuts its own groove).
 
+pub mod check;
 pub mod tool;
 
 use i_overlay::core::extract::BooleanExtractionBuffer;
@@ -65,7 +66,7 @@ impl CuttingFlank {
 }
 
 /// What one pass cuts.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct PassSim {
     pub n: u32,
     /// Lateral position (u) and depth (v) of the tool's lowest point.
@@ -81,6 +82,9 @@ pub struct PassSim {
     /// The largest chip thickness: the largest distance from the surface the earlier passes left to
     /// this pass's cutting edge (mm).
     pub max_thickness: f64,
+    /// The chip's outline(s) in section coordinates (u, v), for plots.
+    #[serde(skip)]
+    pub chip: Vec<Vec<(f64, f64)>>,
 }
 
 /// The final groove against the target form: the groove one radial plunge of the same tool to the
@@ -209,6 +213,11 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
             left_share,
             flank,
             max_thickness,
+            chip: chip
+                .iter()
+                .flatten()
+                .map(|c| c.iter().map(|&p| to_float(p)).collect())
+                .collect(),
         });
         material = rest;
     }
