@@ -397,3 +397,32 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn passes_json_gains_the_simulated_columns() {
+    let input = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("sim-passes.nc");
+    std::fs::write(
+        &input,
+        "G00 X80 Z10\nG78 P010160 Q0.1 R0.05\nG78 X60 Z-30 P1.2 Q0.4 F2\n",
+    )
+    .unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_threadcut"))
+        .args(["passes", input.to_str().unwrap(), "-c", "gsk980", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let rows = v["cycles"][0]["passes"].as_array().unwrap();
+    for r in rows {
+        // The existing keys stay; the sharp-tool simulation agrees with the exact area.
+        for key in ["n", "kind", "depth", "increment", "x", "z", "area", "share"] {
+            assert!(r.get(key).is_some(), "{key}");
+        }
+        let (exact, sim) = (r["area"].as_f64().unwrap(), r["sim_area"].as_f64().unwrap());
+        assert!(close(exact, sim, 1e-5), "{r}");
+        assert!(r["sim_share"].is_f64() && r["chip_thickness"].is_f64());
+    }
+    // Left-flank infeed (r = 01): after the first pass the tool's +Z edge does the cutting.
+    assert_eq!(rows[0]["cutting_flank"], "both");
+    assert_eq!(rows[2]["cutting_flank"], "right");
+}

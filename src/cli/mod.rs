@@ -105,6 +105,8 @@ enum Command {
         json: bool,
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
+        #[command(flatten)]
+        tool: ToolArgs,
     },
     /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
     /// feed and lead limits, run-up, depth and form. Exit status 2 on any error.
@@ -117,7 +119,7 @@ enum Command {
         stock_diameter: Option<f64>,
         /// Z of the blank's face on the thread's start side (program units); default: where
         /// the thread starts.
-        #[arg(long, value_name = "Z")]
+        #[arg(long, value_name = "Z", allow_negative_numbers = true)]
         stock_start: Option<f64>,
         #[command(flatten)]
         tool: ToolArgs,
@@ -223,11 +225,13 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             machine,
             json,
             output,
+            tool,
         } => {
             let machine = load_machine(&machine)?;
+            let tip = tool.tip()?;
             let input = open_input(&file)?;
             let summary = output::write(&file, output.as_deref(), |out| {
-                passes(input, out, &machine, json)
+                passes(input, out, &machine, json, tip)
             })?;
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
@@ -292,6 +296,7 @@ fn passes(
     out: &mut dyn Write,
     machine: &Machine,
     json: bool,
+    tip: threadcut::sim::Tip,
 ) -> Result<Summary, Error> {
     if json {
         out.write_all(br#"{"cycles":["#)?;
@@ -303,10 +308,34 @@ fn passes(
         };
         let passes = job.passes()?;
         let rows = program::pass_rows(&job, &passes, machine.diameter_x);
+        // The simulated columns: chip area with the tool's real tip, share, cutting flank.
+        let tool = threadcut::sim::Tool {
+            angle_deg: job.tool_angle_deg,
+            tip: threadcut::sim::check::tip_in_mm(tip, job.units),
+        };
+        let section = threadcut::sim::section(&job, &passes, &tool, 0.0)?;
+        let area_scale = job.units.scale() * job.units.scale();
         if json {
             if !first {
                 out.write_all(b",")?;
             }
+            let rows: Vec<serde_json::Value> = rows
+                .iter()
+                .zip(&section.passes)
+                .map(|(r, s)| {
+                    let mut v = serde_json::to_value(r).unwrap_or_default();
+                    if let Some(o) = v.as_object_mut() {
+                        o.insert("sim_area".into(), (s.area / area_scale).into());
+                        o.insert("sim_share".into(), s.share.into());
+                        o.insert("cutting_flank".into(), s.flank.name().into());
+                        o.insert(
+                            "chip_thickness".into(),
+                            job.units.from_mm(s.max_thickness).into(),
+                        );
+                    }
+                    v
+                })
+                .collect();
             let cycle = serde_json::json!({
                 "line": job.line,
                 "controller": job.controller,
@@ -328,17 +357,27 @@ fn passes(
             )?;
             writeln!(
                 out,
-                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6}",
-                "pass", "kind", "depth", "increment", "x", "z", "area", "share"
+                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6} {:>10} {:>6}  {:<5}",
+                "pass",
+                "kind",
+                "depth",
+                "increment",
+                "x",
+                "z",
+                "area",
+                "share",
+                "sim area",
+                "share",
+                "flank"
             )?;
-            for r in &rows {
+            for (r, s) in rows.iter().zip(&section.passes) {
                 let kind = match r.kind {
                     PassKind::Rough => "rough",
                     PassKind::Finish => "finish",
                 };
                 writeln!(
                     out,
-                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}%",
+                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}% {:>10.5} {:>5.1}%  {:<5}",
                     r.n,
                     kind,
                     r.depth,
@@ -346,7 +385,10 @@ fn passes(
                     r.x,
                     r.z,
                     r.area,
-                    r.share * 100.0
+                    r.share * 100.0,
+                    s.area / area_scale,
+                    s.share * 100.0,
+                    s.flank.name()
                 )?;
             }
             writeln!(out)?;

@@ -244,6 +244,18 @@ pub fn check_cycle(
         Err(e) => return out.push(e),
     };
     let blank = Blank::new(job, opts);
+    if blank.before_face(blank.z_end) >= 0.0 {
+        out.push(Diagnostic::error(
+            Code::Geometry,
+            span,
+            format!(
+                "the blank's face (Z{}) lies at or past the thread's end (Z{}): there is nothing to cut",
+                show(blank.z_face),
+                show(blank.z_end)
+            ),
+        ).with_hint("--stock-start names the face on the side where the thread starts"));
+        return;
+    }
     let tool = Tool {
         angle_deg: job.tool_angle_deg,
         tip: tip_in_mm(opts.tip, units),
@@ -297,6 +309,8 @@ struct Blank {
     x_end: f64,
     /// Stock above the crest line (mm, at the thread's start), for the section.
     stock_above: f64,
+    /// +1 when the thread runs toward −Z, −1 toward +Z.
+    backward: f64,
 }
 
 impl Blank {
@@ -323,6 +337,7 @@ impl Blank {
             x_face,
             x_end,
             stock_above,
+            backward: (g.crest_start.z - g.crest_end.z).signum(),
         }
     }
 
@@ -384,7 +399,7 @@ impl Blank {
 
     /// How far `z` lies before the face, along the thread (negative: inside the blank).
     fn before_face(&self, z: f64) -> f64 {
-        (z - self.z_face) * (self.z_face - self.z_end).signum()
+        (z - self.z_face) * self.backward
     }
 }
 
