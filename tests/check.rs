@@ -216,3 +216,19 @@ fn a_face_past_the_thread_is_refused() {
         "{out}"
     );
 }
+
+#[test]
+fn retracts_out_of_the_groove_are_not_collisions_but_ridges_are_reported() {
+    // Internal thread (start point below the root), left/right alternating infeed (r = 04), the
+    // finishing passes at the last rough pass's offset. Pass 1 ends 0.1732 short of Z-20 (its
+    // offset) and retracts straight out of its groove: allowed.
+    let src = "G00 X20 Z5\nG97 S500\nG78 P020460 Q0.1 R0.05\nG78 X26 Z-20 P1.0 Q0.3 F1.5\n";
+    let (code, out) = check_cli("internal", src, &gsk(&["--stock-start", "0"]));
+    assert!(!out.contains("E011"), "{out}");
+    assert_eq!(code, 0, "{out}");
+    // Depths 0.3·√n with a 0.1 minimum cut: pass 7 at 0.9243 sits at 0.9243·tan 30° = 0.53365,
+    // the finish at 1.0 at pass 8's mirror offset 2·tan 30° − 0.95·tan 30° = 0.60622. Their V's meet
+    // at (0.9243 + 1.0 − 0.07257/tan 30°)/2 = 0.8993: a ridge 0.9243 − 0.8993 = 0.025 high.
+    assert!(out.contains("warning[W004]: a ridge 0.025 high"), "{out}");
+    assert!(out.contains("comes out 0.05 over size"), "{out}");
+}

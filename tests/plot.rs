@@ -68,6 +68,7 @@ fn ink(p: &resvg::tiny_skia::Pixmap, x0: u32, y0: u32, x1: u32, y1: u32) -> usiz
 #[test]
 fn radial_plot_snapshot() {
     let svg = plot("radial", RADIAL, &[]);
+    render("radial", &svg);
     insta::assert_snapshot!("radial_svg", svg);
 }
 
@@ -122,4 +123,25 @@ fn a_program_without_cycles_gives_a_note() {
     let svg = plot("empty", "G00 X10 Z10\n", &[]);
     assert!(svg.contains("no threading cycle"));
     render("empty", &svg);
+}
+
+#[test]
+fn several_cycles_stack_into_rows() {
+    // An internal thread, a tapered one with a tail-out, and an inch thread in one program.
+    let src = "G00 X20 Z5\nG97 S500\nG78 P020460 Q0.1 R0.05\nG78 X26 Z-20 P1.0 Q0.3 F1.5\n\
+               G00 X80 Z10\nG78 P010060\nG78 X60 Z-30 R-2 P1.2 Q0.4 F2 J1 K2\n\
+               G20\nG00 X3 Z0.5\nG78 X2.5 Z-1 P0.04 Q0.01 I16\n";
+    let svg = plot("multi", src, &["--tip-flat", "0.05"]);
+    assert_eq!(svg.matches("Pass diagram").count(), 3);
+    assert!(svg.contains("height=\"1420\""));
+    assert!(
+        svg.contains("in²"),
+        "the inch cycle's legend is in square inches"
+    );
+    let p = render("multi", &svg);
+    for row in 0..3 {
+        let y = 470 * row;
+        assert!(ink(&p, 21, y + 60, 439, y + 400) > 300, "row {row}");
+        assert!(ink(&p, 651, y + 60, 1079, y + 400) > 300, "row {row}");
+    }
 }

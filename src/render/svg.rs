@@ -253,19 +253,24 @@ fn section_panel(s: &mut String, c: &CyclePlot, y: f64) {
             continue;
         }
         last = Some((x, yy));
+        // Dark, not the pass colour: the label sits on the pass's own chip.
         let _ = writeln!(
             s,
-            r#"<text x="{:.2}" y="{:.2}" font-size="10" fill="{}">{}</text>"#,
+            r##"<text x="{:.2}" y="{:.2}" font-size="10" fill="#222">{}</text>"##,
             x + 4.0,
             yy + 3.0,
-            colour(p.n),
             p.n
         );
     }
     let g = &sec.groove;
+    let u = c.job.units;
     let caption = format!(
-        "dashed: target form; depth {:.4}, flanks {:.2}°/{:.2}°, ridge {:.4} mm",
-        g.depth_reached, g.flank_angle_left_deg, g.flank_angle_right_deg, g.ridge
+        "dashed: target form; depth {}, flanks {:.2}°/{:.2}°, ridge {} {}",
+        num(u.from_mm(g.depth_reached), 5),
+        g.flank_angle_left_deg,
+        g.flank_angle_right_deg,
+        num(u.from_mm(g.ridge), 5),
+        u.name()
     );
     let _ = writeln!(
         s,
@@ -307,6 +312,11 @@ fn legend(s: &mut String, sec: &Section, y: f64, units: crate::units::Units) {
         r#" font-weight="bold" font-size="11""#,
     );
     let k = units.scale() * units.scale();
+    // Square inches are 645 times smaller numbers than square millimetres.
+    let area_decimals = match units {
+        crate::units::Units::Mm => 5,
+        crate::units::Units::Inch => 7,
+    };
     for (i, p) in sec.passes.iter().take(LEGEND_ROWS).enumerate() {
         let yy = y + 32.0 + 13.5 * i as f64;
         let _ = writeln!(
@@ -320,7 +330,7 @@ fn legend(s: &mut String, sec: &Section, y: f64, units: crate::units::Units) {
             yy,
             [
                 &p.n.to_string(),
-                &format!("{:.5}", p.area / k),
+                &format!("{:.*}", area_decimals, p.area / k),
                 &format!("{:.1}%", p.share * 100.0),
                 p.flank.name(),
             ],

@@ -7,7 +7,7 @@
 //! | check | severity | code |
 //! | --- | --- | --- |
 //! | the groove does not reach the thread's depth | error | E013 |
-//! | a rapid move enters the blank | error | E011 |
+//! | a rapid move enters the blank (or moves in it other than straight out) | error | E011 |
 //! | lead × spindle speed above the axis limit | error | E012 |
 //! | lead above the controller's maximum | error | E014 |
 //! | chamfer/tail-out longer than the thread | error | E007 |
@@ -375,7 +375,9 @@ impl Blank {
         [(-1.0, 0.0, -z0 - eps), (1.0, 0.0, z1 - eps), surface, far]
     }
 
-    /// Whether the segment from `a` to `b` passes through the blank's interior.
+    /// Whether a rapid move from `a` to `b` runs into the blank's interior. A move that starts
+    /// inside (the tool at the end of its thread move, in the groove it has just cut) may only
+    /// leave straight outward, along X; one that starts outside must not enter.
     fn entered_by(&self, a: Pos, b: Pos) -> bool {
         let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
         for (pa, pb, c) in self.half_planes() {
@@ -394,7 +396,16 @@ impl Blank {
                 }
             }
         }
-        t0 < t1
+        if t0 >= t1 {
+            return false;
+        }
+        let starts_inside = t0 <= 0.0;
+        if starts_inside {
+            let outward = (b.x - a.x) * self.side.outward().x;
+            let along = (b.z - a.z).abs();
+            return !(along <= CLEARANCE_TOLERANCE && outward > 0.0);
+        }
+        true
     }
 
     /// How far `z` lies before the face, along the thread (negative: inside the blank).
