@@ -200,7 +200,12 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
             } else {
                 CuttingFlank::Both
             };
-            (left_share, flank, thickness(&chip, &outline))
+            let nose = match tool.tip {
+                Tip::Radius { radius } if radius > 0.0 => Some((p.offset, radius)),
+                _ => None,
+            };
+            let lines = EdgeLines::new(&outline, tool, nose);
+            (left_share, flank, thickness(&chip, &lines))
         } else {
             (0.0, CuttingFlank::None, 0.0)
         };
@@ -331,10 +336,39 @@ fn clipped_area(c: &Contour, at: f64) -> f64 {
 
 /// The tool's outline as inward half-planes: a point inside the (convex) tool lies
 /// `n·p − c ≥ 0` from each edge's line, and its distance to the outline is the least of these.
-struct EdgeLines(Vec<(f64, f64, f64)>);
+/// A nose's chords are kept apart: for points well up the flanks they cannot be the nearest, and
+/// [`NoseBound`] says when to skip them.
+struct EdgeLines {
+    main: Vec<(f64, f64, f64)>,
+    chords: Vec<(f64, f64, f64)>,
+    nose: Option<NoseBound>,
+}
+
+/// For a point p inside the tool, every chord line of the nose lies at least
+/// `r·cos(θ/2) − Δv·sin α − |Δu|·cos α` from it (Δ = p − nose centre, v downward, Δv ≤ 0): the
+/// chords' inward normals point within α of straight up.
+#[derive(Clone, Copy)]
+struct NoseBound {
+    centre: (f64, f64),
+    chord_depth: f64,
+    sin_a: f64,
+    cos_a: f64,
+}
+
+impl NoseBound {
+    fn lower(&self, p: (f64, f64)) -> f64 {
+        let (du, dv) = (p.0 - self.centre.0, p.1 - self.centre.1);
+        if dv > 0.0 {
+            return f64::NEG_INFINITY;
+        }
+        self.chord_depth - dv * self.sin_a - du.abs() * self.cos_a
+    }
+}
 
 impl EdgeLines {
-    fn new(outline: &[(f64, f64)]) -> EdgeLines {
+    /// `nose`: the nose's centre and radius when the outline's points 1..=NOSE_SEGMENTS+1 are its
+    /// arc (see [`Tool::outline`]).
+    fn new(outline: &[(f64, f64)], tool: &Tool, nose: Option<(f64, f64)>) -> EdgeLines {
         let n = outline.len();
         // Inward normals: to the right of each edge for a clockwise outline, left otherwise.
         let twice: f64 = (0..n)
@@ -344,28 +378,50 @@ impl EdgeLines {
             })
             .sum();
         let turn = if twice < 0.0 { 1.0 } else { -1.0 };
-        let mut lines: Vec<(f64, (f64, f64, f64))> = (0..n)
-            .filter_map(|i| {
-                let (a, b) = (outline[i], outline[(i + 1) % n]);
-                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-                let len = dx.hypot(dy);
-                (len > 0.0).then(|| {
-                    let (nx, ny) = (turn * dy / len, -turn * dx / len);
-                    (len, (nx, ny, nx * a.0 + ny * a.1))
-                })
-            })
-            .collect();
-        // Longest edges (the flanks) first: they are the nearest to most points, which lets
-        // `depth_inside` stop early.
-        lines.sort_by(|a, b| b.0.total_cmp(&a.0));
-        EdgeLines(lines.into_iter().map(|l| l.1).collect())
+        let mut main = Vec::with_capacity(4);
+        let mut chords = Vec::with_capacity(tool::NOSE_SEGMENTS);
+        for i in 0..n {
+            let (a, b) = (outline[i], outline[(i + 1) % n]);
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let len = dx.hypot(dy);
+            if len <= 0.0 {
+                continue;
+            }
+            let (nx, ny) = (turn * dy / len, -turn * dx / len);
+            let line = (nx, ny, nx * a.0 + ny * a.1);
+            if nose.is_some() && (1..=tool::NOSE_SEGMENTS).contains(&i) {
+                chords.push(line);
+            } else {
+                main.push(line);
+            }
+        }
+        let nose = nose.map(|(centre_u, r)| {
+            let half = (tool.angle_deg / 2.0).to_radians();
+            let theta = (std::f64::consts::PI - 2.0 * half) / tool::NOSE_SEGMENTS as f64;
+            NoseBound {
+                centre: (centre_u, outline[1].1 - r * half.sin()),
+                chord_depth: r * (theta / 2.0).cos(),
+                sin_a: half.sin(),
+                cos_a: half.cos(),
+            }
+        });
+        EdgeLines { main, chords, nose }
     }
 
     /// Distance from a point inside the tool to its outline, or some value ≤ `floor` as soon as
     /// it is known to be no more than `floor`.
     fn depth_inside(&self, p: (f64, f64), floor: f64) -> f64 {
         let mut min = f64::INFINITY;
-        for &(nx, ny, c) in &self.0 {
+        for &(nx, ny, c) in &self.main {
+            min = min.min(nx * p.0 + ny * p.1 - c);
+            if min <= floor {
+                return min;
+            }
+        }
+        if self.nose.is_some_and(|b| b.lower(p) >= min) {
+            return min;
+        }
+        for &(nx, ny, c) in &self.chords {
             min = min.min(nx * p.0 + ny * p.1 - c);
             if min <= floor {
                 break;
@@ -377,8 +433,7 @@ impl EdgeLines {
 
 /// The largest distance from the chip's old-surface side to the cutting edge, sampled at the
 /// vertices and midpoints of the chip's edges that do not lie on the tool.
-fn thickness(chip: &Shapes, outline: &[(f64, f64)]) -> f64 {
-    let lines = EdgeLines::new(outline);
+fn thickness(chip: &Shapes, lines: &EdgeLines) -> f64 {
     let mut max: f64 = 0.0;
     for c in chip.iter().flatten() {
         let n = c.len();
@@ -555,6 +610,33 @@ mod tests {
         // One tip inside the other's V: no ridge.
         let r = ridge_height(&[(0.0, 1.0), (0.1, 0.5)], &Tool::sharp(90.0).form());
         assert!(r.abs() < 1e-12, "{r}");
+    }
+
+    #[test]
+    fn the_nose_bound_never_changes_the_distance() {
+        let tool = Tool {
+            angle_deg: 55.0,
+            tip: Tip::Radius { radius: 0.2 },
+        };
+        let outline = tool.outline(0.3, 1.0, -1.0);
+        let fast = EdgeLines::new(&outline, &tool, Some((0.3, 0.2)));
+        let brute = EdgeLines::new(&outline, &tool, None);
+        let form = tool.form();
+        for i in 0..=60 {
+            for j in 0..=60 {
+                let v = -0.5 + 1.5 * f64::from(i) / 60.0;
+                let (l, r) = match form.span_at(0.3, 1.0, v) {
+                    Some(s) => s,
+                    None => continue,
+                };
+                let u = l + (r - l) * f64::from(j) / 60.0;
+                let (a, b) = (
+                    fast.depth_inside((u, v), f64::NEG_INFINITY),
+                    brute.depth_inside((u, v), f64::NEG_INFINITY),
+                );
+                assert!((a - b).abs() < 1e-12, "({u}, {v}): {a} vs {b}");
+            }
+        }
     }
 
     #[test]
