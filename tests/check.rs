@@ -232,3 +232,15 @@ fn retracts_out_of_the_groove_are_not_collisions_but_ridges_are_reported() {
     assert!(out.contains("warning[W004]: a ridge 0.025 high"), "{out}");
     assert!(out.contains("comes out 0.05 over size"), "{out}");
 }
+
+#[test]
+fn a_tool_the_section_cannot_draw_is_a_warning() {
+    // P(a) = 00: a 0° tool. The controller runs the cycle; the section cannot be drawn.
+    let src = "G00 X80 Z10\nG97 S300\nG78 P010000\nG78 X60 Z-30 P1.2 Q0.4 F2\n";
+    let (code, out) = check_cli("angle0", src, &gsk(&["--stock-start", "5"]));
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("warning[W004]: the groove cannot be simulated"),
+        "{out}"
+    );
+}

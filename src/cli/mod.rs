@@ -313,7 +313,11 @@ fn passes(
             angle_deg: job.tool_angle_deg,
             tip: threadcut::sim::check::tip_in_mm(tip, job.units),
         };
-        let section = threadcut::sim::section(&job, &passes, &tool, 0.0)?;
+        // A tool the section cannot draw (a 0° angle, an absurd size) leaves these columns empty
+        // rather than failing the table the dialect accepted.
+        let section = threadcut::sim::section(&job, &passes, &tool, 0.0).ok();
+        let sims = section.as_ref().map(|s| s.passes.as_slice());
+        let sim = |i: usize| sims.and_then(|s| s.get(i));
         let area_scale = job.units.scale() * job.units.scale();
         if json {
             if !first {
@@ -321,16 +325,17 @@ fn passes(
             }
             let rows: Vec<serde_json::Value> = rows
                 .iter()
-                .zip(&section.passes)
-                .map(|(r, s)| {
+                .enumerate()
+                .map(|(i, r)| {
                     let mut v = serde_json::to_value(r).unwrap_or_default();
                     if let Some(o) = v.as_object_mut() {
-                        o.insert("sim_area".into(), (s.area / area_scale).into());
-                        o.insert("sim_share".into(), s.share.into());
-                        o.insert("cutting_flank".into(), s.flank.name().into());
+                        let s = sim(i);
+                        o.insert("sim_area".into(), s.map(|s| s.area / area_scale).into());
+                        o.insert("sim_share".into(), s.map(|s| s.share).into());
+                        o.insert("cutting_flank".into(), s.map(|s| s.flank.name()).into());
                         o.insert(
                             "chip_thickness".into(),
-                            job.units.from_mm(s.max_thickness).into(),
+                            s.map(|s| job.units.from_mm(s.max_thickness)).into(),
                         );
                     }
                     v
@@ -370,14 +375,14 @@ fn passes(
                 "share",
                 "flank"
             )?;
-            for (r, s) in rows.iter().zip(&section.passes) {
+            for (i, r) in rows.iter().enumerate() {
                 let kind = match r.kind {
                     PassKind::Rough => "rough",
                     PassKind::Finish => "finish",
                 };
                 writeln!(
                     out,
-                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}% {:>10.5} {:>5.1}%  {:<5}",
+                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}% {:>10} {:>6}  {:<5}",
                     r.n,
                     kind,
                     r.depth,
@@ -386,9 +391,9 @@ fn passes(
                     r.z,
                     r.area,
                     r.share * 100.0,
-                    s.area / area_scale,
-                    s.share * 100.0,
-                    s.flank.name()
+                    sim(i).map_or("-".into(), |s| format!("{:.5}", s.area / area_scale)),
+                    sim(i).map_or("-".into(), |s| format!("{:.1}%", s.share * 100.0)),
+                    sim(i).map_or("-", |s| s.flank.name())
                 )?;
             }
             writeln!(out)?;

@@ -13,7 +13,7 @@
 //! | chamfer/tail-out longer than the thread | error | E007 |
 //! | thread shorter than one lead | error | E007 |
 //! | run-up before the blank too short for the feed to settle | warning | W003 |
-//! | ridge or pitch-diameter error in the simulated groove | warning | W004 |
+//! | ridge or pitch-diameter error in the simulated groove, or no section | warning | W004 |
 //! | spindle speed unknown, or constant surface speed (G96) | warning | W005 |
 //!
 //! Nothing here knows a controller: spindle words are read as the Fanuc family writes them (S, G96,
@@ -262,7 +262,16 @@ pub fn check_cycle(
     };
     match section(job, &passes, &tool, blank.stock_above) {
         Ok(sec) => form_checks(job, machine, &sec.groove, out),
-        Err(e) => out.push(e),
+        // The machine can still run the cycle; only the depth and form checks are lost.
+        Err(e) => out.push(Diagnostic {
+            code: Code::Form,
+            severity: Severity::Warning,
+            message: format!(
+                "the groove cannot be simulated, so its depth and form are not checked: {}",
+                e.message
+            ),
+            ..e
+        }),
     }
     rapid_checks(job, &path, &blank, out);
     spindle_checks(job, machine, &path, &blank, spindle_state, out);
