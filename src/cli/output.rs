@@ -48,9 +48,16 @@ pub fn write(
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // The output gets the mode an ordinary new file would (0666 less the umask, applied by the
+    // kernel at creation), or keeps the mode of the file it replaces; not tempfile's private 0600.
+    let mode = std::fs::metadata(target).map_or_else(
+        |_| std::os::unix::fs::PermissionsExt::from_mode(0o666),
+        |m| m.permissions(),
+    );
     let temp = tempfile::Builder::new()
         .prefix(".threadcut-")
         .suffix(".tmp")
+        .permissions(mode)
         .tempfile_in(dir)
         .map_err(|e| Failure::Other(format!("cannot create a file in {}: {e}", dir.display())))?;
     let mut out = BufWriter::with_capacity(1 << 16, temp);
