@@ -64,6 +64,20 @@ pub enum Code {
     Suspicious,
     /// A machine limit would be exceeded.
     MachineLimit,
+    /// `check`: a rapid move enters the blank.
+    Collision,
+    /// `check`: the synchronised feed (lead × spindle speed) exceeds the machine's axis limit.
+    FeedLimit,
+    /// `check`: the groove does not reach the thread's depth.
+    DepthNotReached,
+    /// `check`: the lead exceeds the controller's maximum.
+    LeadLimit,
+    /// `check`: the run-up before the blank is shorter than the feed needs to settle.
+    RunUp,
+    /// `check`: the simulated groove departs from the target form (ridge, pitch diameter).
+    Form,
+    /// `check`: the spindle speed is unknown or not constant.
+    Spindle,
 }
 
 impl Code {
@@ -81,6 +95,13 @@ impl Code {
             Code::Input => "E010",
             Code::Suspicious => "W001",
             Code::MachineLimit => "W002",
+            Code::Collision => "E011",
+            Code::FeedLimit => "E012",
+            Code::DepthNotReached => "E013",
+            Code::LeadLimit => "E014",
+            Code::RunUp => "W003",
+            Code::Form => "W004",
+            Code::Spindle => "W005",
         }
     }
 }

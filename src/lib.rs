@@ -31,6 +31,8 @@ pub mod machine;
 pub mod mill;
 pub mod post;
 pub mod program;
+pub mod render;
+pub mod sim;
 pub mod thread;
 pub mod toolpath;
 pub mod translate;

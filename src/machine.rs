@@ -60,6 +60,13 @@ pub struct Limits {
     pub max_lead_mm: Option<f64>,
     /// Largest synchronised axis feed (mm/min).
     pub max_feed_mm_per_min: Option<f64>,
+    /// Servo time constant T1 (s) of the synchronised axis, for the run-up a thread needs
+    /// (`check`; 0.033 s when absent, the usual value the Fanuc manuals quote).
+    #[serde(default)]
+    pub servo_time_constant_s: Option<f64>,
+    /// Lead error accepted at the thread's start, as a fraction (`check`; 0.01 when absent).
+    #[serde(default)]
+    pub thread_lead_error: Option<f64>,
 }
 
 /// GSK parameters 5129–5145 as the seed numbers them (§5 of the English text).

@@ -58,6 +58,10 @@ fn expand_to_a_file_and_passes_json() {
     assert!(out.stdout.is_empty());
     let text = std::fs::read_to_string(&output).unwrap();
     assert!(text.starts_with("G0 X80 Z10\n(threadcut"), "{text}");
+    // An ordinary new file's mode (0666 less the umask, 022 here), not a temporary file's 0600.
+    use std::os::unix::fs::PermissionsExt;
+    let mode = std::fs::metadata(&output).unwrap().permissions().mode() & 0o777;
+    assert_ne!(mode & 0o044, 0, "mode {mode:o}");
     // No temporary file is left beside it.
     let names: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -224,4 +228,57 @@ fn a_closed_stdout_ends_quietly() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+#[test]
+fn special_files_are_written_in_place_never_replaced() {
+    // `-o /dev/null` once renamed a temporary file over the device. A FIFO stands in for it here.
+    use std::os::unix::fs::FileTypeExt;
+    let dir = temp_dir("fifo");
+    let input = write(&dir, "in.nc", GOOD);
+    let fifo = dir.join("pipe");
+    assert!(Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap()
+        .success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read_to_string(fifo).unwrap())
+    };
+    let out = threadcut(&[
+        "expand",
+        input.to_str().unwrap(),
+        "-c",
+        "gsk980",
+        "-o",
+        fifo.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = reader.join().unwrap();
+    assert!(text.contains("G32 X62.4 Z-58. F3."), "{text}");
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    // And a symbolic link keeps pointing at its file, which receives the output.
+    let real = dir.join("real.nc");
+    std::fs::write(&real, "old").unwrap();
+    let link = dir.join("link.nc");
+    std::os::unix::fs::symlink(&real, &link).unwrap();
+    let out = threadcut(&[
+        "expand",
+        input.to_str().unwrap(),
+        "-c",
+        "gsk980",
+        "-o",
+        link.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert!(std::fs::read_to_string(&real).unwrap().contains("G32"));
 }

@@ -1,8 +1,10 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
 
+mod check;
 mod convert;
 mod mill;
 mod output;
+mod plot;
 mod post;
 mod render;
 
@@ -39,6 +41,41 @@ struct MachineArgs {
     machine: Option<PathBuf>,
 }
 
+/// The tool's tip for the simulated section (sharp when neither is given); the angle is the cycle's.
+#[derive(clap::Args)]
+struct ToolArgs {
+    /// Nose radius of the tool (program units).
+    #[arg(long, value_name = "R", conflicts_with = "tip_flat")]
+    nose_radius: Option<f64>,
+    /// Width of a flat tip (program units).
+    #[arg(long, value_name = "W")]
+    tip_flat: Option<f64>,
+}
+
+impl ToolArgs {
+    fn tip(&self) -> Result<threadcut::sim::Tip, Failure> {
+        use threadcut::sim::Tip;
+        let check = |name: &str, v: f64| {
+            if v.is_finite() && v >= 0.0 {
+                Ok(v)
+            } else {
+                Err(Failure::Usage(format!(
+                    "--{name} {v}: expected a length of 0 or more"
+                )))
+            }
+        };
+        Ok(match (self.nose_radius, self.tip_flat) {
+            (Some(r), _) => Tip::Radius {
+                radius: check("nose-radius", r)?,
+            },
+            (None, Some(w)) => Tip::Flat {
+                width: check("tip-flat", w)?,
+            },
+            (None, None) => Tip::Sharp,
+        })
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum ExpandFormat {
     /// The program with each cycle replaced by plain moves in the controller's format.
@@ -71,6 +108,35 @@ enum Command {
         json: bool,
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
+        #[command(flatten)]
+        tool: ToolArgs,
+    },
+    /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
+    /// feed and lead limits, run-up, depth and form. Exit status 2 on any error.
+    Check {
+        file: PathBuf,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// Diameter of the blank (program units); default: the cycle's crest line.
+        #[arg(long, value_name = "D")]
+        stock_diameter: Option<f64>,
+        /// Z of the blank's face on the thread's start side (program units); default: where
+        /// the thread starts.
+        #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+        stock_start: Option<f64>,
+        #[command(flatten)]
+        tool: ToolArgs,
+    },
+    /// Draw each cycle's pass diagram and XZ toolpath into one SVG.
+    Plot {
+        file: PathBuf,
+        #[command(flatten)]
+        machine: MachineArgs,
+        /// The SVG file to write (`-`: standard output).
+        #[arg(long, short = 'o')]
+        output: PathBuf,
+        #[command(flatten)]
+        tool: ToolArgs,
     },
     /// Post an APT/CL file (THREAD, COUPLE, GOTO …) to a controller: native threading cycles where
     /// they reproduce the toolpath exactly, plain moves otherwise.
@@ -237,11 +303,25 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
         }
+        Command::Check {
+            file,
+            machine,
+            stock_diameter,
+            stock_start,
+            tool,
+        } => check::run(&file, &machine, stock_diameter, stock_start, &tool),
+        Command::Plot {
+            file,
+            machine,
+            output,
+            tool,
+        } => plot::run(&file, &machine, &output, &tool),
         Command::Passes {
             file,
             machine,
             json,
             output,
+            tool,
         } => {
             let mut input = open_input(&file)?;
             if post::is_apt(&file, &mut input) {
@@ -249,8 +329,9 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
                 return Ok(ExitCode::SUCCESS);
             }
             let machine = load_machine(&machine)?;
+            let tip = tool.tip()?;
             let summary = output::write(&file, output.as_deref(), |out| {
-                passes(input, out, &machine, json)
+                passes(input, out, &machine, json, tip)
             })?;
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
@@ -315,6 +396,7 @@ fn passes(
     out: &mut dyn Write,
     machine: &Machine,
     json: bool,
+    tip: threadcut::sim::Tip,
 ) -> Result<Summary, Error> {
     if json {
         out.write_all(br#"{"cycles":["#)?;
@@ -328,10 +410,39 @@ fn passes(
         // X as the program writes it at the cycle (OmniTurn's G72/G73 and LinuxCNC's G7/G8 switch it
         // mid-program).
         let rows = program::pass_rows(&job, &passes, modal.diameter_x);
+        // The simulated columns: chip area with the tool's real tip, share, cutting flank.
+        let tool = threadcut::sim::Tool {
+            angle_deg: job.tool_angle_deg,
+            tip: threadcut::sim::check::tip_in_mm(tip, job.units),
+        };
+        // A tool the section cannot draw (a 0° angle, an absurd size) leaves these columns empty
+        // rather than failing the table the dialect accepted.
+        let section = threadcut::sim::section(&job, &passes, &tool, 0.0).ok();
+        let sims = section.as_ref().map(|s| s.passes.as_slice());
+        let sim = |i: usize| sims.and_then(|s| s.get(i));
+        let area_scale = job.units.scale() * job.units.scale();
         if json {
             if !first {
                 out.write_all(b",")?;
             }
+            let rows: Vec<serde_json::Value> = rows
+                .iter()
+                .enumerate()
+                .map(|(i, r)| {
+                    let mut v = serde_json::to_value(r).unwrap_or_default();
+                    if let Some(o) = v.as_object_mut() {
+                        let s = sim(i);
+                        o.insert("sim_area".into(), s.map(|s| s.area / area_scale).into());
+                        o.insert("sim_share".into(), s.map(|s| s.share).into());
+                        o.insert("cutting_flank".into(), s.map(|s| s.flank.name()).into());
+                        o.insert(
+                            "chip_thickness".into(),
+                            s.map(|s| job.units.from_mm(s.max_thickness)).into(),
+                        );
+                    }
+                    v
+                })
+                .collect();
             let cycle = serde_json::json!({
                 "line": job.line,
                 "controller": job.controller,
@@ -353,17 +464,27 @@ fn passes(
             )?;
             writeln!(
                 out,
-                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6}",
-                "pass", "kind", "depth", "increment", "x", "z", "area", "share"
+                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6} {:>10} {:>6}  {:<5}",
+                "pass",
+                "kind",
+                "depth",
+                "increment",
+                "x",
+                "z",
+                "area",
+                "share",
+                "sim area",
+                "share",
+                "flank"
             )?;
-            for r in &rows {
+            for (i, r) in rows.iter().enumerate() {
                 let kind = match r.kind {
                     PassKind::Rough => "rough",
                     PassKind::Finish => "finish",
                 };
                 writeln!(
                     out,
-                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}%",
+                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}% {:>10} {:>6}  {:<5}",
                     r.n,
                     kind,
                     r.depth,
@@ -371,7 +492,10 @@ fn passes(
                     r.x,
                     r.z,
                     r.area,
-                    r.share * 100.0
+                    r.share * 100.0,
+                    sim(i).map_or("-".into(), |s| format!("{:.5}", s.area / area_scale)),
+                    sim(i).map_or("-".into(), |s| format!("{:.1}%", s.share * 100.0)),
+                    sim(i).map_or("-", |s| s.flank.name())
                 )?;
             }
             writeln!(out)?;

@@ -27,13 +27,37 @@ pub fn write(
             target.display()
         )));
     }
+    // A device, a FIFO or a socket (`-o /dev/null`, a pipe) is written in place: renaming a file
+    // over it would replace the device itself.
+    if let Ok(meta) = std::fs::metadata(target) {
+        if !meta.is_file() {
+            let file = std::fs::OpenOptions::new()
+                .write(true)
+                .open(target)
+                .map_err(|e| Failure::Other(format!("cannot write {}: {e}", target.display())))?;
+            let mut out = BufWriter::with_capacity(1 << 16, file);
+            let summary = produce(&mut out).map_err(|e| failure(input, e))?;
+            out.flush().map_err(|e| failure(input, Error::Io(e)))?;
+            return Ok(summary);
+        }
+    }
+    // A symbolic link keeps pointing where it did: the file it names is replaced, not the link.
+    let resolved = target.canonicalize().ok();
+    let target = resolved.as_deref().unwrap_or(target);
     let dir = match target.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // The output gets the mode an ordinary new file would (0666 less the umask, applied by the
+    // kernel at creation), or keeps the mode of the file it replaces; not tempfile's private 0600.
+    let mode = std::fs::metadata(target).map_or_else(
+        |_| std::os::unix::fs::PermissionsExt::from_mode(0o666),
+        |m| m.permissions(),
+    );
     let temp = tempfile::Builder::new()
         .prefix(".threadcut-")
         .suffix(".tmp")
+        .permissions(mode)
         .tempfile_in(dir)
         .map_err(|e| Failure::Other(format!("cannot create a file in {}: {e}", dir.display())))?;
     let mut out = BufWriter::with_capacity(1 << 16, temp);

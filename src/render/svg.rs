@@ -1,0 +1,502 @@
+//! One deterministic SVG per program: for each cycle, the pass diagram (the groove's section with
+//! each pass's chip filled in its colour, its tool outline, its area) and the XZ toolpath (rapid
+//! moves dashed, feeds solid, thread moves bold, pass numbers).
+//!
+//! The text is written by hand with fixed decimals, so the same program always gives the same
+//! bytes (snapshot tests rely on it).
+
+use std::fmt::Write;
+
+use crate::sim::{Section, Tool};
+use crate::thread::{Job, Pass};
+use crate::toolpath::{MotionKind, Toolpath};
+use crate::units::Pos;
+
+/// What one cycle's picture is made of.
+pub struct CyclePlot<'a> {
+    pub job: &'a Job,
+    pub passes: &'a [Pass],
+    pub section: &'a Section,
+    pub path: &'a Toolpath,
+    /// The program writes X as a diameter (for the axis caption).
+    pub diameter_x: bool,
+}
+
+const WIDTH: f64 = 1100.0;
+const ROW: f64 = 470.0;
+const TOP: f64 = 40.0;
+/// The section panel, the legend, the toolpath panel: x, width; all panels are PANEL_H tall.
+const SECTION_X: f64 = 20.0;
+const SECTION_W: f64 = 420.0;
+const LEGEND_X: f64 = 455.0;
+const PATH_X: f64 = 650.0;
+const PATH_W: f64 = 430.0;
+const PANEL_H: f64 = 380.0;
+/// Legend rows that fit beside the section panel.
+const LEGEND_ROWS: usize = 25;
+/// Pass labels closer than this (px) to the last one drawn are left out.
+const LABEL_GAP: f64 = 11.0;
+
+/// Twenty distinct colours ("tab10", then its lighter companions), cycled by pass number.
+const PALETTE: [&str; 20] = [
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
+    "#bcbd22", "#17becf", "#6baed6", "#fdae6b", "#74c476", "#fc9272", "#bcbddc", "#c49c94",
+    "#f7b6d2", "#bdbdbd", "#dbdb8d", "#9edae5",
+];
+
+fn colour(pass: u32) -> &'static str {
+    PALETTE[(pass.max(1) as usize - 1) % PALETTE.len()]
+}
+
+/// The whole picture.
+pub fn svg(cycles: &[CyclePlot]) -> String {
+    let rows = cycles.len().max(1) as f64;
+    let height = ROW * rows + 10.0;
+    let mut s = String::with_capacity(16_384 * cycles.len().max(1));
+    // Writing into a String cannot fail.
+    let _ = writeln!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH:.0}" height="{height:.0}" viewBox="0 0 {WIDTH:.0} {height:.0}" font-family="DejaVu Sans, sans-serif" font-size="12">"#
+    );
+    let _ = writeln!(
+        s,
+        r#"<rect x="0" y="0" width="{WIDTH:.0}" height="{height:.0}" fill="white"/>"#
+    );
+    if cycles.is_empty() {
+        let _ = writeln!(
+            s,
+            r#"<text x="20" y="40" font-size="16">no threading cycle in this program</text>"#
+        );
+    }
+    for (i, c) in cycles.iter().enumerate() {
+        let y0 = ROW * i as f64;
+        cycle(&mut s, c, y0);
+    }
+    s.push_str("</svg>\n");
+    s
+}
+
+/// A linear map from model coordinates to the page.
+#[derive(Clone, Copy)]
+struct Map {
+    /// Page x = ox + sx·a, page y = oy + sy·b.
+    ox: f64,
+    sx: f64,
+    oy: f64,
+    sy: f64,
+}
+
+impl Map {
+    fn at(&self, a: f64, b: f64) -> (f64, f64) {
+        (self.ox + self.sx * a, self.oy + self.sy * b)
+    }
+}
+
+fn points(map: &Map, pts: &[(f64, f64)]) -> String {
+    let mut out = String::with_capacity(pts.len() * 16);
+    for (i, &(a, b)) in pts.iter().enumerate() {
+        let (x, y) = map.at(a, b);
+        if i > 0 {
+            out.push(' ');
+        }
+        let _ = write!(out, "{x:.2},{y:.2}");
+    }
+    out
+}
+
+/// A number for a label: up to `decimals` decimals, no trailing zeros or point.
+fn num(v: f64, decimals: usize) -> String {
+    let s = format!("{v:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &s
+    };
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.to_string()
+    }
+}
+
+/// Escapes text for XML.
+fn text(t: &str) -> String {
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+}
+
+fn cycle(s: &mut String, c: &CyclePlot, y0: f64) {
+    let job = c.job;
+    let u = job.units;
+    let sec = c.section;
+    let rough = c
+        .passes
+        .iter()
+        .filter(|p| p.kind == crate::thread::PassKind::Rough)
+        .count();
+    let title = format!(
+        "line {}: {} cycle, {} rough + {} finishing passes, lead {} {}, depth {} {}",
+        job.line,
+        job.controller,
+        rough,
+        c.passes.len() - rough,
+        num(u.from_mm(job.lead.lead), 4),
+        u.name(),
+        num(u.from_mm(job.geometry.depth), 4),
+        u.name()
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{SECTION_X:.0}" y="{:.2}" font-size="15" font-weight="bold">{}</text>"#,
+        y0 + 24.0,
+        text(&title)
+    );
+    section_panel(s, c, y0 + TOP);
+    legend(s, sec, y0 + TOP, u);
+    path_panel(s, c, y0 + TOP);
+}
+
+fn section_panel(s: &mut String, c: &CyclePlot, y: f64) {
+    let sec = c.section;
+    let tool: &Tool = &sec.tool;
+    let form = tool.form();
+    let top = -sec.stock_above.max(0.0);
+    let deepest = sec
+        .passes
+        .iter()
+        .map(|p| p.depth)
+        .fold(c.job.geometry.depth, f64::max);
+    // Horizontal extent: every tool outline where it crosses the top of the blank.
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for p in &sec.passes {
+        if let Some((l, r)) = form.span_at(p.offset, p.depth, top) {
+            lo = lo.min(l);
+            hi = hi.max(r);
+        }
+    }
+    if !lo.is_finite() {
+        (lo, hi) = (-1.0, 1.0);
+    }
+    let margin_v = 0.08 * (deepest - top).max(1e-3);
+    let (v_lo, v_hi) = (top - margin_v, deepest + margin_v);
+    let margin_u = 0.05 * (hi - lo).max(1e-3);
+    let (lo, hi) = (lo - margin_u, hi + margin_u);
+    let inner_h = PANEL_H - 40.0;
+    let scale = (SECTION_W / (hi - lo)).min(inner_h / (v_hi - v_lo));
+    // Centre the drawing in the panel.
+    let ox = SECTION_X + (SECTION_W - scale * (hi - lo)) / 2.0 - scale * lo;
+    let oy = y + 20.0 + (inner_h - scale * (v_hi - v_lo)) / 2.0 - scale * v_lo;
+    let map = Map {
+        ox,
+        sx: scale,
+        oy,
+        sy: scale,
+    };
+    let _ = writeln!(
+        s,
+        r##"<rect x="{SECTION_X:.2}" y="{y:.2}" width="{SECTION_W:.2}" height="{PANEL_H:.2}" fill="none" stroke="#999"/>"##
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.2}" y="{:.2}" font-weight="bold">Pass diagram: axial section of the groove (true scale)</text>"#,
+        SECTION_X + 6.0,
+        y + 15.0
+    );
+    // The blank: from its surface down past the deepest pass.
+    let blank = [(lo, top), (hi, top), (hi, v_hi), (lo, v_hi)];
+    let _ = writeln!(
+        s,
+        r##"<polygon points="{}" fill="#e6e6e6" stroke="none"/>"##,
+        points(&map, &blank)
+    );
+    // Each pass's chip, filled in its colour.
+    for p in &sec.passes {
+        for contour in &p.chip {
+            let _ = writeln!(
+                s,
+                r#"<polygon points="{}" fill="{}" fill-opacity="0.55" stroke="none"/>"#,
+                points(&map, contour),
+                colour(p.n)
+            );
+        }
+    }
+    // The crest line.
+    let (x1, yc) = map.at(lo, 0.0);
+    let (x2, _) = map.at(hi, 0.0);
+    let _ = writeln!(
+        s,
+        r##"<line x1="{x1:.2}" y1="{yc:.2}" x2="{x2:.2}" y2="{yc:.2}" stroke="#555" stroke-dasharray="2 3"/>"##
+    );
+    // Each pass's tool outline (flanks and tip, below the blank's top).
+    for p in &sec.passes {
+        let outline = tool.outline(p.offset, p.depth, top);
+        let _ = writeln!(
+            s,
+            r#"<polyline points="{}" fill="none" stroke="{}" stroke-width="1"/>"#,
+            points(&map, &outline),
+            colour(p.n)
+        );
+    }
+    // The target form, dashed, where the groove was judged.
+    let target = tool.outline(sec.groove.centre, sec.groove.depth_target, top);
+    let _ = writeln!(
+        s,
+        r#"<polyline points="{}" fill="none" stroke="black" stroke-width="1.2" stroke-dasharray="5 3"/>"#,
+        points(&map, &target)
+    );
+    // Pass numbers at the tips, skipping ones that would overlap.
+    let mut last: Option<(f64, f64)> = None;
+    for p in &sec.passes {
+        let (x, yy) = map.at(p.offset, p.depth);
+        if last.is_some_and(|(lx, ly)| (lx - x).hypot(ly - yy) < LABEL_GAP) {
+            continue;
+        }
+        last = Some((x, yy));
+        // Dark, not the pass colour: the label sits on the pass's own chip.
+        let _ = writeln!(
+            s,
+            r##"<text x="{:.2}" y="{:.2}" font-size="10" fill="#222">{}</text>"##,
+            x + 4.0,
+            yy + 3.0,
+            p.n
+        );
+    }
+    let g = &sec.groove;
+    let u = c.job.units;
+    let caption = format!(
+        "dashed: target form; depth {}, flanks {:.2}°/{:.2}°, ridge {} {}",
+        num(u.from_mm(g.depth_reached), 5),
+        g.flank_angle_left_deg,
+        g.flank_angle_right_deg,
+        num(u.from_mm(g.ridge), 5),
+        u.name()
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.2}" y="{:.2}" font-size="11">{}</text>"#,
+        SECTION_X + 6.0,
+        y + PANEL_H - 8.0,
+        text(&caption)
+    );
+}
+
+/// Legend columns: x offsets from LEGEND_X and their anchors.
+const COLUMNS: [(f64, &str); 4] = [
+    (32.0, "end"),
+    (95.0, "end"),
+    (142.0, "end"),
+    (150.0, "start"),
+];
+
+fn legend_row(s: &mut String, y: f64, cells: [&str; 4], extra: &str) {
+    for ((dx, anchor), cell) in COLUMNS.iter().zip(cells) {
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.2}" y="{y:.2}" text-anchor="{anchor}"{extra}>{}</text>"#,
+            LEGEND_X + dx,
+            text(cell)
+        );
+    }
+}
+
+fn legend(s: &mut String, sec: &Section, y: f64, units: crate::units::Units) {
+    let area_unit = match units {
+        crate::units::Units::Mm => "mm²",
+        crate::units::Units::Inch => "in²",
+    };
+    legend_row(
+        s,
+        y + 15.0,
+        ["pass", area_unit, "share", "flank"],
+        r#" font-weight="bold" font-size="11""#,
+    );
+    let k = units.scale() * units.scale();
+    // Square inches are 645 times smaller numbers than square millimetres.
+    let area_decimals = match units {
+        crate::units::Units::Mm => 5,
+        crate::units::Units::Inch => 7,
+    };
+    for (i, p) in sec.passes.iter().take(LEGEND_ROWS).enumerate() {
+        let yy = y + 32.0 + 13.5 * i as f64;
+        let _ = writeln!(
+            s,
+            r#"<rect x="{LEGEND_X:.2}" y="{:.2}" width="10" height="10" fill="{}"/>"#,
+            yy - 9.0,
+            colour(p.n)
+        );
+        legend_row(
+            s,
+            yy,
+            [
+                &p.n.to_string(),
+                &format!("{:.*}", area_decimals, p.area / k),
+                &format!("{:.1}%", p.share * 100.0),
+                p.flank.name(),
+            ],
+            r#" font-size="11""#,
+        );
+    }
+    if sec.passes.len() > LEGEND_ROWS {
+        let _ = writeln!(
+            s,
+            r#"<text x="{:.2}" y="{:.2}" font-size="11">… {} more passes</text>"#,
+            LEGEND_X + 14.0,
+            y + 32.0 + 13.5 * LEGEND_ROWS as f64,
+            sec.passes.len() - LEGEND_ROWS
+        );
+    }
+}
+
+fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
+    let path = c.path;
+    let units = c.job.units;
+    let mut pts: Vec<Pos> = vec![path.start];
+    pts.extend(path.motions.iter().map(|m| m.to));
+    let g = &c.job.geometry;
+    pts.push(g.crest_start);
+    pts.push(g.crest_end);
+    let (mut z_lo, mut z_hi, mut x_lo, mut x_hi) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for p in &pts {
+        z_lo = z_lo.min(p.z);
+        z_hi = z_hi.max(p.z);
+        x_lo = x_lo.min(p.x);
+        x_hi = x_hi.max(p.x);
+    }
+    let (dz, dx) = ((z_hi - z_lo).max(1e-3), (x_hi - x_lo).max(1e-3));
+    let (z_lo, z_hi) = (z_lo - 0.06 * dz, z_hi + 0.06 * dz);
+    let (x_lo, x_hi) = (x_lo - 0.1 * dx, x_hi + 0.1 * dx);
+    let inner_h = PANEL_H - 50.0;
+    // Z to the right, X up; each axis fills the panel (the caption states both scales).
+    let sz = PATH_W / (z_hi - z_lo);
+    let sx = inner_h / (x_hi - x_lo);
+    let map = Map {
+        ox: PATH_X - sz * z_lo,
+        sx: sz,
+        oy: y + 22.0 + inner_h + sx * x_lo,
+        sy: -sx,
+    };
+    let at = |p: Pos| map.at(p.z, p.x);
+    let _ = writeln!(
+        s,
+        r##"<rect x="{PATH_X:.2}" y="{y:.2}" width="{PATH_W:.2}" height="{PANEL_H:.2}" fill="none" stroke="#999"/>"##
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.2}" y="{:.2}" font-weight="bold">XZ toolpath</text>"#,
+        PATH_X + 6.0,
+        y + 15.0
+    );
+    // The blank: below (external) or above (internal) the crest line over the thread's length; for
+    // a face thread, behind the face over the thread's radial extent.
+    let blank = match g.side {
+        crate::thread::Side::External | crate::thread::Side::Internal => {
+            let far = if g.side == crate::thread::Side::External {
+                x_lo
+            } else {
+                x_hi
+            };
+            [
+                (g.crest_start.z, g.crest_start.x),
+                (g.crest_end.z, g.crest_end.x),
+                (g.crest_end.z, far),
+                (g.crest_start.z, far),
+            ]
+        }
+        crate::thread::Side::FaceFront | crate::thread::Side::FaceBack => {
+            let depth = g.side.infeed().z * g.depth;
+            [
+                (g.crest_start.z, g.crest_start.x),
+                (g.crest_end.z, g.crest_end.x),
+                (g.crest_end.z + depth, g.crest_end.x),
+                (g.crest_start.z + depth, g.crest_start.x),
+            ]
+        }
+    };
+    let _ = writeln!(
+        s,
+        r##"<polygon points="{}" fill="#e6e6e6" stroke="#bbb"/>"##,
+        points(&map, &blank)
+    );
+    let mut last_label: Option<(f64, f64)> = None;
+    let mut labelled_pass = 0;
+    for (from, m) in path.segments() {
+        let (a, b) = (at(from), at(m.to));
+        let colour = colour(m.pass);
+        let style = match m.kind {
+            MotionKind::Rapid => "stroke-width=\"0.8\" stroke-dasharray=\"4 3\"",
+            MotionKind::Feed => "stroke-width=\"1\"",
+            MotionKind::Thread { .. } => "stroke-width=\"2.4\"",
+        };
+        let _ = writeln!(
+            s,
+            r#"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="{colour}" {style}/>"#,
+            a.0, a.1, b.0, b.1
+        );
+        // The pass number at the start of each pass's first thread move.
+        if matches!(m.kind, MotionKind::Thread { .. }) && m.pass != labelled_pass {
+            labelled_pass = m.pass;
+            if last_label.is_some_and(|(lx, ly)| (lx - a.0).hypot(ly - a.1) < LABEL_GAP) {
+                continue;
+            }
+            last_label = Some(a);
+            let _ = writeln!(
+                s,
+                r#"<text x="{:.2}" y="{:.2}" font-size="10" fill="{colour}" text-anchor="end">{}</text>"#,
+                a.0 - 3.0,
+                a.1 + 3.0,
+                m.pass
+            );
+        }
+    }
+    let (sx0, sy0) = at(path.start);
+    let _ = writeln!(
+        s,
+        r#"<circle cx="{sx0:.2}" cy="{sy0:.2}" r="3" fill="black"/>"#
+    );
+    let x_name = if c.diameter_x {
+        "radius (program: diameter)"
+    } else {
+        "radius"
+    };
+    let caption = format!(
+        "Z → {:.1} px/{}, X {} ↑ {:.1} px/{}; bold: thread",
+        sz * units.scale(),
+        units.name(),
+        x_name,
+        sx * units.scale(),
+        units.name()
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.2}" y="{:.2}" font-size="11">{}</text>"#,
+        PATH_X + 6.0,
+        y + PANEL_H - 8.0,
+        text(&caption)
+    );
+    // The thread's ends and the start point, so the picture can be read without a grid.
+    let lbl = |v: f64| num(units.from_mm(v), 3);
+    let (_, bottom) = map.at(z_lo, x_lo);
+    for (z, anchor) in [(g.crest_start.z, "middle"), (g.crest_end.z, "middle")] {
+        let (x, _) = map.at(z, x_lo);
+        let _ = writeln!(
+            s,
+            r#"<text x="{x:.2}" y="{:.2}" font-size="10" text-anchor="{anchor}">Z{}</text>"#,
+            bottom - 3.0,
+            lbl(z)
+        );
+    }
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.2}" y="{:.2}" font-size="10" text-anchor="end">start r{} Z{}</text>"#,
+        sx0 - 5.0,
+        sy0 - 5.0,
+        lbl(path.start.x),
+        lbl(path.start.z)
+    );
+}

@@ -1,0 +1,650 @@
+//! Cross-section simulation: the axial section of one groove, cut pass by pass.
+//!
+//! The section is drawn in the plane through the thread's axis, in coordinates `u` (lateral, +Z,
+//! the pass table's `offset`) and `v` (depth below the crest line, the pass table's `depth`). The
+//! material is the blank: everything from its surface (the crest line, or `stock_above` above it)
+//! down. Each pass places the tool's outline with its lowest point at `(offset, depth)`; the chip is
+//! material ∩ tool, and the material left is material − tool. Both come from one boolean graph of
+//! `i_overlay`, on an integer grid of [`GRID`] mm so that the results are exact for the grid and
+//! the same on every machine.
+//!
+//! The section is the same for every controller: it reads only the [`Job`] and its pass table, and
+//! it is the same for every start of a multi-start thread (each start cuts its own groove).
+
+pub mod check;
+pub mod tool;
+
+use i_overlay::core::extract::BooleanExtractionBuffer;
+use i_overlay::core::fill_rule::FillRule;
+use i_overlay::core::overlay::Overlay;
+use i_overlay::core::overlay_rule::OverlayRule;
+use i_overlay::i_float::int::point::IntPoint;
+use serde::Serialize;
+
+use crate::diag::{Code, Diagnostic, Result};
+use crate::thread::{Job, Pass, Side};
+
+pub use tool::{Tip, Tool};
+
+/// The grid (mm) on which the boolean operations run: 1 nm.
+pub const GRID: f64 = 1e-6;
+const SCALE: f64 = 1.0 / GRID;
+/// The largest section coordinate (mm) the grid holds with room to spare (i32 at 1 nm: ±2147 mm;
+/// the overlay engine wants headroom).
+pub const MAX_COORD: f64 = 500.0;
+/// Chips smaller than this (mm²) are no chip: grid noise on a spring pass.
+pub const AREA_EPSILON: f64 = 1e-9;
+/// A chip edge this close (mm) to the tool's outline lies on the cutting edge.
+const ON_TOOL: f64 = 1e-5;
+/// Bisections stop when the interval is this narrow (mm): far below any machine's resolution.
+const BISECTION_WIDTH: f64 = 1e-10;
+/// Below this share of the chip, a side of the tool is not counted as cutting.
+pub const FLANK_SHARE_MIN: f64 = 0.25;
+
+/// Which cutting edge of the tool removes the chip. `Left` is the tool's −Z edge, `Right` its
+/// +Z edge: a flank infeed that rides down the groove's left flank (its infeed point moving toward
+/// +Z) cuts with the tool's right edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CuttingFlank {
+    /// No chip (a spring pass).
+    None,
+    Left,
+    Right,
+    Both,
+}
+
+impl CuttingFlank {
+    pub fn name(self) -> &'static str {
+        match self {
+            CuttingFlank::None => "none",
+            CuttingFlank::Left => "left",
+            CuttingFlank::Right => "right",
+            CuttingFlank::Both => "both",
+        }
+    }
+}
+
+/// What one pass cuts.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PassSim {
+    pub n: u32,
+    /// Lateral position (u) and depth (v) of the tool's lowest point.
+    pub offset: f64,
+    pub depth: f64,
+    /// Chip cross-section (mm²).
+    pub area: f64,
+    /// Share of the total area (0..1).
+    pub share: f64,
+    /// The part of the chip on the tool's −Z side of its axis (0..1).
+    pub left_share: f64,
+    pub flank: CuttingFlank,
+    /// The largest chip thickness: the largest distance from the surface the earlier passes left to
+    /// this pass's cutting edge (mm).
+    pub max_thickness: f64,
+    /// The chip's outline(s) in section coordinates (u, v), for plots.
+    #[serde(skip)]
+    pub chip: Vec<Vec<(f64, f64)>>,
+}
+
+/// The final groove against the target form: the groove one radial plunge of the same tool to the
+/// full depth on the groove's axis would cut (the cycle's depth and angle).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GrooveReport {
+    /// Lateral position of the groove's axis as the infeed law places it.
+    pub axis: f64,
+    /// Where the groove's centre ended up (at the pitch line, else half way down); the target
+    /// form is placed here, since a groove shifted along the thread's axis is the same thread.
+    pub centre: f64,
+    /// The cycle's thread depth.
+    pub depth_target: f64,
+    /// Deepest point cut, anywhere.
+    pub depth_reached: f64,
+    /// Depth cut on the groove's centre line.
+    pub depth_at_axis: f64,
+    /// Angles of the groove's flanks from the radial direction (degrees), measured between 20 % and
+    /// 60 % of the depth reached; the target is half the tool angle.
+    pub flank_angle_left_deg: f64,
+    pub flank_angle_right_deg: f64,
+    /// Depth of the pitch line, where the target groove is half a pitch wide; `None` when the
+    /// target groove is narrower than half a pitch even at the crest.
+    pub pitch_line_depth: Option<f64>,
+    /// Error of the pitch diameter (diameter, mm) from a groove wider (or narrower) than the target
+    /// at the pitch line: negative means an external thread's pitch diameter is undersize.
+    pub pitch_diameter_error: Option<f64>,
+    /// Height of the highest ridge left standing between neighbouring passes' tips (mm).
+    pub ridge: f64,
+    /// Material removed outside the target form (mm²).
+    pub overcut_area: f64,
+    /// Material left inside the target form (mm²).
+    pub left_in_form: f64,
+}
+
+/// The simulated section of one cycle.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Section {
+    pub tool: Tool,
+    /// Stock above the crest line (mm, negative when the blank is below it).
+    pub stock_above: f64,
+    pub passes: Vec<PassSim>,
+    pub total_area: f64,
+    pub groove: GrooveReport,
+}
+
+type Contour = Vec<IntPoint<i32>>;
+type Shapes = Vec<Vec<Contour>>;
+
+/// Simulates the passes of `job` with `tool`; `stock_above` is the blank's surface above the
+/// crest line (mm; 0: the blank is the crest line).
+pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<Section> {
+    tool.validate(job.span)?;
+    let too_big = |what: &str| {
+        Diagnostic::error(
+            Code::Geometry,
+            job.span,
+            format!("the thread's section is too large to simulate ({what} beyond {MAX_COORD} mm)"),
+        )
+    };
+    if !stock_above.is_finite() || stock_above.abs() > MAX_COORD {
+        return Err(too_big("stock"));
+    }
+    let t = tool.slope();
+    let total = job.geometry.depth;
+    let deepest = passes.iter().map(|p| p.depth).fold(total, f64::max);
+    let apex = tool.apex_below_lowest().max(0.0);
+    let blank_top = -stock_above;
+    let tool_top = blank_top.min(0.0) - 1.0;
+    let bottom = deepest + apex + 1.0;
+    let tip_half = match tool.tip {
+        Tip::Flat { width } => width / 2.0,
+        _ => 0.0,
+    };
+    let reach = (bottom - tool_top) * t + tip_half + 1.0;
+    let (lo, hi) = passes
+        .iter()
+        .map(|p| p.offset)
+        .chain([job.infeed.axis(total)])
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), u| {
+            (a.min(u), b.max(u))
+        });
+    let (u_lo, u_hi) = (lo - reach, hi + reach);
+    let fits = |x: f64| x.is_finite() && x.abs() <= MAX_COORD;
+    if ![u_lo, u_hi, bottom, tool_top].into_iter().all(fits) {
+        return Err(too_big("a coordinate"));
+    }
+    let blank = vec![vec![contour(&[
+        (u_lo, blank_top),
+        (u_hi, blank_top),
+        (u_hi, bottom),
+        (u_lo, bottom),
+    ])]];
+    let mut material: Shapes = blank.clone();
+    let mut engine = Engine::new();
+    let mut sims = Vec::with_capacity(passes.len());
+    for p in passes {
+        let outline = tool.outline(p.offset, p.depth, tool_top);
+        let cutter = vec![vec![contour(&outline)]];
+        let (chip, rest) = engine.cut(&material, &cutter);
+        let area = shapes_area(&chip);
+        let (left_share, flank, max_thickness) = if area > AREA_EPSILON {
+            let left = chip
+                .iter()
+                .flatten()
+                .map(|c| clipped_area(c, p.offset))
+                .sum::<f64>();
+            let left_share = (left / area).clamp(0.0, 1.0);
+            let flank = if left_share < FLANK_SHARE_MIN {
+                CuttingFlank::Right
+            } else if left_share > 1.0 - FLANK_SHARE_MIN {
+                CuttingFlank::Left
+            } else {
+                CuttingFlank::Both
+            };
+            let nose = match tool.tip {
+                Tip::Radius { radius } if radius > 0.0 => Some((p.offset, radius)),
+                _ => None,
+            };
+            let lines = EdgeLines::new(&outline, tool, nose);
+            (left_share, flank, thickness(&chip, &lines))
+        } else {
+            (0.0, CuttingFlank::None, 0.0)
+        };
+        sims.push(PassSim {
+            n: p.n,
+            offset: p.offset,
+            depth: p.depth,
+            area,
+            share: 0.0,
+            left_share,
+            flank,
+            max_thickness,
+            chip: chip
+                .iter()
+                .flatten()
+                .map(|c| c.iter().map(|&p| to_float(p)).collect())
+                .collect(),
+        });
+        material = rest;
+    }
+    let total_area: f64 = sims.iter().map(|s| s.area).sum();
+    for s in &mut sims {
+        s.share = if total_area > AREA_EPSILON {
+            s.area / total_area
+        } else {
+            0.0
+        };
+    }
+    let end = Final {
+        blank: &blank,
+        material: &material,
+        total_area,
+        tool_top,
+    };
+    let groove = groove_report(job, passes, tool, &mut engine, &end);
+    Ok(Section {
+        tool: *tool,
+        stock_above,
+        passes: sims,
+        total_area,
+        groove,
+    })
+}
+
+fn contour(points: &[(f64, f64)]) -> Contour {
+    points
+        .iter()
+        .map(|&(u, v)| IntPoint::new((u * SCALE).round() as i32, (v * SCALE).round() as i32))
+        .collect()
+}
+
+fn to_float(p: IntPoint<i32>) -> (f64, f64) {
+    (f64::from(p.x) * GRID, f64::from(p.y) * GRID)
+}
+
+/// The boolean engine with its buffers, kept from one pass to the next.
+struct Engine {
+    overlay: Overlay<i32>,
+    buf: BooleanExtractionBuffer<i32>,
+}
+
+impl Engine {
+    fn new() -> Engine {
+        Engine {
+            overlay: Overlay::new(64),
+            buf: BooleanExtractionBuffer::default(),
+        }
+    }
+
+    /// material ∩ tool and material − tool from one graph.
+    fn cut(&mut self, material: &Shapes, cutter: &Shapes) -> (Shapes, Shapes) {
+        self.overlay.reinit_with_subj_and_clip(material, cutter);
+        match self.overlay.build_graph_view(FillRule::NonZero) {
+            Some(graph) => (
+                graph.extract_shapes(OverlayRule::Intersect, &mut self.buf),
+                graph.extract_shapes(OverlayRule::Difference, &mut self.buf),
+            ),
+            None => (Vec::new(), material.clone()),
+        }
+    }
+}
+
+/// Area (mm²) of shapes whose outer contours run counter-clockwise and holes clockwise, computed
+/// exactly on the grid.
+fn shapes_area(shapes: &Shapes) -> f64 {
+    let twice: i128 = shapes
+        .iter()
+        .flatten()
+        .map(|c| {
+            let n = c.len();
+            (0..n)
+                .map(|i| {
+                    let (a, b) = (c[i], c[(i + 1) % n]);
+                    i128::from(a.x) * i128::from(b.y) - i128::from(b.x) * i128::from(a.y)
+                })
+                .sum::<i128>()
+        })
+        .sum();
+    (twice as f64 / 2.0 * GRID * GRID).abs()
+}
+
+/// Signed area of a contour's part with u ≤ `at`, in the sign convention that makes
+/// [`shapes_area`] positive (outer contours counter-clockwise).
+fn clipped_area(c: &Contour, at: f64) -> f64 {
+    let pts: Vec<(f64, f64)> = c.iter().map(|&p| to_float(p)).collect();
+    let n = pts.len();
+    let mut out: Vec<(f64, f64)> = Vec::with_capacity(n + 2);
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        let (ina, inb) = (a.0 <= at, b.0 <= at);
+        if ina {
+            out.push(a);
+        }
+        if ina != inb {
+            let k = (at - a.0) / (b.0 - a.0);
+            out.push((at, a.1 + k * (b.1 - a.1)));
+        }
+    }
+    let m = out.len();
+    let twice: f64 = (0..m)
+        .map(|i| {
+            let (a, b) = (out[i], out[(i + 1) % m]);
+            a.0 * b.1 - b.0 * a.1
+        })
+        .sum();
+    twice / 2.0
+}
+
+/// The tool's outline as inward half-planes: a point inside the (convex) tool lies
+/// `n·p − c ≥ 0` from each edge's line, and its distance to the outline is the least of these.
+/// A nose's chords are kept apart: for points well up the flanks they cannot be the nearest, and
+/// [`NoseBound`] says when to skip them.
+struct EdgeLines {
+    main: Vec<(f64, f64, f64)>,
+    chords: Vec<(f64, f64, f64)>,
+    nose: Option<NoseBound>,
+}
+
+/// For a point p inside the tool, every chord line of the nose lies at least
+/// `r·cos(θ/2) − Δv·sin α − |Δu|·cos α` from it (Δ = p − nose centre, v downward, Δv ≤ 0): the
+/// chords' inward normals point within α of straight up.
+#[derive(Clone, Copy)]
+struct NoseBound {
+    centre: (f64, f64),
+    chord_depth: f64,
+    sin_a: f64,
+    cos_a: f64,
+}
+
+impl NoseBound {
+    fn lower(&self, p: (f64, f64)) -> f64 {
+        let (du, dv) = (p.0 - self.centre.0, p.1 - self.centre.1);
+        if dv > 0.0 {
+            return f64::NEG_INFINITY;
+        }
+        self.chord_depth - dv * self.sin_a - du.abs() * self.cos_a
+    }
+}
+
+impl EdgeLines {
+    /// `nose`: the nose's centre and radius when the outline's points 1..=NOSE_SEGMENTS+1 are its
+    /// arc (see [`Tool::outline`]).
+    fn new(outline: &[(f64, f64)], tool: &Tool, nose: Option<(f64, f64)>) -> EdgeLines {
+        let n = outline.len();
+        // Inward normals: to the right of each edge for a clockwise outline, left otherwise.
+        let twice: f64 = (0..n)
+            .map(|i| {
+                let (a, b) = (outline[i], outline[(i + 1) % n]);
+                a.0 * b.1 - b.0 * a.1
+            })
+            .sum();
+        let turn = if twice < 0.0 { 1.0 } else { -1.0 };
+        let mut main = Vec::with_capacity(4);
+        let mut chords = Vec::with_capacity(tool::NOSE_SEGMENTS);
+        for i in 0..n {
+            let (a, b) = (outline[i], outline[(i + 1) % n]);
+            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+            let len = dx.hypot(dy);
+            if len <= 0.0 {
+                continue;
+            }
+            let (nx, ny) = (turn * dy / len, -turn * dx / len);
+            let line = (nx, ny, nx * a.0 + ny * a.1);
+            if nose.is_some() && (1..=tool::NOSE_SEGMENTS).contains(&i) {
+                chords.push(line);
+            } else {
+                main.push(line);
+            }
+        }
+        let nose = nose.map(|(centre_u, r)| {
+            let half = (tool.angle_deg / 2.0).to_radians();
+            let theta = (std::f64::consts::PI - 2.0 * half) / tool::NOSE_SEGMENTS as f64;
+            NoseBound {
+                centre: (centre_u, outline[1].1 - r * half.sin()),
+                chord_depth: r * (theta / 2.0).cos(),
+                sin_a: half.sin(),
+                cos_a: half.cos(),
+            }
+        });
+        EdgeLines { main, chords, nose }
+    }
+
+    /// Distance from a point inside the tool to its outline, or some value ≤ `floor` as soon as
+    /// it is known to be no more than `floor`.
+    fn depth_inside(&self, p: (f64, f64), floor: f64) -> f64 {
+        let mut min = f64::INFINITY;
+        for &(nx, ny, c) in &self.main {
+            min = min.min(nx * p.0 + ny * p.1 - c);
+            if min <= floor {
+                return min;
+            }
+        }
+        if self.nose.is_some_and(|b| b.lower(p) >= min) {
+            return min;
+        }
+        for &(nx, ny, c) in &self.chords {
+            min = min.min(nx * p.0 + ny * p.1 - c);
+            if min <= floor {
+                break;
+            }
+        }
+        min
+    }
+}
+
+/// The largest distance from the chip's old-surface side to the cutting edge, sampled at the
+/// vertices and midpoints of the chip's edges that do not lie on the tool.
+fn thickness(chip: &Shapes, lines: &EdgeLines) -> f64 {
+    let mut max: f64 = 0.0;
+    for c in chip.iter().flatten() {
+        let n = c.len();
+        for i in 0..n {
+            let (a, b) = (to_float(c[i]), to_float(c[(i + 1) % n]));
+            let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+            if lines.depth_inside(mid, ON_TOOL) <= ON_TOOL {
+                continue;
+            }
+            for p in [a, mid, b] {
+                max = max.max(lines.depth_inside(p, max));
+            }
+        }
+    }
+    max
+}
+
+/// The state after the last pass.
+struct Final<'a> {
+    blank: &'a Shapes,
+    material: &'a Shapes,
+    total_area: f64,
+    tool_top: f64,
+}
+
+/// The groove the passes leave, against the target form.
+fn groove_report(
+    job: &Job,
+    passes: &[Pass],
+    tool: &Tool,
+    engine: &mut Engine,
+    cut: &Final,
+) -> GrooveReport {
+    let total = job.geometry.depth;
+    let axis = job.infeed.axis(total);
+    let form = tool.form();
+    let t = form.t;
+    let cuts: Vec<(f64, f64)> = passes.iter().map(|p| (p.offset, p.depth)).collect();
+    let depth_reached = cuts.iter().map(|c| c.1).fold(0.0, f64::max);
+    let envelope = |u: f64| {
+        cuts.iter()
+            .map(|&(u0, d)| form.bottom_at(u0, d, u))
+            .fold(f64::NEG_INFINITY, f64::max)
+    };
+    // The groove's edges at depth v: the outermost tool edges that reach it.
+    let edges = |v: f64| {
+        cuts.iter()
+            .filter_map(|&(u0, d)| form.span_at(u0, d, v))
+            .fold(None, |acc: Option<(f64, f64)>, (l, r)| match acc {
+                None => Some((l, r)),
+                Some((a, b)) => Some((a.min(l), b.max(r))),
+            })
+    };
+    let (va, vb) = (0.2 * depth_reached, 0.6 * depth_reached);
+    let (flank_angle_left_deg, flank_angle_right_deg) = match (edges(va), edges(vb)) {
+        (Some((la, ra)), Some((lb, rb))) if vb > va => (
+            ((lb - la) / (vb - va)).atan().to_degrees(),
+            ((ra - rb) / (vb - va)).atan().to_degrees(),
+        ),
+        _ => (0.0, 0.0),
+    };
+    // Pitch line: where the target groove (the tool at full depth on the axis) is half a pitch wide.
+    let pitch = job.lead.start_spacing();
+    let target_width = |v: f64| form.span_at(axis, total, v).map_or(0.0, |(l, r)| r - l);
+    let pitch_line_depth = if pitch > 0.0 && target_width(0.0) >= pitch / 2.0 {
+        let (mut a, mut b) = (0.0, total);
+        while b - a > BISECTION_WIDTH {
+            let m = (a + b) / 2.0;
+            if target_width(m) >= pitch / 2.0 {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        Some(a)
+    } else {
+        None
+    };
+    let pitch_diameter_error = pitch_line_depth.map(|v| {
+        let actual = edges(v).map_or(0.0, |(l, r)| r - l);
+        let excess = actual - target_width(v);
+        // A wider groove makes an external thread's pitch diameter smaller and an internal one's
+        // larger; a face thread is cut into the part like an external one.
+        let sign = match job.geometry.side {
+            Side::External | Side::FaceFront | Side::FaceBack => -1.0,
+            Side::Internal => 1.0,
+        };
+        sign * excess / t
+    });
+    let ridge = ridge_height(&cuts, &form);
+    // Where the groove actually is: its centre at the pitch line (else half way down). A thread
+    // shifted bodily along its axis is still the same thread, so the form is judged there.
+    let centre =
+        edges(pitch_line_depth.unwrap_or(0.5 * depth_reached)).map_or(axis, |(l, r)| (l + r) / 2.0);
+    let depth_at_axis = envelope(centre).max(0.0);
+    // Overcut = removed − (removed ∩ target) = total − (target ∩ blank − target ∩ material).
+    let target = vec![vec![contour(&tool.outline(centre, total, cut.tool_top))]];
+    let in_blank = shapes_area(&engine.cut(cut.blank, &target).0);
+    let left_in_form = shapes_area(&engine.cut(cut.material, &target).0);
+    let overcut_area = (cut.total_area - (in_blank - left_in_form)).max(0.0);
+    GrooveReport {
+        axis,
+        centre,
+        depth_target: total,
+        depth_reached,
+        depth_at_axis,
+        flank_angle_left_deg,
+        flank_angle_right_deg,
+        pitch_line_depth,
+        pitch_diameter_error,
+        ridge,
+        overcut_area,
+        left_in_form,
+    }
+}
+
+/// The highest ridge left standing between tips: the most the groove's bottom dips below the
+/// shallower of the deepest points on either side of it.
+///
+/// Every tool outline is the same shape translated, and that shape is a V widened by a disk (nose)
+/// or a segment (flat), so one outline lies inside another exactly when its V does: the cone test
+/// `d_i − |u_k − u_i|/t ≥ d_k`. Between neighbouring outlines that no other one contains, the
+/// bottom is the higher of the two, and its lowest point is where they cross.
+fn ridge_height(cuts: &[(f64, f64)], form: &tool::Form) -> f64 {
+    let mut sorted: Vec<(f64, f64)> = cuts.to_vec();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.total_cmp(&a.1)));
+    let covers = |a: (f64, f64), b: (f64, f64)| a.1 - (a.0 - b.0).abs() / form.t >= b.1;
+    let mut kept: Vec<(f64, f64)> = Vec::with_capacity(sorted.len());
+    for tip in sorted {
+        if kept.last().is_some_and(|&last| covers(last, tip)) {
+            continue;
+        }
+        while kept.last().is_some_and(|&last| covers(tip, last)) {
+            kept.pop();
+        }
+        kept.push(tip);
+    }
+    let n = kept.len();
+    let mut left_peak = vec![0.0_f64; n];
+    let mut right_peak = vec![0.0_f64; n];
+    for i in 0..n {
+        left_peak[i] = kept[i].1.max(if i > 0 { left_peak[i - 1] } else { 0.0 });
+        let j = n - 1 - i;
+        right_peak[j] = kept[j].1.max(if i > 0 { right_peak[j + 1] } else { 0.0 });
+    }
+    let mut ridge: f64 = 0.0;
+    for i in 1..n {
+        let ((ua, da), (ub, db)) = (kept[i - 1], kept[i]);
+        let (mut a, mut b) = (ua, ub);
+        while b - a > BISECTION_WIDTH {
+            let m = (a + b) / 2.0;
+            if form.bottom_at(ua, da, m) > form.bottom_at(ub, db, m) {
+                a = m;
+            } else {
+                b = m;
+            }
+        }
+        let valley = form.bottom_at(ua, da, a).max(form.bottom_at(ub, db, a));
+        ridge = ridge.max(left_peak[i - 1].min(right_peak[i]) - valley.max(0.0));
+    }
+    ridge.max(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ridge_between_two_sharp_tips() {
+        // t = tan 45° = 1 (90° tool): tips 1 deep at u = 0 and u = 1 meet at depth 0.5.
+        let r = ridge_height(&[(0.0, 1.0), (1.0, 1.0)], &Tool::sharp(90.0).form());
+        assert!((r - 0.5).abs() < 1e-9, "{r}");
+        // Unequal tips: the ridge is measured from the shallower one: 0.8 − 0.4.
+        let r = ridge_height(&[(0.0, 1.0), (1.0, 0.8)], &Tool::sharp(90.0).form());
+        assert!((r - 0.4).abs() < 1e-9, "{r}");
+        // One tip inside the other's V: no ridge.
+        let r = ridge_height(&[(0.0, 1.0), (0.1, 0.5)], &Tool::sharp(90.0).form());
+        assert!(r.abs() < 1e-12, "{r}");
+    }
+
+    #[test]
+    fn the_nose_bound_never_changes_the_distance() {
+        let tool = Tool {
+            angle_deg: 55.0,
+            tip: Tip::Radius { radius: 0.2 },
+        };
+        let outline = tool.outline(0.3, 1.0, -1.0);
+        let fast = EdgeLines::new(&outline, &tool, Some((0.3, 0.2)));
+        let brute = EdgeLines::new(&outline, &tool, None);
+        let form = tool.form();
+        for i in 0..=60 {
+            for j in 0..=60 {
+                let v = -0.5 + 1.5 * f64::from(i) / 60.0;
+                let (l, r) = match form.span_at(0.3, 1.0, v) {
+                    Some(s) => s,
+                    None => continue,
+                };
+                let u = l + (r - l) * f64::from(j) / 60.0;
+                let (a, b) = (
+                    fast.depth_inside((u, v), f64::NEG_INFINITY),
+                    brute.depth_inside((u, v), f64::NEG_INFINITY),
+                );
+                assert!((a - b).abs() < 1e-12, "({u}, {v}): {a} vs {b}");
+            }
+        }
+    }
+
+    #[test]
+    fn clipped_area_of_a_square() {
+        let sq = contour(&[(0.0, 0.0), (2.0, 0.0), (2.0, 1.0), (0.0, 1.0)]);
+        assert!((clipped_area(&sq, 0.5) - 0.5).abs() < 1e-9);
+        assert!((clipped_area(&sq, 3.0) - 2.0).abs() < 1e-9);
+    }
+}
