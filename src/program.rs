@@ -306,3 +306,39 @@ pub fn pass_rows(job: &Job, passes: &[Pass], diameter_x: bool) -> Vec<PassRow> {
         })
         .collect()
 }
+
+/// One cycle of `threadcut passes --json`: the pass rows and the simulated columns (`sim_area`,
+/// `sim_share`, `cutting_flank`, `chip_thickness`; null where the section could not be simulated).
+pub fn passes_json(
+    job: &Job,
+    rows: &[PassRow],
+    section: Option<&crate::sim::Section>,
+) -> serde_json::Value {
+    let sims = section.map(|s| s.passes.as_slice());
+    let sim = |i: usize| sims.and_then(|s| s.get(i));
+    let area_scale = job.units.scale() * job.units.scale();
+    let rows: Vec<serde_json::Value> = rows
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let mut v = serde_json::to_value(r).unwrap_or_default();
+            if let Some(o) = v.as_object_mut() {
+                let s = sim(i);
+                o.insert("sim_area".into(), s.map(|s| s.area / area_scale).into());
+                o.insert("sim_share".into(), s.map(|s| s.share).into());
+                o.insert("cutting_flank".into(), s.map(|s| s.flank.name()).into());
+                o.insert(
+                    "chip_thickness".into(),
+                    s.map(|s| job.units.from_mm(s.max_thickness)).into(),
+                );
+            }
+            v
+        })
+        .collect();
+    serde_json::json!({
+        "line": job.line,
+        "controller": job.controller,
+        "units": job.units,
+        "passes": rows,
+    })
+}

@@ -425,30 +425,7 @@ fn passes(
             if !first {
                 out.write_all(b",")?;
             }
-            let rows: Vec<serde_json::Value> = rows
-                .iter()
-                .enumerate()
-                .map(|(i, r)| {
-                    let mut v = serde_json::to_value(r).unwrap_or_default();
-                    if let Some(o) = v.as_object_mut() {
-                        let s = sim(i);
-                        o.insert("sim_area".into(), s.map(|s| s.area / area_scale).into());
-                        o.insert("sim_share".into(), s.map(|s| s.share).into());
-                        o.insert("cutting_flank".into(), s.map(|s| s.flank.name()).into());
-                        o.insert(
-                            "chip_thickness".into(),
-                            s.map(|s| job.units.from_mm(s.max_thickness)).into(),
-                        );
-                    }
-                    v
-                })
-                .collect();
-            let cycle = serde_json::json!({
-                "line": job.line,
-                "controller": job.controller,
-                "units": job.units,
-                "passes": rows,
-            });
+            let cycle = program::passes_json(&job, &rows, section.as_ref());
             serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
         } else {
             let d = machine.decimals(job.units) as usize + 1;

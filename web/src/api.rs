@@ -7,6 +7,8 @@ use serde_json::{json, Map, Value};
 use threadcut::diag::Diagnostic;
 use threadcut::machine::{Machine, BUILT_IN};
 use threadcut::program::{self, Error, Event};
+use threadcut::render;
+use threadcut::sim::{self, Tip, Tool};
 use threadcut::thread::standard::{self, Surface};
 use threadcut::toolpath;
 
@@ -180,13 +182,15 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         let passes = job.passes()?;
         // Builds the toolpath too, so that a cycle that cannot be cut fails here, at its line.
         toolpath::build_with(&job, &passes)?;
+        // As `threadcut passes --json` with its default (sharp) tool: X as the program writes it
+        // at the cycle, the simulated columns null where the section cannot be simulated.
         let rows = program::pass_rows(&job, &passes, modal.diameter_x);
-        cycles.push(json!({
-            "line": job.line,
-            "controller": job.controller,
-            "units": job.units,
-            "passes": rows,
-        }));
+        let tool = Tool {
+            angle_deg: job.tool_angle_deg,
+            tip: Tip::Sharp,
+        };
+        let section = sim::section(&job, &passes, &tool, 0.0).ok();
+        cycles.push(program::passes_json(&job, &rows, section.as_ref()));
         Ok(())
     });
     match run {
@@ -224,7 +228,15 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
             Err(e) => fail(e, &mut diagnostics, &mut failed),
         }
     }
-    let svg = if failed { None } else { plots(text, &machine) };
+    // The plots, as `threadcut plot` draws them.
+    let mut plot_error = None;
+    let mut svg = None;
+    if !failed {
+        match render::program_svg(text.as_bytes(), &machine, Tip::Sharp) {
+            Ok((s, _)) => svg = Some(s),
+            Err(e) => plot_error = Some(e.to_string()),
+        }
+    }
 
     json!({
         "ok": !failed,
@@ -236,11 +248,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         "motions": motions,
         "motions_total": motions_total,
         "svg": svg,
+        "plot_error": plot_error,
         "diagnostics": diagnostics,
     })
-}
-
-/// The plots of every cycle: not yet available in the library.
-fn plots(_text: &str, _machine: &Machine) -> Option<String> {
-    None
 }

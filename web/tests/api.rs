@@ -187,3 +187,29 @@ fn unknown_names_are_errors_not_panics() {
     assert_eq!(out["ok"], false);
     assert!(out["error"].as_str().unwrap().contains("gsk980"));
 }
+
+#[test]
+fn the_plan_carries_the_librarys_plot_and_simulated_columns() {
+    let out = plan("gsk980", &values("gsk980", "M20x2.5"));
+    let svg = out["svg"].as_str().unwrap();
+    assert!(
+        svg.starts_with("<svg") || svg.starts_with("<?xml"),
+        "{}",
+        &svg[..80]
+    );
+    assert!(svg.contains("</svg>"));
+    // Same SVG as the library's `threadcut plot` path for the generated program.
+    let machine = threadcut::machine::Machine::built_in("gsk980").unwrap();
+    let (want, _) = threadcut::render::program_svg(
+        out["program"].as_str().unwrap().as_bytes(),
+        &machine,
+        threadcut::sim::Tip::Sharp,
+    )
+    .unwrap();
+    assert_eq!(svg, want);
+    // A sharp tool's simulated chip areas equal the sharp-V areas of the table.
+    for r in out["cycles"][0]["passes"].as_array().unwrap() {
+        let (a, s) = (r["area"].as_f64().unwrap(), r["sim_area"].as_f64().unwrap());
+        assert!((a - s).abs() < 1e-6 * a.max(1.0), "{r}");
+    }
+}

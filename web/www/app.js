@@ -167,7 +167,7 @@ function show(r) {
   if (!(r.cycles || []).length) passes.innerHTML = '<p class="muted">No threading cycle.</p>';
 
   // Plots (the library's own SVG).
-  $('plot').innerHTML = r.svg || '<p class="muted">No plot.</p>';
+  $('plot').innerHTML = r.svg || `<p class="muted">No plot${r.plot_error ? ': ' + esc(r.plot_error) : ''}.</p>`;
 
   // Expanded G-code.
   lastGcode = r.gcode || '';
