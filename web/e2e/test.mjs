@@ -87,6 +87,8 @@ try {
   assert.match(await page.textContent('#diagnostics li.error'), /E004.*P\(r\)=05/s);
   assert.equal(await page.$$eval('#form input.bad', (els) => els.length), 1);
   assert.equal(await page.$$eval('#passes tbody tr', (trs) => trs.length), 0);
+  assert.match(await page.textContent('#legend li.bad'), /^P\(r\)/);
+  await page.screenshot({ path: join(here, 'screenshot-field.png'), fullPage: true });
   await page.fill('#form input[data-field="r"]', '1');
   await page.waitForSelector('#passes tbody tr');
   assert.equal(await page.$$eval('#form input.bad', (els) => els.length), 0);

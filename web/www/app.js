@@ -55,17 +55,28 @@ function renderForm() {
         size(input, f);
         schedule(plan);
       });
-      input.addEventListener('focus', () => { $('field-help').textContent = f.label; });
-      input.addEventListener('mouseenter', () => { $('field-help').textContent = f.label; });
       span.append(input);
       div.append(span);
     }
     form.append(div);
   }
+  // What each word means, next to the form (the inputs carry the same text as their tooltip).
+  const legend = document.createElement('ul');
+  legend.id = 'legend';
+  for (const line of c.form.lines) {
+    for (const piece of line) {
+      if (!piece.field) continue;
+      const li = document.createElement('li');
+      li.dataset.legend = piece.field.id;
+      li.textContent = piece.field.label;
+      legend.append(li);
+    }
+  }
+  form.append(legend);
 }
 
 function size(input, f) {
-  input.style.width = Math.max(f.kind === 'digits2' ? 2 : 3, input.value.length + 0.5) + 'ch';
+  input.style.width = `calc(${Math.max(f.kind === 'digits2' ? 2 : 3, input.value.length)}ch + 0.6rem)`;
 }
 
 function fill() {
@@ -119,7 +130,7 @@ function show(r) {
   if (r.error) diags.unshift({ severity: 'error', code: null, message: r.error, line: 0, column: 0, len: 0 });
 
   // Diagnostics, and the field each points into.
-  for (const el of document.querySelectorAll('#form input')) {
+  for (const el of document.querySelectorAll('#form input, #legend li')) {
     el.classList.remove('bad', 'warn');
     el.removeAttribute('aria-invalid');
   }
@@ -137,8 +148,9 @@ function show(r) {
       if (input) {
         input.classList.add(d.severity === 'error' ? 'bad' : 'warn');
         input.setAttribute('aria-invalid', 'true');
-        input.title = `${d.message}`;
-        li.querySelector('b').insertAdjacentHTML('afterend', ` <span class="field">${esc(input.getAttribute('aria-label'))}</span>`);
+        const entry = document.querySelector(`#legend li[data-legend="${d.field}"]`);
+        if (entry) entry.classList.add(d.severity === 'error' ? 'bad' : 'warn');
+        li.querySelector('b').insertAdjacentHTML('afterend', ` <span class="field">${esc(input.getAttribute('aria-label').split(':')[0])}</span>`);
       }
     }
     list.append(li);
