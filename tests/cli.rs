@@ -58,10 +58,14 @@ fn expand_to_a_file_and_passes_json() {
     assert!(out.stdout.is_empty());
     let text = std::fs::read_to_string(&output).unwrap();
     assert!(text.starts_with("G0 X80 Z10\n(threadcut"), "{text}");
-    // An ordinary new file's mode (0666 less the umask, 022 here), not a temporary file's 0600.
+    // An ordinary new file's mode (0666 less the umask: the same as `File::create` gives), not a
+    // temporary file's 0600.
     use std::os::unix::fs::PermissionsExt;
-    let mode = std::fs::metadata(&output).unwrap().permissions().mode() & 0o777;
-    assert_ne!(mode & 0o044, 0, "mode {mode:o}");
+    let reference = std::env::temp_dir().join(format!("threadcut-mode-{}", std::process::id()));
+    std::fs::File::create(&reference).unwrap();
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode(&output), mode(&reference));
+    std::fs::remove_file(&reference).unwrap();
     // No temporary file is left beside it.
     let names: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()

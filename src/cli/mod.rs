@@ -4,6 +4,7 @@ mod check;
 mod convert;
 mod mill;
 mod output;
+mod passes;
 mod plot;
 mod post;
 mod render;
@@ -18,7 +19,6 @@ use clap::{Parser, Subcommand, ValueEnum};
 use threadcut::diag::Diagnostic;
 use threadcut::machine::{Machine, BUILT_IN};
 use threadcut::program::{self, Error, Event, Summary};
-use threadcut::thread::PassKind;
 
 #[derive(Parser)]
 #[command(
@@ -325,7 +325,7 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
         } => {
             let mut input = open_input(&file)?;
             if post::is_apt(&file, &mut input) {
-                post::passes(&file, input, json, output.as_deref())?;
+                post::passes(&file, input, json, output.as_deref(), tool.tip()?)?;
                 return Ok(ExitCode::SUCCESS);
             }
             let machine = load_machine(&machine)?;
@@ -390,7 +390,7 @@ fn open_input(file: &Path) -> Result<Box<dyn BufRead>, Failure> {
     Ok(Box::new(BufReader::with_capacity(1 << 16, f)))
 }
 
-/// `threadcut passes`: a table per cycle, or `{"cycles":[…]}` streamed one cycle at a time.
+/// `threadcut passes` on G-code.
 fn passes(
     input: Box<dyn BufRead>,
     out: &mut dyn Write,
@@ -398,90 +398,17 @@ fn passes(
     json: bool,
     tip: threadcut::sim::Tip,
 ) -> Result<Summary, Error> {
-    if json {
-        out.write_all(br#"{"cycles":["#)?;
-    }
-    let mut first = true;
+    let mut writer = passes::PassesWriter::begin(out, json, tip)?;
     let summary = program::run(input, machine, |modal, ev| {
         let Event::Cycle { job, .. } = ev else {
             return Ok(());
         };
-        let passes = job.passes()?;
-        // X as the program writes it at the cycle (OmniTurn's G72/G73 and LinuxCNC's G7/G8 switch it
-        // mid-program).
-        let rows = program::pass_rows(&job, &passes, modal.diameter_x);
-        // The simulated columns: chip area with the tool's real tip, share, cutting flank.
-        let tool = threadcut::sim::Tool {
-            angle_deg: job.tool_angle_deg,
-            tip: threadcut::sim::check::tip_in_mm(tip, job.units),
-        };
-        // A tool the section cannot draw (a 0° angle, an absurd size) leaves these columns empty
-        // rather than failing the table the dialect accepted.
-        let section = threadcut::sim::section(&job, &passes, &tool, 0.0).ok();
-        let sims = section.as_ref().map(|s| s.passes.as_slice());
-        let sim = |i: usize| sims.and_then(|s| s.get(i));
-        let area_scale = job.units.scale() * job.units.scale();
-        if json {
-            if !first {
-                out.write_all(b",")?;
-            }
-            let cycle = program::passes_json(&job, &rows, section.as_ref());
-            serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
-        } else {
-            let d = machine.decimals(job.units) as usize + 1;
-            let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
-            writeln!(
-                out,
-                "line {}: {} cycle, {} rough + {} finishing passes ({}; depth radial, X as programmed)",
-                job.line,
-                job.controller,
-                rough,
-                passes.len() - rough,
-                job.units.name()
-            )?;
-            writeln!(
-                out,
-                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6} {:>10} {:>6}  {:<5}",
-                "pass",
-                "kind",
-                "depth",
-                "increment",
-                "x",
-                "z",
-                "area",
-                "share",
-                "sim area",
-                "share",
-                "flank"
-            )?;
-            for (i, r) in rows.iter().enumerate() {
-                let kind = match r.kind {
-                    PassKind::Rough => "rough",
-                    PassKind::Finish => "finish",
-                };
-                writeln!(
-                    out,
-                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}% {:>10} {:>6}  {:<5}",
-                    r.n,
-                    kind,
-                    r.depth,
-                    r.increment,
-                    r.x,
-                    r.z,
-                    r.area,
-                    r.share * 100.0,
-                    sim(i).map_or("-".into(), |s| format!("{:.5}", s.area / area_scale)),
-                    sim(i).map_or("-".into(), |s| format!("{:.1}%", s.share * 100.0)),
-                    sim(i).map_or("-", |s| s.flank.name())
-                )?;
-            }
-            writeln!(out)?;
-        }
-        first = false;
-        Ok(())
+        // X as the program writes it at the cycle (OmniTurn's G72/G73 and LinuxCNC's G7/G8 switch
+        // it mid-program).
+        let what = format!("{} cycle", job.controller);
+        let decimals = machine.decimals(job.units) as usize + 1;
+        writer.cycle(out, &job, modal.diameter_x, decimals, &what)
     })?;
-    if json {
-        out.write_all(b"]}\n")?;
-    }
+    writer.end(out)?;
     Ok(summary)
 }

@@ -1,13 +1,13 @@
 //! `threadcut post FILE.apt --controller C`, and the APT side of `passes` and `expand`.
 
-use std::io::{self, BufRead, Write};
+use std::io::{BufRead, Write};
 use std::path::Path;
 
 use threadcut::apt;
 use threadcut::machine::Machine;
-use threadcut::program::{self, Error, Summary};
-use threadcut::thread::PassKind;
+use threadcut::program::{Error, Summary};
 
+use super::passes::PassesWriter;
 use super::{output, warn, Failure};
 
 /// Whether `input` (not yet consumed) holds APT/CL source.
@@ -45,79 +45,37 @@ pub fn passes(
     input: Box<dyn BufRead>,
     json: bool,
     out: Option<&Path>,
+    tip: threadcut::sim::Tip,
 ) -> Result<(), Failure> {
-    let summary = output::write(file, out, |w| passes_to(input, w, json))?;
+    let summary = output::write(file, out, |w| passes_to(input, w, json, tip))?;
     warn(file, &summary);
     Ok(())
 }
 
-fn passes_to(input: Box<dyn BufRead>, out: &mut dyn Write, json: bool) -> Result<Summary, Error> {
-    if json {
-        out.write_all(br#"{"cycles":["#)?;
-    }
-    let mut first = true;
+fn passes_to(
+    input: Box<dyn BufRead>,
+    out: &mut dyn Write,
+    json: bool,
+    tip: threadcut::sim::Tip,
+) -> Result<Summary, Error> {
+    let mut writer = PassesWriter::begin(out, json, tip)?;
     let summary = apt::run(input, |_, ev| {
         let apt::Event::Cycle(job) = ev else {
             return Ok(());
         };
-        let passes = job.passes()?;
-        let rows = program::pass_rows(&job, &passes, false);
-        if json {
-            if !first {
-                out.write_all(b",")?;
-            }
-            let cycle = serde_json::json!({
-                "line": job.line,
-                "controller": job.controller,
-                "units": job.units,
-                "passes": rows,
-            });
-            serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
+        let decimals = if job.units == threadcut::units::Units::Inch {
+            5
         } else {
-            let d = if job.units == threadcut::units::Units::Inch {
-                5
-            } else {
-                4
-            };
-            let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
-            writeln!(
-                out,
-                "line {}: APT THREAD/ON cycle, {} rough + {} finishing passes ({}; depth along the in-feed axis, X a radius)",
-                job.line,
-                rough,
-                passes.len() - rough,
-                job.units.name()
-            )?;
-            writeln!(
-                out,
-                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6}",
-                "pass", "kind", "depth", "increment", "x", "z", "area", "share"
-            )?;
-            for r in &rows {
-                let kind = match r.kind {
-                    PassKind::Rough => "rough",
-                    PassKind::Finish => "finish",
-                };
-                writeln!(
-                    out,
-                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}%",
-                    r.n,
-                    kind,
-                    r.depth,
-                    r.increment,
-                    r.x,
-                    r.z,
-                    r.area,
-                    r.share * 100.0
-                )?;
-            }
-            writeln!(out)?;
-        }
-        first = false;
-        Ok(())
+            4
+        };
+        writer.cycle(
+            out,
+            &job,
+            false,
+            decimals,
+            "APT THREAD/ON cycle (depth along the in-feed axis, X a radius)",
+        )
     })?;
-    if json {
-        out.write_all(b"]}\n")?;
-    }
+    writer.end(out)?;
     Ok(summary)
 }

@@ -89,18 +89,7 @@ impl AllenBradley {
         g78: Span,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
-        if let Some(w) = line
-            .words
-            .iter()
-            .find(|w| !b"GNXZKDFEAPI".contains(&w.letter))
-        {
-            return Err(Diagnostic::error(
-                Code::Unsupported,
-                w.span,
-                format!("{} is not a word of G78", w.letter as char),
-            )
-            .with_hint("its words are X Z K D F|E A P I"));
-        }
+        super::only_words(line, b"GNXZKDFEAPI", "G78", "X Z K D F|E A P I")?;
         if let Some(w) = line
             .words
             .iter()

@@ -20,7 +20,7 @@ use crate::thread::{
 };
 use crate::units::{Pos, Units};
 
-use super::Read;
+use super::{only_words, Read};
 
 const G76: u16 = 760;
 const G92: u16 = 920;
@@ -710,18 +710,6 @@ fn unpack_p(line: &Line, p: &Word) -> Result<(u32, u32, u32)> {
         ));
     }
     Ok((m, r, a))
-}
-
-fn only_words(line: &Line, allowed: &[u8], block: &str, format: &str) -> Result<()> {
-    match line.words.iter().find(|w| !allowed.contains(&w.letter)) {
-        Some(w) => Err(Diagnostic::error(
-            Code::Unsupported,
-            w.span,
-            format!("{} is not a word of {block}", w.letter as char),
-        )
-        .with_hint(format!("its words are {format}"))),
-        None => Ok(()),
-    }
 }
 
 fn alarm_missing(span: Span, word: &str, what: &str) -> Diagnostic {

@@ -18,7 +18,7 @@ use crate::thread::{
 use crate::units::{Pos, Units};
 
 use super::fanuc_family::{self, FanucFamily, Flavour, ThreadParameters};
-use super::{Dialect, Read};
+use super::{only_words, Dialect, Read};
 
 const G78: u16 = 780;
 
@@ -770,18 +770,6 @@ fn small_integer(w: &Word, name: &str, lo: u32, hi: u32) -> Result<u32> {
         ));
     }
     Ok(w.value as u32)
-}
-
-fn only_words(line: &Line, allowed: &[u8], block: &str, format: &str) -> Result<()> {
-    match line.words.iter().find(|w| !allowed.contains(&w.letter)) {
-        Some(w) => Err(Diagnostic::error(
-            Code::Unsupported,
-            w.span,
-            format!("{} is not a word of {block}", w.letter as char),
-        )
-        .with_hint(format!("its words are {format}"))),
-        None => Ok(()),
-    }
 }
 
 fn alarm_missing(span: Span, word: &str, what: &str) -> Diagnostic {

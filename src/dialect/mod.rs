@@ -68,6 +68,20 @@ pub trait Dialect {
     }
 }
 
+/// Refuses the first word of `line` whose letter is not in `allowed`, naming the block and its words:
+/// every controller's cycle blocks accept a fixed set of words.
+pub(crate) fn only_words(line: &Line, allowed: &[u8], block: &str, format: &str) -> Result<()> {
+    match line.words.iter().find(|w| !allowed.contains(&w.letter)) {
+        Some(w) => Err(Diagnostic::error(
+            crate::diag::Code::Unsupported,
+            w.span,
+            format!("{} is not a word of {block}", w.letter as char),
+        )
+        .with_hint(format!("its words are {format}"))),
+        None => Ok(()),
+    }
+}
+
 /// The dialect a machine profile names.
 pub fn open(machine: &Machine) -> std::result::Result<Box<dyn Dialect>, String> {
     match machine.dialect.as_str() {

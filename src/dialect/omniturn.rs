@@ -252,18 +252,7 @@ impl OmniTurn {
         g33: Span,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
-        if let Some(w) = line
-            .words
-            .iter()
-            .find(|w| !b"GNXZIKACPOS".contains(&w.letter))
-        {
-            return Err(Diagnostic::error(
-                Code::Unsupported,
-                w.span,
-                format!("{} is not a word of G33", w.letter as char),
-            )
-            .with_hint("its words are X Z I K A C P O"));
-        }
+        super::only_words(line, b"GNXZIKACPOS", "G33", "X Z I K A C P O")?;
         for w in line.words.iter().filter(|w| w.letter == b'G') {
             if w.span != g33 && !matches!(g_code(w.value), Some(G72 | G73)) {
                 return Err(Diagnostic::error(

@@ -1,0 +1,115 @@
+//! `threadcut passes`: each cycle's pass table with the simulated columns, as text or as
+//! `{"cycles":[…]}` streamed one cycle at a time. G-code and APT input share it.
+
+use std::io::{self, Write};
+
+use threadcut::program::{self, Error};
+use threadcut::sim::{self, check::tip_in_mm, Tip, Tool};
+use threadcut::thread::{Job, PassKind};
+
+pub struct PassesWriter {
+    json: bool,
+    tip: Tip,
+    cycles: usize,
+}
+
+impl PassesWriter {
+    pub fn begin(out: &mut dyn Write, json: bool, tip: Tip) -> io::Result<PassesWriter> {
+        if json {
+            out.write_all(br#"{"cycles":["#)?;
+        }
+        Ok(PassesWriter {
+            json,
+            tip,
+            cycles: 0,
+        })
+    }
+
+    /// One cycle. `diameter_x`: X as the program writes it at the cycle; `decimals`: of depths and
+    /// positions in the table; `what`: the title's description of the cycle and its columns.
+    pub fn cycle(
+        &mut self,
+        out: &mut dyn Write,
+        job: &Job,
+        diameter_x: bool,
+        decimals: usize,
+        what: &str,
+    ) -> Result<(), Error> {
+        let passes = job.passes()?;
+        let rows = program::pass_rows(job, &passes, diameter_x);
+        // The simulated columns: chip area with the tool's real tip, share, cutting flank. A tool
+        // the section cannot draw (a 0° angle, an absurd size) leaves them empty rather than
+        // failing the table the controller accepted.
+        let tool = Tool {
+            angle_deg: job.tool_angle_deg,
+            tip: tip_in_mm(self.tip, job.units),
+        };
+        let section = sim::section(job, &passes, &tool, 0.0).ok();
+        let sim = |i: usize| section.as_ref().and_then(|s| s.passes.get(i));
+        let area_scale = job.units.scale() * job.units.scale();
+        if self.json {
+            if self.cycles > 0 {
+                out.write_all(b",")?;
+            }
+            let cycle = program::passes_json(job, &rows, section.as_ref());
+            serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
+        } else {
+            let d = decimals;
+            let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
+            writeln!(
+                out,
+                "line {}: {what}, {} rough + {} finishing passes ({})",
+                job.line,
+                rough,
+                passes.len() - rough,
+                job.units.name()
+            )?;
+            writeln!(
+                out,
+                "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6} {:>10} {:>6}  {:<5}",
+                "pass",
+                "kind",
+                "depth",
+                "increment",
+                "x",
+                "z",
+                "area",
+                "share",
+                "sim area",
+                "share",
+                "flank"
+            )?;
+            for (i, r) in rows.iter().enumerate() {
+                let kind = match r.kind {
+                    PassKind::Rough => "rough",
+                    PassKind::Finish => "finish",
+                };
+                writeln!(
+                    out,
+                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}% {:>10} {:>6}  {:<5}",
+                    r.n,
+                    kind,
+                    r.depth,
+                    r.increment,
+                    r.x,
+                    r.z,
+                    r.area,
+                    r.share * 100.0,
+                    sim(i).map_or("-".into(), |s| format!("{:.5}", s.area / area_scale)),
+                    sim(i).map_or("-".into(), |s| format!("{:.1}%", s.share * 100.0)),
+                    sim(i).map_or("-", |s| s.flank.name())
+                )?;
+            }
+            writeln!(out)?;
+        }
+        self.cycles += 1;
+        Ok(())
+    }
+
+    pub fn end(self, out: &mut dyn Write) -> io::Result<()> {
+        if self.json {
+            out.write_all(b"]}\n")?;
+        }
+        Ok(())
+    }
+}
