@@ -28,7 +28,7 @@ fn job(src: &str) -> Job {
 }
 
 fn example(name: &str) -> String {
-    std::fs::read_to_string(format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
+    std::fs::read_to_string(format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
 }
 
 fn error(src: &str) -> Diagnostic {
@@ -490,7 +490,7 @@ fn expansion_as_single_passes_reproduces_every_thread_move() {
 }
 
 fn path_of(name: &str) -> String {
-    format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 fn run_cli(args: &[&str]) -> std::process::Output {

@@ -769,7 +769,7 @@ fn y_and_missing_units_are_warned_about() {
 
 #[test]
 fn the_examples_read() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples");
     let mut n = 0;
     for e in std::fs::read_dir(dir).unwrap() {
         let path = e.unwrap().path();

@@ -35,7 +35,7 @@ fn example(name: &str) -> String {
 }
 
 fn path_of(name: &str) -> String {
-    format!("{}/examples/{name}", env!("CARGO_MANIFEST_DIR"))
+    format!("{}/../examples/{name}", env!("CARGO_MANIFEST_DIR"))
 }
 
 fn error(src: &str) -> Diagnostic {

@@ -27,7 +27,7 @@ fn expand() -> String {
 
 #[test]
 fn every_bad_program_gets_its_diagnostic_and_leaves_no_file() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/bad");
     let corpus: Corpus =
         toml::from_str(&std::fs::read_to_string(root.join("cases.toml")).unwrap()).unwrap();
     assert!(

@@ -29,7 +29,7 @@ const GOOD: &str =
 
 #[test]
 fn bundled_example_expands() {
-    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/gsk-g78.nc");
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples/gsk-g78.nc");
     let out = threadcut(&["expand", example, "--controller", "gsk980"]);
     assert!(
         out.status.success(),
@@ -178,7 +178,7 @@ fn controllers_lists_built_ins() {
 #[test]
 fn machine_profile_from_a_file() {
     let dir = temp_dir("machine");
-    let profile = include_str!("../profiles/gsk980.toml").replace("p5142 = 1 ", "p5142 = 3 ");
+    let profile = include_str!("../../profiles/gsk980.toml").replace("p5142 = 1 ", "p5142 = 3 ");
     let m = write(&dir, "m.toml", &profile);
     let input = write(&dir, "in.nc", "G0 X80 Z10\nG78 X60 Z-60 P3 Q1.8 F3\n");
     let out = threadcut(&[

@@ -482,7 +482,7 @@ fn expand_writes_g33_k_in_the_programs_x_mode_and_ends_at_z_end() {
 
 #[test]
 fn every_example_expands() {
-    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples");
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples");
     let mut n = 0;
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
