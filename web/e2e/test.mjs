@@ -105,6 +105,23 @@ try {
   assert.match(await page.textContent('#gcode'), /no output/);
   await page.screenshot({ path: join(here, 'screenshot-error.png'), fullPage: true });
 
+  // 4. Every controller with a cycle form plans M20x2.5 cleanly; OmniTurn (no form) says so.
+  await page.click('#tab-plan');
+  for (const [c, cycle] of [['fanuc', 'G76'], ['linuxcnc', 'G76'], ['ab9', 'G78']]) {
+    await page.selectOption('#controller', c);
+    assert.match(await page.textContent('#listing'), new RegExp(cycle), c);
+    await page.waitForFunction((c) => document.querySelector('#listing').textContent.length > 0 &&
+      document.querySelector('#passes tbody tr') !== null, c);
+    assert.match(await page.textContent('#diagnostics'), /No errors or warnings/, c);
+    assert.doesNotMatch(await page.textContent('#gcode'), new RegExp(cycle), c);
+    const n = await page.$$eval('#passes tbody tr', (trs) => trs.length);
+    assert.ok(n >= 5, `${c}: ${n} passes`);
+    assert.ok(await page.$('#plot svg'), `${c}: plot`);
+    if (c === 'linuxcnc') await page.screenshot({ path: join(here, 'screenshot-linuxcnc.png'), fullPage: true });
+  }
+  await page.selectOption('#controller', 'omniturn');
+  assert.match(await page.textContent('#form'), /No cycle form/);
+
   assert.deepEqual(problems, []);
   console.log(`e2e: ok (${url}; screenshots in web/e2e/)`);
 } catch (e) {

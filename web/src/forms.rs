@@ -209,13 +209,13 @@ pub fn form(controller: &str) -> Option<Form> {
                     t(" "),
                     num("z", "Z", "Z: end of the thread"),
                     t(" "),
-                    num("i", "I", "I: crest offset from the drive line (radius, negative outside)"),
+                    num("i", "I", "I: crest offset from the drive line (a diameter in G7; negative outside)"),
                     t(" "),
-                    num("dd", "J", "J: first cut depth (radius)"),
+                    num("dd", "J", "J: first cut depth (a diameter in G7)"),
                     t(" "),
                     num("degression", "R", "R: depth degression (1 constant depth, 2 constant area)"),
                     t(" "),
-                    num("k", "K", "K: full thread depth (radius)"),
+                    num("k", "K", "K: full thread depth (a diameter in G7)"),
                     t(" "),
                     opt("q", "Q", "Q: compound slide angle (degrees, optional)"),
                     t(" "),
@@ -367,13 +367,15 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
             ("dd", incr(dd)),
             ("lead", n(lead)),
         ]),
+        // The form is in G7 (X on diameter), where LinuxCNC reads I, J and K as diameters too
+        // (docs/dialects/linuxcnc-g76.md): each is twice its radial value.
         "linuxcnc" => v.extend([
             ("lead", n(lead)),
-            // The drive line is the start X; I is the crest's radial offset from it.
-            ("i", n((crest - sx) / 2.0)),
-            ("dd", n(dd)),
+            // The drive line is the start X; I is the crest's offset from it.
+            ("i", n(crest - sx)),
+            ("dd", n(2.0 * dd)),
             ("degression", "1.5".into()),
-            ("k", n(k)),
+            ("k", n(2.0 * k)),
             ("q", "29.5".into()),
             ("h", "2".into()),
             ("e", String::new()),

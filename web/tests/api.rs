@@ -213,3 +213,30 @@ fn the_plan_carries_the_librarys_plot_and_simulated_columns() {
         assert!((a - s).abs() < 1e-6 * a.max(1.0), "{r}");
     }
 }
+
+/// Every form cuts the standard's thread height: 17/24·H = 0.613435·P to the program's resolution
+/// (M20x2.5: 1.534 mm; 1/2-13 UNC: 0.613435 · 0.076923 in = 0.0472 in), external and internal
+/// (5/8·H = 0.541266·P: 1.353 mm; 0.0416 in), whatever units each controller writes it in.
+#[test]
+fn every_form_reaches_the_standard_thread_height() {
+    for c in threadcut_web::forms::CONTROLLERS {
+        for (thread, internal, depth) in [
+            ("M20x2.5", false, 1.534),
+            ("M20x2.5", true, 1.353),
+            ("1/2-13 UNC", false, 0.0472),
+            ("1/2-13 UNC", true, 0.0416),
+        ] {
+            let v = api::fill(
+                &json!({"controller": c, "thread": thread, "internal": internal}).to_string(),
+            );
+            let out = plan(c, &v["values"]);
+            assert_eq!(out["ok"], true, "{c} {thread}: {}", out["diagnostics"]);
+            let rows = out["cycles"][0]["passes"].as_array().unwrap();
+            let last = rows.last().unwrap()["depth"].as_f64().unwrap();
+            assert!(
+                (last - depth).abs() < 1e-9,
+                "{c} {thread} {internal}: {last}"
+            );
+        }
+    }
+}
