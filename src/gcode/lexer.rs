@@ -71,109 +71,318 @@ pub fn lex_line_with(
 ) -> Result<LineShape, Diagnostic> {
     words.clear();
     let mut shape = LineShape::default();
-    let span_at = |i: usize, len: usize| {
-        Span::new(
-            offset + i as u64,
-            len.min(u32::MAX as usize) as u32,
-            line_no,
-            i as u32 + 1,
-        )
-    };
     let mut i = 0;
     let n = line.len();
     while i < n {
         let c = line[i];
-        match c {
-            b' ' | b'\t' | b'\r' | 0x0c => i += 1,
-            b';' => break,
-            b'(' => match memchr::memchr(b')', &line[i + 1..]) {
-                Some(close) => i += close + 2,
-                None => {
-                    return Err(Diagnostic::error(
-                        Code::Syntax,
-                        span_at(i, n - i),
-                        "comment is not closed",
-                    )
-                    .with_hint("close the comment with `)` on the same line"));
-                }
-            },
-            b'%' if words.is_empty() => {
-                shape.percent = true;
-                i += 1;
-            }
-            b'/' if words.is_empty() && !shape.block_delete => {
-                shape.block_delete = true;
-                i += 1;
-            }
-            b'a'..=b'z' | b'A'..=b'Z' => {
-                let letter = c.to_ascii_uppercase();
-                if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
+        match CLASS[c as usize] {
+            LETTER => {
+                let letter = c & !0x20;
+                // Fast path: a number follows the letter directly and is short enough for
+                // `fast_number`; everything else (blanks after the letter, bare flags, errors, very
+                // long numbers) goes through `word_slow`, which is the reference behaviour.
+                // A number right after the letter also means the letter is not a bare flag.
+                if let Some((value, has_dot, end)) = fast_number(line, i + 1) {
                     words.push(Word {
                         letter,
-                        value: 0.0,
-                        has_dot: false,
+                        value,
+                        has_dot,
                         raw_start: (i + 1) as u32,
-                        raw_len: 0,
-                        span: span_at(i, 1),
+                        raw_len: (end - i - 1) as u32,
+                        span: span_at(offset, line_no, i, end - i),
                     });
-                    i += 1;
-                    continue;
+                    i = end;
+                } else {
+                    i = word_slow(line, i, line_no, offset, words, bare)?;
                 }
-                let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
-                    Diagnostic::error(
-                        Code::Syntax,
-                        span_at(at, len),
-                        format!(
-                            "malformed word `{}`: {what}",
-                            show(&line[i..(at + len).max(i + 1)])
-                        ),
-                    )
-                    .with_hint("a word is one letter followed by a number, such as `X-12.5`")
-                })?;
-                let word_span = span_at(i, number.end - i);
-                if !number.value.is_finite() {
-                    return Err(Diagnostic::error(
-                        Code::BadNumber,
-                        word_span,
-                        format!(
-                            "the value of `{}` is too large to be a coordinate",
-                            show(&line[i..number.end.min(i + 24)])
-                        ),
-                    ));
-                }
-                words.push(Word {
-                    letter,
-                    value: number.value,
-                    has_dot: number.has_dot,
-                    raw_start: number.start as u32,
-                    raw_len: (number.end - number.start) as u32,
-                    span: word_span,
-                });
-                i = number.end;
             }
-            b'#' | b'[' | b'=' => {
-                return Err(Diagnostic::error(
-                    Code::Unsupported,
-                    span_at(i, 1),
-                    format!(
-                        "`{}`: macro variables and expressions are not supported",
-                        c as char
-                    ),
-                )
-                .with_hint("expand the macro on the controller, or write plain values"));
-            }
+            BLANK => i += 1,
+            SEMICOLON => break,
+            OPEN => match memchr::memchr(b')', &line[i + 1..]) {
+                Some(close) => i += close + 2,
+                None => return Err(unclosed_comment(span_at(offset, line_no, i, n - i))),
+            },
             _ => {
-                let len = utf8_len(&line[i..]);
-                return Err(Diagnostic::error(
-                    Code::Syntax,
-                    span_at(i, len),
-                    format!("unexpected character `{}`", show(&line[i..i + len])),
-                )
-                .with_hint("expected an address letter, a comment or the end of the line"));
+                other_byte(line, i, line_no, offset, words.is_empty(), &mut shape)?;
+                i += 1;
             }
         }
     }
     Ok(shape)
+}
+
+/// A line lexed straight out of the reader's buffer by [`lex_buffered_line`].
+pub(crate) struct BufferedLine {
+    pub shape: LineShape,
+    /// Length of the line without its terminator (`\n` or `\r\n`).
+    pub text_len: usize,
+    /// Length of the line with its terminator.
+    pub raw_len: usize,
+}
+
+/// Lexes the line at the start of `input`, a buffer holding that line and possibly more, finding
+/// its end (`\n`) in the same pass instead of searching for it first.
+///
+/// This is only a fast path: it returns `None` for anything that is not a plain line of short
+/// words, blanks and closed comments ending in `\n` inside `input` (a line cut off by the end of
+/// the buffer, `%`, `/`, blanks after a letter, bare flags, long numbers, every error). The caller
+/// then finds the line's end and calls [`lex_line_with`], the reference. When it returns a line,
+/// `words` and the shape are exactly what [`lex_line_with`] gives for the line's text: `\r` is a
+/// blank to both, and every number stops at `\r` or `\n` as it stops at the end of the text.
+pub(crate) fn lex_buffered_line(
+    input: &[u8],
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+) -> Option<BufferedLine> {
+    words.clear();
+    let mut i = 0;
+    loop {
+        let c = *input.get(i)?;
+        match CLASS[c as usize] {
+            LETTER => {
+                let (value, has_dot, end) = fast_number(input, i + 1)?;
+                words.push(Word {
+                    letter: c & !0x20,
+                    value,
+                    has_dot,
+                    raw_start: (i + 1) as u32,
+                    raw_len: (end - i - 1) as u32,
+                    span: span_at(offset, line_no, i, end - i),
+                });
+                i = end;
+            }
+            BLANK => i += 1,
+            NEWLINE => return Some(buffered_line(input, i)),
+            OPEN => {
+                // The comment must close before the line ends.
+                let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
+                if input[close] == b'\n' {
+                    return None;
+                }
+                i = close + 1;
+            }
+            SEMICOLON => {
+                let newline = i + 1 + memchr::memchr(b'\n', &input[i + 1..])?;
+                return Some(buffered_line(input, newline));
+            }
+            _ => return None,
+        }
+    }
+}
+
+/// The line ending with the `\n` at `newline`.
+#[inline(always)]
+fn buffered_line(input: &[u8], newline: usize) -> BufferedLine {
+    let text_len = if newline > 0 && input[newline - 1] == b'\r' {
+        newline - 1
+    } else {
+        newline
+    };
+    BufferedLine {
+        shape: LineShape::default(),
+        text_len,
+        raw_len: newline + 1,
+    }
+}
+
+/// The span of `len` bytes at byte `i` of a line.
+#[inline(always)]
+fn span_at(offset: u64, line_no: u32, i: usize, len: usize) -> Span {
+    Span::new(
+        offset + i as u64,
+        len.min(u32::MAX as usize) as u32,
+        line_no,
+        i as u32 + 1,
+    )
+}
+
+/// Byte classes of the lexer's main loop: one table load instead of a chain of comparisons.
+const OTHER: u8 = 0;
+const BLANK: u8 = 1;
+const LETTER: u8 = 2;
+const OPEN: u8 = 3;
+const SEMICOLON: u8 = 4;
+/// Only [`lex_buffered_line`] sees line ends; to [`lex_line_with`] a stray `\n` is an error.
+const NEWLINE: u8 = 5;
+
+static CLASS: [u8; 256] = {
+    let mut t = [OTHER; 256];
+    let mut b = 0;
+    while b < 256 {
+        t[b] = match b as u8 {
+            b' ' | b'\t' | b'\r' | 0x0c => BLANK,
+            b'a'..=b'z' | b'A'..=b'Z' => LETTER,
+            b'(' => OPEN,
+            b';' => SEMICOLON,
+            b'\n' => NEWLINE,
+            _ => OTHER,
+        };
+        b += 1;
+    }
+    t
+};
+
+#[cold]
+fn unclosed_comment(span: Span) -> Diagnostic {
+    Diagnostic::error(Code::Syntax, span, "comment is not closed")
+        .with_hint("close the comment with `)` on the same line")
+}
+
+/// `%`, `/` and everything that is an error. Returns after a byte that was accepted.
+#[cold]
+#[inline(never)]
+fn other_byte(
+    line: &[u8],
+    i: usize,
+    line_no: u32,
+    offset: u64,
+    no_words: bool,
+    shape: &mut LineShape,
+) -> Result<(), Diagnostic> {
+    let c = line[i];
+    match c {
+        b'%' if no_words => {
+            shape.percent = true;
+            Ok(())
+        }
+        b'/' if no_words && !shape.block_delete => {
+            shape.block_delete = true;
+            Ok(())
+        }
+        b'#' | b'[' | b'=' => Err(Diagnostic::error(
+            Code::Unsupported,
+            span_at(offset, line_no, i, 1),
+            format!(
+                "`{}`: macro variables and expressions are not supported",
+                c as char
+            ),
+        )
+        .with_hint("expand the macro on the controller, or write plain values")),
+        _ => {
+            let len = utf8_len(&line[i..]);
+            Err(Diagnostic::error(
+                Code::Syntax,
+                span_at(offset, line_no, i, len),
+                format!("unexpected character `{}`", show(&line[i..i + len])),
+            )
+            .with_hint("expected an address letter, a comment or the end of the line"))
+        }
+    }
+}
+
+/// A number starting right at `at` that Clinger's fast path converts exactly: `[+-]digits[.digits]`
+/// with 1 to 19 digits and a mantissa of at most 2^53, not followed by a second decimal point.
+/// Returns the value, whether it has a decimal point, and one past its last byte; `None` for
+/// anything else (which [`lex_number`] then handles, errors included).
+#[inline(always)]
+fn fast_number(line: &[u8], at: usize) -> Option<(f64, bool, usize)> {
+    let mut i = at;
+    let negative = match line.get(i) {
+        Some(b'-') => {
+            i += 1;
+            true
+        }
+        Some(b'+') => {
+            i += 1;
+            false
+        }
+        _ => false,
+    };
+    let int_start = i;
+    let mut mantissa: u64 = 0;
+    while let Some(&b) = line.get(i) {
+        let d = b.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+        i += 1;
+    }
+    let mut digits = i - int_start;
+    let has_dot = line.get(i) == Some(&b'.');
+    let mut frac_digits = 0;
+    if has_dot {
+        i += 1;
+        let frac_start = i;
+        while let Some(&b) = line.get(i) {
+            let d = b.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+            i += 1;
+        }
+        frac_digits = i - frac_start;
+        digits += frac_digits;
+        if line.get(i) == Some(&b'.') {
+            return None;
+        }
+    }
+    if digits == 0 || digits > 19 || mantissa > 1 << 53 {
+        return None;
+    }
+    // Clinger's fast path: both operands are exact doubles (frac_digits <= 19), so one division
+    // rounds correctly.
+    let v = mantissa as f64 / POW10[frac_digits];
+    Some((if negative { -v } else { v }, has_dot, i))
+}
+
+/// One word the reference way: blanks after the letter, bare flags, long numbers and every error.
+/// Returns the index after the word.
+#[cold]
+#[inline(never)]
+fn word_slow(
+    line: &[u8],
+    i: usize,
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+    bare: &[u8],
+) -> Result<usize, Diagnostic> {
+    let letter = line[i].to_ascii_uppercase();
+    if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
+        words.push(Word {
+            letter,
+            value: 0.0,
+            has_dot: false,
+            raw_start: (i + 1) as u32,
+            raw_len: 0,
+            span: span_at(offset, line_no, i, 1),
+        });
+        return Ok(i + 1);
+    }
+    let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
+        Diagnostic::error(
+            Code::Syntax,
+            span_at(offset, line_no, at, len),
+            format!(
+                "malformed word `{}`: {what}",
+                show(&line[i..(at + len).max(i + 1)])
+            ),
+        )
+        .with_hint("a word is one letter followed by a number, such as `X-12.5`")
+    })?;
+    let word_span = span_at(offset, line_no, i, number.end - i);
+    if !number.value.is_finite() {
+        return Err(Diagnostic::error(
+            Code::BadNumber,
+            word_span,
+            format!(
+                "the value of `{}` is too large to be a coordinate",
+                show(&line[i..number.end.min(i + 24)])
+            ),
+        ));
+    }
+    words.push(Word {
+        letter,
+        value: number.value,
+        has_dot: number.has_dot,
+        raw_start: number.start as u32,
+        raw_len: (number.end - number.start) as u32,
+        span: word_span,
+    });
+    Ok(number.end)
 }
 
 /// Whether a number follows (after blanks): a digit, a sign or a decimal point.

@@ -132,14 +132,7 @@ impl Modal {
                 _ => continue,
             };
             if let Some(first) = axis_seen.replace(w) {
-                return Err(Diagnostic::error(
-                    Code::Conflict,
-                    w.span,
-                    format!(
-                        "{} and {} in one block name the same axis twice",
-                        first.letter as char, w.letter as char
-                    ),
-                ));
+                return Err(axis_twice(first, w));
             }
             let is_x = matches!(w.letter, b'X' | b'U');
             let v = if is_x {
@@ -162,8 +155,10 @@ impl Modal {
         let mut dwell = false;
         let mut set_position = false;
         let mut home = false;
-        let mut moves_axes = false;
         let mut f_word = None;
+        // One pass over the words: the axis words are remembered here, so that the end point is
+        // computed without a second scan (`axes` gives exactly what `target` would).
+        let mut axes = AxisWords::default();
         for w in line.words {
             match w.letter {
                 b'G' => {
@@ -187,8 +182,10 @@ impl Modal {
                         _ => {}
                     }
                 }
-                b'X' | b'Z' => moves_axes = true,
-                b'U' | b'W' if conv.uw_incremental => moves_axes = true,
+                b'X' => axes.see_x(w),
+                b'Z' => axes.see_z(w),
+                b'U' if conv.uw_incremental => axes.see_x(w),
+                b'W' if conv.uw_incremental => axes.see_z(w),
                 b'F' => f_word = Some(w),
                 _ => {}
             }
@@ -204,12 +201,12 @@ impl Modal {
             self.position = None;
             return Ok(None);
         }
-        if dwell || !moves_axes {
+        if dwell || (axes.x.is_none() && axes.z.is_none()) {
             return Ok(None);
         }
         if set_position {
             let base = self.position.unwrap_or_default();
-            self.position = Some(self.target(conv, line, base)?);
+            self.position = Some(self.target_of(&axes, base)?);
             return Ok(None);
         }
         if self.motion == MotionMode::Cycle {
@@ -218,12 +215,12 @@ impl Modal {
         let Some(from) = self.position else {
             // Absolute moves establish the position; an incremental one from nowhere stays unknown.
             if self.absolute && line.word(b'X').is_some() && line.word(b'Z').is_some() {
-                let to = self.target(conv, line, Pos::default())?;
+                let to = self.target_of(&axes, Pos::default())?;
                 self.position = Some(to);
             }
             return Ok(None);
         };
-        let to = self.target(conv, line, from)?;
+        let to = self.target_of(&axes, from)?;
         self.position = Some(to);
         let lead = if self.motion == MotionMode::Thread {
             Some(self.lead.ok_or_else(|| {
@@ -239,6 +236,32 @@ impl Modal {
             to,
             lead,
         }))
+    }
+
+    /// [`target`](Modal::target) from axis words already picked out of the block.
+    #[inline]
+    fn target_of(&self, axes: &AxisWords, from: Pos) -> Result<Pos> {
+        if let Some(second) = axes.conflict {
+            return Err(axis_twice(axes.first_on_axis_of(second), second));
+        }
+        let mut to = from;
+        if let Some(w) = axes.x {
+            let v = self.x_to_mm(self.value(w));
+            to.x = if w.letter == b'U' || !self.absolute {
+                from.x + v
+            } else {
+                v
+            };
+        }
+        if let Some(w) = axes.z {
+            let v = self.length_mm(w);
+            to.z = if w.letter == b'W' || !self.absolute {
+                from.z + v
+            } else {
+                v
+            };
+        }
+        Ok(to)
     }
 
     /// Reads F (lead in program units per revolution) or the dialect's TPI word into the modal lead.
@@ -281,6 +304,57 @@ impl Modal {
     }
 }
 
+/// The X/U and Z/W words of a block, in one pass: the first of each axis and the first word that
+/// names an axis already named (the error [`Modal::target`] reports).
+#[derive(Default)]
+struct AxisWords<'w> {
+    x: Option<&'w Word>,
+    z: Option<&'w Word>,
+    conflict: Option<&'w Word>,
+}
+
+impl<'w> AxisWords<'w> {
+    #[inline(always)]
+    fn see_x(&mut self, w: &'w Word) {
+        if self.x.is_some() {
+            self.conflict.get_or_insert(w);
+        } else {
+            self.x = Some(w);
+        }
+    }
+
+    #[inline(always)]
+    fn see_z(&mut self, w: &'w Word) {
+        if self.z.is_some() {
+            self.conflict.get_or_insert(w);
+        } else {
+            self.z = Some(w);
+        }
+    }
+
+    fn first_on_axis_of(&self, w: &'w Word) -> &'w Word {
+        let first = if matches!(w.letter, b'X' | b'U') {
+            self.x
+        } else {
+            self.z
+        };
+        first.unwrap_or(w)
+    }
+}
+
+#[cold]
+fn axis_twice(first: &Word, second: &Word) -> Diagnostic {
+    Diagnostic::error(
+        Code::Conflict,
+        second.span,
+        format!(
+            "{} and {} in one block name the same axis twice",
+            first.letter as char, second.letter as char
+        ),
+    )
+}
+
+#[cold]
 fn bad_g(w: &Word) -> Diagnostic {
     Diagnostic::error(
         Code::Syntax,

@@ -1,8 +1,8 @@
 //! A streaming line reader: one reused buffer, so memory does not grow with the file.
 
-use std::io::{BufRead, Read};
+use std::io::BufRead;
 
-use super::lexer::{lex_line_with, LineShape, Word};
+use super::lexer::{lex_buffered_line, lex_line_with, LineShape, Word};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -52,15 +52,22 @@ pub fn g_code(value: f64) -> Option<u16> {
     Some(tenths)
 }
 
+/// How much input is read at a time; the buffer grows beyond this only for a line that does not
+/// fit, and never beyond [`MAX_LINE_BYTES`] plus its terminator.
+const CHUNK: usize = 1 << 16;
+
 pub struct Reader<R> {
     source: R,
-    /// Holds a line only when it straddles the source's buffer; most lines are lexed in place.
+    /// Input read ahead of the lines handed out: the unconsumed part is `buf[start..end]`. Lines
+    /// are lexed in place; a line cut off by the end is moved to the front before reading more.
     buf: Vec<u8>,
+    start: usize,
+    end: usize,
+    /// The source has nothing more.
+    eof: bool,
     words: Vec<Word>,
     line_no: u32,
     offset: u64,
-    /// Bytes of the previous line still to be consumed from the source's buffer.
-    pending: usize,
     done: bool,
     bare: &'static [u8],
 }
@@ -69,11 +76,13 @@ impl<R: BufRead> Reader<R> {
     pub fn new(source: R) -> Reader<R> {
         Reader {
             source,
-            buf: Vec::with_capacity(256),
+            buf: Vec::new(),
+            start: 0,
+            end: 0,
+            eof: false,
             words: Vec::with_capacity(16),
             line_no: 0,
             offset: 0,
-            pending: 0,
             done: false,
             bare: b"",
         }
@@ -95,57 +104,33 @@ impl<R: BufRead> Reader<R> {
         if self.done {
             return None;
         }
-        self.source.consume(std::mem::take(&mut self.pending));
         let line_no = self.line_no + 1;
         let offset = self.offset;
-        let io_error = |e: std::io::Error| {
-            Diagnostic::error(
-                Code::Input,
-                Span::new(offset, 0, line_no, 1),
-                format!("cannot read the input: {e}"),
-            )
-        };
-        // Fast path: the whole line sits in the source's buffer; lex it there without copying.
-        let in_place = match self.source.fill_buf() {
-            Err(e) => {
-                self.done = true;
-                return Some(Err(io_error(e)));
-            }
-            Ok([]) => {
+        // Fast path: a plain line wholly in the buffer is lexed where it lies, its end found on the
+        // way. (A letter with a number right after it is never a bare flag, and `lex_buffered_line`
+        // leaves every other letter to the reference lexer.)
+        if let Some(l) = lex_buffered_line(
+            &self.buf[self.start..self.end],
+            line_no,
+            offset,
+            &mut self.words,
+        ) {
+            return Some(Ok(self.take_line(l.shape, l.text_len, l.raw_len)));
+        }
+        // Everything else: find the whole line (reading more input if needed) and lex it with
+        // the reference lexer.
+        let raw_len = match self.line_end(line_no, offset) {
+            Ok(Some(len)) => len,
+            Ok(None) => {
                 self.done = true;
                 return None;
             }
-            Ok(available) => memchr::memchr(b'\n', available).map(|i| i + 1),
-        };
-        let raw: &[u8] = match in_place {
-            Some(len) if len <= MAX_LINE_BYTES + 1 => {
-                self.pending = len;
-                &self.source.fill_buf().expect("filled above")[..len]
-            }
-            _ => {
-                self.buf.clear();
-                let limit = (MAX_LINE_BYTES + 2) as u64;
-                if let Err(e) = (&mut self.source)
-                    .take(limit)
-                    .read_until(b'\n', &mut self.buf)
-                {
-                    self.done = true;
-                    return Some(Err(io_error(e)));
-                }
-                if self.buf.last() != Some(&b'\n') && self.buf.len() as u64 >= limit {
-                    self.done = true;
-                    return Some(Err(Diagnostic::error(
-                        Code::Input,
-                        Span::new(offset, 1, line_no, 1),
-                        format!("line {line_no} is longer than {MAX_LINE_BYTES} bytes"),
-                    )
-                    .with_hint("is this a G-code file? Lines end with a newline")));
-                }
-                &self.buf
+            Err(e) => {
+                self.done = true;
+                return Some(Err(e));
             }
         };
-        self.line_no = line_no;
-        self.offset += raw.len() as u64;
+        let raw = &self.buf[self.start..self.start + raw_len];
         let mut text_len = raw.len();
         if raw.last() == Some(&b'\n') {
             text_len -= 1;
@@ -153,17 +138,107 @@ impl<R: BufRead> Reader<R> {
                 text_len -= 1;
             }
         }
-        let text = &raw[..text_len];
-        match lex_line_with(text, line_no, offset, &mut self.words, self.bare) {
-            Ok(shape) => Some(Ok(Line {
-                number: line_no,
-                offset,
-                text,
-                raw,
-                words: &self.words,
-                shape,
-            })),
-            Err(e) => Some(Err(e)),
+        match lex_line_with(
+            &raw[..text_len],
+            line_no,
+            offset,
+            &mut self.words,
+            self.bare,
+        ) {
+            Ok(shape) => Some(Ok(self.take_line(shape, text_len, raw_len))),
+            Err(e) => {
+                // The line is consumed: a caller may go on with the next one.
+                self.take_line(LineShape::default(), text_len, raw_len);
+                Some(Err(e))
+            }
+        }
+    }
+
+    /// Consumes the line of `raw_len` bytes at the front of the buffer.
+    #[inline(always)]
+    fn take_line(&mut self, shape: LineShape, text_len: usize, raw_len: usize) -> Line<'_> {
+        let start = self.start;
+        self.start += raw_len;
+        self.line_no += 1;
+        let offset = self.offset;
+        self.offset += raw_len as u64;
+        let raw = &self.buf[start..start + raw_len];
+        Line {
+            number: self.line_no,
+            offset,
+            text: &raw[..text_len],
+            raw,
+            words: &self.words,
+            shape,
+        }
+    }
+
+    /// The length of the next line, terminator included, once it is wholly in the buffer; `None`
+    /// at the end of the input.
+    fn line_end(&mut self, line_no: u32, offset: u64) -> Result<Option<usize>, Diagnostic> {
+        // A line (terminator included) may have MAX_LINE_BYTES + 2 bytes: `\r\n` after the limit.
+        const LIMIT: usize = MAX_LINE_BYTES + 2;
+        let too_long = || {
+            Diagnostic::error(
+                Code::Input,
+                Span::new(offset, 1, line_no, 1),
+                format!("line {line_no} is longer than {MAX_LINE_BYTES} bytes"),
+            )
+            .with_hint("is this a G-code file? Lines end with a newline")
+        };
+        let mut searched = 0;
+        loop {
+            let available = &self.buf[self.start..self.end];
+            if let Some(i) = memchr::memchr(b'\n', &available[searched..]) {
+                let len = searched + i + 1;
+                return if len > LIMIT {
+                    Err(too_long())
+                } else {
+                    Ok(Some(len))
+                };
+            }
+            searched = available.len();
+            if available.len() >= LIMIT {
+                return Err(too_long());
+            }
+            if self.eof {
+                return Ok((!available.is_empty()).then_some(available.len()));
+            }
+            self.refill().map_err(|e| {
+                Diagnostic::error(
+                    Code::Input,
+                    Span::new(offset, 0, line_no, 1),
+                    format!("cannot read the input: {e}"),
+                )
+            })?;
+        }
+    }
+
+    /// Moves the unconsumed input to the front of the buffer and reads more after it.
+    fn refill(&mut self) -> std::io::Result<()> {
+        if self.start > 0 {
+            self.buf.copy_within(self.start..self.end, 0);
+            self.end -= self.start;
+            self.start = 0;
+        }
+        if self.end == self.buf.len() {
+            // Full: only a line longer than the buffer gets here. Grow towards the line limit.
+            let len = (self.buf.len() * 2).clamp(CHUNK, MAX_LINE_BYTES + 2 + CHUNK);
+            self.buf.resize(len, 0);
+        }
+        loop {
+            match self.source.read(&mut self.buf[self.end..]) {
+                Ok(0) => {
+                    self.eof = true;
+                    return Ok(());
+                }
+                Ok(n) => {
+                    self.end += n;
+                    return Ok(());
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            }
         }
     }
 }
@@ -188,6 +263,138 @@ mod tests {
         let l = r.next_line().unwrap().unwrap();
         assert_eq!(l.raw, b"M30");
         assert!(r.next_line().is_none());
+    }
+
+    /// A source that hands out at most `step` bytes a read, so that lines straddle reads.
+    struct Trickle<'a> {
+        data: &'a [u8],
+        step: usize,
+    }
+
+    impl std::io::Read for Trickle<'_> {
+        fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+            let n = self.step.min(out.len()).min(self.data.len());
+            out[..n].copy_from_slice(&self.data[..n]);
+            self.data = &self.data[n..];
+            Ok(n)
+        }
+    }
+
+    impl BufRead for Trickle<'_> {
+        fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+            Ok(&self.data[..self.step.min(self.data.len())])
+        }
+        fn consume(&mut self, n: usize) {
+            self.data = &self.data[n..];
+        }
+    }
+
+    type Lexed = (
+        u32,
+        u64,
+        Vec<u8>,
+        Vec<u8>,
+        Result<(Vec<Word>, LineShape), Diagnostic>,
+    );
+
+    /// What the reader gives for every line.
+    fn read_all(source: impl BufRead, bare: &'static [u8]) -> Vec<Lexed> {
+        let mut r = Reader::new(source).with_bare_letters(bare);
+        let mut got = vec![];
+        let mut last = 0;
+        while let Some(l) = r.next_line() {
+            got.push(match l {
+                Ok(l) => {
+                    last = l.number;
+                    (
+                        l.number,
+                        l.offset,
+                        l.text.to_vec(),
+                        l.raw.to_vec(),
+                        Ok((l.words.to_vec(), l.shape)),
+                    )
+                }
+                Err(e) => {
+                    last += 1;
+                    (last, 0, vec![], vec![], Err(e))
+                }
+            });
+        }
+        got
+    }
+
+    /// The same, line by line with the reference lexer: split at `\n`, drop the terminator.
+    fn reference(src: &[u8], bare: &[u8]) -> Vec<Lexed> {
+        let mut got = vec![];
+        let mut offset = 0u64;
+        for (i, raw) in src.split_inclusive(|&b| b == b'\n').enumerate() {
+            let mut text = raw.strip_suffix(b"\n").unwrap_or(raw);
+            if raw.ends_with(b"\n") {
+                text = text.strip_suffix(b"\r").unwrap_or(text);
+            }
+            let mut words = vec![];
+            let n = i as u32 + 1;
+            got.push(match lex_line_with(text, n, offset, &mut words, bare) {
+                Ok(shape) => (n, offset, text.to_vec(), raw.to_vec(), Ok((words, shape))),
+                Err(e) => (n, 0, vec![], vec![], Err(e)),
+            });
+            offset += raw.len() as u64;
+        }
+        got
+    }
+
+    proptest::proptest! {
+        /// The reader's fast path (lexing in its buffer, finding the line end on the way) gives
+        /// exactly what the reference lexer gives for each line, errors included, however the
+        /// input is cut into reads.
+        #[test]
+        fn buffered_lexing_is_the_reference(
+            text in proptest::collection::vec(
+                proptest::sample::select(b"GXZUWPCNF0123456789.-+ \t\r\n\n\n();%/#e\xc3".to_vec()),
+                0..300,
+            ),
+            step in 1usize..40,
+            flags in proptest::bool::ANY,
+        ) {
+            let bare: &'static [u8] = if flags { b"PC" } else { b"" };
+            let want = reference(&text, bare);
+            proptest::prop_assert_eq!(read_all(&text[..], bare), want.clone());
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare), want);
+        }
+    }
+
+    #[test]
+    fn lines_across_reads_and_longer_than_the_buffer() {
+        let long = format!("G1 X1 ({})\r\n", "c".repeat(3 * CHUNK));
+        let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
+        let want = reference(src.as_bytes(), b"");
+        assert_eq!(want.len(), 5);
+        assert_eq!(read_all(src.as_bytes(), b""), want);
+        for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
+            let src = Trickle {
+                data: src.as_bytes(),
+                step,
+            };
+            assert_eq!(read_all(src, b""), want, "step {step}");
+        }
+    }
+
+    #[test]
+    fn line_length_limit() {
+        // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
+        // without a terminator.
+        let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
+        let got = read_all(ok.as_bytes(), b"");
+        assert_eq!(got.len(), 2);
+        assert!(got.iter().all(|l| l.4.is_ok()));
+        for tail in ["\r\n", ""] {
+            let bad = format!("G0 X1\n({}){tail}", "c".repeat(MAX_LINE_BYTES));
+            let mut r = Reader::new(bad.as_bytes());
+            assert!(r.next_line().unwrap().is_ok());
+            let e = r.next_line().unwrap().err().unwrap();
+            assert_eq!((e.code, e.span.line, e.span.start), (Code::Input, 2, 6));
+            assert!(r.next_line().is_none());
+        }
     }
 
     #[test]
