@@ -151,6 +151,7 @@ impl Modal {
     }
 
     /// Applies a block that is not a threading cycle: modal codes, then any motion.
+    #[inline(always)]
     pub fn apply(&mut self, conv: &Conventions, line: &Line) -> Result<Option<PlainMove>> {
         let mut dwell = false;
         let mut set_position = false;

@@ -100,6 +100,7 @@ impl<R: BufRead> Reader<R> {
     }
 
     /// The next line, lexed. `None` at the end of the input.
+    #[inline(always)]
     pub fn next_line(&mut self) -> Option<Result<Line<'_>, Diagnostic>> {
         if self.done {
             return None;
