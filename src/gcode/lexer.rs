@@ -129,6 +129,7 @@ pub(crate) struct BufferedLine {
 /// then finds the line's end and calls [`lex_line_with`], the reference. When it returns a line,
 /// `words` and the shape are exactly what [`lex_line_with`] gives for the line's text: `\r` is a
 /// blank to both, and every number stops at `\r` or `\n` as it stops at the end of the text.
+#[inline(always)]
 pub(crate) fn lex_buffered_line(
     input: &[u8],
     line_no: u32,
@@ -139,34 +140,37 @@ pub(crate) fn lex_buffered_line(
     let mut i = 0;
     loop {
         let c = *input.get(i)?;
-        match CLASS[c as usize] {
-            LETTER => {
-                let (value, has_dot, end) = fast_number(input, i + 1)?;
-                words.push(Word {
-                    letter: c & !0x20,
-                    value,
-                    has_dot,
-                    raw_start: (i + 1) as u32,
-                    raw_len: (end - i - 1) as u32,
-                    span: span_at(offset, line_no, i, end - i),
-                });
-                i = end;
+        let class = CLASS[c as usize];
+        // Tested in the order of how often they come: a word, a blank, the end of the line.
+        if class == LETTER {
+            let (value, has_dot, end) = fast_number(input, i + 1)?;
+            // `fast_number` takes at most 19 digits, a sign and a point: no length overflows.
+            words.push(Word {
+                letter: c & !0x20,
+                value,
+                has_dot,
+                raw_start: (i + 1) as u32,
+                raw_len: (end - i - 1) as u32,
+                span: Span::new(offset + i as u64, (end - i) as u32, line_no, i as u32 + 1),
+            });
+            // Words are mostly separated by one blank: step over it here.
+            i = end + usize::from(input.get(end) == Some(&b' '));
+        } else if class == BLANK {
+            i += 1;
+        } else if class == NEWLINE {
+            return Some(buffered_line(input, i));
+        } else if class == OPEN {
+            // The comment must close before the line ends.
+            let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
+            if input[close] == b'\n' {
+                return None;
             }
-            BLANK => i += 1,
-            NEWLINE => return Some(buffered_line(input, i)),
-            OPEN => {
-                // The comment must close before the line ends.
-                let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
-                if input[close] == b'\n' {
-                    return None;
-                }
-                i = close + 1;
-            }
-            SEMICOLON => {
-                let newline = i + 1 + memchr::memchr(b'\n', &input[i + 1..])?;
-                return Some(buffered_line(input, newline));
-            }
-            _ => return None,
+            i = close + 1;
+        } else if class == SEMICOLON {
+            let newline = i + 1 + memchr::memchr(b'\n', &input[i + 1..])?;
+            return Some(buffered_line(input, newline));
+        } else {
+            return None;
         }
     }
 }
@@ -278,17 +282,11 @@ fn other_byte(
 #[inline(always)]
 fn fast_number(line: &[u8], at: usize) -> Option<(f64, bool, usize)> {
     let mut i = at;
-    let negative = match line.get(i) {
-        Some(b'-') => {
-            i += 1;
-            true
-        }
-        Some(b'+') => {
-            i += 1;
-            false
-        }
-        _ => false,
-    };
+    let first = *line.get(i)?;
+    let negative = first == b'-';
+    if negative || first == b'+' {
+        i += 1;
+    }
     let int_start = i;
     let mut mantissa: u64 = 0;
     while let Some(&b) = line.get(i) {
@@ -319,14 +317,26 @@ fn fast_number(line: &[u8], at: usize) -> Option<(f64, bool, usize)> {
             return None;
         }
     }
-    if digits == 0 || digits > 19 || mantissa > 1 << 53 {
+    // 1 to 19 digits (so no wrap-around above) and a mantissa that is an exact double.
+    if digits.wrapping_sub(1) >= 19 || mantissa > 1 << 53 {
         return None;
     }
     // Clinger's fast path: both operands are exact doubles (frac_digits <= 19), so one division
-    // rounds correctly.
-    let v = mantissa as f64 / POW10[frac_digits];
+    // rounds correctly. (The mask only spares a bounds check: frac_digits < 32 already.)
+    let v = mantissa as f64 / POW10_32[frac_digits & 31];
     Some((if negative { -v } else { v }, has_dot, i))
 }
+
+/// `POW10` padded to 32 entries for [`fast_number`]'s masked index (only the first 20 are used).
+const POW10_32: [f64; 32] = {
+    let mut t = [1.0; 32];
+    let mut k = 0;
+    while k < POW10.len() {
+        t[k] = POW10[k];
+        k += 1;
+    }
+    t
+};
 
 /// One word the reference way: blanks after the letter, bare flags, long numbers and every error.
 /// Returns the index after the word.

@@ -29,7 +29,7 @@ impl Line<'_> {
     pub fn has_g(&self, code: u16) -> bool {
         self.words
             .iter()
-            .any(|w| w.letter == b'G' && g_code(w.value) == Some(code))
+            .any(|w| w.letter == b'G' && is_g_code(w.value, code))
     }
 
     /// A span covering the whole line, for diagnostics about the block rather than one word.
@@ -39,17 +39,28 @@ impl Line<'_> {
 }
 
 /// A G or M code as an exact integer ×10, or `None` if it has more than one decimal.
+#[inline]
 pub fn g_code(value: f64) -> Option<u16> {
     if !(0.0..6553.5).contains(&value) {
         return None;
     }
-    // A cast truncates; adding a half rounds the non-negative value without a libm call.
     let scaled = value * 10.0;
-    let tenths = (scaled + 0.5) as u16;
-    if (f64::from(tenths) - scaled).abs() > 1e-6 {
+    // Rounds to the nearest integer in floating point (adding 1.5 × 2^52 leaves no fraction bits),
+    // so that the test below needs no conversion to an integer and back. Only a value within 1e-6
+    // of an integer passes it, and for those this is the rounding a `+ 0.5` and cast would give.
+    let rounded = (scaled + ROUND) - ROUND;
+    if (rounded - scaled).abs() > 1e-6 {
         return None;
     }
-    Some(tenths)
+    Some(rounded as u16)
+}
+
+const ROUND: f64 = 6_755_399_441_055_744.0;
+
+/// `g_code(value) == Some(code)`, without converting to an integer.
+#[inline]
+pub fn is_g_code(value: f64, code: u16) -> bool {
+    (0.0..6553.5).contains(&value) && (f64::from(code) - value * 10.0).abs() <= 1e-6
 }
 
 /// How much input is read at a time; the buffer grows beyond this only for a line that does not
@@ -404,6 +415,37 @@ mod tests {
         let mut r = Reader::new(&src[..]);
         let e = r.next_line().unwrap().err().unwrap();
         assert_eq!(e.code, Code::Input);
+    }
+
+    #[test]
+    fn g_code_tests_agree() {
+        // `is_g_code` and the rounding in `g_code` against the plain definition: the nearest
+        // integer of value × 10, if it lies within 1e-6.
+        let reference = |v: f64| -> Option<u16> {
+            if !(0.0..6553.5).contains(&v) {
+                return None;
+            }
+            let tenths = (v * 10.0 + 0.5) as u16;
+            ((f64::from(tenths) - v * 10.0).abs() <= 1e-6).then_some(tenths)
+        };
+        let mut values = vec![
+            0.0, -0.0, 1.0, 33.1, 78.0, 6553.4, 6553.49, 6553.5, 1.25, 0.05,
+        ];
+        for k in 0..65536u32 {
+            let t = f64::from(k) / 10.0;
+            values.extend([t, t + 4e-8, t - 4e-8, t + 2e-7, t + 0.05, t + 1e-3]);
+        }
+        values.extend([f64::NAN, f64::INFINITY, -1.0, 1e300, 5e-324]);
+        for v in values {
+            let want = reference(v);
+            assert_eq!(g_code(v), want, "{v}");
+            for code in [0, 10, 320, 331, 780, 65534, 65535] {
+                assert_eq!(is_g_code(v, code), want == Some(code), "{v} {code}");
+            }
+            if let Some(c) = want {
+                assert!(is_g_code(v, c), "{v}");
+            }
+        }
     }
 
     #[test]
