@@ -80,14 +80,17 @@ pub fn run<R: BufRead>(
     while let Some(line) = reader.next_line() {
         let line = line?;
         summary.lines = line.number;
+        // Most lines are not the dialect's business: its prefilter says so without `read` (which
+        // would return `Read::Plain` and leave everything as it is).
+        if !dialect.prefilter(&line) {
+            match modal.apply(&conv, &line) {
+                Ok(mv) => sink(&modal, Event::Plain { line: &line, mv })?,
+                Err(e) => return Err(e.into()),
+            }
+            continue;
+        }
         let before = summary.warnings.len();
-        // Most lines are not the dialect's business: its prefilter says so without `read`.
-        let read = if dialect.prefilter(&line) {
-            dialect.read(&line, &mut modal, &mut summary.warnings)?
-        } else {
-            Read::Plain
-        };
-        match read {
+        match dialect.read(&line, &mut modal, &mut summary.warnings)? {
             Read::Plain => match modal.apply(&conv, &line) {
                 Ok(mv) => sink(&modal, Event::Plain { line: &line, mv })?,
                 Err(e) => return Err(e.into()),

@@ -140,9 +140,10 @@ pub(crate) fn lex_buffered_line(
     let mut i = 0;
     loop {
         let c = *input.get(i)?;
-        let class = CLASS[c as usize];
-        // Tested in the order of how often they come: a word, a blank, the end of the line.
-        if class == LETTER {
+        // Tested in the order of how often they come: a word, the end of the line, the rest. The
+        // letter test is arithmetic rather than a table look-up so that it stays a plain branch
+        // (a multi-way jump on the byte's class mispredicts far more often).
+        if (c | 0x20).wrapping_sub(b'a') < 26 {
             let (value, has_dot, end) = fast_number(input, i + 1)?;
             // `fast_number` takes at most 19 digits, a sign and a point: no length overflows.
             words.push(Word {
@@ -155,18 +156,18 @@ pub(crate) fn lex_buffered_line(
             });
             // Words are mostly separated by one blank: step over it here.
             i = end + usize::from(input.get(end) == Some(&b' '));
-        } else if class == BLANK {
-            i += 1;
-        } else if class == NEWLINE {
+        } else if c == b'\n' {
             return Some(buffered_line(input, i));
-        } else if class == OPEN {
+        } else if CLASS[c as usize] == BLANK {
+            i += 1;
+        } else if c == b'(' {
             // The comment must close before the line ends.
             let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
             if input[close] == b'\n' {
                 return None;
             }
             i = close + 1;
-        } else if class == SEMICOLON {
+        } else if c == b';' {
             let newline = i + 1 + memchr::memchr(b'\n', &input[i + 1..])?;
             return Some(buffered_line(input, newline));
         } else {
@@ -570,6 +571,35 @@ mod tests {
         ] {
             let v = lex(&format!("X{text}")).unwrap()[0].1;
             assert_eq!(v, text.parse::<f64>().unwrap(), "{text}");
+        }
+    }
+
+    proptest::proptest! {
+        /// Every number the lexer takes has the correctly rounded value of its text, on the fast
+        /// path (up to 19 digits) and off it, and keeps its lexeme.
+        #[test]
+        fn numbers_are_exact(
+            sign in proptest::sample::select(vec!["", "-", "+"]),
+            int in "[0-9]{0,22}",
+            frac in proptest::option::of("[0-9]{0,22}"),
+        ) {
+            let text = match &frac {
+                Some(f) => format!("{sign}{int}.{f}"),
+                None => format!("{sign}{int}"),
+            };
+            let line = format!("X{text} Z1");
+            let mut words = Vec::new();
+            let digits = int.len() + frac.as_ref().map_or(0, |f| f.len());
+            match lex_line(line.as_bytes(), 1, 0, &mut words) {
+                Ok(_) => {
+                    let want: f64 = text.parse().unwrap();
+                    proptest::prop_assert_eq!(words[0].value.to_bits(), want.to_bits());
+                    proptest::prop_assert_eq!(words[0].raw(line.as_bytes()), text.as_bytes());
+                    proptest::prop_assert_eq!(words[0].has_dot, frac.is_some());
+                    proptest::prop_assert_eq!(words[1].value, 1.0);
+                }
+                Err(e) => proptest::prop_assert!(digits == 0, "{text}: {}", e.message),
+            }
         }
     }
 

@@ -160,17 +160,25 @@ impl Modal {
         // One pass over the words: the axis words are remembered here, so that the end point is
         // computed without a second scan (`axes` gives exactly what `target` would).
         let mut axes = AxisWords::default();
+        // Written as a few two-way branches rather than a `match` on the letter and on the code:
+        // multi-way jumps on data that changes from word to word mispredict far more often.
+        let axis_letters = if conv.uw_incremental { 4 } else { 2 };
         for w in line.words {
-            match w.letter {
-                b'G' => {
-                    let Some(code) = g_code(w.value) else {
-                        return Err(bad_g(w));
-                    };
+            let axis = AXES[w.letter as usize & 0x7f];
+            if axis != 0 && axis <= axis_letters {
+                if axis & 1 == 1 {
+                    axes.see_x(w);
+                } else {
+                    axes.see_z(w);
+                }
+            } else if w.letter == b'G' {
+                let Some(code) = g_code(w.value) else {
+                    return Err(bad_g(w));
+                };
+                if code <= 30 && code % 10 == 0 {
+                    self.motion = PLAIN_MOTION[usize::from(code / 10)];
+                } else {
                     match code {
-                        0 => self.motion = MotionMode::Rapid,
-                        10 => self.motion = MotionMode::Feed,
-                        20 => self.motion = MotionMode::ArcCw,
-                        30 => self.motion = MotionMode::ArcCcw,
                         40 => dwell = true,
                         200 => self.units = Units::Inch,
                         210 => self.units = Units::Mm,
@@ -183,12 +191,8 @@ impl Modal {
                         _ => {}
                     }
                 }
-                b'X' => axes.see_x(w),
-                b'Z' => axes.see_z(w),
-                b'U' if conv.uw_incremental => axes.see_x(w),
-                b'W' if conv.uw_incremental => axes.see_z(w),
-                b'F' => f_word = Some(w),
-                _ => {}
+            } else if w.letter == b'F' {
+                f_word = Some(w);
             }
         }
         if self.motion == MotionMode::Thread {
@@ -305,6 +309,25 @@ impl Modal {
     }
 }
 
+/// Axis letters for [`Modal::apply`]: odd for X, even for Z; U and W (3, 4) only count where they
+/// are incremental words.
+const AXES: [u8; 128] = {
+    let mut t = [0; 128];
+    t[b'X' as usize] = 1;
+    t[b'Z' as usize] = 2;
+    t[b'U' as usize] = 3;
+    t[b'W' as usize] = 4;
+    t
+};
+
+/// G0, G1, G2, G3.
+const PLAIN_MOTION: [MotionMode; 4] = [
+    MotionMode::Rapid,
+    MotionMode::Feed,
+    MotionMode::ArcCw,
+    MotionMode::ArcCcw,
+];
+
 /// The X/U and Z/W words of a block, in one pass: the first of each axis and the first word that
 /// names an axis already named (the error [`Modal::target`] reports).
 #[derive(Default)]
@@ -420,6 +443,70 @@ mod tests {
         assert_eq!(m.position, Some(Pos::new(25.0, 5.0)));
         let (m, _) = run("G0 X50 Z5\nG28 U0 W0\n");
         assert_eq!(m.position, None);
+    }
+
+    #[test]
+    fn one_pass_end_point_is_target() {
+        // `apply` picks the axis words out in its own pass; `target` is the reference.
+        let c = conv();
+        let mut plain = conv();
+        plain.uw_incremental = false;
+        for conv in [c, plain] {
+            for text in [
+                "G1 X30 Z-2",
+                "G1 U-3 W-0.5",
+                "G2 Z-4.5 U1 R2",
+                "G3 X21.5",
+                "W2.25",
+                "G0 U7 Z1 F0.2",
+            ] {
+                let mut m = Modal::new(&conv, Units::Mm, [1.0, 1.0]);
+                let src = format!("G0 X50 Z5\n{text}\n");
+                let mut r = Reader::new(src.as_bytes());
+                m.apply(&conv, &r.next_line().unwrap().unwrap()).unwrap();
+                let line = r.next_line().unwrap().unwrap();
+                let from = m.position.unwrap();
+                let want = m.target(&conv, &line, from).unwrap();
+                let mv = m.apply(&conv, &line).unwrap();
+                assert_eq!(m.position, Some(want), "{text}");
+                let names_axis = line.words.iter().any(|w| {
+                    matches!(w.letter, b'X' | b'Z')
+                        || (conv.uw_incremental && matches!(w.letter, b'U' | b'W'))
+                });
+                let got = mv.map(|mv| (mv.from, mv.to));
+                assert_eq!(got, names_axis.then_some((from, want)), "{text}");
+            }
+        }
+        // U and W are not axis words where they are not incremental: only Z moves.
+        let mut m = Modal::new(&plain_conv(), Units::Mm, [1.0, 1.0]);
+        let mut r = Reader::new(&b"G0 X50 Z5\nG1 U5 Z2\n"[..]);
+        m.apply(&plain_conv(), &r.next_line().unwrap().unwrap())
+            .unwrap();
+        m.apply(&plain_conv(), &r.next_line().unwrap().unwrap())
+            .unwrap();
+        assert_eq!(m.position, Some(Pos::new(25.0, 2.0)));
+    }
+
+    fn plain_conv() -> Conventions {
+        Conventions {
+            uw_incremental: false,
+            ..conv()
+        }
+    }
+
+    #[test]
+    fn z_and_w_together_is_an_error_at_the_second() {
+        let c = conv();
+        let mut m = Modal::new(&c, Units::Mm, [1.0, 1.0]);
+        let mut r = Reader::new(&b"G0 X1 Z1\nG1 W3 X2 Z4 U1\n"[..]);
+        m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap();
+        let line = r.next_line().unwrap().unwrap();
+        let want = m.target(&c, &line, Pos::default()).unwrap_err();
+        let e = m.apply(&c, &line).unwrap_err();
+        assert_eq!(e, want);
+        // Z4 (column 10) is the first word to name an axis already named, by W3.
+        assert_eq!((e.code, e.span.column), (Code::Conflict, 10));
+        assert!(e.message.starts_with("W and Z"), "{}", e.message);
     }
 
     #[test]
