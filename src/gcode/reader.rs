@@ -74,6 +74,9 @@ pub struct Reader<R> {
     buf: Vec<u8>,
     start: usize,
     end: usize,
+    /// One past the last `\n` in `buf[..end]`: the fast path only sees whole lines, so its input
+    /// always ends with a line end (see `lex_buffered_line`).
+    complete: usize,
     /// The source has nothing more.
     eof: bool,
     words: Vec<Word>,
@@ -90,6 +93,7 @@ impl<R: BufRead> Reader<R> {
             buf: Vec::new(),
             start: 0,
             end: 0,
+            complete: 0,
             eof: false,
             words: Vec::with_capacity(16),
             line_no: 0,
@@ -122,7 +126,7 @@ impl<R: BufRead> Reader<R> {
         // way. (A letter with a number right after it is never a bare flag, and `lex_buffered_line`
         // leaves every other letter to the reference lexer.)
         if let Some(l) = lex_buffered_line(
-            &self.buf[self.start..self.end],
+            self.buf.get(self.start..self.complete).unwrap_or_default(),
             line_no,
             offset,
             &mut self.words,
@@ -231,6 +235,7 @@ impl<R: BufRead> Reader<R> {
         if self.start > 0 {
             self.buf.copy_within(self.start..self.end, 0);
             self.end -= self.start;
+            self.complete = self.complete.saturating_sub(self.start);
             self.start = 0;
         }
         if self.end == self.buf.len() {
@@ -238,20 +243,21 @@ impl<R: BufRead> Reader<R> {
             let len = (self.buf.len() * 2).clamp(CHUNK, MAX_LINE_BYTES + 2 + CHUNK);
             self.buf.resize(len, 0);
         }
-        loop {
+        let read = loop {
             match self.source.read(&mut self.buf[self.end..]) {
-                Ok(0) => {
-                    self.eof = true;
-                    return Ok(());
-                }
-                Ok(n) => {
-                    self.end += n;
-                    return Ok(());
-                }
+                Ok(n) => break n,
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
                 Err(e) => return Err(e),
             }
+        };
+        // Only the new bytes are searched, so that a source handing out a few bytes at a time
+        // costs no more than one reading a lot.
+        if let Some(i) = memchr::memrchr(b'\n', &self.buf[self.end..self.end + read]) {
+            self.complete = self.end + i + 1;
         }
+        self.end += read;
+        self.eof = read == 0;
+        Ok(())
     }
 }
 
