@@ -111,6 +111,12 @@ impl FanucFamily {
         }
     }
 
+    /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, or any block while a G92
+    /// is modal (a block of axis words repeats it; a motion code cancels it).
+    pub fn wants(&self, line: &Line) -> bool {
+        self.g92.is_some() || line.has_g(G76) || line.has_g(G92)
+    }
+
     /// Reads `line` if it is a G76 or G92 block (or a block repeating a modal G92); `None` otherwise.
     pub fn read(
         &mut self,

@@ -511,6 +511,11 @@ impl Dialect for Gsk {
         "gsk980"
     }
 
+    /// `read` looks at nothing but a G78 word.
+    fn prefilter(&self, line: &Line) -> bool {
+        line.has_g(G78) || self.family.wants(line)
+    }
+
     fn conventions(&self) -> &Conventions {
         &self.conv
     }

@@ -29,6 +29,12 @@ pub enum Read {
 pub trait Dialect {
     fn name(&self) -> &'static str;
     fn conventions(&self) -> &Conventions;
+    /// A cheap look at a line before [`read`](Dialect::read): `false` promises that `read` would
+    /// return `Read::Plain` without changing any state (its own or the modal state) and without a
+    /// warning, so the caller may skip it. The default offers every line.
+    fn prefilter(&self, _line: &Line) -> bool {
+        true
+    }
     /// Offers a line to the dialect. Warnings go to `warnings`; alarms are errors.
     fn read(
         &mut self,
