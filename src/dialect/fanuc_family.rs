@@ -686,21 +686,13 @@ fn geometry(span: Span, msg: impl Into<String>) -> Diagnostic {
 
 /// P(m)(r)(a): three two-digit fields, leading zeros may be omitted (`P21060` is m 02, r 10, a 60).
 fn unpack_p(line: &Line, p: &Word) -> Result<(u32, u32, u32)> {
-    let raw = p.raw(line.text);
-    let digits = raw.strip_prefix(b"+").unwrap_or(raw);
-    if p.has_dot || digits.first() == Some(&b'-') || digits.len() > 6 {
-        return Err(Diagnostic::error(
-            Code::Syntax,
-            p.span,
-            format!(
-                "P{} is not P(m)(r)(a): the first G76 block packs three two-digit fields",
-                crate::gcode::lexer::show(raw)
-            ),
-        )
-        .with_hint("write six digits without a decimal point: P021060 is 2 finishing passes, a chamfer of 1.0 lead, a 60° tool"));
-    }
-    let v = p.value as u32;
-    let (m, r, a) = (v / 10_000, (v / 100) % 100, v % 100);
+    let packed = super::packed_p(
+        line,
+        p,
+        "G76",
+        "P021060 is 2 finishing passes, a chamfer of 1.0 lead, a 60° tool",
+    )?;
+    let [m, r, a] = packed.fields;
     if !(1..=99).contains(&m) {
         return Err(Diagnostic::error(
             Code::OutOfRange,
