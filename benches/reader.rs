@@ -1,7 +1,9 @@
 //! Pass-through throughput of `threadcut expand` on a large program without threading cycles:
 //! every line is lexed and its modal state tracked, then copied byte for byte.
 //!
-//! `cargo bench --bench reader` (the input, about 50 MB, is generated under target/ once).
+//! `cargo bench --bench reader` (the input, about 50 MB, is generated under target/ once). Besides
+//! the whole pass-through, three stages (lex; + modal state; + prefilter and run loop) show where
+//! the time goes.
 //! The peak resident memory after the runs is printed so that it can be compared across input sizes
 //! (docs/performance.md).
 
@@ -10,8 +12,11 @@ use std::io::{BufReader, BufWriter, Write};
 use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use threadcut::dialect;
+use threadcut::gcode::{Modal, Reader};
 use threadcut::machine::Machine;
 use threadcut::program;
+use threadcut::units::Units;
 
 /// Writes a lathe program of about `bytes` bytes: positioning, turning, arcs, comments, dwell, tool
 /// changes — everything but threading cycles.
@@ -61,14 +66,55 @@ fn pass_through(c: &mut Criterion) {
     generate(&path, size);
     let len = path.metadata().unwrap().len();
     let machine = Machine::built_in("gsk980").unwrap();
+    let open = || BufReader::with_capacity(1 << 16, File::open(&path).unwrap());
     let mut group = c.benchmark_group("reader");
     group.throughput(Throughput::Bytes(len));
     group.sample_size(10);
     group.bench_function(format!("expand pass-through {} MB", len >> 20), |b| {
         b.iter(|| {
-            let input = BufReader::with_capacity(1 << 16, File::open(&path).unwrap());
             let mut sink = BufWriter::with_capacity(1 << 16, std::io::sink());
-            program::expand_gcode(input, &mut sink, &machine).unwrap()
+            program::expand_gcode(open(), &mut sink, &machine).unwrap()
+        })
+    });
+    // The same work in stages, each adding one step, to show where the time goes
+    // (docs/performance.md): lexing only; plus the modal state; plus the dialect's prefilter and
+    // the run loop (everything but the output).
+    group.bench_function("stage 1: read and lex", |b| {
+        b.iter(|| {
+            let mut reader = Reader::new(open());
+            let mut words = 0;
+            while let Some(line) = reader.next_line() {
+                words += line.unwrap().words.len();
+            }
+            words
+        })
+    });
+    group.bench_function("stage 2: + modal state", |b| {
+        b.iter(|| {
+            let dialect = dialect::open(&machine).unwrap();
+            let conv = dialect.conventions().clone();
+            let no_point = [
+                machine.no_point_scale(Units::Mm),
+                machine.no_point_scale(Units::Inch),
+            ];
+            let mut modal = Modal::new(&conv, machine.units, no_point);
+            let mut reader = Reader::new(open());
+            let mut moves = 0;
+            while let Some(line) = reader.next_line() {
+                moves += usize::from(modal.apply(&conv, &line.unwrap()).unwrap().is_some());
+            }
+            moves
+        })
+    });
+    group.bench_function("stage 3: + prefilter and run loop", |b| {
+        b.iter(|| {
+            let mut plain = 0;
+            program::run(open(), &machine, |_, ev| {
+                plain += usize::from(matches!(ev, program::Event::Plain { .. }));
+                Ok(())
+            })
+            .unwrap();
+            plain
         })
     });
     group.finish();

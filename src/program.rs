@@ -80,12 +80,21 @@ pub fn run<R: BufRead>(
     while let Some(line) = reader.next_line() {
         let line = line?;
         summary.lines = line.number;
+        // Most lines are not the dialect's business: its prefilter says so without `read` (which
+        // would return `Read::Plain` and leave everything as it is).
+        if !dialect.prefilter(&line) {
+            match modal.apply(&conv, &line) {
+                Ok(mv) => sink(&modal, Event::Plain { line: &line, mv })?,
+                Err(e) => return Err(e.into()),
+            }
+            continue;
+        }
         let before = summary.warnings.len();
         match dialect.read(&line, &mut modal, &mut summary.warnings)? {
-            Read::Plain => {
-                let mv = modal.apply(&conv, &line)?;
-                sink(&modal, Event::Plain { line: &line, mv })?;
-            }
+            Read::Plain => match modal.apply(&conv, &line) {
+                Ok(mv) => sink(&modal, Event::Plain { line: &line, mv })?,
+                Err(e) => return Err(e.into()),
+            },
             Read::Settings => sink(&modal, Event::Settings { line: &line })?,
             Read::Cycle(job) => {
                 summary.cycles += 1;
@@ -130,61 +139,90 @@ pub fn expand_gcode<R: BufRead>(
     machine: &Machine,
 ) -> Result<Summary, Error> {
     let d = dialect::open(machine).map_err(Error::Setup)?;
-    let base_format = d.format();
+    let format = d.format();
     let distance_words = d.conventions().g90_g91_distance;
-    run(input, machine, |modal, ev| {
-        // X as the program writes it at this point (LinuxCNC's G7/G8 change it mid-program).
-        let format = post::Format {
-            diameter_x: modal.diameter_x,
-            ..base_format.clone()
-        };
-        match ev {
-            Event::Plain { line, .. } => out.write_all(line.raw)?,
-            Event::Settings { line } => {
-                if let Some(c) = format.comment(&format!(
-                    "threadcut: line {} sets the cycle that follows",
-                    line.number
-                )) {
-                    writeln!(out, "{c}")?;
-                }
+    // The pass-through arm is kept small so that it is inlined into `run`'s loop; the rest is in
+    // `expand_event`.
+    run(input, machine, |modal, ev| match ev {
+        Event::Plain { line, .. } => Ok(out.write_all(line.raw)?),
+        // Rebuilt rather than passed on, so that the plain arm never needs the event in memory.
+        Event::Settings { line } => expand_event(
+            out,
+            &format,
+            distance_words,
+            modal,
+            Event::Settings { line },
+        ),
+        Event::Cycle { line, job, dialect } => expand_event(
+            out,
+            &format,
+            distance_words,
+            modal,
+            Event::Cycle { line, job, dialect },
+        ),
+    })
+}
+
+/// `expand_gcode` for the lines that are part of a cycle.
+#[inline(never)]
+fn expand_event(
+    out: &mut dyn Write,
+    base_format: &post::Format,
+    distance_words: bool,
+    modal: &Modal,
+    ev: Event,
+) -> Result<(), Error> {
+    // X as the program writes it at this point (LinuxCNC's G7/G8 change it mid-program).
+    let format = post::Format {
+        diameter_x: modal.diameter_x,
+        ..base_format.clone()
+    };
+    match ev {
+        Event::Plain { line, .. } => out.write_all(line.raw)?,
+        Event::Settings { line } => {
+            if let Some(c) = format.comment(&format!(
+                "threadcut: line {} sets the cycle that follows",
+                line.number
+            )) {
+                writeln!(out, "{c}")?;
             }
-            Event::Cycle { line, job, dialect } => {
-                post::expressible(&format, &job)?;
-                // Motion needs no chip areas.
-                let passes = crate::thread::plan::plan_geometry(&job)?;
-                let path = toolpath::build_with(&job, &passes)?;
-                let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
-                if let Some(c) = format.comment(&format!(
-                    "threadcut: {} cycle of line {} as {} rough and {} finishing passes",
-                    job.controller,
-                    line.number,
-                    rough,
-                    passes.len() - rough
-                )) {
-                    writeln!(out, "{c}")?;
-                }
-                match dialect.write_cycle(out, &job, &passes, &path) {
-                    // The controller's own form is a cycle too: it leaves the modal state as the
-                    // original cycle does.
-                    Some(written) => written?,
-                    None => {
-                        // The moves are absolute: under incremental distance mode, switch to G90
-                        // around them.
-                        let incremental = distance_words && !modal.absolute;
-                        if incremental {
-                            writeln!(out, "G90")?;
-                        }
-                        post::write_moves(out, &format, job.units, &path)?;
-                        if incremental {
-                            writeln!(out, "G91")?;
-                        }
-                        restore_modal_state(out, &format, modal, &path)?;
+        }
+        Event::Cycle { line, job, dialect } => {
+            post::expressible(&format, &job)?;
+            // Motion needs no chip areas.
+            let passes = crate::thread::plan::plan_geometry(&job)?;
+            let path = toolpath::build_with(&job, &passes)?;
+            let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
+            if let Some(c) = format.comment(&format!(
+                "threadcut: {} cycle of line {} as {} rough and {} finishing passes",
+                job.controller,
+                line.number,
+                rough,
+                passes.len() - rough
+            )) {
+                writeln!(out, "{c}")?;
+            }
+            match dialect.write_cycle(out, &job, &passes, &path) {
+                // The controller's own form is a cycle too: it leaves the modal state as the
+                // original cycle does.
+                Some(written) => written?,
+                None => {
+                    // The moves are absolute: under incremental distance mode, switch to G90
+                    // around them.
+                    let incremental = distance_words && !modal.absolute;
+                    if incremental {
+                        writeln!(out, "G90")?;
                     }
+                    post::write_moves(out, &format, job.units, &path)?;
+                    if incremental {
+                        writeln!(out, "G91")?;
+                    }
+                    restore_modal_state(out, &format, modal, &path)?;
                 }
             }
         }
-        Ok(())
-    })
+    }
+    Ok(())
 }
 
 /// After an expansion the output's modal state must match what the original program has after its

@@ -390,6 +390,13 @@ impl Dialect for AllenBradley {
         "ab9"
     }
 
+    /// `read` acts on G78 and on E (E with F, or E as a G33 lead); nothing else.
+    fn prefilter(&self, line: &Line) -> bool {
+        line.words
+            .iter()
+            .any(|w| w.letter == b'E' || (w.letter == b'G' && g_code(w.value) == Some(G78)))
+    }
+
     fn conventions(&self) -> &Conventions {
         &self.conv
     }

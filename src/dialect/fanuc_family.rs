@@ -111,6 +111,12 @@ impl FanucFamily {
         }
     }
 
+    /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, or any block while a G92
+    /// is modal (a block of axis words repeats it; a motion code cancels it).
+    pub fn wants(&self, line: &Line) -> bool {
+        self.g92.is_some() || line.has_g(G76) || line.has_g(G92)
+    }
+
     /// Reads `line` if it is a G76 or G92 block (or a block repeating a modal G92); `None` otherwise.
     pub fn read(
         &mut self,
@@ -680,21 +686,13 @@ fn geometry(span: Span, msg: impl Into<String>) -> Diagnostic {
 
 /// P(m)(r)(a): three two-digit fields, leading zeros may be omitted (`P21060` is m 02, r 10, a 60).
 fn unpack_p(line: &Line, p: &Word) -> Result<(u32, u32, u32)> {
-    let raw = p.raw(line.text);
-    let digits = raw.strip_prefix(b"+").unwrap_or(raw);
-    if p.has_dot || digits.first() == Some(&b'-') || digits.len() > 6 {
-        return Err(Diagnostic::error(
-            Code::Syntax,
-            p.span,
-            format!(
-                "P{} is not P(m)(r)(a): the first G76 block packs three two-digit fields",
-                crate::gcode::lexer::show(raw)
-            ),
-        )
-        .with_hint("write six digits without a decimal point: P021060 is 2 finishing passes, a chamfer of 1.0 lead, a 60° tool"));
-    }
-    let v = p.value as u32;
-    let (m, r, a) = (v / 10_000, (v / 100) % 100, v % 100);
+    let packed = super::packed_p(
+        line,
+        p,
+        "G76",
+        "P021060 is 2 finishing passes, a chamfer of 1.0 lead, a 60° tool",
+    )?;
+    let [m, r, a] = packed.fields;
     if !(1..=99).contains(&m) {
         return Err(Diagnostic::error(
             Code::OutOfRange,

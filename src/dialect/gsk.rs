@@ -511,6 +511,11 @@ impl Dialect for Gsk {
         "gsk980"
     }
 
+    /// `read` looks at nothing but a G78 word.
+    fn prefilter(&self, line: &Line) -> bool {
+        line.has_g(G78) || self.family.wants(line)
+    }
+
     fn conventions(&self) -> &Conventions {
         &self.conv
     }
@@ -711,46 +716,24 @@ fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
 
 /// P(m)(r)(a): three two-digit fields (§2, the example's `P020545`). Leading zeros may be omitted.
 fn unpack_p(line: &Line, p: &Word) -> Result<(u32, u8, u8)> {
-    let raw = p.raw(line.text);
-    let digits = raw.strip_prefix(b"+").unwrap_or(raw);
-    if p.has_dot || digits.first() == Some(&b'-') || digits.len() > 6 {
-        return Err(Diagnostic::error(
-            Code::Syntax,
-            p.span,
-            format!(
-                "P{} is not P(m)(r)(a): the first G78 block packs three two-digit fields",
-                crate::gcode::lexer::show(raw)
-            ),
-        )
-        .with_hint("write six digits without a decimal point: P020060 is 2 finishing passes, infeed mode 0, a 60° tool"));
-    }
-    let v = p.value as u32;
-    let (m, r, a) = (v / 10_000, (v / 100) % 100, v % 100);
-    // Point at the offending pair when it is written out.
-    let pair_span = |pair: usize| {
-        let missing = 6 - digits.len();
-        let lead = raw.len() - digits.len();
-        match (pair * 2).checked_sub(missing) {
-            Some(at) => Span::new(
-                p.span.start + 1 + (lead + at) as u64,
-                2.min(digits.len() - at) as u32,
-                p.span.line,
-                p.span.column + 1 + (lead + at) as u32,
-            ),
-            None => p.span,
-        }
-    };
+    let packed = super::packed_p(
+        line,
+        p,
+        "G78",
+        "P020060 is 2 finishing passes, infeed mode 0, a 60° tool",
+    )?;
+    let [m, r, a] = packed.fields;
     if !(1..=99).contains(&m) {
         return Err(Diagnostic::error(
             Code::OutOfRange,
-            pair_span(0),
+            packed.span(0),
             format!("P(m)={m:02}: the number of finishing passes must be 01 to 99"),
         ));
     }
     if r > 4 {
         return Err(Diagnostic::error(
             Code::OutOfRange,
-            pair_span(1),
+            packed.span(1),
             format!("P(r)={r:02}: the infeed mode must be 0 to 4 (0 centre line, 1 left flank, 2 right flank, 3 right/centre, 4 left/right)"),
         )
         .with_hint("the seed's own example writes P020545; threadcut refuses r = 05 rather than guess (docs/dialects/gsk-g78.md)"));

@@ -9,8 +9,8 @@ pub mod gsk;
 pub mod linuxcnc;
 pub mod omniturn;
 
-use crate::diag::{Diagnostic, Result};
-use crate::gcode::{Conventions, Line, Modal};
+use crate::diag::{Diagnostic, Result, Span};
+use crate::gcode::{Conventions, Line, Modal, Word};
 use crate::machine::Machine;
 use crate::post::Format;
 use crate::thread::{Job, Pass};
@@ -29,6 +29,12 @@ pub enum Read {
 pub trait Dialect {
     fn name(&self) -> &'static str;
     fn conventions(&self) -> &Conventions;
+    /// A cheap look at a line before [`read`](Dialect::read): `false` promises that `read` would
+    /// return `Read::Plain` without changing any state (its own or the modal state) and without a
+    /// warning, so the caller may skip it. The default offers every line.
+    fn prefilter(&self, _line: &Line) -> bool {
+        true
+    }
     /// Offers a line to the dialect. Warnings go to `warnings`; alarms are errors.
     fn read(
         &mut self,
@@ -80,6 +86,55 @@ pub(crate) fn only_words(line: &Line, allowed: &[u8], block: &str, format: &str)
         .with_hint(format!("its words are {format}"))),
         None => Ok(()),
     }
+}
+
+/// A word that packs three two-digit fields, `P(m)(r)(a)` (Fanuc's G76 and GSK's G78 first blocks;
+/// leading zeros may be left out): the fields and where each pair is written.
+pub(crate) struct PackedP {
+    pub fields: [u32; 3],
+    spans: [Span; 3],
+}
+
+impl PackedP {
+    /// Where field `i` is written: its two digits, or the whole word when they were left out.
+    pub fn span(&self, i: usize) -> Span {
+        self.spans[i]
+    }
+}
+
+/// Reads a `P(m)(r)(a)` word of `block`'s first block; `example` is the hint's worked example.
+pub(crate) fn packed_p(line: &Line, p: &Word, block: &str, example: &str) -> Result<PackedP> {
+    let raw = p.raw(line.text);
+    let digits = raw.strip_prefix(b"+").unwrap_or(raw);
+    if p.has_dot || digits.first() == Some(&b'-') || digits.len() > 6 {
+        return Err(Diagnostic::error(
+            crate::diag::Code::Syntax,
+            p.span,
+            format!(
+                "P{} is not P(m)(r)(a): the first {block} block packs three two-digit fields",
+                crate::gcode::lexer::show(raw)
+            ),
+        )
+        .with_hint(format!(
+            "write six digits without a decimal point: {example}"
+        )));
+    }
+    let v = p.value as u32;
+    let missing = 6 - digits.len();
+    let sign = raw.len() - digits.len();
+    let span = |pair: usize| match (pair * 2).checked_sub(missing) {
+        Some(at) => Span::new(
+            p.span.start + 1 + (sign + at) as u64,
+            2.min(digits.len() - at) as u32,
+            p.span.line,
+            p.span.column + 1 + (sign + at) as u32,
+        ),
+        None => p.span,
+    };
+    Ok(PackedP {
+        fields: [v / 10_000, (v / 100) % 100, v % 100],
+        spans: [span(0), span(1), span(2)],
+    })
 }
 
 /// The dialect a machine profile names.

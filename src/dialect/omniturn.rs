@@ -534,6 +534,17 @@ impl Dialect for OmniTurn {
         "omniturn"
     }
 
+    /// `read` acts on the block after a G35/G36 (the G92 check), on S, and on G72, G73, G21, G35,
+    /// G36 and G33; nothing else.
+    fn prefilter(&self, line: &Line) -> bool {
+        self.pending_g92.is_some()
+            || line.words.iter().any(|w| match w.letter {
+                b'S' => true,
+                b'G' => matches!(g_code(w.value), Some(G72 | G73 | 210 | G35 | G36 | G33)),
+                _ => false,
+            })
+    }
+
     fn conventions(&self) -> &Conventions {
         &self.conv
     }

@@ -71,110 +71,368 @@ pub fn lex_line_with(
 ) -> Result<LineShape, Diagnostic> {
     words.clear();
     let mut shape = LineShape::default();
-    let span_at = |i: usize, len: usize| {
-        Span::new(
-            offset + i as u64,
-            len.min(u32::MAX as usize) as u32,
-            line_no,
-            i as u32 + 1,
-        )
-    };
     let mut i = 0;
     let n = line.len();
     while i < n {
         let c = line[i];
-        match c {
-            b' ' | b'\t' | b'\r' | 0x0c => i += 1,
-            b';' => break,
-            b'(' => match memchr::memchr(b')', &line[i + 1..]) {
-                Some(close) => i += close + 2,
-                None => {
-                    return Err(Diagnostic::error(
-                        Code::Syntax,
-                        span_at(i, n - i),
-                        "comment is not closed",
-                    )
-                    .with_hint("close the comment with `)` on the same line"));
-                }
-            },
-            b'%' if words.is_empty() => {
-                shape.percent = true;
-                i += 1;
-            }
-            b'/' if words.is_empty() && !shape.block_delete => {
-                shape.block_delete = true;
-                i += 1;
-            }
-            // `$` is LinuxCNC's spindle-selection word (`G76 … $1`).
-            b'a'..=b'z' | b'A'..=b'Z' | b'$' => {
+        match CLASS[c as usize] {
+            LETTER => {
+                // `$` (LinuxCNC's spindle word) is a letter too, and has no lower case.
                 let letter = c.to_ascii_uppercase();
-                if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
+                // Fast path: a number follows the letter directly and is short enough for
+                // `fast_number`; everything else (blanks after the letter, bare flags, errors, very
+                // long numbers) goes through `word_slow`, which is the reference behaviour.
+                // A number right after the letter also means the letter is not a bare flag.
+                if let Some((value, has_dot, end)) = fast_number(line, i + 1) {
                     words.push(Word {
                         letter,
-                        value: 0.0,
-                        has_dot: false,
+                        value,
+                        has_dot,
                         raw_start: (i + 1) as u32,
-                        raw_len: 0,
-                        span: span_at(i, 1),
+                        raw_len: (end - i - 1) as u32,
+                        span: span_at(offset, line_no, i, end - i),
                     });
-                    i += 1;
-                    continue;
+                    i = end;
+                } else {
+                    i = word_slow(line, i, line_no, offset, words, bare)?;
                 }
-                let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
-                    Diagnostic::error(
-                        Code::Syntax,
-                        span_at(at, len),
-                        format!(
-                            "malformed word `{}`: {what}",
-                            show(&line[i..(at + len).max(i + 1)])
-                        ),
-                    )
-                    .with_hint("a word is one letter followed by a number, such as `X-12.5`")
-                })?;
-                let word_span = span_at(i, number.end - i);
-                if !number.value.is_finite() {
-                    return Err(Diagnostic::error(
-                        Code::BadNumber,
-                        word_span,
-                        format!(
-                            "the value of `{}` is too large to be a coordinate",
-                            show(&line[i..number.end.min(i + 24)])
-                        ),
-                    ));
-                }
-                words.push(Word {
-                    letter,
-                    value: number.value,
-                    has_dot: number.has_dot,
-                    raw_start: number.start as u32,
-                    raw_len: (number.end - number.start) as u32,
-                    span: word_span,
-                });
-                i = number.end;
             }
-            b'#' | b'[' | b'=' => {
-                return Err(Diagnostic::error(
-                    Code::Unsupported,
-                    span_at(i, 1),
-                    format!(
-                        "`{}`: macro variables and expressions are not supported",
-                        c as char
-                    ),
-                )
-                .with_hint("expand the macro on the controller, or write plain values"));
-            }
+            BLANK => i += 1,
+            SEMICOLON => break,
+            OPEN => match memchr::memchr(b')', &line[i + 1..]) {
+                Some(close) => i += close + 2,
+                None => return Err(unclosed_comment(span_at(offset, line_no, i, n - i))),
+            },
             _ => {
-                let len = utf8_len(&line[i..]);
-                return Err(Diagnostic::error(
-                    Code::Syntax,
-                    span_at(i, len),
-                    format!("unexpected character `{}`", show(&line[i..i + len])),
-                )
-                .with_hint("expected an address letter, a comment or the end of the line"));
+                other_byte(line, i, line_no, offset, words.is_empty(), &mut shape)?;
+                i += 1;
             }
         }
     }
     Ok(shape)
+}
+
+/// A line lexed straight out of the reader's buffer by [`lex_buffered_line`].
+pub(crate) struct BufferedLine {
+    pub shape: LineShape,
+    /// Length of the line without its terminator (`\n` or `\r\n`).
+    pub text_len: usize,
+    /// Length of the line with its terminator.
+    pub raw_len: usize,
+}
+
+/// Lexes the line at the start of `input`, a buffer holding that line and possibly more, finding
+/// its end (`\n`) in the same pass instead of searching for it first.
+///
+/// This is only a fast path: it returns `None` for anything that is not a plain line of short
+/// words, blanks and closed comments ending in `\n` inside `input` (a line cut off by the end of
+/// the buffer, `%`, `/`, blanks after a letter, bare flags, long numbers, every error). The caller
+/// then finds the line's end and calls [`lex_line_with`], the reference. When it returns a line,
+/// `words` and the shape are exactly what [`lex_line_with`] gives for the line's text: `\r` is a
+/// blank to both, and every number stops at `\r` or `\n` as it stops at the end of the text.
+#[inline(always)]
+pub(crate) fn lex_buffered_line(
+    input: &[u8],
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+) -> Option<BufferedLine> {
+    words.clear();
+    // The reader hands over whole lines only; the numbers below rely on the final line end.
+    if input.last() != Some(&b'\n') {
+        return None;
+    }
+    let mut i = 0;
+    loop {
+        let c = *input.get(i)?;
+        // Tested in the order of how often they come: a word, the end of the line, the rest. The
+        // letter test is arithmetic rather than a table look-up so that it stays a plain branch
+        // (a multi-way jump on the byte's class mispredicts far more often).
+        if (c | 0x20).wrapping_sub(b'a') < 26 {
+            // `input` ends with `\n` (checked above), which is not this letter: `i + 1` is in it.
+            let (value, has_dot, end) = number::<true>(input, i + 1)?;
+            // `number` takes at most 19 digits, a sign and a point: no length overflows.
+            words.push(Word {
+                letter: c & !0x20,
+                value,
+                has_dot,
+                raw_start: (i + 1) as u32,
+                raw_len: (end - i - 1) as u32,
+                span: Span::new(offset + i as u64, (end - i) as u32, line_no, i as u32 + 1),
+            });
+            // Words are mostly separated by one blank: step over it here.
+            i = end + usize::from(input.get(end) == Some(&b' '));
+        } else if c == b'\n' {
+            return Some(buffered_line(input, i));
+        } else if CLASS[c as usize] == BLANK {
+            i += 1;
+        } else if c == b'(' {
+            // The comment must close before the line ends.
+            let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
+            if input[close] == b'\n' {
+                return None;
+            }
+            i = close + 1;
+        } else if c == b';' {
+            let newline = i + 1 + memchr::memchr(b'\n', &input[i + 1..])?;
+            return Some(buffered_line(input, newline));
+        } else {
+            return None;
+        }
+    }
+}
+
+/// The line ending with the `\n` at `newline`.
+#[inline(always)]
+fn buffered_line(input: &[u8], newline: usize) -> BufferedLine {
+    let text_len = if newline > 0 && input[newline - 1] == b'\r' {
+        newline - 1
+    } else {
+        newline
+    };
+    BufferedLine {
+        shape: LineShape::default(),
+        text_len,
+        raw_len: newline + 1,
+    }
+}
+
+/// The span of `len` bytes at byte `i` of a line.
+#[inline(always)]
+fn span_at(offset: u64, line_no: u32, i: usize, len: usize) -> Span {
+    Span::new(
+        offset + i as u64,
+        len.min(u32::MAX as usize) as u32,
+        line_no,
+        i as u32 + 1,
+    )
+}
+
+/// Byte classes of the lexer's main loop: one table load instead of a chain of comparisons.
+const OTHER: u8 = 0;
+const BLANK: u8 = 1;
+const LETTER: u8 = 2;
+const OPEN: u8 = 3;
+const SEMICOLON: u8 = 4;
+/// Only [`lex_buffered_line`] sees line ends; to [`lex_line_with`] a stray `\n` is an error.
+const NEWLINE: u8 = 5;
+
+static CLASS: [u8; 256] = {
+    let mut t = [OTHER; 256];
+    let mut b = 0;
+    while b < 256 {
+        t[b] = match b as u8 {
+            b' ' | b'\t' | b'\r' | 0x0c => BLANK,
+            // `$` is LinuxCNC's spindle-selection word (`G76 … $1`).
+            b'a'..=b'z' | b'A'..=b'Z' | b'$' => LETTER,
+            b'(' => OPEN,
+            b';' => SEMICOLON,
+            b'\n' => NEWLINE,
+            _ => OTHER,
+        };
+        b += 1;
+    }
+    t
+};
+
+#[cold]
+fn unclosed_comment(span: Span) -> Diagnostic {
+    Diagnostic::error(Code::Syntax, span, "comment is not closed")
+        .with_hint("close the comment with `)` on the same line")
+}
+
+/// `%`, `/` and everything that is an error. Returns after a byte that was accepted.
+#[cold]
+#[inline(never)]
+fn other_byte(
+    line: &[u8],
+    i: usize,
+    line_no: u32,
+    offset: u64,
+    no_words: bool,
+    shape: &mut LineShape,
+) -> Result<(), Diagnostic> {
+    let c = line[i];
+    match c {
+        b'%' if no_words => {
+            shape.percent = true;
+            Ok(())
+        }
+        b'/' if no_words && !shape.block_delete => {
+            shape.block_delete = true;
+            Ok(())
+        }
+        b'#' | b'[' | b'=' => Err(Diagnostic::error(
+            Code::Unsupported,
+            span_at(offset, line_no, i, 1),
+            format!(
+                "`{}`: macro variables and expressions are not supported",
+                c as char
+            ),
+        )
+        .with_hint("expand the macro on the controller, or write plain values")),
+        _ => {
+            let len = utf8_len(&line[i..]);
+            Err(Diagnostic::error(
+                Code::Syntax,
+                span_at(offset, line_no, i, len),
+                format!("unexpected character `{}`", show(&line[i..i + len])),
+            )
+            .with_hint("expected an address letter, a comment or the end of the line"))
+        }
+    }
+}
+
+/// A number starting right at `at` that Clinger's fast path converts exactly: `[+-]digits[.digits]`
+/// with 1 to 19 digits and a mantissa of at most 2^53, not followed by a second decimal point.
+/// Returns the value, whether it has a decimal point, and one past its last byte; `None` for
+/// anything else (which [`lex_number`] then handles, errors included).
+#[inline(always)]
+fn fast_number(line: &[u8], at: usize) -> Option<(f64, bool, usize)> {
+    // Where the input ends with a byte that stops every loop below (as the reader's buffer does:
+    // it is cut after a line end), the loops need no bounds checks of their own.
+    let terminated = at < line.len()
+        && line
+            .last()
+            .is_some_and(|&b| !matches!(b, b'0'..=b'9' | b'.' | b'+' | b'-'));
+    if terminated {
+        number::<true>(line, at)
+    } else {
+        number::<false>(line, at)
+    }
+}
+
+/// The byte at `i`; `None` past the end unless `TERMINATED`.
+#[inline(always)]
+fn byte_at<const TERMINATED: bool>(line: &[u8], i: usize) -> Option<u8> {
+    if TERMINATED {
+        // SAFETY: `number::<true>` is only called with `at < line.len()` and a last byte that is
+        // no digit, point or sign (`fast_number` checks both; `lex_buffered_line` checks that its
+        // input ends with `\n` and starts numbers only after a letter, which is not that `\n`).
+        // It reads `at`, and reads `i + 1` only after the byte at `i` was a sign, a digit or a
+        // point, which the last byte is not: so `i + 1 < line.len()` too. Every index read is in
+        // bounds. (Measured: these checks cost about a tenth of the whole pass-through time; see
+        // docs/performance.md.)
+        Some(unsafe { *line.get_unchecked(i) })
+    } else {
+        line.get(i).copied()
+    }
+}
+
+#[inline(always)]
+fn number<const TERMINATED: bool>(line: &[u8], at: usize) -> Option<(f64, bool, usize)> {
+    let mut i = at;
+    let first = byte_at::<TERMINATED>(line, i)?;
+    let negative = first == b'-';
+    if negative || first == b'+' {
+        i += 1;
+    }
+    let int_start = i;
+    let mut mantissa: u64 = 0;
+    while let Some(b) = byte_at::<TERMINATED>(line, i) {
+        let d = b.wrapping_sub(b'0');
+        if d > 9 {
+            break;
+        }
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+        i += 1;
+    }
+    let mut digits = i - int_start;
+    let has_dot = byte_at::<TERMINATED>(line, i) == Some(b'.');
+    let mut frac_digits = 0;
+    if has_dot {
+        i += 1;
+        let frac_start = i;
+        while let Some(b) = byte_at::<TERMINATED>(line, i) {
+            let d = b.wrapping_sub(b'0');
+            if d > 9 {
+                break;
+            }
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+            i += 1;
+        }
+        frac_digits = i - frac_start;
+        digits += frac_digits;
+        if byte_at::<TERMINATED>(line, i) == Some(b'.') {
+            return None;
+        }
+    }
+    // 1 to 19 digits (so no wrap-around above) and a mantissa that is an exact double.
+    if digits.wrapping_sub(1) >= 19 || mantissa > 1 << 53 {
+        return None;
+    }
+    // Clinger's fast path: both operands are exact doubles (frac_digits <= 19), so one division
+    // rounds correctly. (The mask only spares a bounds check: frac_digits < 32 already.)
+    let v = mantissa as f64 / POW10_32[frac_digits & 31];
+    Some((if negative { -v } else { v }, has_dot, i))
+}
+
+/// `POW10` padded to 32 entries for [`fast_number`]'s masked index (only the first 20 are used).
+const POW10_32: [f64; 32] = {
+    let mut t = [1.0; 32];
+    let mut k = 0;
+    while k < POW10.len() {
+        t[k] = POW10[k];
+        k += 1;
+    }
+    t
+};
+
+/// One word the reference way: blanks after the letter, bare flags, long numbers and every error.
+/// Returns the index after the word.
+#[cold]
+#[inline(never)]
+fn word_slow(
+    line: &[u8],
+    i: usize,
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+    bare: &[u8],
+) -> Result<usize, Diagnostic> {
+    let letter = line[i].to_ascii_uppercase();
+    if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
+        words.push(Word {
+            letter,
+            value: 0.0,
+            has_dot: false,
+            raw_start: (i + 1) as u32,
+            raw_len: 0,
+            span: span_at(offset, line_no, i, 1),
+        });
+        return Ok(i + 1);
+    }
+    let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
+        Diagnostic::error(
+            Code::Syntax,
+            span_at(offset, line_no, at, len),
+            format!(
+                "malformed word `{}`: {what}",
+                show(&line[i..(at + len).max(i + 1)])
+            ),
+        )
+        .with_hint("a word is one letter followed by a number, such as `X-12.5`")
+    })?;
+    let word_span = span_at(offset, line_no, i, number.end - i);
+    if !number.value.is_finite() {
+        return Err(Diagnostic::error(
+            Code::BadNumber,
+            word_span,
+            format!(
+                "the value of `{}` is too large to be a coordinate",
+                show(&line[i..number.end.min(i + 24)])
+            ),
+        ));
+    }
+    words.push(Word {
+        letter,
+        value: number.value,
+        has_dot: number.has_dot,
+        raw_start: number.start as u32,
+        raw_len: (number.end - number.start) as u32,
+        span: word_span,
+    });
+    Ok(number.end)
 }
 
 /// Whether a number follows (after blanks): a digit, a sign or a decimal point.
@@ -352,6 +610,35 @@ mod tests {
         ] {
             let v = lex(&format!("X{text}")).unwrap()[0].1;
             assert_eq!(v, text.parse::<f64>().unwrap(), "{text}");
+        }
+    }
+
+    proptest::proptest! {
+        /// Every number the lexer takes has the correctly rounded value of its text, on the fast
+        /// path (up to 19 digits) and off it, and keeps its lexeme.
+        #[test]
+        fn numbers_are_exact(
+            sign in proptest::sample::select(vec!["", "-", "+"]),
+            int in "[0-9]{0,22}",
+            frac in proptest::option::of("[0-9]{0,22}"),
+        ) {
+            let text = match &frac {
+                Some(f) => format!("{sign}{int}.{f}"),
+                None => format!("{sign}{int}"),
+            };
+            let line = format!("X{text} Z1");
+            let mut words = Vec::new();
+            let digits = int.len() + frac.as_ref().map_or(0, |f| f.len());
+            match lex_line(line.as_bytes(), 1, 0, &mut words) {
+                Ok(_) => {
+                    let want: f64 = text.parse().unwrap();
+                    proptest::prop_assert_eq!(words[0].value.to_bits(), want.to_bits());
+                    proptest::prop_assert_eq!(words[0].raw(line.as_bytes()), text.as_bytes());
+                    proptest::prop_assert_eq!(words[0].has_dot, frac.is_some());
+                    proptest::prop_assert_eq!(words[1].value, 1.0);
+                }
+                Err(e) => proptest::prop_assert!(digits == 0, "{text}: {}", e.message),
+            }
         }
     }
 

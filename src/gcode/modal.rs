@@ -137,14 +137,7 @@ impl Modal {
                 _ => continue,
             };
             if let Some(first) = axis_seen.replace(w) {
-                return Err(Diagnostic::error(
-                    Code::Conflict,
-                    w.span,
-                    format!(
-                        "{} and {} in one block name the same axis twice",
-                        first.letter as char, w.letter as char
-                    ),
-                ));
+                return Err(axis_twice(first, w));
             }
             let is_x = matches!(w.letter, b'X' | b'U');
             let v = if is_x {
@@ -170,23 +163,34 @@ impl Modal {
     }
 
     /// Applies a block that is not a threading cycle: modal codes, then any motion.
+    #[inline(always)]
     pub fn apply(&mut self, conv: &Conventions, line: &Line) -> Result<Option<PlainMove>> {
         let mut dwell = false;
         let mut set_position = false;
         let mut home = false;
-        let mut moves_axes = false;
         let mut f_word = None;
+        // One pass over the words: the axis words are remembered here, so that the end point is
+        // computed without a second scan (`axes` gives exactly what `target` would).
+        let mut axes = AxisWords::default();
+        // Written as a few two-way branches rather than a `match` on the letter and on the code:
+        // multi-way jumps on data that changes from word to word mispredict far more often.
+        let axis_letters = if conv.uw_incremental { 4 } else { 2 };
         for w in line.words {
-            match w.letter {
-                b'G' => {
-                    let Some(code) = g_code(w.value) else {
-                        return Err(bad_g(w));
-                    };
+            let axis = AXES[w.letter as usize & 0x7f];
+            if axis != 0 && axis <= axis_letters {
+                if axis & 1 == 1 {
+                    axes.see_x(w);
+                } else {
+                    axes.see_z(w);
+                }
+            } else if w.letter == b'G' {
+                let Some(code) = g_code(w.value) else {
+                    return Err(bad_g(w));
+                };
+                if code <= 30 && code % 10 == 0 {
+                    self.motion = PLAIN_MOTION[usize::from(code / 10)];
+                } else {
                     match code {
-                        0 => self.motion = MotionMode::Rapid,
-                        10 => self.motion = MotionMode::Feed,
-                        20 => self.motion = MotionMode::ArcCw,
-                        30 => self.motion = MotionMode::ArcCcw,
                         40 => dwell = true,
                         200 => self.units = Units::Inch,
                         210 => self.units = Units::Mm,
@@ -199,10 +203,8 @@ impl Modal {
                         _ => {}
                     }
                 }
-                b'X' | b'Z' => moves_axes = true,
-                b'U' | b'W' if conv.uw_incremental => moves_axes = true,
-                b'F' => f_word = Some(w),
-                _ => {}
+            } else if w.letter == b'F' {
+                f_word = Some(w);
             }
         }
         if self.motion == MotionMode::Thread {
@@ -216,12 +218,12 @@ impl Modal {
             self.position = None;
             return Ok(None);
         }
-        if dwell || !moves_axes {
+        if dwell || (axes.x.is_none() && axes.z.is_none()) {
             return Ok(None);
         }
         if set_position {
             let base = self.position.unwrap_or_default();
-            self.position = Some(self.target(conv, line, base)?);
+            self.position = Some(self.target_of(&axes, base)?);
             return Ok(None);
         }
         if self.motion == MotionMode::Cycle {
@@ -230,12 +232,12 @@ impl Modal {
         let Some(from) = self.position else {
             // Absolute moves establish the position; an incremental one from nowhere stays unknown.
             if self.absolute && line.word(b'X').is_some() && line.word(b'Z').is_some() {
-                let to = self.target(conv, line, Pos::default())?;
+                let to = self.target_of(&axes, Pos::default())?;
                 self.position = Some(to);
             }
             return Ok(None);
         };
-        let to = self.target(conv, line, from)?;
+        let to = self.target_of(&axes, from)?;
         self.position = Some(to);
         let lead = if self.motion == MotionMode::Thread {
             let lead = self.lead.ok_or_else(|| {
@@ -256,6 +258,32 @@ impl Modal {
             to,
             lead,
         }))
+    }
+
+    /// [`target`](Modal::target) from axis words already picked out of the block.
+    #[inline]
+    fn target_of(&self, axes: &AxisWords, from: Pos) -> Result<Pos> {
+        if let Some(second) = axes.conflict {
+            return Err(axis_twice(axes.first_on_axis_of(second), second));
+        }
+        let mut to = from;
+        if let Some(w) = axes.x {
+            let v = self.x_to_mm(self.value(w));
+            to.x = if w.letter == b'U' || !self.absolute {
+                from.x + v
+            } else {
+                v
+            };
+        }
+        if let Some(w) = axes.z {
+            let v = self.length_mm(w);
+            to.z = if w.letter == b'W' || !self.absolute {
+                from.z + v
+            } else {
+                v
+            };
+        }
+        Ok(to)
     }
 
     /// Reads F (lead in program units per revolution) or the dialect's TPI word into the modal lead.
@@ -304,6 +332,76 @@ impl Modal {
     }
 }
 
+/// Axis letters for [`Modal::apply`]: odd for X, even for Z; U and W (3, 4) only count where they
+/// are incremental words.
+const AXES: [u8; 128] = {
+    let mut t = [0; 128];
+    t[b'X' as usize] = 1;
+    t[b'Z' as usize] = 2;
+    t[b'U' as usize] = 3;
+    t[b'W' as usize] = 4;
+    t
+};
+
+/// G0, G1, G2, G3.
+const PLAIN_MOTION: [MotionMode; 4] = [
+    MotionMode::Rapid,
+    MotionMode::Feed,
+    MotionMode::ArcCw,
+    MotionMode::ArcCcw,
+];
+
+/// The X/U and Z/W words of a block, in one pass: the first of each axis and the first word that
+/// names an axis already named (the error [`Modal::target`] reports).
+#[derive(Default)]
+struct AxisWords<'w> {
+    x: Option<&'w Word>,
+    z: Option<&'w Word>,
+    conflict: Option<&'w Word>,
+}
+
+impl<'w> AxisWords<'w> {
+    #[inline(always)]
+    fn see_x(&mut self, w: &'w Word) {
+        if self.x.is_some() {
+            self.conflict.get_or_insert(w);
+        } else {
+            self.x = Some(w);
+        }
+    }
+
+    #[inline(always)]
+    fn see_z(&mut self, w: &'w Word) {
+        if self.z.is_some() {
+            self.conflict.get_or_insert(w);
+        } else {
+            self.z = Some(w);
+        }
+    }
+
+    fn first_on_axis_of(&self, w: &'w Word) -> &'w Word {
+        let first = if matches!(w.letter, b'X' | b'U') {
+            self.x
+        } else {
+            self.z
+        };
+        first.unwrap_or(w)
+    }
+}
+
+#[cold]
+fn axis_twice(first: &Word, second: &Word) -> Diagnostic {
+    Diagnostic::error(
+        Code::Conflict,
+        second.span,
+        format!(
+            "{} and {} in one block name the same axis twice",
+            first.letter as char, second.letter as char
+        ),
+    )
+}
+
+#[cold]
 fn bad_g(w: &Word) -> Diagnostic {
     Diagnostic::error(
         Code::Syntax,
@@ -370,6 +468,70 @@ mod tests {
         assert_eq!(m.position, Some(Pos::new(25.0, 5.0)));
         let (m, _) = run("G0 X50 Z5\nG28 U0 W0\n");
         assert_eq!(m.position, None);
+    }
+
+    #[test]
+    fn one_pass_end_point_is_target() {
+        // `apply` picks the axis words out in its own pass; `target` is the reference.
+        let c = conv();
+        let mut plain = conv();
+        plain.uw_incremental = false;
+        for conv in [c, plain] {
+            for text in [
+                "G1 X30 Z-2",
+                "G1 U-3 W-0.5",
+                "G2 Z-4.5 U1 R2",
+                "G3 X21.5",
+                "W2.25",
+                "G0 U7 Z1 F0.2",
+            ] {
+                let mut m = Modal::new(&conv, Units::Mm, [1.0, 1.0]);
+                let src = format!("G0 X50 Z5\n{text}\n");
+                let mut r = Reader::new(src.as_bytes());
+                m.apply(&conv, &r.next_line().unwrap().unwrap()).unwrap();
+                let line = r.next_line().unwrap().unwrap();
+                let from = m.position.unwrap();
+                let want = m.target(&conv, &line, from).unwrap();
+                let mv = m.apply(&conv, &line).unwrap();
+                assert_eq!(m.position, Some(want), "{text}");
+                let names_axis = line.words.iter().any(|w| {
+                    matches!(w.letter, b'X' | b'Z')
+                        || (conv.uw_incremental && matches!(w.letter, b'U' | b'W'))
+                });
+                let got = mv.map(|mv| (mv.from, mv.to));
+                assert_eq!(got, names_axis.then_some((from, want)), "{text}");
+            }
+        }
+        // U and W are not axis words where they are not incremental: only Z moves.
+        let mut m = Modal::new(&plain_conv(), Units::Mm, [1.0, 1.0]);
+        let mut r = Reader::new(&b"G0 X50 Z5\nG1 U5 Z2\n"[..]);
+        m.apply(&plain_conv(), &r.next_line().unwrap().unwrap())
+            .unwrap();
+        m.apply(&plain_conv(), &r.next_line().unwrap().unwrap())
+            .unwrap();
+        assert_eq!(m.position, Some(Pos::new(25.0, 2.0)));
+    }
+
+    fn plain_conv() -> Conventions {
+        Conventions {
+            uw_incremental: false,
+            ..conv()
+        }
+    }
+
+    #[test]
+    fn z_and_w_together_is_an_error_at_the_second() {
+        let c = conv();
+        let mut m = Modal::new(&c, Units::Mm, [1.0, 1.0]);
+        let mut r = Reader::new(&b"G0 X1 Z1\nG1 W3 X2 Z4 U1\n"[..]);
+        m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap();
+        let line = r.next_line().unwrap().unwrap();
+        let want = m.target(&c, &line, Pos::default()).unwrap_err();
+        let e = m.apply(&c, &line).unwrap_err();
+        assert_eq!(e, want);
+        // Z4 (column 10) is the first word to name an axis already named, by W3.
+        assert_eq!((e.code, e.span.column), (Code::Conflict, 10));
+        assert!(e.message.starts_with("W and Z"), "{}", e.message);
     }
 
     #[test]

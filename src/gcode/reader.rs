@@ -1,8 +1,8 @@
 //! A streaming line reader: one reused buffer, so memory does not grow with the file.
 
-use std::io::{BufRead, Read};
+use std::io::BufRead;
 
-use super::lexer::{lex_line_with, LineShape, Word};
+use super::lexer::{lex_buffered_line, lex_line_with, LineShape, Word};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -29,7 +29,7 @@ impl Line<'_> {
     pub fn has_g(&self, code: u16) -> bool {
         self.words
             .iter()
-            .any(|w| w.letter == b'G' && g_code(w.value) == Some(code))
+            .any(|w| w.letter == b'G' && is_g_code(w.value, code))
     }
 
     /// A span covering the whole line, for diagnostics about the block rather than one word.
@@ -39,28 +39,49 @@ impl Line<'_> {
 }
 
 /// A G or M code as an exact integer ×10, or `None` if it has more than one decimal.
+#[inline]
 pub fn g_code(value: f64) -> Option<u16> {
     if !(0.0..6553.5).contains(&value) {
         return None;
     }
-    // A cast truncates; adding a half rounds the non-negative value without a libm call.
     let scaled = value * 10.0;
-    let tenths = (scaled + 0.5) as u16;
-    if (f64::from(tenths) - scaled).abs() > 1e-6 {
+    // Rounds to the nearest integer in floating point (adding 1.5 × 2^52 leaves no fraction bits),
+    // so that the test below needs no conversion to an integer and back. Only a value within 1e-6
+    // of an integer passes it, and for those this is the rounding a `+ 0.5` and cast would give.
+    let rounded = (scaled + ROUND) - ROUND;
+    if (rounded - scaled).abs() > 1e-6 {
         return None;
     }
-    Some(tenths)
+    Some(rounded as u16)
 }
+
+const ROUND: f64 = 6_755_399_441_055_744.0;
+
+/// `g_code(value) == Some(code)`, without converting to an integer.
+#[inline]
+pub fn is_g_code(value: f64, code: u16) -> bool {
+    (0.0..6553.5).contains(&value) && (f64::from(code) - value * 10.0).abs() <= 1e-6
+}
+
+/// How much input is read at a time; the buffer grows beyond this only for a line that does not
+/// fit, and never beyond [`MAX_LINE_BYTES`] plus its terminator.
+const CHUNK: usize = 1 << 16;
 
 pub struct Reader<R> {
     source: R,
-    /// Holds a line only when it straddles the source's buffer; most lines are lexed in place.
+    /// Input read ahead of the lines handed out: the unconsumed part is `buf[start..end]`. Lines
+    /// are lexed in place; a line cut off by the end is moved to the front before reading more.
     buf: Vec<u8>,
+    start: usize,
+    end: usize,
+    /// One past the last `\n` in `buf[..end]`: the fast path only sees whole lines, so its input
+    /// always ends with a line end (see `lex_buffered_line`).
+    complete: usize,
+    /// The source has nothing more.
+    eof: bool,
     words: Vec<Word>,
     line_no: u32,
     offset: u64,
-    /// Bytes of the previous line still to be consumed from the source's buffer.
-    pending: usize,
     done: bool,
     bare: &'static [u8],
 }
@@ -69,11 +90,14 @@ impl<R: BufRead> Reader<R> {
     pub fn new(source: R) -> Reader<R> {
         Reader {
             source,
-            buf: Vec::with_capacity(256),
+            buf: Vec::new(),
+            start: 0,
+            end: 0,
+            complete: 0,
+            eof: false,
             words: Vec::with_capacity(16),
             line_no: 0,
             offset: 0,
-            pending: 0,
             done: false,
             bare: b"",
         }
@@ -91,61 +115,38 @@ impl<R: BufRead> Reader<R> {
     }
 
     /// The next line, lexed. `None` at the end of the input.
+    #[inline(always)]
     pub fn next_line(&mut self) -> Option<Result<Line<'_>, Diagnostic>> {
         if self.done {
             return None;
         }
-        self.source.consume(std::mem::take(&mut self.pending));
         let line_no = self.line_no + 1;
         let offset = self.offset;
-        let io_error = |e: std::io::Error| {
-            Diagnostic::error(
-                Code::Input,
-                Span::new(offset, 0, line_no, 1),
-                format!("cannot read the input: {e}"),
-            )
-        };
-        // Fast path: the whole line sits in the source's buffer; lex it there without copying.
-        let in_place = match self.source.fill_buf() {
-            Err(e) => {
-                self.done = true;
-                return Some(Err(io_error(e)));
-            }
-            Ok([]) => {
+        // Fast path: a plain line wholly in the buffer is lexed where it lies, its end found on the
+        // way. (A letter with a number right after it is never a bare flag, and `lex_buffered_line`
+        // leaves every other letter to the reference lexer.)
+        if let Some(l) = lex_buffered_line(
+            self.buf.get(self.start..self.complete).unwrap_or_default(),
+            line_no,
+            offset,
+            &mut self.words,
+        ) {
+            return Some(Ok(self.take_line(l.shape, l.text_len, l.raw_len)));
+        }
+        // Everything else: find the whole line (reading more input if needed) and lex it with
+        // the reference lexer.
+        let raw_len = match self.line_end(line_no, offset) {
+            Ok(Some(len)) => len,
+            Ok(None) => {
                 self.done = true;
                 return None;
             }
-            Ok(available) => memchr::memchr(b'\n', available).map(|i| i + 1),
-        };
-        let raw: &[u8] = match in_place {
-            Some(len) if len <= MAX_LINE_BYTES + 1 => {
-                self.pending = len;
-                &self.source.fill_buf().expect("filled above")[..len]
-            }
-            _ => {
-                self.buf.clear();
-                let limit = (MAX_LINE_BYTES + 2) as u64;
-                if let Err(e) = (&mut self.source)
-                    .take(limit)
-                    .read_until(b'\n', &mut self.buf)
-                {
-                    self.done = true;
-                    return Some(Err(io_error(e)));
-                }
-                if self.buf.last() != Some(&b'\n') && self.buf.len() as u64 >= limit {
-                    self.done = true;
-                    return Some(Err(Diagnostic::error(
-                        Code::Input,
-                        Span::new(offset, 1, line_no, 1),
-                        format!("line {line_no} is longer than {MAX_LINE_BYTES} bytes"),
-                    )
-                    .with_hint("is this a G-code file? Lines end with a newline")));
-                }
-                &self.buf
+            Err(e) => {
+                self.done = true;
+                return Some(Err(e));
             }
         };
-        self.line_no = line_no;
-        self.offset += raw.len() as u64;
+        let raw = &self.buf[self.start..self.start + raw_len];
         let mut text_len = raw.len();
         if raw.last() == Some(&b'\n') {
             text_len -= 1;
@@ -153,18 +154,110 @@ impl<R: BufRead> Reader<R> {
                 text_len -= 1;
             }
         }
-        let text = &raw[..text_len];
-        match lex_line_with(text, line_no, offset, &mut self.words, self.bare) {
-            Ok(shape) => Some(Ok(Line {
-                number: line_no,
-                offset,
-                text,
-                raw,
-                words: &self.words,
-                shape,
-            })),
-            Err(e) => Some(Err(e)),
+        match lex_line_with(
+            &raw[..text_len],
+            line_no,
+            offset,
+            &mut self.words,
+            self.bare,
+        ) {
+            Ok(shape) => Some(Ok(self.take_line(shape, text_len, raw_len))),
+            Err(e) => {
+                // The line is consumed: a caller may go on with the next one.
+                self.take_line(LineShape::default(), text_len, raw_len);
+                Some(Err(e))
+            }
         }
+    }
+
+    /// Consumes the line of `raw_len` bytes at the front of the buffer.
+    #[inline(always)]
+    fn take_line(&mut self, shape: LineShape, text_len: usize, raw_len: usize) -> Line<'_> {
+        let start = self.start;
+        self.start += raw_len;
+        self.line_no += 1;
+        let offset = self.offset;
+        self.offset += raw_len as u64;
+        let raw = &self.buf[start..start + raw_len];
+        Line {
+            number: self.line_no,
+            offset,
+            text: &raw[..text_len],
+            raw,
+            words: &self.words,
+            shape,
+        }
+    }
+
+    /// The length of the next line, terminator included, once it is wholly in the buffer; `None`
+    /// at the end of the input.
+    fn line_end(&mut self, line_no: u32, offset: u64) -> Result<Option<usize>, Diagnostic> {
+        // A line (terminator included) may have MAX_LINE_BYTES + 2 bytes: `\r\n` after the limit.
+        const LIMIT: usize = MAX_LINE_BYTES + 2;
+        let too_long = || {
+            Diagnostic::error(
+                Code::Input,
+                Span::new(offset, 1, line_no, 1),
+                format!("line {line_no} is longer than {MAX_LINE_BYTES} bytes"),
+            )
+            .with_hint("is this a G-code file? Lines end with a newline")
+        };
+        let mut searched = 0;
+        loop {
+            let available = &self.buf[self.start..self.end];
+            if let Some(i) = memchr::memchr(b'\n', &available[searched..]) {
+                let len = searched + i + 1;
+                return if len > LIMIT {
+                    Err(too_long())
+                } else {
+                    Ok(Some(len))
+                };
+            }
+            searched = available.len();
+            if available.len() >= LIMIT {
+                return Err(too_long());
+            }
+            if self.eof {
+                return Ok((!available.is_empty()).then_some(available.len()));
+            }
+            self.refill().map_err(|e| {
+                Diagnostic::error(
+                    Code::Input,
+                    Span::new(offset, 0, line_no, 1),
+                    format!("cannot read the input: {e}"),
+                )
+            })?;
+        }
+    }
+
+    /// Moves the unconsumed input to the front of the buffer and reads more after it.
+    fn refill(&mut self) -> std::io::Result<()> {
+        if self.start > 0 {
+            self.buf.copy_within(self.start..self.end, 0);
+            self.end -= self.start;
+            self.complete = self.complete.saturating_sub(self.start);
+            self.start = 0;
+        }
+        if self.end == self.buf.len() {
+            // Full: only a line longer than the buffer gets here. Grow towards the line limit.
+            let len = (self.buf.len() * 2).clamp(CHUNK, MAX_LINE_BYTES + 2 + CHUNK);
+            self.buf.resize(len, 0);
+        }
+        let read = loop {
+            match self.source.read(&mut self.buf[self.end..]) {
+                Ok(n) => break n,
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                Err(e) => return Err(e),
+            }
+        };
+        // Only the new bytes are searched, so that a source handing out a few bytes at a time
+        // costs no more than one reading a lot.
+        if let Some(i) = memchr::memrchr(b'\n', &self.buf[self.end..self.end + read]) {
+            self.complete = self.end + i + 1;
+        }
+        self.end += read;
+        self.eof = read == 0;
+        Ok(())
     }
 }
 
@@ -190,12 +283,175 @@ mod tests {
         assert!(r.next_line().is_none());
     }
 
+    /// A source that hands out at most `step` bytes a read, so that lines straddle reads.
+    struct Trickle<'a> {
+        data: &'a [u8],
+        step: usize,
+    }
+
+    impl std::io::Read for Trickle<'_> {
+        fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+            let n = self.step.min(out.len()).min(self.data.len());
+            out[..n].copy_from_slice(&self.data[..n]);
+            self.data = &self.data[n..];
+            Ok(n)
+        }
+    }
+
+    impl BufRead for Trickle<'_> {
+        fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+            Ok(&self.data[..self.step.min(self.data.len())])
+        }
+        fn consume(&mut self, n: usize) {
+            self.data = &self.data[n..];
+        }
+    }
+
+    type Lexed = (
+        u32,
+        u64,
+        Vec<u8>,
+        Vec<u8>,
+        Result<(Vec<Word>, LineShape), Diagnostic>,
+    );
+
+    /// What the reader gives for every line.
+    fn read_all(source: impl BufRead, bare: &'static [u8]) -> Vec<Lexed> {
+        let mut r = Reader::new(source).with_bare_letters(bare);
+        let mut got = vec![];
+        let mut last = 0;
+        while let Some(l) = r.next_line() {
+            got.push(match l {
+                Ok(l) => {
+                    last = l.number;
+                    (
+                        l.number,
+                        l.offset,
+                        l.text.to_vec(),
+                        l.raw.to_vec(),
+                        Ok((l.words.to_vec(), l.shape)),
+                    )
+                }
+                Err(e) => {
+                    last += 1;
+                    (last, 0, vec![], vec![], Err(e))
+                }
+            });
+        }
+        got
+    }
+
+    /// The same, line by line with the reference lexer: split at `\n`, drop the terminator.
+    fn reference(src: &[u8], bare: &[u8]) -> Vec<Lexed> {
+        let mut got = vec![];
+        let mut offset = 0u64;
+        for (i, raw) in src.split_inclusive(|&b| b == b'\n').enumerate() {
+            let mut text = raw.strip_suffix(b"\n").unwrap_or(raw);
+            if raw.ends_with(b"\n") {
+                text = text.strip_suffix(b"\r").unwrap_or(text);
+            }
+            let mut words = vec![];
+            let n = i as u32 + 1;
+            got.push(match lex_line_with(text, n, offset, &mut words, bare) {
+                Ok(shape) => (n, offset, text.to_vec(), raw.to_vec(), Ok((words, shape))),
+                Err(e) => (n, 0, vec![], vec![], Err(e)),
+            });
+            offset += raw.len() as u64;
+        }
+        got
+    }
+
+    proptest::proptest! {
+        /// The reader's fast path (lexing in its buffer, finding the line end on the way) gives
+        /// exactly what the reference lexer gives for each line, errors included, however the
+        /// input is cut into reads.
+        #[test]
+        fn buffered_lexing_is_the_reference(
+            text in proptest::collection::vec(
+                proptest::sample::select(b"GXZUWPCNF0123456789.-+ \t\r\n\n\n();%/#e\xc3".to_vec()),
+                0..300,
+            ),
+            step in 1usize..40,
+            flags in proptest::bool::ANY,
+        ) {
+            let bare: &'static [u8] = if flags { b"PC" } else { b"" };
+            let want = reference(&text, bare);
+            proptest::prop_assert_eq!(read_all(&text[..], bare), want.clone());
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare), want);
+        }
+    }
+
+    #[test]
+    fn lines_across_reads_and_longer_than_the_buffer() {
+        let long = format!("G1 X1 ({})\r\n", "c".repeat(3 * CHUNK));
+        let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
+        let want = reference(src.as_bytes(), b"");
+        assert_eq!(want.len(), 5);
+        assert_eq!(read_all(src.as_bytes(), b""), want);
+        for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
+            let src = Trickle {
+                data: src.as_bytes(),
+                step,
+            };
+            assert_eq!(read_all(src, b""), want, "step {step}");
+        }
+    }
+
+    #[test]
+    fn line_length_limit() {
+        // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
+        // without a terminator.
+        let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
+        let got = read_all(ok.as_bytes(), b"");
+        assert_eq!(got.len(), 2);
+        assert!(got.iter().all(|l| l.4.is_ok()));
+        for tail in ["\r\n", ""] {
+            let bad = format!("G0 X1\n({}){tail}", "c".repeat(MAX_LINE_BYTES));
+            let mut r = Reader::new(bad.as_bytes());
+            assert!(r.next_line().unwrap().is_ok());
+            let e = r.next_line().unwrap().err().unwrap();
+            assert_eq!((e.code, e.span.line, e.span.start), (Code::Input, 2, 6));
+            assert!(r.next_line().is_none());
+        }
+    }
+
     #[test]
     fn over_long_line_is_refused() {
         let src = vec![b'X'; MAX_LINE_BYTES + 10];
         let mut r = Reader::new(&src[..]);
         let e = r.next_line().unwrap().err().unwrap();
         assert_eq!(e.code, Code::Input);
+    }
+
+    #[test]
+    fn g_code_tests_agree() {
+        // `is_g_code` and the rounding in `g_code` against the plain definition: the nearest
+        // integer of value × 10, if it lies within 1e-6.
+        let reference = |v: f64| -> Option<u16> {
+            if !(0.0..6553.5).contains(&v) {
+                return None;
+            }
+            let tenths = (v * 10.0 + 0.5) as u16;
+            ((f64::from(tenths) - v * 10.0).abs() <= 1e-6).then_some(tenths)
+        };
+        let mut values = vec![
+            0.0, -0.0, 1.0, 33.1, 78.0, 6553.4, 6553.49, 6553.5, 1.25, 0.05,
+        ];
+        for k in 0..65536u32 {
+            let t = f64::from(k) / 10.0;
+            values.extend([t, t + 4e-8, t - 4e-8, t + 2e-7, t + 0.05, t + 1e-3]);
+        }
+        values.extend([f64::NAN, f64::INFINITY, -1.0, 1e300, 5e-324]);
+        for v in values {
+            let want = reference(v);
+            assert_eq!(g_code(v), want, "{v}");
+            for code in [0, 10, 320, 331, 780, 65534, 65535] {
+                assert_eq!(is_g_code(v, code), want == Some(code), "{v} {code}");
+            }
+            if let Some(c) = want {
+                assert!(is_g_code(v, c), "{v}");
+            }
+        }
     }
 
     #[test]

@@ -1,0 +1,191 @@
+//! `Dialect::prefilter` lets `program::run` skip `Dialect::read` for lines that are none of the
+//! dialect's business. Skipping must change nothing: the events, the modal state after every line,
+//! the warnings and the first error are the same as when every line is offered to `read`.
+
+use proptest::prelude::*;
+use threadcut::dialect::{self, Read};
+use threadcut::gcode::{Modal, Reader};
+use threadcut::machine::Machine;
+use threadcut::program::{self, Event};
+use threadcut::units::Units;
+
+/// What happened, line by line, and how it ended.
+type Trace = (Vec<String>, String);
+
+fn with_prefilter(src: &str, machine: &Machine) -> Trace {
+    let mut seen = vec![];
+    let end = program::run(src.as_bytes(), machine, |modal, ev| {
+        seen.push(match ev {
+            Event::Plain { line, mv } => format!("{} plain {mv:?} {modal:?}", line.number),
+            Event::Settings { line } => format!("{} settings {modal:?}", line.number),
+            Event::Cycle { line, job, .. } => format!("{} cycle {job:?} {modal:?}", line.number),
+        });
+        Ok(())
+    });
+    let end = match end {
+        Ok(summary) => format!("ok {} {:?}", summary.cycles, summary.warnings),
+        Err(e) => format!("error {e:?}"),
+    };
+    (seen, end)
+}
+
+/// `program::run` as it was before the prefilter: every line goes to `read`.
+fn without_prefilter(src: &str, machine: &Machine) -> Trace {
+    let mut d = dialect::open(machine).unwrap();
+    let conv = d.conventions().clone();
+    let mut modal = Modal::new(
+        &conv,
+        machine.units,
+        [
+            machine.no_point_scale(Units::Mm),
+            machine.no_point_scale(Units::Inch),
+        ],
+    );
+    let mut reader = Reader::new(src.as_bytes()).with_bare_letters(d.bare_letters());
+    let mut seen = vec![];
+    let mut warnings = vec![];
+    let mut cycles = 0;
+    while let Some(line) = reader.next_line() {
+        let line = match line {
+            Ok(l) => l,
+            Err(e) => return (seen, format!("error {:?}", program::Error::Input(e))),
+        };
+        let before = warnings.len();
+        match d.read(&line, &mut modal, &mut warnings) {
+            Err(e) => return (seen, format!("error {:?}", program::Error::Input(e))),
+            Ok(Read::Plain) => match modal.apply(&conv, &line) {
+                Ok(mv) => seen.push(format!("{} plain {mv:?} {modal:?}", line.number)),
+                Err(e) => return (seen, format!("error {:?}", program::Error::Input(e))),
+            },
+            Ok(Read::Settings) => seen.push(format!("{} settings {modal:?}", line.number)),
+            Ok(Read::Cycle(job)) => {
+                cycles += 1;
+                modal.position = Some(job.end_point());
+                seen.push(format!("{} cycle {job:?} {modal:?}", line.number));
+            }
+        }
+        for w in &mut warnings[before..] {
+            if w.span.line == 0 {
+                w.span = line.span();
+            }
+        }
+    }
+    (seen, format!("ok {cycles} {warnings:?}"))
+}
+
+const WORDS: &[&str] = &[
+    "G0",
+    "G1",
+    "G01",
+    "G2",
+    "G4",
+    "G20",
+    "G21",
+    "G32",
+    "G33",
+    "G35",
+    "G36",
+    "G50",
+    "G72",
+    "G73",
+    "G78",
+    "G90",
+    "G91",
+    "G92",
+    "G28",
+    "X1.5",
+    "X20",
+    "X.5",
+    "Z-3",
+    "Z0.5",
+    "Z-.75",
+    "U-0.2",
+    "W-1",
+    "F0.1",
+    "F2",
+    "F.05",
+    "E0.05",
+    "E8",
+    "I8",
+    "K0.05",
+    "J1.5",
+    "P020545",
+    "P3",
+    "P",
+    "Q0.15",
+    "Q1.8",
+    "R0.5",
+    "D1",
+    "L2",
+    "S500",
+    "S9000",
+    "C",
+    "C29",
+    "O",
+    "M3",
+    "T0101",
+    "(c)",
+    "N10",
+    // Whole cycles of each dialect, so that cycles (and their checks of earlier state) happen.
+    "G33X.212Z-.5I.012K.05PC",
+    "G78 P020045 Q0.15 R0.5",
+    "G78 X60 Z-60 P3 Q1.8 F3 J1.5 K2",
+    "G78 X8.16 Z-20. K0.92 D0.35 F1.5 A60 P1",
+    // Fanuc-family G76/G92 (fanuc, and gsk980 through the shared reader), LinuxCNC's G76.
+    "G76 P020060 Q100 R0.05",
+    "G76 X27.546 Z-30. P1227 Q400 F2.",
+    "G92 X29.2 Z-30. F2.",
+    "G76 P2.5 Z-30 I-1.0 J0.3 K1.5335",
+    "G7",
+    "G8",
+];
+
+fn program() -> impl Strategy<Value = String> {
+    let line = proptest::collection::vec(proptest::sample::select(WORDS), 0..5)
+        .prop_map(|words| words.join(" "));
+    proptest::collection::vec(line, 0..12).prop_map(|lines| {
+        let mut text = String::from("G0 X2 Z0.5\n");
+        for l in lines {
+            text.push_str(&l);
+            text.push('\n');
+        }
+        text
+    })
+}
+
+#[test]
+fn bundled_examples_trace_the_same() {
+    for entry in std::fs::read_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/examples")).unwrap() {
+        let path = entry.unwrap().path();
+        let src = std::fs::read_to_string(&path).unwrap();
+        for (name, _) in threadcut::machine::BUILT_IN {
+            let m = Machine::built_in(name).unwrap();
+            let want = without_prefilter(&src, &m);
+            assert_eq!(
+                with_prefilter(&src, &m),
+                want,
+                "{} on {name}",
+                path.display()
+            );
+        }
+    }
+}
+
+#[test]
+fn state_read_from_plain_lines_is_kept() {
+    // OmniTurn keeps the last S for its slide-speed check of a later G33: the S line has no cycle
+    // code but must still reach `read`.
+    let src = "G0 X2 Z0.5\nS9000\nX.237\nG33X.212Z-.5I.012K.05PC\n";
+    let m = Machine::built_in("omniturn").unwrap();
+    let want = without_prefilter(src, &m);
+    assert!(want.1.contains("MachineLimit"), "{want:?}");
+    assert_eq!(with_prefilter(src, &m), want);
+}
+
+proptest! {
+    #[test]
+    fn skipping_read_changes_nothing(src in program(), which in 0usize..3) {
+        let m = Machine::built_in(threadcut::machine::BUILT_IN[which].0).unwrap();
+        prop_assert_eq!(with_prefilter(&src, &m), without_prefilter(&src, &m));
+    }
+}
