@@ -161,6 +161,40 @@ fn the_gsk_example_program_simulates_like_the_pass_table() {
 }
 
 #[test]
+fn radial_passes_with_a_nose_cut_exactly_the_target_form() {
+    // Radial passes end in a plunge of the same tool to full depth on the axis, so the groove is
+    // the target form: nothing cut outside it, nothing left in it, whether the blank is the crest
+    // line or stands 0.3 above it (the target clipped to the blank's top).
+    let src = "G00 X80 Z10\nG78 P010060 Q0.1 R0.05\nG78 X60 Z-30 P1.2 Q0.4 F2\n";
+    let machine = Machine::built_in("gsk980").unwrap();
+    let jobs = program::jobs(src.as_bytes(), &machine).unwrap();
+    let passes = jobs[0].passes().unwrap();
+    let tool = Tool {
+        angle_deg: 60.0,
+        tip: Tip::Radius { radius: 0.15 },
+    };
+    for stock in [0.0, 0.3] {
+        let s = sim::section(&jobs[0], &passes, &tool, stock).unwrap();
+        let g = s.groove;
+        // Within the 1 nm grid's rounding of where the flanks cross the blank's top (≈ 1e-7).
+        assert!(
+            g.overcut_area < 1e-6 && g.left_in_form < 1e-6,
+            "{stock}: {g:?}"
+        );
+        // The whole form: the rounded V from the blank's top to the full depth, less nothing.
+        let (r, a) = (0.15, 30f64.to_radians());
+        let c = r / a.sin() - r;
+        let exact = (1.2 + stock + c).powi(2) * T30
+            - (r * r / T30 - r * r * (std::f64::consts::FRAC_PI_2 - a));
+        assert!(
+            close(s.total_area, exact, 1e-6),
+            "{stock}: {} vs {exact}",
+            s.total_area
+        );
+    }
+}
+
+#[test]
 fn radial_chip_thickness_is_the_increment_times_sin_half_angle() {
     // Depths 0.5, 0.8, 1.0 radial: the flanks move Δd·sin 30° normal to themselves.
     let law = DepthLaw::Explicit {

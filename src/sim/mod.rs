@@ -173,13 +173,13 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
     if ![u_lo, u_hi, bottom, tool_top].into_iter().all(fits) {
         return Err(too_big("a coordinate"));
     }
-    let blank = vec![vec![contour(&[
+    let blank = contour(&[
         (u_lo, blank_top),
         (u_hi, blank_top),
         (u_hi, bottom),
         (u_lo, bottom),
-    ])]];
-    let mut material: Shapes = blank.clone();
+    ]);
+    let mut material: Shapes = vec![vec![blank.clone()]];
     let mut engine = Engine::new();
     let mut sims = Vec::with_capacity(passes.len());
     let template = tool.template();
@@ -274,6 +274,15 @@ impl Engine {
         }
     }
 
+    /// material ∩ tool alone.
+    fn intersect(&mut self, material: &Shapes, cutter: &Shapes) -> Shapes {
+        self.overlay.reinit_with_subj_and_clip(material, cutter);
+        match self.overlay.build_graph_view(FillRule::NonZero) {
+            Some(graph) => graph.extract_shapes(OverlayRule::Intersect, &mut self.buf),
+            None => Vec::new(),
+        }
+    }
+
     /// material ∩ tool and material − tool from one graph.
     fn cut(&mut self, material: &Shapes, cutter: &Shapes) -> (Shapes, Shapes) {
         self.overlay.reinit_with_subj_and_clip(material, cutter);
@@ -310,23 +319,35 @@ fn shapes_area(shapes: &Shapes) -> f64 {
 /// [`shapes_area`] positive (outer contours counter-clockwise).
 fn clipped_area(c: &Contour, at: f64) -> f64 {
     let pts: Vec<(f64, f64)> = c.iter().map(|&p| to_float(p)).collect();
+    signed_area(&clip_half(&pts, |p| at - p.0))
+}
+
+/// The part of a polygon where the affine function `side` is ≥ 0 (Sutherland–Hodgman). For a
+/// non-convex polygon the result may run back and forth along the line, but its signed area is
+/// still the area of the part.
+fn clip_half(pts: &[(f64, f64)], side: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)> {
     let n = pts.len();
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(n + 2);
     for i in 0..n {
         let (a, b) = (pts[i], pts[(i + 1) % n]);
-        let (ina, inb) = (a.0 <= at, b.0 <= at);
-        if ina {
+        let (sa, sb) = (side(a), side(b));
+        if sa >= 0.0 {
             out.push(a);
         }
-        if ina != inb {
-            let k = (at - a.0) / (b.0 - a.0);
-            out.push((at, a.1 + k * (b.1 - a.1)));
+        if (sa >= 0.0) != (sb >= 0.0) {
+            let k = sa / (sa - sb);
+            out.push((a.0 + k * (b.0 - a.0), a.1 + k * (b.1 - a.1)));
         }
     }
-    let m = out.len();
+    out
+}
+
+/// Shoelace area of a closed polygon, positive for counter-clockwise in (u, v).
+fn signed_area(pts: &[(f64, f64)]) -> f64 {
+    let m = pts.len();
     let twice: f64 = (0..m)
         .map(|i| {
-            let (a, b) = (out[i], out[(i + 1) % m]);
+            let (a, b) = (pts[i], pts[(i + 1) % m]);
             a.0 * b.1 - b.0 * a.1
         })
         .sum();
@@ -406,7 +427,8 @@ fn thickness(chip: &Shapes, inside: &Inside) -> f64 {
 
 /// The state after the last pass.
 struct Final<'a> {
-    blank: &'a Shapes,
+    /// The blank's rectangle, on the grid.
+    blank: &'a Contour,
     material: &'a Shapes,
     total_area: f64,
     tool_top: f64,
@@ -483,9 +505,16 @@ fn groove_report(
         edges(pitch_line_depth.unwrap_or(0.5 * depth_reached)).map_or(axis, |(l, r)| (l + r) / 2.0);
     let depth_at_axis = envelope(centre).max(0.0);
     // Overcut = removed − (removed ∩ target) = total − (target ∩ blank − target ∩ material).
-    let target = vec![vec![contour(&tool.outline(centre, total, cut.tool_top))]];
-    let in_blank = shapes_area(&engine.cut(cut.blank, &target).0);
-    let left_in_form = shapes_area(&engine.cut(cut.material, &target).0);
+    // The target is convex and the blank a rectangle: target ∩ blank is the target clipped to it.
+    let target = contour(&tool.outline(centre, total, cut.tool_top));
+    let (lo, hi) = (to_float(cut.blank[0]), to_float(cut.blank[2]));
+    let mut in_blank: Vec<(f64, f64)> = target.iter().map(|&p| to_float(p)).collect();
+    in_blank = clip_half(&in_blank, |p| p.0 - lo.0);
+    in_blank = clip_half(&in_blank, |p| hi.0 - p.0);
+    in_blank = clip_half(&in_blank, |p| p.1 - lo.1);
+    in_blank = clip_half(&in_blank, |p| hi.1 - p.1);
+    let in_blank = signed_area(&in_blank).abs();
+    let left_in_form = shapes_area(&engine.intersect(cut.material, &vec![vec![target]]));
     let overcut_area = (cut.total_area - (in_blank - left_in_form)).max(0.0);
     GrooveReport {
         axis,
