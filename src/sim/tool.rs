@@ -14,8 +14,9 @@ use crate::diag::{Code, Diagnostic, Result, Span};
 /// The number of chords follows from it and the radius ([`NosePolygon`]).
 pub const NOSE_TOLERANCE: f64 = 0.5e-3;
 
-/// The most chords a nose is flattened into, whatever its radius (reached only by radii of tens of
-/// millimetres, far beyond any threading tool).
+/// The most chords a nose is flattened into, whatever its radius: reached only by radii of
+/// hundreds of millimetres (≈ 600 mm at the widest arc), far beyond any threading tool, where the
+/// outline may then stray further than [`NOSE_TOLERANCE`] (see [`NosePolygon::deviation`]).
 pub const NOSE_SEGMENTS_MAX: usize = 1024;
 
 /// A nose arc flattened into `segments` chords of equal angle `theta`, with the same area as the
