@@ -43,6 +43,25 @@ fn bench(c: &mut Criterion) {
             })
         })
     });
+    // Other nose radii: the number of chords follows the radius (sim::tool::NOSE_TOLERANCE).
+    for radius in [0.1, 0.4] {
+        let tool = Tool {
+            angle_deg: 60.0,
+            tip: Tip::Radius { radius },
+        };
+        c.bench_function(
+            &format!("section 20 passes nose r{radius}, thread CPU time"),
+            |b| {
+                b.iter_custom(|iters| {
+                    cpu_timed(iters, || {
+                        black_box(
+                            sim::section(black_box(&job), black_box(&passes), &tool, 0.0).unwrap(),
+                        );
+                    })
+                })
+            },
+        );
+    }
 }
 
 /// This thread's CPU time (ns): on a shared machine, wall-clock time also counts the time other

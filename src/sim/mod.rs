@@ -32,6 +32,9 @@ const SCALE: f64 = 1.0 / GRID;
 /// The largest section coordinate (mm) the grid holds with room to spare (i32 at 1 nm: ±2147 mm;
 /// the overlay engine wants headroom).
 pub const MAX_COORD: f64 = 500.0;
+/// Vertices of the material this close (grid steps) to the line through their neighbours are
+/// dropped after each pass ([`straighten`]).
+const STRAIGHT: i32 = 1;
 /// Chips smaller than this (mm²) are no chip: grid noise on a spring pass.
 pub const AREA_EPSILON: f64 = 1e-9;
 /// A chip edge this close (mm) to the tool's outline lies on the cutting edge.
@@ -149,6 +152,7 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
         return Err(too_big("stock"));
     }
     let t = tool.slope();
+    let form = tool.form();
     let total = job.geometry.depth;
     let deepest = passes.iter().map(|p| p.depth).fold(total, f64::max);
     let apex = tool.apex_below_lowest().max(0.0);
@@ -172,17 +176,19 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
     if ![u_lo, u_hi, bottom, tool_top].into_iter().all(fits) {
         return Err(too_big("a coordinate"));
     }
-    let blank = vec![vec![contour(&[
+    let blank = contour(&[
         (u_lo, blank_top),
         (u_hi, blank_top),
         (u_hi, bottom),
         (u_lo, bottom),
-    ])]];
-    let mut material: Shapes = blank.clone();
+    ]);
+    let mut material: Shapes = vec![vec![blank.clone()]];
     let mut engine = Engine::new();
     let mut sims = Vec::with_capacity(passes.len());
+    let template = tool.template();
+    let mut outline = Vec::new();
     for p in passes {
-        let outline = tool.outline(p.offset, p.depth, tool_top);
+        template.place(p.offset, p.depth, tool_top, &mut outline);
         let cutter = vec![vec![contour(&outline)]];
         let (chip, rest) = engine.cut(&material, &cutter);
         let area = shapes_area(&chip);
@@ -200,12 +206,8 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
             } else {
                 CuttingFlank::Both
             };
-            let nose = match tool.tip {
-                Tip::Radius { radius } if radius > 0.0 => Some((p.offset, radius)),
-                _ => None,
-            };
-            let lines = EdgeLines::new(&outline, tool, nose);
-            (left_share, flank, thickness(&chip, &lines))
+            let inside = Inside::new(tool, &form, p.offset, p.depth, tool_top);
+            (left_share, flank, thickness(&chip, &inside))
         } else {
             (0.0, CuttingFlank::None, 0.0)
         };
@@ -225,6 +227,9 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
                 .collect(),
         });
         material = rest;
+        for c in material.iter_mut().flatten() {
+            straighten(c);
+        }
     }
     let total_area: f64 = sims.iter().map(|s| s.area).sum();
     for s in &mut sims {
@@ -275,6 +280,15 @@ impl Engine {
         }
     }
 
+    /// material ∩ tool alone.
+    fn intersect(&mut self, material: &Shapes, cutter: &Shapes) -> Shapes {
+        self.overlay.reinit_with_subj_and_clip(material, cutter);
+        match self.overlay.build_graph_view(FillRule::NonZero) {
+            Some(graph) => graph.extract_shapes(OverlayRule::Intersect, &mut self.buf),
+            None => Vec::new(),
+        }
+    }
+
     /// material ∩ tool and material − tool from one graph.
     fn cut(&mut self, material: &Shapes, cutter: &Shapes) -> (Shapes, Shapes) {
         self.overlay.reinit_with_subj_and_clip(material, cutter);
@@ -284,6 +298,33 @@ impl Engine {
                 graph.extract_shapes(OverlayRule::Difference, &mut self.buf),
             ),
             None => (Vec::new(), material.clone()),
+        }
+    }
+}
+
+/// Drops the vertices of a contour that lie within [`STRAIGHT`] grid steps of the line through
+/// their neighbours: at the grid's resolution they are on a straight edge. They come from a flank
+/// infeed, whose tool slides its flank along the flank the last pass cut: the two rounded edges
+/// are nearly collinear and cross back and forth, and each pass would add slivers a nanometre wide
+/// along the flank that every later pass has to cut again.
+fn straighten(c: &mut Contour) {
+    let eps2 = i128::from(STRAIGHT) * i128::from(STRAIGHT);
+    let mut i = 0;
+    let mut since_removal = 0;
+    while c.len() > 3 && since_removal <= c.len() {
+        let n = c.len();
+        i %= n;
+        let (a, b, d) = (c[(i + n - 1) % n], c[i], c[(i + 1) % n]);
+        let (ux, uy) = (i128::from(d.x - a.x), i128::from(d.y - a.y));
+        let (wx, wy) = (i128::from(b.x - a.x), i128::from(b.y - a.y));
+        let cross = ux * wy - uy * wx;
+        if cross * cross <= eps2 * (ux * ux + uy * uy) {
+            c.remove(i);
+            since_removal = 0;
+            i = i.saturating_sub(1);
+        } else {
+            i += 1;
+            since_removal += 1;
         }
     }
 }
@@ -311,120 +352,86 @@ fn shapes_area(shapes: &Shapes) -> f64 {
 /// [`shapes_area`] positive (outer contours counter-clockwise).
 fn clipped_area(c: &Contour, at: f64) -> f64 {
     let pts: Vec<(f64, f64)> = c.iter().map(|&p| to_float(p)).collect();
+    signed_area(&clip_half(&pts, |p| at - p.0))
+}
+
+/// The part of a polygon where the affine function `side` is ≥ 0 (Sutherland–Hodgman). For a
+/// non-convex polygon the result may run back and forth along the line, but its signed area is
+/// still the area of the part.
+fn clip_half(pts: &[(f64, f64)], side: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)> {
     let n = pts.len();
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(n + 2);
     for i in 0..n {
         let (a, b) = (pts[i], pts[(i + 1) % n]);
-        let (ina, inb) = (a.0 <= at, b.0 <= at);
-        if ina {
+        let (sa, sb) = (side(a), side(b));
+        if sa >= 0.0 {
             out.push(a);
         }
-        if ina != inb {
-            let k = (at - a.0) / (b.0 - a.0);
-            out.push((at, a.1 + k * (b.1 - a.1)));
+        if (sa >= 0.0) != (sb >= 0.0) {
+            let k = sa / (sa - sb);
+            out.push((a.0 + k * (b.0 - a.0), a.1 + k * (b.1 - a.1)));
         }
     }
-    let m = out.len();
+    out
+}
+
+/// Shoelace area of a closed polygon, positive for counter-clockwise in (u, v).
+fn signed_area(pts: &[(f64, f64)]) -> f64 {
+    let m = pts.len();
     let twice: f64 = (0..m)
         .map(|i| {
-            let (a, b) = (out[i], out[(i + 1) % m]);
+            let (a, b) = (pts[i], pts[(i + 1) % m]);
             a.0 * b.1 - b.0 * a.1
         })
         .sum();
     twice / 2.0
 }
 
-/// The tool's outline as inward half-planes: a point inside the (convex) tool lies
-/// `n·p − c ≥ 0` from each edge's line, and its distance to the outline is the least of these.
-/// A nose's chords are kept apart: for points well up the flanks they cannot be the nearest, and
-/// [`NoseBound`] says when to skip them.
-struct EdgeLines {
-    main: Vec<(f64, f64, f64)>,
-    chords: Vec<(f64, f64, f64)>,
-    nose: Option<NoseBound>,
-}
-
-/// For a point p inside the tool, every chord line of the nose lies at least
-/// `r·cos(θ/2) − Δv·sin α − |Δu|·cos α` from it (Δ = p − nose centre, v downward, Δv ≤ 0): the
-/// chords' inward normals point within α of straight up.
-#[derive(Clone, Copy)]
-struct NoseBound {
-    centre: (f64, f64),
-    chord_depth: f64,
-    sin_a: f64,
+/// How deep a point lies inside a tool placed at `(u0, d)`: its distance to the tool's outline,
+/// worked out from the tool's true form (flanks, a round nose, a flat, and the closing edge across
+/// the top at `top`), not from the chord polygon. The tool is convex, so the distance from an
+/// inside point is the least over its supporting lines: the two flanks, the top, the flat; and for
+/// a nose, the tangent lines of the arc, whose least is `r − |p − c|` when p lies in the arc's
+/// wedge below the centre c (else the arc's end tangent, a flank, is the nearest).
+struct Inside {
+    u0: f64,
+    /// Depth of the flanks' meeting point, `d + apex`.
+    apex: f64,
+    t: f64,
     cos_a: f64,
+    top: f64,
+    /// Depth of a flat tip.
+    flat: Option<f64>,
+    /// Centre (depth) and radius of a nose.
+    nose: Option<(f64, f64)>,
 }
 
-impl NoseBound {
-    fn lower(&self, p: (f64, f64)) -> f64 {
-        let (du, dv) = (p.0 - self.centre.0, p.1 - self.centre.1);
-        if dv > 0.0 {
-            return f64::NEG_INFINITY;
+impl Inside {
+    fn new(tool: &Tool, form: &tool::Form, u0: f64, d: f64, top: f64) -> Inside {
+        let half = (tool.angle_deg / 2.0).to_radians();
+        Inside {
+            u0,
+            apex: d + form.apex,
+            t: form.t,
+            cos_a: half.cos(),
+            top,
+            flat: (form.half_flat > 0.0).then_some(d),
+            nose: (form.radius > 0.0).then_some((d - form.radius, form.radius)),
         }
-        self.chord_depth - dv * self.sin_a - du.abs() * self.cos_a
-    }
-}
-
-impl EdgeLines {
-    /// `nose`: the nose's centre and radius when the outline's points 1..=NOSE_SEGMENTS+1 are its
-    /// arc (see [`Tool::outline`]).
-    fn new(outline: &[(f64, f64)], tool: &Tool, nose: Option<(f64, f64)>) -> EdgeLines {
-        let n = outline.len();
-        // Inward normals: to the right of each edge for a clockwise outline, left otherwise.
-        let twice: f64 = (0..n)
-            .map(|i| {
-                let (a, b) = (outline[i], outline[(i + 1) % n]);
-                a.0 * b.1 - b.0 * a.1
-            })
-            .sum();
-        let turn = if twice < 0.0 { 1.0 } else { -1.0 };
-        let mut main = Vec::with_capacity(4);
-        let mut chords = Vec::with_capacity(tool::NOSE_SEGMENTS);
-        for i in 0..n {
-            let (a, b) = (outline[i], outline[(i + 1) % n]);
-            let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-            let len = dx.hypot(dy);
-            if len <= 0.0 {
-                continue;
-            }
-            let (nx, ny) = (turn * dy / len, -turn * dx / len);
-            let line = (nx, ny, nx * a.0 + ny * a.1);
-            if nose.is_some() && (1..=tool::NOSE_SEGMENTS).contains(&i) {
-                chords.push(line);
-            } else {
-                main.push(line);
-            }
-        }
-        let nose = nose.map(|(centre_u, r)| {
-            let half = (tool.angle_deg / 2.0).to_radians();
-            let theta = (std::f64::consts::PI - 2.0 * half) / tool::NOSE_SEGMENTS as f64;
-            NoseBound {
-                centre: (centre_u, outline[1].1 - r * half.sin()),
-                chord_depth: r * (theta / 2.0).cos(),
-                sin_a: half.sin(),
-                cos_a: half.cos(),
-            }
-        });
-        EdgeLines { main, chords, nose }
     }
 
-    /// Distance from a point inside the tool to its outline, or some value ≤ `floor` as soon as
-    /// it is known to be no more than `floor`.
-    fn depth_inside(&self, p: (f64, f64), floor: f64) -> f64 {
-        let mut min = f64::INFINITY;
-        for &(nx, ny, c) in &self.main {
-            min = min.min(nx * p.0 + ny * p.1 - c);
-            if min <= floor {
-                return min;
-            }
+    /// Distance from a point inside the tool to its outline (negative outside).
+    fn depth(&self, p: (f64, f64)) -> f64 {
+        let x = (p.0 - self.u0).abs();
+        let mut min = ((self.apex - p.1) * self.t - x) * self.cos_a;
+        min = min.min(p.1 - self.top);
+        if let Some(bottom) = self.flat {
+            min = min.min(bottom - p.1);
         }
-        if self.nose.is_some_and(|b| b.lower(p) >= min) {
-            return min;
-        }
-        for &(nx, ny, c) in &self.chords {
-            min = min.min(nx * p.0 + ny * p.1 - c);
-            if min <= floor {
-                break;
+        if let Some((cv, r)) = self.nose {
+            let dv = p.1 - cv;
+            if dv > 0.0 && dv >= x * self.t {
+                min = min.min(r - (x * x + dv * dv).sqrt());
             }
         }
         min
@@ -433,18 +440,18 @@ impl EdgeLines {
 
 /// The largest distance from the chip's old-surface side to the cutting edge, sampled at the
 /// vertices and midpoints of the chip's edges that do not lie on the tool.
-fn thickness(chip: &Shapes, lines: &EdgeLines) -> f64 {
+fn thickness(chip: &Shapes, inside: &Inside) -> f64 {
     let mut max: f64 = 0.0;
     for c in chip.iter().flatten() {
         let n = c.len();
         for i in 0..n {
             let (a, b) = (to_float(c[i]), to_float(c[(i + 1) % n]));
             let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
-            if lines.depth_inside(mid, ON_TOOL) <= ON_TOOL {
+            if inside.depth(mid) <= ON_TOOL {
                 continue;
             }
             for p in [a, mid, b] {
-                max = max.max(lines.depth_inside(p, max));
+                max = max.max(inside.depth(p));
             }
         }
     }
@@ -453,7 +460,8 @@ fn thickness(chip: &Shapes, lines: &EdgeLines) -> f64 {
 
 /// The state after the last pass.
 struct Final<'a> {
-    blank: &'a Shapes,
+    /// The blank's rectangle, on the grid.
+    blank: &'a Contour,
     material: &'a Shapes,
     total_area: f64,
     tool_top: f64,
@@ -530,9 +538,16 @@ fn groove_report(
         edges(pitch_line_depth.unwrap_or(0.5 * depth_reached)).map_or(axis, |(l, r)| (l + r) / 2.0);
     let depth_at_axis = envelope(centre).max(0.0);
     // Overcut = removed − (removed ∩ target) = total − (target ∩ blank − target ∩ material).
-    let target = vec![vec![contour(&tool.outline(centre, total, cut.tool_top))]];
-    let in_blank = shapes_area(&engine.cut(cut.blank, &target).0);
-    let left_in_form = shapes_area(&engine.cut(cut.material, &target).0);
+    // The target is convex and the blank a rectangle: target ∩ blank is the target clipped to it.
+    let target = contour(&tool.outline(centre, total, cut.tool_top));
+    let (lo, hi) = (to_float(cut.blank[0]), to_float(cut.blank[2]));
+    let mut in_blank: Vec<(f64, f64)> = target.iter().map(|&p| to_float(p)).collect();
+    in_blank = clip_half(&in_blank, |p| p.0 - lo.0);
+    in_blank = clip_half(&in_blank, |p| hi.0 - p.0);
+    in_blank = clip_half(&in_blank, |p| p.1 - lo.1);
+    in_blank = clip_half(&in_blank, |p| hi.1 - p.1);
+    let in_blank = signed_area(&in_blank).abs();
+    let left_in_form = shapes_area(&engine.intersect(cut.material, &vec![vec![target]]));
     let overcut_area = (cut.total_area - (in_blank - left_in_form)).max(0.0);
     GrooveReport {
         axis,
@@ -614,31 +629,106 @@ mod tests {
         assert!(r.abs() < 1e-12, "{r}");
     }
 
+    /// Distance from `p` to the segment `a`–`b`.
+    fn to_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+        let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+        let k = (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
+        (p.0 - a.0 - k * dx).hypot(p.1 - a.1 - k * dy)
+    }
+
     #[test]
-    fn the_nose_bound_never_changes_the_distance() {
-        let tool = Tool {
-            angle_deg: 55.0,
-            tip: Tip::Radius { radius: 0.2 },
-        };
-        let outline = tool.outline(0.3, 1.0, -1.0);
-        let fast = EdgeLines::new(&outline, &tool, Some((0.3, 0.2)));
-        let brute = EdgeLines::new(&outline, &tool, None);
-        let form = tool.form();
-        for i in 0..=60 {
-            for j in 0..=60 {
-                let v = -0.5 + 1.5 * f64::from(i) / 60.0;
-                let (l, r) = match form.span_at(0.3, 1.0, v) {
-                    Some(s) => s,
-                    None => continue,
-                };
-                let u = l + (r - l) * f64::from(j) / 60.0;
-                let (a, b) = (
-                    fast.depth_inside((u, v), f64::NEG_INFINITY),
-                    brute.depth_inside((u, v), f64::NEG_INFINITY),
-                );
-                assert!((a - b).abs() < 1e-12, "({u}, {v}): {a} vs {b}");
+    fn depth_inside_is_the_distance_to_the_true_outline() {
+        use std::f64::consts::PI;
+        let (u0, d, top) = (0.3, 1.0, -1.0);
+        let tips = [
+            (55.0, Tip::Radius { radius: 0.2 }),
+            (60.0, Tip::Radius { radius: 0.05 }),
+            (29.0, Tip::Radius { radius: 0.3 }),
+            (60.0, Tip::Flat { width: 0.15 }),
+            (60.0, Tip::Sharp),
+        ];
+        for (angle, tip) in tips {
+            let tool = Tool {
+                angle_deg: angle,
+                tip,
+            };
+            let half = (angle / 2.0f64).to_radians();
+            // The outline as pieces: its straight edges, and for a nose the arc from the left
+            // tangent point (angle π − α, v downward) to the right one (α).
+            let o = tool.outline(u0, d, top);
+            let (first, last) = (o[0], o[o.len() - 1]);
+            let (edges, arc) = match tip {
+                Tip::Radius { radius } => {
+                    let c = (u0, d - radius);
+                    let at = |a: f64| (c.0 + radius * a.cos(), c.1 + radius * a.sin());
+                    let (tl, tr) = (at(PI - half), at(half));
+                    (
+                        vec![(first, tl), (tr, last), (last, first)],
+                        Some((c, radius)),
+                    )
+                }
+                _ => {
+                    let n = o.len();
+                    ((0..n).map(|i| (o[i], o[(i + 1) % n])).collect(), None)
+                }
+            };
+            let truth = |p: (f64, f64)| {
+                let mut m = edges
+                    .iter()
+                    .map(|&(a, b)| to_segment(p, a, b))
+                    .fold(f64::INFINITY, f64::min);
+                if let Some((c, r)) = arc {
+                    let a = (p.1 - c.1).atan2(p.0 - c.0);
+                    if (half..=PI - half).contains(&a) {
+                        m = m.min((r - (p.0 - c.0).hypot(p.1 - c.1)).abs());
+                    }
+                }
+                m
+            };
+            let form = tool.form();
+            let inside = Inside::new(&tool, &form, u0, d, top);
+            for i in 0..=80 {
+                for j in 1..80 {
+                    let v = top + (d - top) * f64::from(i) / 80.0;
+                    let Some((l, r)) = form.span_at(u0, d, v) else {
+                        continue;
+                    };
+                    let u = l + (r - l) * f64::from(j) / 80.0;
+                    let (a, b) = (inside.depth((u, v)), truth((u, v)));
+                    assert!((a - b).abs() < 1e-12, "{tip:?} ({u}, {v}): {a} vs {b}");
+                }
             }
         }
+    }
+
+    #[test]
+    fn straighten_drops_only_vertices_within_a_grid_step_of_a_line() {
+        let p = |x, y| IntPoint::new(x, y);
+        // A 3 mm flank at 45° with a vertex 0.7 nm off it: dropped; 2.1 nm off it: kept.
+        let square = |dy| {
+            vec![
+                p(0, 0),
+                p(1_000_000, 1_000_000 + dy),
+                p(3_000_000, 3_000_000),
+                p(3_000_000, 4_000_000),
+                p(0, 4_000_000),
+            ]
+        };
+        let mut c = square(1);
+        straighten(&mut c);
+        assert_eq!(c, [square(0)[0], square(0)[2], square(0)[3], square(0)[4]]);
+        let mut c = square(3);
+        straighten(&mut c);
+        assert_eq!(c, square(3));
+        // A nose chord's vertex (0.2 mm radius, 13 chords) stands µm off its neighbours' line.
+        let tool = Tool {
+            angle_deg: 60.0,
+            tip: Tip::Radius { radius: 0.2 },
+        };
+        let mut o = contour(&tool.outline(0.0, 1.0, -1.0));
+        let n = o.len();
+        straighten(&mut o);
+        assert_eq!(o.len(), n);
     }
 
     #[test]
