@@ -18,6 +18,11 @@ pub struct Line<'a> {
     pub raw: &'a [u8],
     pub words: &'a [Word],
     pub shape: LineShape,
+    /// The input just before this line that is still in the reader's buffer: the ends of the
+    /// lines handed out before it (`raw` follows these bytes directly), back to the last time the
+    /// reader read more input. A caller can write a run of lines it passes through unchanged with
+    /// one write from here (see [`Reader::may_read`]).
+    pub before: &'a [u8],
 }
 
 impl Line<'_> {
@@ -64,8 +69,11 @@ pub fn is_g_code(value: f64, code: u16) -> bool {
 }
 
 /// How much input is read at a time; the buffer grows beyond this only for a line that does not
-/// fit, and never beyond [`MAX_LINE_BYTES`] plus its terminator.
-const CHUNK: usize = 1 << 16;
+/// fit, and never beyond [`MAX_LINE_BYTES`] plus its terminator. Twice the 64 KiB buffers the
+/// command line reads and writes through: a request this large bypasses a `BufReader` of that size
+/// (no second copy of the input), and a run of pass-through lines written from it bypasses the
+/// `BufWriter` (docs/performance.md).
+const CHUNK: usize = 1 << 17;
 
 pub struct Reader<R> {
     source: R,
@@ -112,6 +120,22 @@ impl<R: BufRead> Reader<R> {
     /// Bytes consumed so far.
     pub fn offset(&self) -> u64 {
         self.offset
+    }
+
+    /// Whether the next [`next_line`](Self::next_line) may read more input. Reading more drops
+    /// the lines already handed out from the buffer: a caller that writes runs of them later (from
+    /// [`Line::before`] or [`handed_out`](Self::handed_out)) writes them before that call.
+    #[inline(always)]
+    pub fn may_read(&self) -> bool {
+        // A `\n` lies ahead in the buffer whenever `start < complete`: the next line (or the
+        // error it is) is then found without reading.
+        !self.done && self.start >= self.complete
+    }
+
+    /// The last `n` bytes handed out (the ends of the lines read so far), if they are still in the
+    /// buffer: they are until the reader reads more input.
+    pub fn handed_out(&self, n: usize) -> Option<&[u8]> {
+        self.buf.get(self.start.checked_sub(n)?..self.start)
     }
 
     /// The next line, lexed. `None` at the end of the input.
@@ -178,7 +202,8 @@ impl<R: BufRead> Reader<R> {
         self.line_no += 1;
         let offset = self.offset;
         self.offset += raw_len as u64;
-        let raw = &self.buf[start..start + raw_len];
+        let (before, rest) = self.buf.split_at(start);
+        let raw = &rest[..raw_len];
         Line {
             number: self.line_no,
             offset,
@@ -186,6 +211,7 @@ impl<R: BufRead> Reader<R> {
             raw,
             words: &self.words,
             shape,
+            before,
         }
     }
 
