@@ -2,7 +2,7 @@
 
 use std::io::BufRead;
 
-use super::lexer::{lex_buffered_line, lex_line_with, LineShape, Word};
+use super::lexer::{lex_buffered_line, lex_line_with, LineShape, Word, WordSummary};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -23,6 +23,8 @@ pub struct Line<'a> {
     /// reader read more input. A caller can write a run of lines it passes through unchanged with
     /// one write from here (see [`Reader::may_read`]).
     pub before: &'a [u8],
+    /// Which letters and G codes the words have, in brief (from the lexer).
+    pub summary: WordSummary,
 }
 
 impl Line<'_> {
@@ -31,10 +33,14 @@ impl Line<'_> {
     }
 
     /// Whether the line has a `G` word with this code (codes ×10: `G32` is 320, `G33.1` is 331).
+    #[inline]
     pub fn has_g(&self, code: u16) -> bool {
-        self.words
-            .iter()
-            .any(|w| w.letter == b'G' && is_g_code(w.value, code))
+        // Most lines have no G code but G0–G3: the summary says so without a look at the words.
+        self.summary.may_have_g(code)
+            && self
+                .words
+                .iter()
+                .any(|w| w.letter == b'G' && is_g_code(w.value, code))
     }
 
     /// A span covering the whole line, for diagnostics about the block rather than one word.
@@ -155,7 +161,7 @@ impl<R: BufRead> Reader<R> {
             offset,
             &mut self.words,
         ) {
-            return Some(Ok(self.take_line(l.shape, l.text_len, l.raw_len)));
+            return Some(Ok(self.take_line(l.shape, l.summary, l.text_len, l.raw_len)));
         }
         // Everything else: find the whole line (reading more input if needed) and lex it with
         // the reference lexer.
@@ -185,10 +191,18 @@ impl<R: BufRead> Reader<R> {
             &mut self.words,
             self.bare,
         ) {
-            Ok(shape) => Some(Ok(self.take_line(shape, text_len, raw_len))),
+            Ok(shape) => {
+                let summary = WordSummary::of(&self.words);
+                Some(Ok(self.take_line(shape, summary, text_len, raw_len)))
+            }
             Err(e) => {
                 // The line is consumed: a caller may go on with the next one.
-                self.take_line(LineShape::default(), text_len, raw_len);
+                self.take_line(
+                    LineShape::default(),
+                    WordSummary::default(),
+                    text_len,
+                    raw_len,
+                );
                 Some(Err(e))
             }
         }
@@ -196,7 +210,13 @@ impl<R: BufRead> Reader<R> {
 
     /// Consumes the line of `raw_len` bytes at the front of the buffer.
     #[inline(always)]
-    fn take_line(&mut self, shape: LineShape, text_len: usize, raw_len: usize) -> Line<'_> {
+    fn take_line(
+        &mut self,
+        shape: LineShape,
+        summary: WordSummary,
+        text_len: usize,
+        raw_len: usize,
+    ) -> Line<'_> {
         let start = self.start;
         self.start += raw_len;
         self.line_no += 1;
@@ -212,6 +232,7 @@ impl<R: BufRead> Reader<R> {
             words: &self.words,
             shape,
             before,
+            summary,
         }
     }
 
@@ -338,24 +359,51 @@ mod tests {
         u64,
         Vec<u8>,
         Vec<u8>,
-        Result<(Vec<Word>, LineShape), Diagnostic>,
+        Result<(Vec<Word>, LineShape, WordSummary), Diagnostic>,
     );
 
-    /// What the reader gives for every line.
-    fn read_all(source: impl BufRead, bare: &'static [u8]) -> Vec<Lexed> {
+    /// What the reader gives for every line. `before` and `handed_out` must be the input right
+    /// before the line and right after the last one: `input` is the whole input, to check them.
+    fn read_all(source: impl BufRead, bare: &'static [u8], input: &[u8]) -> Vec<Lexed> {
         let mut r = Reader::new(source).with_bare_letters(bare);
         let mut got = vec![];
         let mut last = 0;
-        while let Some(l) = r.next_line() {
+        loop {
+            let here = r.offset() as usize;
+            let may_read = r.may_read();
+            // The most bytes still handed out (`handed_out(n)` is there for every n up to it).
+            let kept = {
+                let (mut lo, mut hi) = (0, here);
+                while lo < hi {
+                    let mid = (lo + hi).div_ceil(2);
+                    if r.handed_out(mid).is_some() {
+                        lo = mid;
+                    } else {
+                        hi = mid - 1;
+                    }
+                }
+                lo
+            };
+            for n in [0, kept / 2, kept] {
+                assert_eq!(r.handed_out(n), Some(&input[here - n..here]));
+            }
+            assert_eq!(r.handed_out(kept + 1), None);
+            let Some(l) = r.next_line() else { break };
             got.push(match l {
                 Ok(l) => {
                     last = l.number;
+                    let at = l.offset as usize;
+                    assert_eq!(l.before, &input[at - l.before.len()..at]);
+                    if !may_read {
+                        // Nothing was read: what was handed out is still there.
+                        assert_eq!(l.before.len(), kept);
+                    }
                     (
                         l.number,
                         l.offset,
                         l.text.to_vec(),
                         l.raw.to_vec(),
-                        Ok((l.words.to_vec(), l.shape)),
+                        Ok((l.words.to_vec(), l.shape, l.summary)),
                     )
                 }
                 Err(e) => {
@@ -379,7 +427,16 @@ mod tests {
             let mut words = vec![];
             let n = i as u32 + 1;
             got.push(match lex_line_with(text, n, offset, &mut words, bare) {
-                Ok(shape) => (n, offset, text.to_vec(), raw.to_vec(), Ok((words, shape))),
+                Ok(shape) => {
+                    let summary = WordSummary::of(&words);
+                    (
+                        n,
+                        offset,
+                        text.to_vec(),
+                        raw.to_vec(),
+                        Ok((words, shape, summary)),
+                    )
+                }
                 Err(e) => (n, 0, vec![], vec![], Err(e)),
             });
             offset += raw.len() as u64;
@@ -394,7 +451,7 @@ mod tests {
         #[test]
         fn buffered_lexing_is_the_reference(
             text in proptest::collection::vec(
-                proptest::sample::select(b"GXZUWPCNF0123456789.-+ \t\r\n\n\n();%/#e\xc3".to_vec()),
+                proptest::sample::select(b"GXZUWPCNF0123456789.-+ \t\r\n\n\n();%/#eg$\xc3".to_vec()),
                 0..300,
             ),
             step in 1usize..40,
@@ -402,8 +459,8 @@ mod tests {
         ) {
             let bare: &'static [u8] = if flags { b"PC" } else { b"" };
             let want = reference(&text, bare);
-            proptest::prop_assert_eq!(read_all(&text[..], bare), want.clone());
-            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare), want);
+            proptest::prop_assert_eq!(read_all(&text[..], bare, &text), want.clone());
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare, &text), want);
         }
     }
 
@@ -413,13 +470,13 @@ mod tests {
         let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
         let want = reference(src.as_bytes(), b"");
         assert_eq!(want.len(), 5);
-        assert_eq!(read_all(src.as_bytes(), b""), want);
+        assert_eq!(read_all(src.as_bytes(), b"", src.as_bytes()), want);
         for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
-            let src = Trickle {
+            let trickle = Trickle {
                 data: src.as_bytes(),
                 step,
             };
-            assert_eq!(read_all(src, b""), want, "step {step}");
+            assert_eq!(read_all(trickle, b"", src.as_bytes()), want, "step {step}");
         }
     }
 
@@ -428,7 +485,7 @@ mod tests {
         // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
         // without a terminator.
         let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
-        let got = read_all(ok.as_bytes(), b"");
+        let got = read_all(ok.as_bytes(), b"", ok.as_bytes());
         assert_eq!(got.len(), 2);
         assert!(got.iter().all(|l| l.4.is_ok()));
         for tail in ["\r\n", ""] {
@@ -478,6 +535,53 @@ mod tests {
                 assert!(is_g_code(v, c), "{v}");
             }
         }
+    }
+
+    #[test]
+    fn word_summaries() {
+        let summary = |text: &str| {
+            let mut r = Reader::new(text.as_bytes());
+            let l = r.next_line().unwrap().unwrap();
+            assert_eq!(l.summary, WordSummary::of(l.words), "{text}");
+            l.summary
+        };
+        let s = summary("N10 G01 x1.5 Z-2 f0.1\n");
+        for (letter, has) in [
+            (b'N', true),
+            (b'G', true),
+            (b'X', true),
+            (b'Z', true),
+            (b'F', true),
+            (b'U', false),
+            (b'A', false),
+            (b'$', false),
+            (b'x', false),
+        ] {
+            assert_eq!(s.has_letter(letter), has, "{}", letter as char);
+        }
+        // G0–G3 as whole numbers are the plain motion codes; anything else is "other".
+        for (text, other) in [
+            ("G0 G1 G2 G3 G00 G03 G+2 X1", false),
+            ("X1 Z2 ; G78", false),
+            ("G1 (G78) X1", false),
+            ("G4 X1", true),
+            ("G1.0 X1", true),
+            ("G1. X1", true),
+            ("G-0 X1", true),
+            ("G-1", true),
+            ("G3.5", true),
+            ("g78 P1", true),
+            ("G1 G78 X1", true),
+            ("G 78 X1", true),
+            ("G76 X1 $1", true),
+        ] {
+            let s = summary(&format!("{text}\n"));
+            assert_eq!(s.other_g(), other, "{text}");
+            assert_eq!(s.may_have_g(780), other, "{text}");
+            assert!(s.may_have_g(10) == s.has_letter(b'G'), "{text}");
+        }
+        assert!(summary("G76 X1 $1\n").has_letter(b'$'));
+        assert_eq!(summary("(only a comment)\n"), WordSummary::default());
     }
 
     #[test]
