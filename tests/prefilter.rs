@@ -193,7 +193,10 @@ fn state_read_from_plain_lines_is_kept() {
 
 proptest! {
     #[test]
-    fn skipping_read_changes_nothing(src in program(), which in 0usize..3) {
+    fn skipping_read_changes_nothing(
+        src in program(),
+        which in 0usize..threadcut::machine::BUILT_IN.len(),
+    ) {
         let m = Machine::built_in(threadcut::machine::BUILT_IN[which].0).unwrap();
         prop_assert_eq!(with_prefilter(&src, &m), without_prefilter(&src, &m));
     }
