@@ -2,7 +2,7 @@
 
 use std::io::BufRead;
 
-use super::lexer::{lex_buffered_line, lex_line_with, LineShape, Word, WordSummary};
+use super::lexer::{lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordSummary};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -150,19 +150,11 @@ impl<R: BufRead> Reader<R> {
         if self.done {
             return None;
         }
-        let line_no = self.line_no + 1;
-        let offset = self.offset;
-        // Fast path: a plain line wholly in the buffer is lexed where it lies, its end found on the
-        // way. (A letter with a number right after it is never a bare flag, and `lex_buffered_line`
-        // leaves every other letter to the reference lexer.)
-        if let Some(l) = lex_buffered_line(
-            self.buf.get(self.start..self.complete).unwrap_or_default(),
-            line_no,
-            offset,
-            &mut self.words,
-        ) {
+        if let Some(l) = self.lex_in_buffer() {
             return Some(Ok(self.take_line(l.shape, l.summary, l.text_len, l.raw_len)));
         }
+        let line_no = self.line_no + 1;
+        let offset = self.offset;
         // Everything else: find the whole line (reading more input if needed) and lex it with
         // the reference lexer.
         let raw_len = match self.line_end(line_no, offset) {
@@ -206,6 +198,32 @@ impl<R: BufRead> Reader<R> {
                 Some(Err(e))
             }
         }
+    }
+
+    /// The next line if it is one that the lexer's fast path reads where it lies in the buffer
+    /// (most lines are); `None` for every other line and at the end, which
+    /// [`next_line`](Self::next_line) then reads. The same line `next_line` would give, handed out
+    /// without the `Result` around it (a lighter value for a caller's loop to take apart).
+    #[inline(always)]
+    pub fn next_plain_line(&mut self) -> Option<Line<'_>> {
+        if self.done {
+            return None;
+        }
+        let l = self.lex_in_buffer()?;
+        Some(self.take_line(l.shape, l.summary, l.text_len, l.raw_len))
+    }
+
+    /// Fast path: a plain line wholly in the buffer is lexed where it lies, its end found on the
+    /// way. (A letter with a number right after it is never a bare flag, and `lex_buffered_line`
+    /// leaves every other letter to the reference lexer.)
+    #[inline(always)]
+    fn lex_in_buffer(&mut self) -> Option<BufferedLine> {
+        lex_buffered_line(
+            self.buf.get(self.start..self.complete).unwrap_or_default(),
+            self.line_no + 1,
+            self.offset,
+            &mut self.words,
+        )
     }
 
     /// Consumes the line of `raw_len` bytes at the front of the buffer.
@@ -415,6 +433,39 @@ mod tests {
         got
     }
 
+    /// What the reader gives when the caller asks `next_plain_line` first, as `drive` does.
+    fn read_plain_first(source: impl BufRead, bare: &'static [u8]) -> Vec<Lexed> {
+        let mut r = Reader::new(source).with_bare_letters(bare);
+        let mut got = vec![];
+        let mut last = 0;
+        loop {
+            let l = match r.next_plain_line() {
+                Some(l) => Ok(l),
+                None => match r.next_line() {
+                    Some(l) => l,
+                    None => break,
+                },
+            };
+            got.push(match l {
+                Ok(l) => {
+                    last = l.number;
+                    (
+                        l.number,
+                        l.offset,
+                        l.text.to_vec(),
+                        l.raw.to_vec(),
+                        Ok((l.words.to_vec(), l.shape, l.summary)),
+                    )
+                }
+                Err(e) => {
+                    last += 1;
+                    (last, 0, vec![], vec![], Err(e))
+                }
+            });
+        }
+        got
+    }
+
     /// The same, line by line with the reference lexer: split at `\n`, drop the terminator.
     fn reference(src: &[u8], bare: &[u8]) -> Vec<Lexed> {
         let mut got = vec![];
@@ -460,7 +511,9 @@ mod tests {
             let bare: &'static [u8] = if flags { b"PC" } else { b"" };
             let want = reference(&text, bare);
             proptest::prop_assert_eq!(read_all(&text[..], bare, &text), want.clone());
-            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare, &text), want);
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare, &text), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], bare), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(Trickle { data: &text, step }, bare), want);
         }
     }
 
