@@ -42,8 +42,8 @@ impl Word {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WordSummary {
     /// Bit `letter & 31` for each letter `A`–`Z` that begins a word (`A` is bit 1, `Z` bit 26), bit
-    /// 0 for `$`, and bit 31 for a `G` word other than the plain motion codes (as [`other_g`]
-    /// (WordSummary::other_g) says).
+    /// 0 for `$`, and bit 31 for a `G` word other than the plain motion codes (as
+    /// [`other_g`](WordSummary::other_g) says).
     bits: u32,
 }
 
@@ -96,8 +96,8 @@ impl WordSummary {
         self.bits & OTHER_G != 0
     }
 
-    /// Whether the line may have a `G` word with this code (×10, as [`g_code`]
-    /// (super::reader::g_code) gives it). `false` is certain; `true` means "look".
+    /// Whether the line may have a `G` word with this code (×10, as
+    /// [`g_code`](super::reader::g_code) gives it). `false` is certain; `true` means "look".
     #[inline(always)]
     pub fn may_have_g(&self, code: u16) -> bool {
         if matches!(code, 0 | 10 | 20 | 30) {

@@ -23,7 +23,9 @@ pub struct Line<'a> {
     /// reader read more input. A caller can write a run of lines it passes through unchanged with
     /// one write from here (see [`Reader::may_read`]).
     pub before: &'a [u8],
-    /// Which letters and G codes the words have, in brief (from the lexer).
+    /// Which letters and G codes the words have, in brief (from the lexer). [`has_g`](Line::has_g)
+    /// and the dialects' prefilters trust it: code that builds a `Line` itself sets it with
+    /// [`WordSummary::of`]`(words)`.
     pub summary: WordSummary,
 }
 
