@@ -63,8 +63,42 @@ pub struct Summary {
 pub fn run<R: BufRead>(
     input: R,
     machine: &Machine,
-    mut sink: impl FnMut(&Modal, Event) -> Result<(), Error>,
+    sink: impl FnMut(&Modal, Event) -> Result<(), Error>,
 ) -> Result<Summary, Error> {
+    drive(input, machine, EverySink(sink))
+}
+
+/// Where [`drive`] hands the lines.
+trait Sink {
+    /// Plain lines are not handed to [`event`](Sink::event): their bytes come to
+    /// [`pass`](Sink::pass) instead, in runs of consecutive lines (`expand` copies them unchanged,
+    /// and one write per run costs far less than one per line).
+    const BATCH: bool;
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error>;
+    /// The bytes of consecutive plain lines, in order; every plain line exactly once.
+    fn pass(&mut self, bytes: &[u8]) -> Result<(), Error>;
+}
+
+/// Every line to one closure ([`run`]).
+struct EverySink<F>(F);
+
+impl<F: FnMut(&Modal, Event) -> Result<(), Error>> Sink for EverySink<F> {
+    const BATCH: bool = false;
+    #[inline(always)]
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
+        (self.0)(modal, ev)
+    }
+    fn pass(&mut self, _: &[u8]) -> Result<(), Error> {
+        Ok(())
+    }
+}
+
+/// [`run`]'s loop. With a batching sink, `pending` counts the bytes of the plain lines read but
+/// not yet passed on; they lie in the reader's buffer right before the next line, and are passed
+/// on before anything else is written, before the reader may read more input (which drops them
+/// from its buffer) and before an error returns (so that the output up to the error is what it
+/// would be line by line).
+fn drive<R: BufRead, S: Sink>(input: R, machine: &Machine, mut sink: S) -> Result<Summary, Error> {
     let mut dialect = dialect::open(machine).map_err(Error::Setup)?;
     let conv = dialect.conventions().clone();
     let mut modal = Modal::new(
@@ -77,30 +111,73 @@ pub fn run<R: BufRead>(
     );
     let mut reader = Reader::new(input).with_bare_letters(dialect.bare_letters());
     let mut summary = Summary::default();
-    while let Some(line) = reader.next_line() {
-        let line = line?;
+    let mut pending = 0usize;
+    loop {
+        if S::BATCH && pending > 0 && reader.may_read() {
+            sink.pass(handed_out(&reader, pending, 0)?)?;
+            pending = 0;
+        }
+        let offset = reader.offset();
+        // Most lines come from `next_plain_line`, which is lighter to take apart in this loop.
+        let line = match reader.next_plain_line() {
+            Some(line) => line,
+            None => match reader.next_line() {
+                Some(Ok(line)) => line,
+                Some(Err(e)) => {
+                    if S::BATCH && pending > 0 {
+                        // The line in error may have been consumed; the run ends before it.
+                        let consumed = (reader.offset() - offset) as usize;
+                        sink.pass(handed_out(&reader, pending, consumed)?)?;
+                    }
+                    return Err(e.into());
+                }
+                None => break,
+            },
+        };
         summary.lines = line.number;
         // Most lines are not the dialect's business: its prefilter says so without `read` (which
         // would return `Read::Plain` and leave everything as it is).
         if !dialect.prefilter(&line) {
             match modal.apply(&conv, &line) {
-                Ok(mv) => sink(&modal, Event::Plain { line: &line, mv })?,
-                Err(e) => return Err(e.into()),
+                Ok(mv) => {
+                    if S::BATCH {
+                        pending += line.raw.len();
+                    } else {
+                        sink.event(&modal, Event::Plain { line: &line, mv })?;
+                    }
+                }
+                Err(e) => {
+                    flush_before(&mut sink, &line, &mut pending)?;
+                    return Err(e.into());
+                }
             }
             continue;
         }
         let before = summary.warnings.len();
-        match dialect.read(&line, &mut modal, &mut summary.warnings)? {
+        let read = dialect.read(&line, &mut modal, &mut summary.warnings);
+        if S::BATCH && !matches!(read, Ok(Read::Plain)) {
+            flush_before(&mut sink, &line, &mut pending)?;
+        }
+        match read? {
             Read::Plain => match modal.apply(&conv, &line) {
-                Ok(mv) => sink(&modal, Event::Plain { line: &line, mv })?,
-                Err(e) => return Err(e.into()),
+                Ok(mv) => {
+                    if S::BATCH {
+                        pending += line.raw.len();
+                    } else {
+                        sink.event(&modal, Event::Plain { line: &line, mv })?;
+                    }
+                }
+                Err(e) => {
+                    flush_before(&mut sink, &line, &mut pending)?;
+                    return Err(e.into());
+                }
             },
-            Read::Settings => sink(&modal, Event::Settings { line: &line })?,
+            Read::Settings => sink.event(&modal, Event::Settings { line: &line })?,
             Read::Cycle(job) => {
                 summary.cycles += 1;
                 // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
                 modal.position = Some(job.end_point());
-                sink(
+                sink.event(
                     &modal,
                     Event::Cycle {
                         line: &line,
@@ -116,7 +193,42 @@ pub fn run<R: BufRead>(
             }
         }
     }
+    if S::BATCH && pending > 0 {
+        sink.pass(handed_out(&reader, pending, 0)?)?;
+    }
     Ok(summary)
+}
+
+/// Passes on the pending plain lines before `line`.
+#[cold]
+fn flush_before<S: Sink>(sink: &mut S, line: &Line, pending: &mut usize) -> Result<(), Error> {
+    if S::BATCH && *pending > 0 {
+        let run = line
+            .before
+            .len()
+            .checked_sub(*pending)
+            .and_then(|from| line.before.get(from..))
+            .ok_or_else(lost_run)?;
+        *pending = 0;
+        sink.pass(run)?;
+    }
+    Ok(())
+}
+
+/// The `pending` bytes handed out before the last `skip` bytes.
+fn handed_out<R: BufRead>(reader: &Reader<R>, pending: usize, skip: usize) -> Result<&[u8], Error> {
+    reader
+        .handed_out(pending + skip)
+        .map(|b| &b[..pending])
+        .ok_or_else(lost_run)
+}
+
+/// Cannot happen: `drive` passes the pending lines on before the reader may drop them.
+#[cold]
+fn lost_run() -> Error {
+    Error::Io(io::Error::other(
+        "internal error: lines to copy left the read buffer",
+    ))
 }
 
 /// Every cycle of a program, for tests and library users (holds them all in memory).
@@ -141,26 +253,33 @@ pub fn expand_gcode<R: BufRead>(
     let d = dialect::open(machine).map_err(Error::Setup)?;
     let format = d.format();
     let distance_words = d.conventions().g90_g91_distance;
-    // The pass-through arm is kept small so that it is inlined into `run`'s loop; the rest is in
-    // `expand_event`.
-    run(input, machine, |modal, ev| match ev {
-        Event::Plain { line, .. } => Ok(out.write_all(line.raw)?),
-        // Rebuilt rather than passed on, so that the plain arm never needs the event in memory.
-        Event::Settings { line } => expand_event(
+    drive(
+        input,
+        machine,
+        ExpandSink {
             out,
-            &format,
+            format,
             distance_words,
-            modal,
-            Event::Settings { line },
-        ),
-        Event::Cycle { line, job, dialect } => expand_event(
-            out,
-            &format,
-            distance_words,
-            modal,
-            Event::Cycle { line, job, dialect },
-        ),
-    })
+        },
+    )
+}
+
+/// `expand_gcode`'s output: plain lines are copied in runs, cycles expanded.
+struct ExpandSink<'o> {
+    out: &'o mut dyn Write,
+    format: post::Format,
+    distance_words: bool,
+}
+
+impl Sink for ExpandSink<'_> {
+    const BATCH: bool = true;
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
+        expand_event(self.out, &self.format, self.distance_words, modal, ev)
+    }
+    #[inline(always)]
+    fn pass(&mut self, bytes: &[u8]) -> Result<(), Error> {
+        Ok(self.out.write_all(bytes)?)
+    }
 }
 
 /// `expand_gcode` for the lines that are part of a cycle.
@@ -379,4 +498,133 @@ pub fn passes_json(
         "units": job.units,
         "passes": rows,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `expand_gcode` as it was before plain lines were batched: one write per plain line.
+    fn expand_line_by_line(src: &[u8], machine: &Machine) -> (Vec<u8>, String) {
+        let d = dialect::open(machine).unwrap();
+        let format = d.format();
+        let distance_words = d.conventions().g90_g91_distance;
+        let mut out = Vec::new();
+        let end = run(src, machine, |modal, ev| match ev {
+            Event::Plain { line, .. } => Ok(out.write_all(line.raw)?),
+            ev => expand_event(&mut out, &format, distance_words, modal, ev),
+        });
+        (out, format!("{end:?}"))
+    }
+
+    fn expand_batched(source: impl BufRead, machine: &Machine) -> (Vec<u8>, String) {
+        let mut out = Vec::new();
+        let end = expand_gcode(source, &mut out, machine);
+        (out, format!("{end:?}"))
+    }
+
+    /// A source that hands out at most `step` bytes a read, so that the reader reads often and
+    /// runs of plain lines end at every kind of place.
+    struct Trickle<'a> {
+        data: &'a [u8],
+        step: usize,
+    }
+
+    impl io::Read for Trickle<'_> {
+        fn read(&mut self, out: &mut [u8]) -> io::Result<usize> {
+            let n = self.step.min(out.len()).min(self.data.len());
+            out[..n].copy_from_slice(&self.data[..n]);
+            self.data = &self.data[n..];
+            Ok(n)
+        }
+    }
+
+    impl BufRead for Trickle<'_> {
+        fn fill_buf(&mut self) -> io::Result<&[u8]> {
+            Ok(&self.data[..self.step.min(self.data.len())])
+        }
+        fn consume(&mut self, n: usize) {
+            self.data = &self.data[n..];
+        }
+    }
+
+    const WORDS: &[&str] = &[
+        "G0 X20 Z2",
+        "G1 Z-3 F0.1",
+        "U-0.4 W-1 ; c",
+        "(comment)",
+        "G04 X0.5",
+        "T0101 M08",
+        "G20",
+        "G21",
+        "G91",
+        "G90",
+        "",
+        "%",
+        "/N5 G0 X30",
+        // Cycles of each dialect (with and without the block before them).
+        "G78 P020545 Q0.15 R0.5",
+        "G78 X16 Z-20 P1.2 Q0.3 F2",
+        "G76 P020060 Q100 R0.05",
+        "G76 X27.546 Z-30. P1227 Q400 F2.",
+        "G92 X29.2 Z-30. F2.",
+        "G78 X8.16 Z-20. K0.92 D0.35 F1.5 A60 P1",
+        "G33X.212Z-.5I.012K.05PC",
+        "G76 P2.5 Z-30 I-1.0 J0.3 K1.5335",
+        // Errors of the lexer, of the modal state and of the dialects.
+        "G0 X1.2.3",
+        "G1 X2 U3",
+        "G78 X16 Z-20 Q0.3 F2",
+        "G0 X#1",
+    ];
+
+    proptest::proptest! {
+        /// Batching the plain lines changes nothing: the output (up to an error, too) and the
+        /// result are those of one write per line, for every controller and however the input
+        /// arrives.
+        #[test]
+        fn batched_output_is_line_by_line_output(
+            lines in proptest::collection::vec(proptest::sample::select(WORDS), 0..40),
+            crlf in proptest::bool::ANY,
+            last_newline in proptest::bool::ANY,
+            step in 1usize..64,
+            which in 0usize..crate::machine::BUILT_IN.len(),
+        ) {
+            let machine = Machine::built_in(crate::machine::BUILT_IN[which].0).unwrap();
+            let mut src = String::from("G0 X40 Z5\n");
+            for l in &lines {
+                src.push_str(l);
+                src.push_str(if crlf { "\r\n" } else { "\n" });
+            }
+            if !last_newline {
+                src.push_str("M30");
+            }
+            let want = expand_line_by_line(src.as_bytes(), &machine);
+            proptest::prop_assert_eq!(&expand_batched(src.as_bytes(), &machine), &want);
+            let trickle = Trickle { data: src.as_bytes(), step };
+            proptest::prop_assert_eq!(&expand_batched(trickle, &machine), &want);
+        }
+    }
+
+    #[test]
+    fn batched_output_across_many_buffers() {
+        // Longer than several read buffers, with cycles and a failing line far in.
+        let mut src = String::from("G0 X80 Z10\n");
+        for i in 0..40_000 {
+            src.push_str(&format!("G1 X{}.5 W-0.25 (pass {i})\n", 20 + i % 50));
+            if i % 9_000 == 0 {
+                src.push_str(
+                    "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\n",
+                );
+            }
+        }
+        let machine = Machine::built_in("gsk980").unwrap();
+        let want = expand_line_by_line(src.as_bytes(), &machine);
+        assert!(want.1.starts_with("Ok"), "{}", want.1);
+        assert_eq!(expand_batched(src.as_bytes(), &machine), want);
+        src.push_str("G0 X1.2.3\nG0 X1\n");
+        let want = expand_line_by_line(src.as_bytes(), &machine);
+        assert!(want.1.starts_with("Err"), "{}", want.1);
+        assert_eq!(expand_batched(src.as_bytes(), &machine), want);
+    }
 }

@@ -392,9 +392,8 @@ impl Dialect for AllenBradley {
 
     /// `read` acts on G78 and on E (E with F, or E as a G33 lead); nothing else.
     fn prefilter(&self, line: &Line) -> bool {
-        line.words
-            .iter()
-            .any(|w| w.letter == b'E' || (w.letter == b'G' && g_code(w.value) == Some(G78)))
+        // The lexer's summary answers for most lines without a look at the words.
+        line.summary.has_letter(b'E') || line.has_g(G78)
     }
 
     fn conventions(&self) -> &Conventions {

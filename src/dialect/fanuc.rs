@@ -70,6 +70,11 @@ impl Dialect for Fanuc {
         &self.conv
     }
 
+    /// Only G76/G92 blocks, and any block while a G92 is modal, are the family reader's business.
+    fn prefilter(&self, line: &Line) -> bool {
+        self.family.wants(line)
+    }
+
     fn read(
         &mut self,
         line: &Line,

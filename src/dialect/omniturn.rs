@@ -537,12 +537,15 @@ impl Dialect for OmniTurn {
     /// `read` acts on the block after a G35/G36 (the G92 check), on S, and on G72, G73, G21, G35,
     /// G36 and G33; nothing else.
     fn prefilter(&self, line: &Line) -> bool {
+        // The lexer's summary answers for most lines without a look at the words: none of these
+        // G codes is G0–G3.
         self.pending_g92.is_some()
-            || line.words.iter().any(|w| match w.letter {
-                b'S' => true,
-                b'G' => matches!(g_code(w.value), Some(G72 | G73 | 210 | G35 | G36 | G33)),
-                _ => false,
-            })
+            || line.summary.has_letter(b'S')
+            || (line.summary.other_g()
+                && line.words.iter().any(|w| {
+                    w.letter == b'G'
+                        && matches!(g_code(w.value), Some(G72 | G73 | 210 | G35 | G36 | G33))
+                }))
     }
 
     fn conventions(&self) -> &Conventions {

@@ -2,7 +2,7 @@
 
 use std::io::BufRead;
 
-use super::lexer::{lex_buffered_line, lex_line_with, LineShape, Word};
+use super::lexer::{lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordSummary};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -18,6 +18,15 @@ pub struct Line<'a> {
     pub raw: &'a [u8],
     pub words: &'a [Word],
     pub shape: LineShape,
+    /// The input just before this line that is still in the reader's buffer: the ends of the
+    /// lines handed out before it (`raw` follows these bytes directly), back to the last time the
+    /// reader read more input. A caller can write a run of lines it passes through unchanged with
+    /// one write from here (see [`Reader::may_read`]).
+    pub before: &'a [u8],
+    /// Which letters and G codes the words have, in brief (from the lexer). [`has_g`](Line::has_g)
+    /// and the dialects' prefilters trust it: code that builds a `Line` itself sets it with
+    /// [`WordSummary::of`]`(words)`.
+    pub summary: WordSummary,
 }
 
 impl Line<'_> {
@@ -26,10 +35,14 @@ impl Line<'_> {
     }
 
     /// Whether the line has a `G` word with this code (codes ×10: `G32` is 320, `G33.1` is 331).
+    #[inline]
     pub fn has_g(&self, code: u16) -> bool {
-        self.words
-            .iter()
-            .any(|w| w.letter == b'G' && is_g_code(w.value, code))
+        // Most lines have no G code but G0–G3: the summary says so without a look at the words.
+        self.summary.may_have_g(code)
+            && self
+                .words
+                .iter()
+                .any(|w| w.letter == b'G' && is_g_code(w.value, code))
     }
 
     /// A span covering the whole line, for diagnostics about the block rather than one word.
@@ -64,8 +77,11 @@ pub fn is_g_code(value: f64, code: u16) -> bool {
 }
 
 /// How much input is read at a time; the buffer grows beyond this only for a line that does not
-/// fit, and never beyond [`MAX_LINE_BYTES`] plus its terminator.
-const CHUNK: usize = 1 << 16;
+/// fit, and never beyond [`MAX_LINE_BYTES`] plus its terminator. Twice the 64 KiB buffers the
+/// command line reads and writes through: a request this large bypasses a `BufReader` of that size
+/// (no second copy of the input), and a run of pass-through lines written from it bypasses the
+/// `BufWriter` (docs/performance.md).
+const CHUNK: usize = 1 << 17;
 
 pub struct Reader<R> {
     source: R,
@@ -114,25 +130,33 @@ impl<R: BufRead> Reader<R> {
         self.offset
     }
 
+    /// Whether the next [`next_line`](Self::next_line) may read more input. Reading more drops
+    /// the lines already handed out from the buffer: a caller that writes runs of them later (from
+    /// [`Line::before`] or [`handed_out`](Self::handed_out)) writes them before that call.
+    #[inline(always)]
+    pub fn may_read(&self) -> bool {
+        // A `\n` lies ahead in the buffer whenever `start < complete`: the next line (or the
+        // error it is) is then found without reading.
+        !self.done && self.start >= self.complete
+    }
+
+    /// The last `n` bytes handed out (the ends of the lines read so far), if they are still in the
+    /// buffer: they are until the reader reads more input.
+    pub fn handed_out(&self, n: usize) -> Option<&[u8]> {
+        self.buf.get(self.start.checked_sub(n)?..self.start)
+    }
+
     /// The next line, lexed. `None` at the end of the input.
     #[inline(always)]
     pub fn next_line(&mut self) -> Option<Result<Line<'_>, Diagnostic>> {
         if self.done {
             return None;
         }
+        if let Some(l) = self.lex_in_buffer() {
+            return Some(Ok(self.take_line(l.shape, l.summary, l.text_len, l.raw_len)));
+        }
         let line_no = self.line_no + 1;
         let offset = self.offset;
-        // Fast path: a plain line wholly in the buffer is lexed where it lies, its end found on the
-        // way. (A letter with a number right after it is never a bare flag, and `lex_buffered_line`
-        // leaves every other letter to the reference lexer.)
-        if let Some(l) = lex_buffered_line(
-            self.buf.get(self.start..self.complete).unwrap_or_default(),
-            line_no,
-            offset,
-            &mut self.words,
-        ) {
-            return Some(Ok(self.take_line(l.shape, l.text_len, l.raw_len)));
-        }
         // Everything else: find the whole line (reading more input if needed) and lex it with
         // the reference lexer.
         let raw_len = match self.line_end(line_no, offset) {
@@ -161,24 +185,65 @@ impl<R: BufRead> Reader<R> {
             &mut self.words,
             self.bare,
         ) {
-            Ok(shape) => Some(Ok(self.take_line(shape, text_len, raw_len))),
+            Ok(shape) => {
+                let summary = WordSummary::of(&self.words);
+                Some(Ok(self.take_line(shape, summary, text_len, raw_len)))
+            }
             Err(e) => {
                 // The line is consumed: a caller may go on with the next one.
-                self.take_line(LineShape::default(), text_len, raw_len);
+                self.take_line(
+                    LineShape::default(),
+                    WordSummary::default(),
+                    text_len,
+                    raw_len,
+                );
                 Some(Err(e))
             }
         }
     }
 
+    /// The next line if it is one that the lexer's fast path reads where it lies in the buffer
+    /// (most lines are); `None` for every other line and at the end, which
+    /// [`next_line`](Self::next_line) then reads. The same line `next_line` would give, handed out
+    /// without the `Result` around it (a lighter value for a caller's loop to take apart).
+    #[inline(always)]
+    pub fn next_plain_line(&mut self) -> Option<Line<'_>> {
+        if self.done {
+            return None;
+        }
+        let l = self.lex_in_buffer()?;
+        Some(self.take_line(l.shape, l.summary, l.text_len, l.raw_len))
+    }
+
+    /// Fast path: a plain line wholly in the buffer is lexed where it lies, its end found on the
+    /// way. (A letter with a number right after it is never a bare flag, and `lex_buffered_line`
+    /// leaves every other letter to the reference lexer.)
+    #[inline(always)]
+    fn lex_in_buffer(&mut self) -> Option<BufferedLine> {
+        lex_buffered_line(
+            self.buf.get(self.start..self.complete).unwrap_or_default(),
+            self.line_no + 1,
+            self.offset,
+            &mut self.words,
+        )
+    }
+
     /// Consumes the line of `raw_len` bytes at the front of the buffer.
     #[inline(always)]
-    fn take_line(&mut self, shape: LineShape, text_len: usize, raw_len: usize) -> Line<'_> {
+    fn take_line(
+        &mut self,
+        shape: LineShape,
+        summary: WordSummary,
+        text_len: usize,
+        raw_len: usize,
+    ) -> Line<'_> {
         let start = self.start;
         self.start += raw_len;
         self.line_no += 1;
         let offset = self.offset;
         self.offset += raw_len as u64;
-        let raw = &self.buf[start..start + raw_len];
+        let (before, rest) = self.buf.split_at(start);
+        let raw = &rest[..raw_len];
         Line {
             number: self.line_no,
             offset,
@@ -186,6 +251,8 @@ impl<R: BufRead> Reader<R> {
             raw,
             words: &self.words,
             shape,
+            before,
+            summary,
         }
     }
 
@@ -312,15 +379,75 @@ mod tests {
         u64,
         Vec<u8>,
         Vec<u8>,
-        Result<(Vec<Word>, LineShape), Diagnostic>,
+        Result<(Vec<Word>, LineShape, WordSummary), Diagnostic>,
     );
 
-    /// What the reader gives for every line.
-    fn read_all(source: impl BufRead, bare: &'static [u8]) -> Vec<Lexed> {
+    /// What the reader gives for every line. `before` and `handed_out` must be the input right
+    /// before the line and right after the last one: `input` is the whole input, to check them.
+    fn read_all(source: impl BufRead, bare: &'static [u8], input: &[u8]) -> Vec<Lexed> {
         let mut r = Reader::new(source).with_bare_letters(bare);
         let mut got = vec![];
         let mut last = 0;
-        while let Some(l) = r.next_line() {
+        loop {
+            let here = r.offset() as usize;
+            let may_read = r.may_read();
+            // The most bytes still handed out (`handed_out(n)` is there for every n up to it).
+            let kept = {
+                let (mut lo, mut hi) = (0, here);
+                while lo < hi {
+                    let mid = (lo + hi).div_ceil(2);
+                    if r.handed_out(mid).is_some() {
+                        lo = mid;
+                    } else {
+                        hi = mid - 1;
+                    }
+                }
+                lo
+            };
+            for n in [0, kept / 2, kept] {
+                assert_eq!(r.handed_out(n), Some(&input[here - n..here]));
+            }
+            assert_eq!(r.handed_out(kept + 1), None);
+            let Some(l) = r.next_line() else { break };
+            got.push(match l {
+                Ok(l) => {
+                    last = l.number;
+                    let at = l.offset as usize;
+                    assert_eq!(l.before, &input[at - l.before.len()..at]);
+                    if !may_read {
+                        // Nothing was read: what was handed out is still there.
+                        assert_eq!(l.before.len(), kept);
+                    }
+                    (
+                        l.number,
+                        l.offset,
+                        l.text.to_vec(),
+                        l.raw.to_vec(),
+                        Ok((l.words.to_vec(), l.shape, l.summary)),
+                    )
+                }
+                Err(e) => {
+                    last += 1;
+                    (last, 0, vec![], vec![], Err(e))
+                }
+            });
+        }
+        got
+    }
+
+    /// What the reader gives when the caller asks `next_plain_line` first, as `drive` does.
+    fn read_plain_first(source: impl BufRead, bare: &'static [u8]) -> Vec<Lexed> {
+        let mut r = Reader::new(source).with_bare_letters(bare);
+        let mut got = vec![];
+        let mut last = 0;
+        loop {
+            let l = match r.next_plain_line() {
+                Some(l) => Ok(l),
+                None => match r.next_line() {
+                    Some(l) => l,
+                    None => break,
+                },
+            };
             got.push(match l {
                 Ok(l) => {
                     last = l.number;
@@ -329,7 +456,7 @@ mod tests {
                         l.offset,
                         l.text.to_vec(),
                         l.raw.to_vec(),
-                        Ok((l.words.to_vec(), l.shape)),
+                        Ok((l.words.to_vec(), l.shape, l.summary)),
                     )
                 }
                 Err(e) => {
@@ -353,7 +480,16 @@ mod tests {
             let mut words = vec![];
             let n = i as u32 + 1;
             got.push(match lex_line_with(text, n, offset, &mut words, bare) {
-                Ok(shape) => (n, offset, text.to_vec(), raw.to_vec(), Ok((words, shape))),
+                Ok(shape) => {
+                    let summary = WordSummary::of(&words);
+                    (
+                        n,
+                        offset,
+                        text.to_vec(),
+                        raw.to_vec(),
+                        Ok((words, shape, summary)),
+                    )
+                }
                 Err(e) => (n, 0, vec![], vec![], Err(e)),
             });
             offset += raw.len() as u64;
@@ -368,7 +504,7 @@ mod tests {
         #[test]
         fn buffered_lexing_is_the_reference(
             text in proptest::collection::vec(
-                proptest::sample::select(b"GXZUWPCNF0123456789.-+ \t\r\n\n\n();%/#e\xc3".to_vec()),
+                proptest::sample::select(b"GXZUWPCNF0123456789.-+ \t\r\n\n\n();%/#eg$\xc3".to_vec()),
                 0..300,
             ),
             step in 1usize..40,
@@ -376,8 +512,10 @@ mod tests {
         ) {
             let bare: &'static [u8] = if flags { b"PC" } else { b"" };
             let want = reference(&text, bare);
-            proptest::prop_assert_eq!(read_all(&text[..], bare), want.clone());
-            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare), want);
+            proptest::prop_assert_eq!(read_all(&text[..], bare, &text), want.clone());
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare, &text), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], bare), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(Trickle { data: &text, step }, bare), want);
         }
     }
 
@@ -387,13 +525,13 @@ mod tests {
         let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
         let want = reference(src.as_bytes(), b"");
         assert_eq!(want.len(), 5);
-        assert_eq!(read_all(src.as_bytes(), b""), want);
+        assert_eq!(read_all(src.as_bytes(), b"", src.as_bytes()), want);
         for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
-            let src = Trickle {
+            let trickle = Trickle {
                 data: src.as_bytes(),
                 step,
             };
-            assert_eq!(read_all(src, b""), want, "step {step}");
+            assert_eq!(read_all(trickle, b"", src.as_bytes()), want, "step {step}");
         }
     }
 
@@ -402,7 +540,7 @@ mod tests {
         // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
         // without a terminator.
         let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
-        let got = read_all(ok.as_bytes(), b"");
+        let got = read_all(ok.as_bytes(), b"", ok.as_bytes());
         assert_eq!(got.len(), 2);
         assert!(got.iter().all(|l| l.4.is_ok()));
         for tail in ["\r\n", ""] {
@@ -452,6 +590,57 @@ mod tests {
                 assert!(is_g_code(v, c), "{v}");
             }
         }
+    }
+
+    #[test]
+    fn word_summaries() {
+        // The line after a first one, so that the lexer's fast path reads it (the first line of
+        // an input comes before anything is buffered and goes the reference way).
+        let summary = |text: &str| {
+            let src = format!("(first)\n{text}");
+            let mut r = Reader::new(src.as_bytes());
+            assert!(r.next_line().unwrap().is_ok());
+            let l = r.next_line().unwrap().unwrap();
+            assert_eq!(l.summary, WordSummary::of(l.words), "{text}");
+            l.summary
+        };
+        let s = summary("N10 G01 x1.5 Z-2 f0.1\n");
+        for (letter, has) in [
+            (b'N', true),
+            (b'G', true),
+            (b'X', true),
+            (b'Z', true),
+            (b'F', true),
+            (b'U', false),
+            (b'A', false),
+            (b'$', false),
+            (b'x', false),
+        ] {
+            assert_eq!(s.has_letter(letter), has, "{}", letter as char);
+        }
+        // G0–G3 as whole numbers are the plain motion codes; anything else is "other".
+        for (text, other) in [
+            ("G0 G1 G2 G3 G00 G03 G+2 X1", false),
+            ("X1 Z2 ; G78", false),
+            ("G1 (G78) X1", false),
+            ("G4 X1", true),
+            ("G1.0 X1", true),
+            ("G1. X1", true),
+            ("G-0 X1", true),
+            ("G-1", true),
+            ("G3.5", true),
+            ("g78 P1", true),
+            ("G1 G78 X1", true),
+            ("G 78 X1", true),
+            ("G76 X1 $1", true),
+        ] {
+            let s = summary(&format!("{text}\n"));
+            assert_eq!(s.other_g(), other, "{text}");
+            assert_eq!(s.may_have_g(780), other, "{text}");
+            assert!(s.may_have_g(10) == s.has_letter(b'G'), "{text}");
+        }
+        assert!(summary("G76 X1 $1\n").has_letter(b'$'));
+        assert_eq!(summary("(only a comment)\n"), WordSummary::default());
     }
 
     #[test]
