@@ -144,11 +144,25 @@ pub fn write_gcode(
         line.clear();
         match (comp, m.comp) {
             (None, Some(side)) => {
-                line.push_str(side.code());
-                if let Some(d) = opts.d_register {
-                    line.push_str(&format!(" D{d}"));
+                match opts.d_register {
+                    Some(d) => line.push_str(&format!("{} D{d} ", side.code())),
+                    None if profile.comp_needs_d => {
+                        // G41/G42 without D keeps the offset register in force: say so where the
+                        // machinist reads the program.
+                        if let Some(c) = comment(
+                            profile,
+                            "no D word: the tool-radius offset in force is used; set it to the thread mill's radius",
+                        ) {
+                            writeln!(out, "{c}")?;
+                        }
+                        line.push_str(side.code());
+                        line.push(' ');
+                    }
+                    None => {
+                        line.push_str(side.code());
+                        line.push(' ');
+                    }
                 }
-                line.push(' ');
             }
             (Some(_), None) => line.push_str("G40 "),
             _ => {}

@@ -331,10 +331,11 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
         CompArg::None => Comp::Off,
     };
     if comp == Comp::Controller && profile.comp_needs_d && a.d_register.is_none() {
-        return Err(Failure::Usage(format!(
-            "--d-register: {} writes G41/G42 with a D offset number; name it (e.g. --d-register 1), or use --comp none",
+        // Legal on the control (G41/G42 keep the D in force), but worth a word before it runs.
+        eprintln!(
+            "threadcut: warning: no --d-register: {} writes G41/G42 without D, so the tool-radius offset in force is used (name it with --d-register N, or use --comp none)",
             profile.name
-        )));
+        );
     }
     let spec = MillSpec {
         thread,
