@@ -90,18 +90,7 @@ impl AllenBradley {
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
         super::only_words(line, b"GNXZKDFEAPI", "G78", "X Z K D F|E A P I")?;
-        if let Some(w) = line
-            .words
-            .iter()
-            .find(|w| w.letter == b'G' && w.span != g78)
-        {
-            return Err(Diagnostic::error(
-                Code::Conflict,
-                w.span,
-                format!("G{} shares a block with G78", w.value),
-            )
-            .with_hint("write G78 in a block of its own"));
-        }
+        super::alone_in_block(line, g78, "G78", &[])?;
         let missing =
             |what: &str| Diagnostic::error(Code::MissingWord, g78, format!("G78 needs {what}"));
         if line.word(b'X').is_none() {

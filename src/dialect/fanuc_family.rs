@@ -154,14 +154,7 @@ impl FanucFamily {
                 _ => Ok(None),
             };
         };
-        if let Some((other, _)) = gs().find(|(w, _)| w.span != gword.span) {
-            return Err(Diagnostic::error(
-                Code::Conflict,
-                other.span,
-                format!("G{} shares a block with G{}", other.value, code / 10),
-            )
-            .with_hint(format!("write G{} in a block of its own", code / 10)));
-        }
+        super::alone_in_block(line, gword.span, &format!("G{}", code / 10), &[])?;
         let second = line
             .words
             .iter()

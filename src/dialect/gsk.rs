@@ -536,18 +536,7 @@ impl Dialect for Gsk {
         else {
             return Ok(Read::Plain);
         };
-        if let Some(other) = line
-            .words
-            .iter()
-            .find(|w| w.letter == b'G' && w.span != g78.span)
-        {
-            return Err(Diagnostic::error(
-                Code::Conflict,
-                other.span,
-                format!("G{} shares a block with G78", other.value),
-            )
-            .with_hint("write G78 in a block of its own"));
-        }
+        super::alone_in_block(line, g78.span, "G78", &[])?;
         let second = line
             .words
             .iter()

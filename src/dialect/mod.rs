@@ -88,6 +88,25 @@ pub(crate) fn only_words(line: &Line, allowed: &[u8], block: &str, format: &str)
     }
 }
 
+/// Refuses a G code that shares the block of the cycle word at `cycle` (`name`, e.g. "G78"), except
+/// the codes in `allowed` (×10, as [`g_code`](crate::gcode::reader::g_code) gives them).
+pub(crate) fn alone_in_block(line: &Line, cycle: Span, name: &str, allowed: &[u16]) -> Result<()> {
+    let other = line.words.iter().find(|w| {
+        w.letter == b'G'
+            && w.span != cycle
+            && !crate::gcode::reader::g_code(w.value).is_some_and(|c| allowed.contains(&c))
+    });
+    match other {
+        Some(w) => Err(Diagnostic::error(
+            crate::diag::Code::Conflict,
+            w.span,
+            format!("G{} shares a block with {name}", w.value),
+        )
+        .with_hint(format!("write {name} in a block of its own"))),
+        None => Ok(()),
+    }
+}
+
 /// A word that packs three two-digit fields, `P(m)(r)(a)` (Fanuc's G76 and GSK's G78 first blocks;
 /// leading zeros may be left out): the fields and where each pair is written.
 pub(crate) struct PackedP {

@@ -253,16 +253,8 @@ impl OmniTurn {
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
         super::only_words(line, b"GNXZIKACPOS", "G33", "X Z I K A C P O")?;
-        for w in line.words.iter().filter(|w| w.letter == b'G') {
-            if w.span != g33 && !matches!(g_code(w.value), Some(G72 | G73)) {
-                return Err(Diagnostic::error(
-                    Code::Conflict,
-                    w.span,
-                    format!("G{} shares a block with G33", w.value),
-                )
-                .with_hint("write G33 in a block of its own"));
-            }
-        }
+        // The mode codes may share the block: they set how X and I are read.
+        super::alone_in_block(line, g33, "G33", &[G72, G73])?;
         for flag in [b'P', b'O'] {
             if let Some(w) = line.word(flag).filter(|w| !w.is_bare()) {
                 return Err(Diagnostic::error(
