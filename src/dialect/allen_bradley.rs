@@ -172,14 +172,12 @@ impl AllenBradley {
             }
         };
         let taper = line.word(b'I').map_or(0.0, |i| modal.length_mm(i));
-        let start = modal.position.ok_or_else(|| {
-            Diagnostic::error(
-                Code::UnknownPosition,
-                g78,
-                "G78 starts where the tool is, and the tool's position is not known here",
-            )
-            .with_hint("position the tool at the cycle's start point before G78")
-        })?;
+        let start = super::start_point(
+            modal,
+            g78,
+            "G78",
+            "position the tool at the cycle's start point before G78",
+        )?;
         let end = modal.target(&self.conv, line, start)?;
         self.lower(
             &Cycle {

@@ -609,14 +609,12 @@ fn pull_out(j: f64, k: f64) -> Exit {
 }
 
 fn start_point(modal: &Modal, span: Span, cycle: &str) -> Result<Pos> {
-    modal.position.ok_or_else(|| {
-        Diagnostic::error(
-            Code::UnknownPosition,
-            span,
-            format!("{cycle} starts where the tool is, and the tool's position is not known here"),
-        )
-        .with_hint("position the tool with G00 X.. Z.. before the cycle")
-    })
+    super::start_point(
+        modal,
+        span,
+        cycle,
+        "position the tool with G00 X.. Z.. before the cycle",
+    )
 }
 
 /// External when the start point is above `reference` (cut toward −X), internal when below.

@@ -264,14 +264,12 @@ impl Gsk {
                 "G78 needs the thread end point: X (or U) and Z (or W)",
             ));
         }
-        let a = modal.position.ok_or_else(|| {
-            Diagnostic::error(
-                Code::UnknownPosition,
-                g78,
-                "G78 starts where the tool is, and the tool's position is not known here",
-            )
-            .with_hint("position the tool with G00 X.. Z.. before the cycle (its start point A)")
-        })?;
+        let a = super::start_point(
+            modal,
+            g78,
+            "G78",
+            "position the tool with G00 X.. Z.. before the cycle (its start point A)",
+        )?;
         let end = modal.target(&self.conv, line, a)?;
         // §12: J and K are modal; the tail-out falls back to parameters 5130/5131 when neither was given.
         if j.is_some() || k.is_some() {

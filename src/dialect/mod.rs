@@ -107,6 +107,24 @@ pub(crate) fn alone_in_block(line: &Line, cycle: Span, name: &str, allowed: &[u1
     }
 }
 
+/// Where a cycle starts: the tool's position, which must be known (at power-on and after a reference
+/// return it is not). `hint` says how this controller's program positions the tool.
+pub(crate) fn start_point(
+    modal: &Modal,
+    cycle: Span,
+    name: &str,
+    hint: &str,
+) -> Result<crate::units::Pos> {
+    modal.position.ok_or_else(|| {
+        Diagnostic::error(
+            crate::diag::Code::UnknownPosition,
+            cycle,
+            format!("{name} starts where the tool is, and the tool's position is not known here"),
+        )
+        .with_hint(hint)
+    })
+}
+
 /// A word that packs three two-digit fields, `P(m)(r)(a)` (Fanuc's G76 and GSK's G78 first blocks;
 /// leading zeros may be left out): the fields and where each pair is written.
 pub(crate) struct PackedP {

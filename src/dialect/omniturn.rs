@@ -369,14 +369,12 @@ impl OmniTurn {
         };
         let single = line.word(b'O').is_some();
         let pull_out = line.word(b'P').is_some();
-        let start = modal.position.ok_or_else(|| {
-            Diagnostic::error(
-                Code::UnknownPosition,
-                g33,
-                "G33 starts where the tool is, and the tool's position is not known here",
-            )
-            .with_hint("position the tool at the first pass with X.. Z.. before the cycle")
-        })?;
+        let start = super::start_point(
+            modal,
+            g33,
+            "G33",
+            "position the tool at the first pass with X.. Z.. before the cycle",
+        )?;
         let end = modal.target(&self.conv, line, start)?;
         let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, g33, msg);
         let travel_z = end.z - start.z;
