@@ -360,7 +360,7 @@ impl FanucFamily {
         let crest_end = Pos::new(crest_c.x - taper, end.z - full_offset);
         let exit = p.chamfer(lead);
         check_exit(&exit, travel_z, modal.units, g76)?;
-        lead_warning(lead, travel_z, modal.units, g76, warnings);
+        super::lead_warning(lead, travel_z, modal.units, g76, "check F", warnings);
         Ok(Job {
             line: line.number,
             span: g76,
@@ -469,7 +469,7 @@ impl FanucFamily {
             (self.params.chamfer(lead), 1)
         };
         check_exit(&exit, travel_z, modal.units, span)?;
-        lead_warning(lead, travel_z, modal.units, span, warnings);
+        super::lead_warning(lead, travel_z, modal.units, span, "check F", warnings);
         Ok(Job {
             line: line.number,
             span,
@@ -646,29 +646,6 @@ fn check_exit(exit: &Exit, travel_z: f64, units: Units, span: Span) -> Result<()
         }
     }
     Ok(())
-}
-
-fn lead_warning(
-    lead: f64,
-    travel_z: f64,
-    units: Units,
-    span: Span,
-    warnings: &mut Vec<Diagnostic>,
-) {
-    if lead > travel_z.abs() {
-        warnings.push(
-            Diagnostic::warning(
-                Code::Suspicious,
-                span,
-                format!(
-                    "the lead {} is longer than the thread ({} along Z): each pass turns the spindle less than once",
-                    units.from_mm(lead),
-                    units.from_mm(travel_z.abs())
-                ),
-            )
-            .with_hint("check F"),
-        );
-    }
 }
 
 fn geometry(span: Span, msg: impl Into<String>) -> Diagnostic {

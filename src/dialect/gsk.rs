@@ -417,20 +417,14 @@ fn lower<F: Fn(f64) -> f64>(
             }
         }
     };
-    if i.lead > travel_z.abs() {
-        warnings.push(
-            Diagnostic::warning(
-                Code::Suspicious,
-                i.span,
-                format!(
-                    "the lead {} is longer than the thread ({} along Z): each pass turns the spindle less than once",
-                    i.units.from_mm(i.lead),
-                    i.units.from_mm(travel_z.abs())
-                ),
-            )
-            .with_hint("check F: a lead written without its decimal point?"),
-        );
-    }
+    super::lead_warning(
+        i.lead,
+        travel_z,
+        i.units,
+        i.span,
+        "check F: a lead written without its decimal point?",
+        warnings,
+    );
     let half = s.tool_angle / 2.0;
     let infeed = match s.infeed_mode {
         0 => Infeed::Radial,

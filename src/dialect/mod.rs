@@ -125,6 +125,32 @@ pub(crate) fn start_point(
     })
 }
 
+/// Warns when one lead is longer than the thread's Z travel: each pass turns the spindle less than
+/// once, which is most often a lead written wrong. `hint` is the controller's likely slip.
+pub(crate) fn lead_warning(
+    lead: f64,
+    travel_z: f64,
+    units: crate::units::Units,
+    span: Span,
+    hint: &str,
+    warnings: &mut Vec<Diagnostic>,
+) {
+    if lead > travel_z.abs() {
+        warnings.push(
+            Diagnostic::warning(
+                crate::diag::Code::Suspicious,
+                span,
+                format!(
+                    "the lead {} is longer than the thread ({} along Z): each pass turns the spindle less than once",
+                    units.from_mm(lead),
+                    units.from_mm(travel_z.abs())
+                ),
+            )
+            .with_hint(hint),
+        );
+    }
+}
+
 /// A word that packs three two-digit fields, `P(m)(r)(a)` (Fanuc's G76 and GSK's G78 first blocks;
 /// leading zeros may be left out): the fields and where each pair is written.
 pub(crate) struct PackedP {
