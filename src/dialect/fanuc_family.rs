@@ -113,6 +113,7 @@ impl FanucFamily {
 
     /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, or any block while a G92
     /// is modal (a block of axis words repeats it; a motion code cancels it).
+    #[inline]
     pub fn wants(&self, line: &Line) -> bool {
         self.g92.is_some() || line.has_g(G76) || line.has_g(G92)
     }
@@ -560,7 +561,7 @@ impl FanucFamily {
             )
             .with_hint("write the lead with F"));
         }
-        modal.read_lead(conv, line)?;
+        modal.read_lead(conv, line.words)?;
         if let Some(f) = line.word(b'F') {
             modal.f_word = Some(modal.value(f));
         }

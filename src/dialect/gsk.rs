@@ -243,7 +243,7 @@ impl Gsk {
         if let Some(i) = line.word(b'I') {
             self.checked(modal, i, "I (threads per inch)", RangeClass::Tpi)?;
         }
-        modal.read_lead(&self.conv, line)?;
+        modal.read_lead(&self.conv, line.words)?;
         if let Some(f) = line.word(b'F') {
             modal.f_word = Some(modal.value(f));
         }
@@ -504,6 +504,7 @@ impl Dialect for Gsk {
     }
 
     /// `read` looks at nothing but a G78 word.
+    #[inline]
     fn prefilter(&self, line: &Line) -> bool {
         line.has_g(G78) || self.family.wants(line)
     }

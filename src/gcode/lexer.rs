@@ -16,24 +16,45 @@ pub struct Word {
     pub value: f64,
     /// Whether the number was written with a decimal point.
     pub has_dot: bool,
-    /// Byte offset of the number's lexeme within the line (after the letter).
-    pub raw_start: u32,
-    /// Length of the number's lexeme in bytes.
-    pub raw_len: u32,
+    /// Blanks between the letter and the number (mostly none). The number's lexeme is the rest of
+    /// the span after them: it is kept this way rather than as its own offset and length, which
+    /// the span already implies, because every word of a file is written (docs/performance.md).
+    raw_skip: u32,
     /// The whole word (letter and number).
     pub span: Span,
 }
 
 impl Word {
+    /// A placeholder for buffers of words.
+    pub const EMPTY: Word = Word {
+        letter: 0,
+        value: 0.0,
+        has_dot: false,
+        raw_skip: 0,
+        span: Span::new(0, 0, 0, 0),
+    };
+
     /// A letter written without a number (OmniTurn's `P`, `C` and `O` flags on G33). Only letters a
     /// dialect declares with [`lex_line_with`] can be bare; their value reads as 0.
     pub fn is_bare(&self) -> bool {
-        self.raw_len == 0
+        self.raw_len() == 0
+    }
+
+    /// Byte offset of the number's lexeme within the line (after the letter and any blanks).
+    pub fn raw_start(&self) -> usize {
+        // The span's column is the letter's offset plus one.
+        self.span.column as usize + self.raw_skip as usize
+    }
+
+    /// Length of the number's lexeme in bytes.
+    pub fn raw_len(&self) -> usize {
+        (self.span.len as usize).saturating_sub(1 + self.raw_skip as usize)
     }
 
     /// The number exactly as written, e.g. `020545` for `P020545`.
     pub fn raw<'a>(&self, line: &'a [u8]) -> &'a [u8] {
-        &line[self.raw_start as usize..(self.raw_start + self.raw_len) as usize]
+        let start = self.raw_start();
+        &line[start..start + self.raw_len()]
     }
 }
 
@@ -61,20 +82,6 @@ impl WordSummary {
             bits | letter | other_g_bit(w.letter, w.value, w.has_dot)
         });
         WordSummary { bits }
-    }
-
-    /// [`of`](Self::of) for words whose letters are all `A`–`Z` (the lexer's fast path, which
-    /// leaves `$` to the reference lexer): the same bits, a little cheaper.
-    #[inline(always)]
-    fn of_az(words: &[Word]) -> WordSummary {
-        let (mut letters, mut other_g) = (0u32, false);
-        for w in words {
-            letters |= 1 << (w.letter & 31);
-            other_g |= other_g_bit(w.letter, w.value, w.has_dot) != 0;
-        }
-        WordSummary {
-            bits: letters | u32::from(other_g) << 31,
-        }
     }
 
     /// Whether some word begins with this letter (upper case, or `$`). `false` for anything else.
@@ -113,9 +120,16 @@ impl WordSummary {
 /// runs on every word.
 #[inline(always)]
 fn other_g_bit(letter: u8, value: f64, has_dot: bool) -> u32 {
+    u32::from((letter == b'G') & !is_plain_motion(value, has_dot)) << 31
+}
+
+/// Whether a `G` word's number is 0, 1, 2 or 3 written as a whole number without a decimal point
+/// or a minus sign: one of the plain motion codes, which [`WordSummary::other_g`] leaves out.
+#[inline(always)]
+pub(crate) fn is_plain_motion(value: f64, has_dot: bool) -> bool {
     // Non-negative doubles order as their bits do; a negative one (-0 too) has the sign bit set.
-    let plain = !has_dot & (value.to_bits() <= THREE_BITS);
-    u32::from((letter == b'G') & !plain) << 31
+    // Without a decimal point the number is a whole number.
+    !has_dot & (value.to_bits() <= THREE_BITS)
 }
 
 const THREE_BITS: u64 = 3.0f64.to_bits();
@@ -171,8 +185,7 @@ pub fn lex_line_with(
                         letter,
                         value,
                         has_dot,
-                        raw_start: (i + 1) as u32,
-                        raw_len: (end - i - 1) as u32,
+                        raw_skip: 0,
                         span: span_at(offset, line_no, i, end - i),
                     });
                     i = end;
@@ -198,6 +211,8 @@ pub fn lex_line_with(
 /// A line lexed straight out of the reader's buffer by [`lex_buffered_line`].
 pub(crate) struct BufferedLine {
     pub shape: LineShape,
+    /// How many words [`lex_buffered_line`] wrote.
+    pub words: usize,
     pub summary: WordSummary,
     /// Length of the line without its terminator (`\n` or `\r\n`).
     pub text_len: usize,
@@ -214,19 +229,26 @@ pub(crate) struct BufferedLine {
 /// then finds the line's end and calls [`lex_line_with`], the reference. When it returns a line,
 /// `words` and the shape are exactly what [`lex_line_with`] gives for the line's text: `\r` is a
 /// blank to both, and every number stops at `\r` or `\n` as it stops at the end of the text.
+/// How many words a line may have for [`lex_buffered_line`]; a line with more goes the reference way.
+pub(crate) const FAST_WORDS: usize = 32;
+
 #[inline(always)]
 pub(crate) fn lex_buffered_line(
     input: &[u8],
     line_no: u32,
     offset: u64,
-    words: &mut Vec<Word>,
+    words: &mut [Word; FAST_WORDS],
 ) -> Option<BufferedLine> {
-    words.clear();
     // The reader hands over whole lines only; the numbers below rely on the final line end.
     if input.last() != Some(&b'\n') {
         return None;
     }
     let mut i = 0;
+    let mut count = 0;
+    // The summary is gathered on the way: a bit per letter, and whether a G word is other than
+    // G0–G3 (see `WordSummary`).
+    let mut letters = 0u32;
+    let mut other_g = false;
     loop {
         let c = *input.get(i)?;
         // Tested in the order of how often they come: a word, the end of the line, the rest. The
@@ -235,19 +257,24 @@ pub(crate) fn lex_buffered_line(
         if (c | 0x20).wrapping_sub(b'a') < 26 {
             // `input` ends with `\n` (checked above), which is not this letter: `i + 1` is in it.
             let (value, has_dot, end) = number::<true>(input, i + 1)?;
-            // `number` takes at most 19 digits, a sign and a point: no length overflows.
-            words.push(Word {
-                letter: c & !0x20,
+            let letter = c & !0x20;
+            letters |= 1 << (letter & 31);
+            if letter == b'G' {
+                other_g |= !is_plain_motion(value, has_dot);
+            }
+            // `number` takes at most 15 digits, a sign and a point: no length overflows.
+            *words.get_mut(count)? = Word {
+                letter,
                 value,
                 has_dot,
-                raw_start: (i + 1) as u32,
-                raw_len: (end - i - 1) as u32,
+                raw_skip: 0,
                 span: Span::new(offset + i as u64, (end - i) as u32, line_no, i as u32 + 1),
-            });
+            };
+            count += 1;
             // Words are mostly separated by one blank: step over it here.
             i = end + usize::from(input.get(end) == Some(&b' '));
         } else if c == b'\n' {
-            return Some(buffered_line(input, i, words));
+            return Some(buffered_line(input, i, count, letters, other_g));
         } else if CLASS[c as usize] == BLANK {
             i += 1;
         } else if c == b'(' {
@@ -259,7 +286,7 @@ pub(crate) fn lex_buffered_line(
             i = close + 1;
         } else if c == b';' {
             let newline = i + 1 + memchr::memchr(b'\n', &input[i + 1..])?;
-            return Some(buffered_line(input, newline, words));
+            return Some(buffered_line(input, newline, count, letters, other_g));
         } else {
             return None;
         }
@@ -268,7 +295,13 @@ pub(crate) fn lex_buffered_line(
 
 /// The line ending with the `\n` at `newline`.
 #[inline(always)]
-fn buffered_line(input: &[u8], newline: usize, words: &[Word]) -> BufferedLine {
+fn buffered_line(
+    input: &[u8],
+    newline: usize,
+    words: usize,
+    letters: u32,
+    other_g: bool,
+) -> BufferedLine {
     let text_len = if newline > 0 && input[newline - 1] == b'\r' {
         newline - 1
     } else {
@@ -276,9 +309,10 @@ fn buffered_line(input: &[u8], newline: usize, words: &[Word]) -> BufferedLine {
     };
     BufferedLine {
         shape: LineShape::default(),
-        // Gathered here rather than word by word in the loop above, where the registers are all
-        // taken (measured: a third cheaper).
-        summary: WordSummary::of_az(words),
+        summary: WordSummary {
+            bits: letters | u32::from(other_g) << 31,
+        },
+        words,
         text_len,
         raw_len: newline + 1,
     }
@@ -371,7 +405,7 @@ fn other_byte(
 }
 
 /// A number starting right at `at` that Clinger's fast path converts exactly: `[+-]digits[.digits]`
-/// with 1 to 19 digits and a mantissa of at most 2^53, not followed by a second decimal point.
+/// with 1 to 15 digits, not followed by a second decimal point.
 /// Returns the value, whether it has a decimal point, and one past its last byte; `None` for
 /// anything else (which [`lex_number`] then handles, errors included).
 #[inline(always)]
@@ -417,11 +451,12 @@ fn number<const TERMINATED: bool>(line: &[u8], at: usize) -> Option<(f64, bool, 
     let int_start = i;
     let mut mantissa: u64 = 0;
     while let Some(b) = byte_at::<TERMINATED>(line, i) {
-        let d = b.wrapping_sub(b'0');
+        // (The digit as u64 from the start: no separate widening in this loop.)
+        let d = u64::from(b).wrapping_sub(u64::from(b'0'));
         if d > 9 {
             break;
         }
-        mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+        mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
         i += 1;
     }
     let mut digits = i - int_start;
@@ -431,11 +466,11 @@ fn number<const TERMINATED: bool>(line: &[u8], at: usize) -> Option<(f64, bool, 
         i += 1;
         let frac_start = i;
         while let Some(b) = byte_at::<TERMINATED>(line, i) {
-            let d = b.wrapping_sub(b'0');
+            let d = u64::from(b).wrapping_sub(u64::from(b'0'));
             if d > 9 {
                 break;
             }
-            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(d));
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(d);
             i += 1;
         }
         frac_digits = i - frac_start;
@@ -444,13 +479,16 @@ fn number<const TERMINATED: bool>(line: &[u8], at: usize) -> Option<(f64, bool, 
             return None;
         }
     }
-    // 1 to 19 digits (so no wrap-around above) and a mantissa that is an exact double.
-    if digits.wrapping_sub(1) >= 19 || mantissa > 1 << 53 {
+    // 1 to 15 digits: no wrap-around above, and the mantissa (below 10^15 < 2^53) is an exact
+    // double. Longer numbers are rare and go the reference way.
+    if digits.wrapping_sub(1) >= 15 {
         return None;
     }
-    // Clinger's fast path: both operands are exact doubles (frac_digits <= 19), so one division
-    // rounds correctly. (The mask only spares a bounds check: frac_digits < 32 already.)
-    let v = mantissa as f64 / POW10_32[frac_digits & 31];
+    // Clinger's fast path: both operands are exact doubles (frac_digits <= 15), so one division
+    // rounds correctly. (The mask only spares a bounds check: frac_digits < 32 already. The
+    // conversion goes through i64, which holds the mantissa, because the signed one is a single
+    // instruction.)
+    let v = mantissa as i64 as f64 / POW10_32[frac_digits & 31];
     Some((if negative { -v } else { v }, has_dot, i))
 }
 
@@ -483,8 +521,7 @@ fn word_slow(
             letter,
             value: 0.0,
             has_dot: false,
-            raw_start: (i + 1) as u32,
-            raw_len: 0,
+            raw_skip: 0,
             span: span_at(offset, line_no, i, 1),
         });
         return Ok(i + 1);
@@ -515,8 +552,7 @@ fn word_slow(
         letter,
         value: number.value,
         has_dot: number.has_dot,
-        raw_start: number.start as u32,
-        raw_len: (number.end - number.start) as u32,
+        raw_skip: (number.start - i - 1) as u32,
         span: word_span,
     });
     Ok(number.end)

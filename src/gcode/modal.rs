@@ -3,7 +3,7 @@
 //! Each dialect states its conventions (which G code threads, whether U/W are incremental words,
 //! whether G90/G91 select the distance mode); the bookkeeping itself is shared.
 
-use super::lexer::Word;
+use super::lexer::{is_plain_motion, Word};
 use super::reader::{g_code, Line};
 use crate::diag::{Code, Diagnostic, Result};
 use crate::units::{lead_from_tpi, Pos, Units};
@@ -184,6 +184,13 @@ impl Modal {
                     axes.see_z(w);
                 }
             } else if w.letter == b'G' {
+                // Most G words are G0–G3: no need for `g_code`'s rounding.
+                if is_plain_motion(w.value, w.has_dot) {
+                    // The whole number 0–3 is in the low bits of the value plus 2^52.
+                    let code = (w.value + TWO_POW_52).to_bits() as usize & 3;
+                    self.motion = PLAIN_MOTION[code];
+                    continue;
+                }
                 let Some(code) = g_code(w.value) else {
                     return Err(bad_g(w));
                 };
@@ -208,7 +215,7 @@ impl Modal {
             }
         }
         if self.motion == MotionMode::Thread {
-            self.read_lead(conv, line)?;
+            self.read_lead(conv, line.words)?;
         }
         if let Some(f) = f_word {
             self.f_word = Some(self.value(f));
@@ -231,7 +238,7 @@ impl Modal {
         }
         let Some(from) = self.position else {
             // Absolute moves establish the position; an incremental one from nowhere stays unknown.
-            if self.absolute && line.word(b'X').is_some() && line.word(b'Z').is_some() {
+            if self.absolute && has_letter(line.words, b'X') && has_letter(line.words, b'Z') {
                 let to = self.target_of(&axes, Pos::default())?;
                 self.position = Some(to);
             }
@@ -287,10 +294,12 @@ impl Modal {
     }
 
     /// Reads F (lead in program units per revolution) or the dialect's TPI word into the modal lead.
-    pub fn read_lead(&mut self, conv: &Conventions, line: &Line) -> Result<()> {
-        let f = line.word(conv.lead_letter);
+    /// (It takes the words rather than the line so that the run loop's line can stay in registers.)
+    pub fn read_lead(&mut self, conv: &Conventions, words: &[Word]) -> Result<()> {
+        let word = |letter| words.iter().find(|w: &&Word| w.letter == letter);
+        let f = word(conv.lead_letter);
         let tpi = (conv.tpi_letter != 0)
-            .then(|| line.word(conv.tpi_letter))
+            .then(|| word(conv.tpi_letter))
             .flatten();
         match (f, tpi) {
             (Some(f), Some(i)) => Err(Diagnostic::error(
@@ -343,6 +352,8 @@ const AXES: [u8; 128] = {
     t
 };
 
+const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
+
 /// G0, G1, G2, G3.
 const PLAIN_MOTION: [MotionMode; 4] = [
     MotionMode::Rapid,
@@ -387,6 +398,10 @@ impl<'w> AxisWords<'w> {
         };
         first.unwrap_or(w)
     }
+}
+
+fn has_letter(words: &[Word], letter: u8) -> bool {
+    words.iter().any(|w| w.letter == letter)
 }
 
 #[cold]

@@ -2,7 +2,9 @@
 
 use std::io::BufRead;
 
-use super::lexer::{lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordSummary};
+use super::lexer::{
+    lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordSummary, FAST_WORDS,
+};
 use crate::diag::{Code, Diagnostic, Span};
 
 /// Lines longer than this are refused rather than buffered whole.
@@ -30,6 +32,7 @@ pub struct Line<'a> {
 }
 
 impl Line<'_> {
+    #[inline]
     pub fn word(&self, letter: u8) -> Option<&Word> {
         self.words.iter().find(|w| w.letter == letter)
     }
@@ -46,6 +49,7 @@ impl Line<'_> {
     }
 
     /// A span covering the whole line, for diagnostics about the block rather than one word.
+    #[inline]
     pub fn span(&self) -> Span {
         Span::new(self.offset, self.text.len() as u32, self.number, 1)
     }
@@ -95,7 +99,10 @@ pub struct Reader<R> {
     complete: usize,
     /// The source has nothing more.
     eof: bool,
+    /// The words of a line the reference lexer read.
     words: Vec<Word>,
+    /// The words of a line the fast path read (a fixed array: no length or capacity to keep).
+    fast_words: [Word; FAST_WORDS],
     line_no: u32,
     offset: u64,
     done: bool,
@@ -112,6 +119,7 @@ impl<R: BufRead> Reader<R> {
             complete: 0,
             eof: false,
             words: Vec::with_capacity(16),
+            fast_words: [Word::EMPTY; FAST_WORDS],
             line_no: 0,
             offset: 0,
             done: false,
@@ -153,7 +161,18 @@ impl<R: BufRead> Reader<R> {
             return None;
         }
         if let Some(l) = self.lex_in_buffer() {
-            return Some(Ok(self.take_line(l.shape, l.summary, l.text_len, l.raw_len)));
+            return Some(Ok(self.take_fast_line(&l)));
+        }
+        self.next_line_by_reference()
+    }
+
+    /// The next line, lexed by the reference lexer ([`lex_line_with`]) whatever it holds: for a
+    /// caller that took the lines the fast path reads with
+    /// [`next_plain_line`](Self::next_plain_line) already (the two lexers give the same words).
+    #[inline(never)]
+    pub fn next_line_by_reference(&mut self) -> Option<Result<Line<'_>, Diagnostic>> {
+        if self.done {
+            return None;
         }
         let line_no = self.line_no + 1;
         let offset = self.offset;
@@ -187,7 +206,7 @@ impl<R: BufRead> Reader<R> {
         ) {
             Ok(shape) => {
                 let summary = WordSummary::of(&self.words);
-                Some(Ok(self.take_line(shape, summary, text_len, raw_len)))
+                Some(Ok(self.take_line(shape, summary, text_len, raw_len, None)))
             }
             Err(e) => {
                 // The line is consumed: a caller may go on with the next one.
@@ -196,6 +215,7 @@ impl<R: BufRead> Reader<R> {
                     WordSummary::default(),
                     text_len,
                     raw_len,
+                    None,
                 );
                 Some(Err(e))
             }
@@ -212,7 +232,17 @@ impl<R: BufRead> Reader<R> {
             return None;
         }
         let l = self.lex_in_buffer()?;
-        Some(self.take_line(l.shape, l.summary, l.text_len, l.raw_len))
+        Some(self.take_fast_line(&l))
+    }
+
+    /// Gives back the line of `raw_len` bytes that [`next_plain_line`](Self::next_plain_line)
+    /// has just handed out: the next call reads it again. (For a caller that looks at a line before
+    /// deciding to read it another way.)
+    #[inline(always)]
+    pub fn put_back(&mut self, raw_len: usize) {
+        self.start -= raw_len;
+        self.offset -= raw_len as u64;
+        self.line_no -= 1;
     }
 
     /// Fast path: a plain line wholly in the buffer is lexed where it lies, its end found on the
@@ -224,8 +254,14 @@ impl<R: BufRead> Reader<R> {
             self.buf.get(self.start..self.complete).unwrap_or_default(),
             self.line_no + 1,
             self.offset,
-            &mut self.words,
+            &mut self.fast_words,
         )
+    }
+
+    /// Consumes the line the fast path lexed.
+    #[inline(always)]
+    fn take_fast_line(&mut self, l: &BufferedLine) -> Line<'_> {
+        self.take_line(l.shape, l.summary, l.text_len, l.raw_len, Some(l.words))
     }
 
     /// Consumes the line of `raw_len` bytes at the front of the buffer.
@@ -236,6 +272,7 @@ impl<R: BufRead> Reader<R> {
         summary: WordSummary,
         text_len: usize,
         raw_len: usize,
+        fast_words: Option<usize>,
     ) -> Line<'_> {
         let start = self.start;
         self.start += raw_len;
@@ -249,7 +286,10 @@ impl<R: BufRead> Reader<R> {
             offset,
             text: &raw[..text_len],
             raw,
-            words: &self.words,
+            words: match fast_words {
+                Some(n) => &self.fast_words[..n],
+                None => &self.words,
+            },
             shape,
             before,
             summary,
