@@ -7,7 +7,7 @@ use serde::Serialize;
 
 use crate::diag::Diagnostic;
 use crate::dialect::{self, Read};
-use crate::gcode::{Line, Modal, MotionMode, PlainMove, Reader};
+use crate::gcode::{Conventions, Line, Modal, MotionMode, PlainMove, Reader};
 use crate::machine::Machine;
 use crate::post::{self, json_num};
 use crate::thread::{Job, Pass, PassKind};
@@ -98,8 +98,39 @@ impl<F: FnMut(&Modal, Event) -> Result<(), Error>> Sink for EverySink<F> {
 /// on before anything else is written, before the reader may read more input (which drops them
 /// from its buffer) and before an error returns (so that the output up to the error is what it
 /// would be line by line).
-fn drive<R: BufRead, S: Sink>(input: R, machine: &Machine, mut sink: S) -> Result<Summary, Error> {
-    let mut dialect = dialect::open(machine).map_err(Error::Setup)?;
+fn drive<R: BufRead, S: Sink>(input: R, machine: &Machine, sink: S) -> Result<Summary, Error> {
+    dialect::open_with(
+        machine,
+        Drive {
+            input,
+            machine,
+            sink,
+        },
+    )
+    .map_err(Error::Setup)?
+}
+
+/// [`drive`]'s arguments, waiting for the dialect.
+struct Drive<'m, R, S> {
+    input: R,
+    machine: &'m Machine,
+    sink: S,
+}
+
+impl<R: BufRead, S: Sink> dialect::WithDialect for Drive<'_, R, S> {
+    type Output = Result<Summary, Error>;
+    fn run<D: dialect::Dialect + 'static>(self, dialect: D) -> Result<Summary, Error> {
+        drive_with(self.input, self.machine, self.sink, dialect)
+    }
+}
+
+/// [`drive`] with the dialect's own type.
+fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
+    input: R,
+    machine: &Machine,
+    mut sink: S,
+    mut dialect: D,
+) -> Result<Summary, Error> {
     let conv = dialect.conventions().clone();
     let mut modal = Modal::new(
         &conv,
@@ -113,84 +144,54 @@ fn drive<R: BufRead, S: Sink>(input: R, machine: &Machine, mut sink: S) -> Resul
     let mut summary = Summary::default();
     let mut pending = 0usize;
     loop {
+        // Most lines are plain lines that the reader's fast path lexes and that are none of the
+        // dialect's business (its prefilter says so without `read`, which would return
+        // `Read::Plain` and leave everything as it is): this loop takes them as long as they come.
+        // Nothing else happens in it, so that the line stays in registers.
+        while let Some(line) = reader.next_plain_line() {
+            if dialect.prefilter(&line) {
+                // Read again below, the general way.
+                let len = line.raw.len();
+                reader.put_back(len);
+                break;
+            }
+            summary.lines = line.number;
+            plain_line(&line, &mut modal, &conv, &mut sink, &mut pending)?;
+        }
         if S::BATCH && pending > 0 && reader.may_read() {
             sink.pass(handed_out(&reader, pending, 0)?)?;
             pending = 0;
         }
         let offset = reader.offset();
-        // Most lines come from `next_plain_line`, which is lighter to take apart in this loop.
-        let line = match reader.next_plain_line() {
-            Some(line) => line,
-            None => match reader.next_line() {
-                Some(Ok(line)) => line,
-                Some(Err(e)) => {
-                    if S::BATCH && pending > 0 {
-                        // The line in error may have been consumed; the run ends before it.
-                        let consumed = (reader.offset() - offset) as usize;
-                        sink.pass(handed_out(&reader, pending, consumed)?)?;
-                    }
-                    return Err(e.into());
+        // Not the fast path again: it has just said no, or it read a line for the dialect, which
+        // is rare enough to be read again the reference way.
+        let line = match reader.next_line_by_reference() {
+            Some(Ok(line)) => line,
+            Some(Err(e)) => {
+                if S::BATCH && pending > 0 {
+                    // The line in error may have been consumed; the run ends before it.
+                    let consumed = (reader.offset() - offset) as usize;
+                    sink.pass(handed_out(&reader, pending, consumed)?)?;
                 }
-                None => break,
-            },
+                return Err(e.into());
+            }
+            None => break,
         };
         summary.lines = line.number;
         // Most lines are not the dialect's business: its prefilter says so without `read` (which
         // would return `Read::Plain` and leave everything as it is).
         if !dialect.prefilter(&line) {
-            match modal.apply(&conv, &line) {
-                Ok(mv) => {
-                    if S::BATCH {
-                        pending += line.raw.len();
-                    } else {
-                        sink.event(&modal, Event::Plain { line: &line, mv })?;
-                    }
-                }
-                Err(e) => {
-                    flush_before(&mut sink, &line, &mut pending)?;
-                    return Err(e.into());
-                }
-            }
-            continue;
-        }
-        let before = summary.warnings.len();
-        let read = dialect.read(&line, &mut modal, &mut summary.warnings);
-        if S::BATCH && !matches!(read, Ok(Read::Plain)) {
-            flush_before(&mut sink, &line, &mut pending)?;
-        }
-        match read? {
-            Read::Plain => match modal.apply(&conv, &line) {
-                Ok(mv) => {
-                    if S::BATCH {
-                        pending += line.raw.len();
-                    } else {
-                        sink.event(&modal, Event::Plain { line: &line, mv })?;
-                    }
-                }
-                Err(e) => {
-                    flush_before(&mut sink, &line, &mut pending)?;
-                    return Err(e.into());
-                }
-            },
-            Read::Settings => sink.event(&modal, Event::Settings { line: &line })?,
-            Read::Cycle(job) => {
-                summary.cycles += 1;
-                // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
-                modal.position = Some(job.end_point());
-                sink.event(
-                    &modal,
-                    Event::Cycle {
-                        line: &line,
-                        job,
-                        dialect: &*dialect,
-                    },
-                )?;
-            }
-        }
-        for w in &mut summary.warnings[before..] {
-            if w.span.line == 0 {
-                w.span = line.span();
-            }
+            plain_line(&line, &mut modal, &conv, &mut sink, &mut pending)?;
+        } else {
+            dialect_line(
+                line,
+                &mut dialect,
+                &mut modal,
+                &conv,
+                &mut sink,
+                &mut summary,
+                &mut pending,
+            )?;
         }
     }
     if S::BATCH && pending > 0 {
@@ -199,15 +200,82 @@ fn drive<R: BufRead, S: Sink>(input: R, machine: &Machine, mut sink: S) -> Resul
     Ok(summary)
 }
 
-/// Passes on the pending plain lines before `line`.
+/// A line that is no cycle's: its modal state, and its bytes to the sink.
+#[inline(always)]
+fn plain_line<S: Sink>(
+    line: &Line,
+    modal: &mut Modal,
+    conv: &Conventions,
+    sink: &mut S,
+    pending: &mut usize,
+) -> Result<(), Error> {
+    match modal.apply(conv, line) {
+        Ok(mv) => {
+            if S::BATCH {
+                *pending += line.raw.len();
+                Ok(())
+            } else {
+                sink.event(modal, Event::Plain { line, mv })
+            }
+        }
+        Err(e) => {
+            flush_before(sink, line.before, pending)?;
+            Err(e.into())
+        }
+    }
+}
+
+/// A line the dialect's prefilter wants: the dialect reads it. Kept out of the run loop, which
+/// then holds the line in registers rather than in memory for a call (measured: docs/performance.md).
+#[inline(never)]
+fn dialect_line<S: Sink, D: dialect::Dialect>(
+    line: Line,
+    dialect: &mut D,
+    modal: &mut Modal,
+    conv: &Conventions,
+    sink: &mut S,
+    summary: &mut Summary,
+    pending: &mut usize,
+) -> Result<(), Error> {
+    let before = summary.warnings.len();
+    let read = dialect.read(&line, modal, &mut summary.warnings);
+    if S::BATCH && !matches!(read, Ok(Read::Plain)) {
+        flush_before(sink, line.before, pending)?;
+    }
+    match read? {
+        Read::Plain => plain_line(&line, modal, conv, sink, pending)?,
+        Read::Settings => sink.event(modal, Event::Settings { line: &line })?,
+        Read::Cycle(job) => {
+            summary.cycles += 1;
+            // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
+            modal.position = Some(job.end_point());
+            sink.event(
+                modal,
+                Event::Cycle {
+                    line: &line,
+                    job,
+                    dialect,
+                },
+            )?;
+        }
+    }
+    for w in &mut summary.warnings[before..] {
+        if w.span.line == 0 {
+            w.span = line.span();
+        }
+    }
+    Ok(())
+}
+
+/// Passes on the pending plain lines, which end where `before` (a line's
+/// [`before`](Line::before)) ends.
 #[cold]
-fn flush_before<S: Sink>(sink: &mut S, line: &Line, pending: &mut usize) -> Result<(), Error> {
+fn flush_before<S: Sink>(sink: &mut S, before: &[u8], pending: &mut usize) -> Result<(), Error> {
     if S::BATCH && *pending > 0 {
-        let run = line
-            .before
+        let run = before
             .len()
             .checked_sub(*pending)
-            .and_then(|from| line.before.get(from..))
+            .and_then(|from| before.get(from..))
             .ok_or_else(lost_run)?;
         *pending = 0;
         sink.pass(run)?;

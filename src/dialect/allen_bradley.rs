@@ -378,6 +378,7 @@ impl Dialect for AllenBradley {
     }
 
     /// `read` acts on G78 and on E (E with F, or E as a G33 lead); nothing else.
+    #[inline]
     fn prefilter(&self, line: &Line) -> bool {
         // The lexer's summary answers for most lines without a look at the words.
         line.summary.has_letter(b'E') || line.has_g(G78)

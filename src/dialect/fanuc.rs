@@ -71,6 +71,7 @@ impl Dialect for Fanuc {
     }
 
     /// Only G76/G92 blocks, and any block while a G92 is modal, are the family reader's business.
+    #[inline]
     fn prefilter(&self, line: &Line) -> bool {
         self.family.wants(line)
     }

@@ -202,15 +202,42 @@ pub(crate) fn packed_p(line: &Line, p: &Word, block: &str, example: &str) -> Res
 
 /// The dialect a machine profile names.
 pub fn open(machine: &Machine) -> std::result::Result<Box<dyn Dialect>, String> {
-    match machine.dialect.as_str() {
-        "gsk" => Ok(Box::new(gsk::Gsk::new(machine))),
-        "omniturn" => Ok(Box::new(omniturn::OmniTurn::new(machine))),
-        "allen_bradley" => Ok(Box::new(allen_bradley::AllenBradley::new(machine))),
-        "fanuc" => Ok(Box::new(fanuc::Fanuc::new(machine))),
-        "linuxcnc" => Ok(Box::new(linuxcnc::LinuxCnc::new(machine))),
-        other => Err(format!(
-            "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, linuxcnc)",
-            machine.name
-        )),
+    open_with(machine, Boxed)
+}
+
+/// Work that is compiled for each dialect's own type, so that the dialect's calls in it can be
+/// inlined: the line-by-line run loop (`program`), where a dynamic call on every line costs more
+/// than the call itself (the loop's state is saved around it).
+pub trait WithDialect {
+    type Output;
+    fn run<D: Dialect + 'static>(self, dialect: D) -> Self::Output;
+}
+
+/// [`open`], handing the dialect to `work` as its own type.
+pub fn open_with<W: WithDialect>(
+    machine: &Machine,
+    work: W,
+) -> std::result::Result<W::Output, String> {
+    Ok(match machine.dialect.as_str() {
+        "gsk" => work.run(gsk::Gsk::new(machine)),
+        "omniturn" => work.run(omniturn::OmniTurn::new(machine)),
+        "allen_bradley" => work.run(allen_bradley::AllenBradley::new(machine)),
+        "fanuc" => work.run(fanuc::Fanuc::new(machine)),
+        "linuxcnc" => work.run(linuxcnc::LinuxCnc::new(machine)),
+        other => {
+            return Err(format!(
+                "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, linuxcnc)",
+                machine.name
+            ))
+        }
+    })
+}
+
+struct Boxed;
+
+impl WithDialect for Boxed {
+    type Output = Box<dyn Dialect>;
+    fn run<D: Dialect + 'static>(self, dialect: D) -> Box<dyn Dialect> {
+        Box::new(dialect)
     }
 }

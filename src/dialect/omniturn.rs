@@ -526,6 +526,7 @@ impl Dialect for OmniTurn {
 
     /// `read` acts on the block after a G35/G36 (the G92 check), on S, and on G72, G73, G21, G35,
     /// G36 and G33; nothing else.
+    #[inline]
     fn prefilter(&self, line: &Line) -> bool {
         // The lexer's summary answers for most lines without a look at the words: none of these
         // G codes is G0–G3.
