@@ -4,8 +4,9 @@
 //! `cargo bench --bench reader` (the input, about 50 MB, is generated under target/ once). Besides
 //! the whole pass-through, three stages (lex; + modal state; + prefilter and run loop) show where
 //! the time goes.
-//! The peak resident memory after the runs is printed so that it can be compared across input sizes
-//! (docs/performance.md).
+//! The peak resident memory after the runs from the file is printed so that it can be compared
+//! across input sizes (docs/performance.md). A last run takes the input from memory: the reader's
+//! own speed, without the kernel's copy of the file.
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Write};
@@ -132,13 +133,27 @@ fn pass_through(c: &mut Criterion) {
             plain
         })
     });
-    group.finish();
     if let Some(kib) = peak_rss_kib() {
         println!(
             "peak resident memory of the bench process: {kib} KiB (input {} MB)",
             len >> 20
         );
     }
+    // The same pass-through from a copy of the file in memory (read once, before the runs): the
+    // reader's own speed on one core, without the kernel's copy from the page cache that every
+    // run above includes (≈ 10 % of it on this machine kind, docs/performance.md). Last, because
+    // the copy makes the process's peak memory the file's size.
+    let data = std::fs::read(&path).unwrap();
+    group.bench_function(
+        format!("expand pass-through {} MB from memory", len >> 20),
+        |b| {
+            b.iter(|| {
+                let mut sink = BufWriter::with_capacity(1 << 16, std::io::sink());
+                program::expand_gcode(&data[..], &mut sink, &machine).unwrap()
+            })
+        },
+    );
+    group.finish();
 }
 
 criterion_group!(benches, pass_through);

@@ -720,6 +720,16 @@ mod tests {
         lex_line(line, 1, 0, &mut words).unwrap();
         assert_eq!(words[1].raw(line), b"020545");
         assert_eq!(words[1].value, 20545.0);
+        // Blanks between the letter and the number are not part of the lexeme, nor of a bare
+        // flag's (which has none); the span covers the whole word.
+        let line = b"G33 X 1.5 P Z\t-2";
+        lex_line_with(line, 1, 0, &mut words, b"P").unwrap();
+        let raw: Vec<&[u8]> = words.iter().map(|w| w.raw(line)).collect();
+        assert_eq!(raw, [&b"33"[..], b"1.5", b"", b"-2"]);
+        let spans: Vec<(u32, u32)> = words.iter().map(|w| (w.span.column, w.span.len)).collect();
+        assert_eq!(spans, [(1, 3), (5, 5), (11, 1), (13, 4)]);
+        assert!(words[2].is_bare() && !words[1].is_bare());
+        assert_eq!((words[1].raw_start(), words[1].raw_len()), (6, 3));
     }
 
     #[test]
