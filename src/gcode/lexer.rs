@@ -95,6 +95,13 @@ impl WordSummary {
         self.bits & bit != 0
     }
 
+    /// How many different letters begin words. As many as there are words: no letter is written
+    /// twice.
+    #[inline(always)]
+    pub fn letters(&self) -> usize {
+        (self.bits & !OTHER_G).count_ones() as usize
+    }
+
     /// Whether some `G` word is other than 0, 1, 2 or 3 written as a whole number without a decimal
     /// point or a minus sign (`G0`–`G3`, the plain motion codes, also as `G01`; `G1.0` and `G-0`
     /// count as other). `false` promises that every `G` word is `G0`, `G1`, `G2` or `G3`.
@@ -133,6 +140,19 @@ pub(crate) fn is_plain_motion(value: f64, has_dot: bool) -> bool {
 }
 
 const THREE_BITS: u64 = 3.0f64.to_bits();
+
+/// Where a word's letter is kept in a [`WordIndex`]: as in [`WordSummary`], `A`–`Z` at 1–26 and
+/// `$` at 0 (a word's letter is always one of these).
+#[inline(always)]
+pub(crate) fn letter_slot(letter: u8) -> usize {
+    usize::from(letter & 31) & usize::from(letter != b'$').wrapping_neg()
+}
+
+/// For each letter, the position in the line's words of the last word it begins: filled by the
+/// lexer (one store a word) so that a caller can go straight to a word instead of looking through
+/// the line. Only the entries of letters the line's [`WordSummary`] shows are meaningful; the others
+/// are left from earlier lines.
+pub type WordIndex = [u32; 32];
 
 /// What a line holds besides its words.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -238,6 +258,7 @@ pub(crate) fn lex_buffered_line(
     line_no: u32,
     offset: u64,
     words: &mut [Word; FAST_WORDS],
+    index: &mut WordIndex,
 ) -> Option<BufferedLine> {
     // The reader hands over whole lines only; the numbers below rely on the final line end.
     if input.last() != Some(&b'\n') {
@@ -270,6 +291,7 @@ pub(crate) fn lex_buffered_line(
                 raw_skip: 0,
                 span: Span::new(offset + i as u64, (end - i) as u32, line_no, i as u32 + 1),
             };
+            index[usize::from(letter & 31)] = count as u32;
             count += 1;
             // Words are mostly separated by one blank: step over it here.
             i = end + usize::from(input.get(end) == Some(&b' '));

@@ -3,7 +3,8 @@
 use std::io::BufRead;
 
 use super::lexer::{
-    lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordSummary, FAST_WORDS,
+    letter_slot, lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordIndex,
+    WordSummary, FAST_WORDS,
 };
 use crate::diag::{Code, Diagnostic, Span};
 
@@ -29,6 +30,8 @@ pub struct Line<'a> {
     /// and the dialects' prefilters trust it: code that builds a `Line` itself sets it with
     /// [`WordSummary::of`]`(words)`.
     pub summary: WordSummary,
+    /// Where each letter's last word is in `words` ([`unique_word`](Line::unique_word)).
+    pub(crate) index: &'a WordIndex,
 }
 
 impl Line<'_> {
@@ -46,6 +49,26 @@ impl Line<'_> {
                 .words
                 .iter()
                 .any(|w| w.letter == b'G' && is_g_code(w.value, code))
+    }
+
+    /// Whether no letter begins two words of the line: then [`unique_word`](Line::unique_word)
+    /// finds every word.
+    #[inline(always)]
+    pub fn letters_unique(&self) -> bool {
+        self.summary.letters() == self.words.len()
+    }
+
+    /// The word this letter begins, in a line whose letters are unique
+    /// ([`letters_unique`](Line::letters_unique)); `None` where the line has no such word. Found
+    /// through the lexer's index rather than by looking through the words.
+    #[inline(always)]
+    pub fn unique_word(&self, letter: u8) -> Option<&Word> {
+        debug_assert!(self.letters_unique());
+        if self.summary.has_letter(letter) {
+            self.words.get(self.index[letter_slot(letter)] as usize)
+        } else {
+            None
+        }
     }
 
     /// A span covering the whole line, for diagnostics about the block rather than one word.
@@ -103,6 +126,8 @@ pub struct Reader<R> {
     words: Vec<Word>,
     /// The words of a line the fast path read (a fixed array: no length or capacity to keep).
     fast_words: [Word; FAST_WORDS],
+    /// Where each letter's word is, for the line handed out last (either lexer).
+    index: WordIndex,
     line_no: u32,
     offset: u64,
     done: bool,
@@ -120,6 +145,7 @@ impl<R: BufRead> Reader<R> {
             eof: false,
             words: Vec::with_capacity(16),
             fast_words: [Word::EMPTY; FAST_WORDS],
+            index: [0; 32],
             line_no: 0,
             offset: 0,
             done: false,
@@ -206,6 +232,10 @@ impl<R: BufRead> Reader<R> {
         ) {
             Ok(shape) => {
                 let summary = WordSummary::of(&self.words);
+                for (at, w) in self.words.iter().enumerate() {
+                    // A line has fewer than 2^32 words: it is at most MAX_LINE_BYTES long.
+                    self.index[letter_slot(w.letter)] = at as u32;
+                }
                 Some(Ok(self.take_line(shape, summary, text_len, raw_len, None)))
             }
             Err(e) => {
@@ -255,6 +285,7 @@ impl<R: BufRead> Reader<R> {
             self.line_no + 1,
             self.offset,
             &mut self.fast_words,
+            &mut self.index,
         )
     }
 
@@ -293,6 +324,7 @@ impl<R: BufRead> Reader<R> {
             shape,
             before,
             summary,
+            index: &self.index,
         }
     }
 
@@ -452,6 +484,7 @@ mod tests {
             got.push(match l {
                 Ok(l) => {
                     last = l.number;
+                    check_index(&l);
                     let at = l.offset as usize;
                     assert_eq!(l.before, &input[at - l.before.len()..at]);
                     if !may_read {
@@ -475,6 +508,28 @@ mod tests {
         got
     }
 
+    /// The line's word index: each letter's last word, whichever lexer read the line; and
+    /// `unique_word` finds each word of a line whose letters are unique.
+    fn check_index(l: &Line) {
+        for (at, w) in l.words.iter().enumerate() {
+            let last = l.words.iter().rposition(|v| v.letter == w.letter).unwrap();
+            assert_eq!(
+                l.index[letter_slot(w.letter)] as usize,
+                last,
+                "{:?}",
+                l.text
+            );
+        }
+        let unique =
+            (1..l.words.len()).all(|i| l.words[..i].iter().all(|v| v.letter != l.words[i].letter));
+        assert_eq!(l.letters_unique(), unique, "{:?}", l.text);
+        if unique {
+            for w in l.words {
+                assert_eq!(l.unique_word(w.letter), Some(w));
+            }
+        }
+    }
+
     /// What the reader gives when the caller asks `next_plain_line` first, as `drive` does: the
     /// lines `put_back` picks (by their number) are given back and read again, and every line the
     /// fast path does not read is read with `next_line_by_reference`.
@@ -493,6 +548,7 @@ mod tests {
                     r.put_back(len);
                 } else {
                     last = l.number;
+                    check_index(&l);
                     got.push((
                         l.number,
                         l.offset,
