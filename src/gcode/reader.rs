@@ -511,7 +511,7 @@ mod tests {
     /// The line's word index: each letter's last word, whichever lexer read the line; and
     /// `unique_word` finds each word of a line whose letters are unique.
     fn check_index(l: &Line) {
-        for (at, w) in l.words.iter().enumerate() {
+        for w in l.words {
             let last = l.words.iter().rposition(|v| v.letter == w.letter).unwrap();
             assert_eq!(
                 l.index[letter_slot(w.letter)] as usize,
