@@ -266,10 +266,11 @@ impl<R: BufRead> Reader<R> {
     }
 
     /// Gives back the line of `raw_len` bytes that [`next_plain_line`](Self::next_plain_line)
-    /// has just handed out: the next call reads it again. (For a caller that looks at a line before
-    /// deciding to read it another way.)
+    /// has just handed out: the next call reads it again. (For `program`'s run loop, which looks at
+    /// a line before deciding to read it another way; only right after that call, hence not public.)
     #[inline(always)]
-    pub fn put_back(&mut self, raw_len: usize) {
+    pub(crate) fn put_back(&mut self, raw_len: usize) {
+        debug_assert!(raw_len <= self.start && self.line_no > 0);
         self.start -= raw_len;
         self.offset -= raw_len as u64;
         self.line_no -= 1;
