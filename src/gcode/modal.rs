@@ -173,9 +173,8 @@ impl Modal {
             return self.apply_words(conv, line);
         }
         if let Some(g) = line.unique_word(b'G') {
-            // The summary promises G0–G3: the whole number 0–3 is in the low bits of the value
-            // plus 2^52.
-            self.motion = PLAIN_MOTION[(g.value + TWO_POW_52).to_bits() as usize & 3];
+            // The summary promises G0–G3.
+            self.motion = plain_motion(g);
         }
         let plain_motion = matches!(
             self.motion,
@@ -236,9 +235,7 @@ impl Modal {
             } else if w.letter == b'G' {
                 // Most G words are G0–G3: no need for `g_code`'s rounding.
                 if is_plain_motion(w.value, w.has_dot) {
-                    // The whole number 0–3 is in the low bits of the value plus 2^52.
-                    let code = (w.value + TWO_POW_52).to_bits() as usize & 3;
-                    self.motion = PLAIN_MOTION[code];
+                    self.motion = plain_motion(w);
                     continue;
                 }
                 let Some(code) = g_code(w.value) else {
@@ -297,8 +294,6 @@ impl Modal {
         let to = self.target_of(&axes, from)?;
         self.position = Some(to);
         let lead = if self.motion == MotionMode::Thread {
-            // Not `ok_or_else` with a closure: a closure that holds the line makes the run loop
-            // keep the line in memory (measured: ~45 instructions a line, docs/performance.md).
             let Some(lead) = self.lead else {
                 return Err(no_lead(line.span()));
             };
@@ -409,7 +404,13 @@ const AXES: [u8; 128] = {
     t
 };
 
-const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
+/// The motion of a `G0`–`G3` word ([`is_plain_motion`]): its whole number 0–3 is in the low bits
+/// of the value plus 2^52 (no rounding and no conversion to an integer).
+#[inline(always)]
+fn plain_motion(g: &Word) -> MotionMode {
+    const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
+    PLAIN_MOTION[(g.value + TWO_POW_52).to_bits() as usize & 3]
+}
 
 /// G0, G1, G2, G3.
 const PLAIN_MOTION: [MotionMode; 4] = [
