@@ -285,7 +285,7 @@ impl Modal {
         }
         let Some(from) = self.position else {
             // Absolute moves establish the position; an incremental one from nowhere stays unknown.
-            if self.absolute && has_letter(line.words, b'X') && has_letter(line.words, b'Z') {
+            if self.absolute && line.word(b'X').is_some() && line.word(b'Z').is_some() {
                 let to = self.target_of(&axes, Pos::default())?;
                 self.position = Some(to);
             }
@@ -346,7 +346,6 @@ impl Modal {
     }
 
     /// Reads F (lead in program units per revolution) or the dialect's TPI word into the modal lead.
-    /// (It takes the words rather than the line so that the run loop's line can stay in registers.)
     pub fn read_lead(&mut self, conv: &Conventions, words: &[Word]) -> Result<()> {
         let word = |letter| words.iter().find(|w: &&Word| w.letter == letter);
         let f = word(conv.lead_letter);
@@ -456,10 +455,6 @@ impl<'w> AxisWords<'w> {
         };
         first.unwrap_or(w)
     }
-}
-
-fn has_letter(words: &[Word], letter: u8) -> bool {
-    words.iter().any(|w| w.letter == letter)
 }
 
 #[cold]
