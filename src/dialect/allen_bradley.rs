@@ -60,6 +60,7 @@ impl AllenBradley {
                 },
                 set_position: G92,
                 canned_cycles: &[],
+                units_codes: crate::gcode::modal::G20_G21,
             },
             machine: machine.clone(),
             params,

@@ -47,6 +47,7 @@ impl Fanuc {
                 lead_along_path: false,
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 900, 920, 940],
+                units_codes: crate::gcode::modal::G20_G21,
             },
             family: FanucFamily::new(
                 Flavour {
