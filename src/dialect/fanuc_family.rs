@@ -346,7 +346,17 @@ impl FanucFamily {
             };
         };
         let name = g_name(code);
-        super::alone_in_block(line, gword.span, &name, &[])?;
+        // In systems B and C a G90/G91 may share the cycle's block: it applies to the block's own
+        // words (and stays in force), as on the modal reader's blocks.
+        let distance: &[u16] = if codes.g90_g91 { &[900, 910] } else { &[] };
+        super::alone_in_block(line, gword.span, &name, distance)?;
+        for (_, c) in gs() {
+            match c {
+                Some(900) if codes.g90_g91 => modal.absolute = true,
+                Some(910) if codes.g90_g91 => modal.absolute = false,
+                _ => {}
+            }
+        }
         let second = line
             .words
             .iter()
@@ -1013,7 +1023,7 @@ pub fn native_g76(
     let g = &job.geometry;
     if job.lead.phase_deg != 0.0 {
         return Err(format!(
-            "the two-block {name} has no start angle (its Q is the first depth)"
+            "the two-block {name} has no start angle: its Q is the first depth"
         ));
     }
     if job.return_path != ReturnPath::Box

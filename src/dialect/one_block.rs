@@ -358,7 +358,8 @@ pub struct G76Words {
 }
 
 /// A Fanuc-family one-block `G76` (X(U) Z(W) I K D F A P Q): the words as `words` allows them,
-/// the rest from `setup`.
+/// the rest from `setup`. The caller ([`super::fanuc_family`]) has checked that no other G code
+/// shares the block.
 #[allow(clippy::too_many_arguments)]
 pub fn read_g76(
     conv: &Conventions,
@@ -370,8 +371,8 @@ pub fn read_g76(
     setup: &Setup,
     warnings: &mut Vec<Diagnostic>,
 ) -> Result<Job> {
-    super::only_words(line, words.letters, &format!("a one-block {name}"), words.format)?;
-    super::alone_in_block(line, g76, name, &[])?;
+    // The end point first: a block without one is most often the other G76 form, which the hint
+    // names (its other words would draw a less helpful error).
     if line.word(b'X').or(line.word(b'U')).is_none()
         || line.word(b'Z').or(line.word(b'W')).is_none()
     {
@@ -384,6 +385,8 @@ pub fn read_g76(
         )
         .with_hint(two_block_hint(line, name)));
     }
+    // (The family reader has checked the block's other G codes.)
+    super::only_words(line, words.letters, &format!("a one-block {name}"), words.format)?;
     let missing = |word: &str, what: &str| {
         Diagnostic::error(
             Code::MissingWord,
