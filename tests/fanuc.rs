@@ -325,7 +325,11 @@ fn q_is_the_start_angle_of_g32_and_g92() {
         ("G92 X29.2 Z-30. F2. Q1.5", Code::Syntax, 21),
     ] {
         let e = error(&format!("{pre}{block}\n"), &fanuc());
-        assert_eq!((e.code, e.span.line, e.span.column), (code, 2, column), "{block}");
+        assert_eq!(
+            (e.code, e.span.line, e.span.column),
+            (code, 2, column),
+            "{block}"
+        );
     }
     // The two-block G76 has no start angle: its Q is Δd.
     assert_eq!(jobs(M30, &fanuc())[0].lead.phase_deg, 0.0);
@@ -361,7 +365,11 @@ fn g_code_systems_a_b_and_c() {
                 (1e-12, 1e-12),
             )
             .unwrap_or_else(|e| panic!("{e}: {src}"));
-            assert_eq!(y.units, threadcut::units::Units::Mm, "G20 is no unit code in C");
+            assert_eq!(
+                y.units,
+                threadcut::units::Units::Mm,
+                "G20 is no unit code in C"
+            );
         }
     }
     // In B, G91 makes X/Z incremental (U/W stay incremental words too), and G33 is the thread move.
@@ -406,7 +414,10 @@ fn g_code_systems_a_b_and_c() {
     // Native writing uses the system's numbers, and reads back.
     let (text, how) = threadcut::translate::job_to_string(&system_c, &ja[2]).unwrap();
     assert_eq!(how, threadcut::translate::Written::Native, "{text}");
-    assert!(text.starts_with("G78 P020060 Q100 R0.05\nG78 X27.546 Z-30. P1227 Q400 F2."), "{text}");
+    assert!(
+        text.starts_with("G78 P020060 Q100 R0.05\nG78 X27.546 Z-30. P1227 Q400 F2."),
+        "{text}"
+    );
     let (text, _) = threadcut::translate::job_to_string(&system_c, &ja[0]).unwrap();
     assert_eq!(text, "G21 X29.2 Z-30. F2.\n");
 }

@@ -159,10 +159,16 @@ fn two_starts_by_q() {
     // The one-block G76 writes the start angle back: the native cycle reads back with it.
     let (text, how) = translate::job_to_string(&machine("fanuc15"), &js[1]).unwrap();
     assert_eq!(how, translate::Written::Native, "{text}");
-    assert!(text.starts_with("G76 X27.546 Z-30. K1.227 D0.4 F4. A60 P1 Q180000"), "{text}");
+    assert!(
+        text.starts_with("G76 X27.546 Z-30. K1.227 D0.4 F4. A60 P1 Q180000"),
+        "{text}"
+    );
     // The standard format's two-block G76 cannot: plain moves with Q on each pass, and the reason.
     let (text, how) = translate::job_to_string(&machine("fanuc"), &js[1]).unwrap();
-    assert!(matches!(how, translate::Written::Plain(ref why) if why.contains("start angle")), "{text}");
+    assert!(
+        matches!(how, translate::Written::Plain(ref why) if why.contains("start angle")),
+        "{text}"
+    );
     assert!(text.contains("G32 X29.2 Z-25.523 F4. Q180000\n"), "{text}");
 }
 
@@ -174,7 +180,10 @@ fn g92_with_i_and_q() {
     assert_eq!(js[1].geometry.crest_start.x, 13.8, "the repeat keeps I");
     assert_eq!((js[0].lead.phase_deg, js[1].lead.phase_deg), (90.0, 90.0));
     let e = error("G21\nG00 X40. Z5.\nG92 X29.2 Z-30. R-0.5 F2.\n");
-    assert_eq!((e.code, e.span.line, e.span.column), (Code::Unsupported, 3, 17));
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::Unsupported, 3, 17)
+    );
     // Read back as G92 with I and Q.
     let (text, how) = translate::job_to_string(&machine("fanuc15"), &js[0]).unwrap();
     assert_eq!(how, translate::Written::Native);
@@ -185,16 +194,55 @@ fn g92_with_i_and_q() {
 fn fs15_alarms_at_line_and_column() {
     let pre = "G21\nG00 X32. Z5.\n";
     for (block, code, column, text) in [
-        ("G76 X27.546 Z-30. K0 D0.4 F2.", Code::OutOfRange, 19, "PS0062"),
-        ("G76 X27.546 Z-30. K1.227 D0 F2.", Code::OutOfRange, 26, "PS0062"),
-        ("G76 X27.546 Z-30. K1.227 D0.4 E2.", Code::Unsupported, 31, "E on G76"),
-        ("G76 X27.546 Z-30. K1.227 D0.4 F2. A130", Code::OutOfRange, 35, "0 to 120"),
-        ("G76 X27.546 Z-30. K1.227 D0.4 F2. P0", Code::OutOfRange, 35, "1 to 4"),
-        ("G76 X27.546 Z-30. K1.227 D0.4 F2. Q-1", Code::OutOfRange, 35, "0 to 360000"),
-        ("G76 X27.546 Z-30. K1.227 D0.4", Code::MissingWord, 1, "no lead"),
+        (
+            "G76 X27.546 Z-30. K0 D0.4 F2.",
+            Code::OutOfRange,
+            19,
+            "PS0062",
+        ),
+        (
+            "G76 X27.546 Z-30. K1.227 D0 F2.",
+            Code::OutOfRange,
+            26,
+            "PS0062",
+        ),
+        (
+            "G76 X27.546 Z-30. K1.227 D0.4 E2.",
+            Code::Unsupported,
+            31,
+            "E on G76",
+        ),
+        (
+            "G76 X27.546 Z-30. K1.227 D0.4 F2. A130",
+            Code::OutOfRange,
+            35,
+            "0 to 120",
+        ),
+        (
+            "G76 X27.546 Z-30. K1.227 D0.4 F2. P0",
+            Code::OutOfRange,
+            35,
+            "1 to 4",
+        ),
+        (
+            "G76 X27.546 Z-30. K1.227 D0.4 F2. Q-1",
+            Code::OutOfRange,
+            35,
+            "0 to 360000",
+        ),
+        (
+            "G76 X27.546 Z-30. K1.227 D0.4",
+            Code::MissingWord,
+            1,
+            "no lead",
+        ),
     ] {
         let e = error(&format!("{pre}{block}\n"));
-        assert_eq!((e.code, e.span.line, e.span.column), (code, 3, column), "{block}: {e}");
+        assert_eq!(
+            (e.code, e.span.line, e.span.column),
+            (code, 3, column),
+            "{block}: {e}"
+        );
         assert!(e.message.contains(text), "{block}: {}", e.message);
     }
     // The standard format's first block on an FS15 control.

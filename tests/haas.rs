@@ -142,8 +142,7 @@ fn p2_metric_internal_alternates() {
     let pull = path
         .motions
         .iter()
-        .filter(|m| m.pass == 10 && matches!(m.kind, MotionKind::Thread { .. }))
-        .last()
+        .rfind(|m| m.pass == 10 && matches!(m.kind, MotionKind::Thread { .. }))
         .unwrap();
     assert!((pull.to.x - 13.0).abs() < 1e-9 && (pull.to.z + 25.0).abs() < 1e-9);
 }
@@ -221,9 +220,7 @@ fn a_absent_is_a_plunge() {
     let job = &jobs(src)[0];
     assert_eq!(job.infeed, threadcut::thread::Infeed::Radial);
     // Every pass starts at the start point's Z; the chip areas assume a 60° tool.
-    assert!(rows(job)
-        .iter()
-        .all(|r| (r.z - 0.25).abs() < 1e-12));
+    assert!(rows(job).iter().all(|r| (r.z - 0.25).abs() < 1e-12));
     assert_eq!(job.tool_angle_deg, 60.0);
 }
 
@@ -266,7 +263,9 @@ fn settings_86_and_99_from_the_profile() {
 #[test]
 fn m24_turns_the_chamfer_off_m23_on() {
     let cycle = "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60\n";
-    let src = format!("G20\nG00 X0.85 Z0.25\n{cycle}M24\n{cycle}G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 M23\n");
+    let src = format!(
+        "G20\nG00 X0.85 Z0.25\n{cycle}M24\n{cycle}G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 M23\n"
+    );
     let js = jobs(&src);
     let one_lead = Exit::PullOut {
         start_before: 2.54,
@@ -330,7 +329,11 @@ fn q_is_a_start_angle_in_thousandths() {
     };
     assert_eq!(one("Q120000"), 120.0);
     assert_eq!(one("Q1"), 0.001);
-    assert_eq!(one("Q360000"), 0.0, "360° is the one-revolution signal again");
+    assert_eq!(
+        one("Q360000"),
+        0.0,
+        "360° is the one-revolution signal again"
+    );
 }
 
 #[test]
@@ -341,20 +344,34 @@ fn g32_q_and_e() {
     assert_eq!(expand(&src, &haas()), src);
     assert!(jobs(&src).is_empty());
     for (block, code, column, text) in [
-        ("G32 Z-1. F0.125 Q90.", Code::Syntax, 17, "without a decimal point"),
-        ("G32 Z-1. F0.125 Q361000", Code::OutOfRange, 17, "0 to 360000"),
+        (
+            "G32 Z-1. F0.125 Q90.",
+            Code::Syntax,
+            17,
+            "without a decimal point",
+        ),
+        (
+            "G32 Z-1. F0.125 Q361000",
+            Code::OutOfRange,
+            17,
+            "0 to 360000",
+        ),
         ("G32 Z-1. E0.125", Code::Unsupported, 10, "E is not a word"),
     ] {
         let e = error_on(&format!("{pre}{block}\n"), &haas());
-        assert_eq!((e.code, e.span.line, e.span.column), (code, 3, column), "{block}");
+        assert_eq!(
+            (e.code, e.span.line, e.span.column),
+            (code, 3, column),
+            "{block}"
+        );
         assert!(e.message.contains(text), "{block}: {}", e.message);
     }
     // While G32 is modal, a block of axis words with a Q is a thread move too.
-    let e = error_on(
-        &format!("{pre}G32 Z-0.5 F0.125\nX1. Z-1. Q-5\n"),
-        &haas(),
+    let e = error_on(&format!("{pre}G32 Z-0.5 F0.125\nX1. Z-1. Q-5\n"), &haas());
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::OutOfRange, 4, 10)
     );
-    assert_eq!((e.code, e.span.line, e.span.column), (Code::OutOfRange, 4, 10));
     // Elsewhere Q is another word's (a G71 P..Q.. block): not checked.
     let src = format!("{pre}G71 P10 Q20 U0.02 W0.005 D0.05 F0.01\nG00 X1.2\n");
     assert!(program::jobs(src.as_bytes(), &haas()).is_ok());
@@ -364,25 +381,120 @@ fn g32_q_and_e() {
 fn haas_alarms_at_line_and_column() {
     let pre = "G20\nG00 X0.85 Z0.25\n";
     let cases: &[(&str, Code, u32, &str)] = &[
-        ("G76 X0.6272 Z-1. D0.02 F0.1 A60", Code::MissingWord, 1, "needs K"),
-        ("G76 X0.6272 Z-1. K0 D0.02 F0.1 A60", Code::OutOfRange, 18, "above zero"),
-        ("G76 X0.6272 Z-1. K0.0614 F0.1 A60", Code::MissingWord, 1, "needs D"),
-        ("G76 X0.6272 Z-1. K0.0614 D-0.02 F0.1", Code::OutOfRange, 26, "unsigned"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A121", Code::OutOfRange, 37, "0 to 120"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60.", Code::Syntax, 37, "without a decimal point"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 P5", Code::OutOfRange, 41, "1 to 4"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 Q180.", Code::Syntax, 41, "without a decimal point"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 Q400000", Code::OutOfRange, 41, "0 to 360000"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 E0.1", Code::Conflict, 37, "either F or E"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 A60", Code::MissingWord, 1, "no lead"),
-        ("G76 Z-1. K0.0614 D0.02 F0.1 A60", Code::MissingWord, 1, "X (or U)"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 R0.01", Code::Unsupported, 37, "not a word"),
-        ("G00 G76 X0.6272 Z-1. K0.0614 D0.02 F0.1", Code::Conflict, 1, "shares a block"),
-        ("G76 X0.6272 Z0.25 K0.0614 D0.02 F0.1", Code::Geometry, 1, "no length"),
-        ("G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 I-1.3", Code::Geometry, 1, "taper"),
-        ("G76 X0.8 Z-1. K0.0614 D0.02 F0.1", Code::Geometry, 1, "inside the thread"),
-        ("G76 X0.85 Z-1. K0.0614 D0.02 F0.1", Code::Geometry, 1, "external from an internal"),
-        ("G76 X0.6272 Z-0.2 K0.0614 D0.02 F0.5", Code::Geometry, 1, "not shorter than the thread"),
+        (
+            "G76 X0.6272 Z-1. D0.02 F0.1 A60",
+            Code::MissingWord,
+            1,
+            "needs K",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0 D0.02 F0.1 A60",
+            Code::OutOfRange,
+            18,
+            "above zero",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 F0.1 A60",
+            Code::MissingWord,
+            1,
+            "needs D",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D-0.02 F0.1",
+            Code::OutOfRange,
+            26,
+            "unsigned",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A121",
+            Code::OutOfRange,
+            37,
+            "0 to 120",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60.",
+            Code::Syntax,
+            37,
+            "without a decimal point",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 P5",
+            Code::OutOfRange,
+            41,
+            "1 to 4",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 Q180.",
+            Code::Syntax,
+            41,
+            "without a decimal point",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60 Q400000",
+            Code::OutOfRange,
+            41,
+            "0 to 360000",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 E0.1",
+            Code::Conflict,
+            37,
+            "either F or E",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 A60",
+            Code::MissingWord,
+            1,
+            "no lead",
+        ),
+        (
+            "G76 Z-1. K0.0614 D0.02 F0.1 A60",
+            Code::MissingWord,
+            1,
+            "X (or U)",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 R0.01",
+            Code::Unsupported,
+            37,
+            "not a word",
+        ),
+        (
+            "G00 G76 X0.6272 Z-1. K0.0614 D0.02 F0.1",
+            Code::Conflict,
+            1,
+            "shares a block",
+        ),
+        (
+            "G76 X0.6272 Z0.25 K0.0614 D0.02 F0.1",
+            Code::Geometry,
+            1,
+            "no length",
+        ),
+        (
+            "G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 I-1.3",
+            Code::Geometry,
+            1,
+            "taper",
+        ),
+        (
+            "G76 X0.8 Z-1. K0.0614 D0.02 F0.1",
+            Code::Geometry,
+            1,
+            "inside the thread",
+        ),
+        (
+            "G76 X0.85 Z-1. K0.0614 D0.02 F0.1",
+            Code::Geometry,
+            1,
+            "external from an internal",
+        ),
+        (
+            "G76 X0.6272 Z-0.2 K0.0614 D0.02 F0.5",
+            Code::Geometry,
+            1,
+            "not shorter than the thread",
+        ),
     ];
     for &(cycle, code, column, text) in cases {
         let e = error_on(&format!("{pre}{cycle}\n"), &haas());
@@ -395,9 +507,15 @@ fn haas_alarms_at_line_and_column() {
     }
     // The first block of the two-block G76: the hint names the form and the controller that reads it.
     let e = error_on(&format!("{pre}G76 P010060 Q0015 R0.001\n"), &haas());
-    assert_eq!((e.code, e.span.line, e.span.column), (Code::MissingWord, 3, 1));
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::MissingWord, 3, 1)
+    );
     let hint = e.hint.unwrap();
-    assert!(hint.contains("two-block") && hint.contains("--controller fanuc"), "{hint}");
+    assert!(
+        hint.contains("two-block") && hint.contains("--controller fanuc"),
+        "{hint}"
+    );
     // Before any position is known.
     let e = error_on("G20\nG76 X0.6272 Z-1. K0.0614 D0.02 F0.1\n", &haas());
     assert_eq!((e.code, e.span.line), (Code::UnknownPosition, 2));

@@ -509,7 +509,14 @@ impl FanucFamily {
         )?;
         let height = match line.word(b'P') {
             Some(w) => self.increments(modal, w, "P(k)", "the thread height (radius)")?,
-            None => return Err(alarm_missing(g76, &name, "P(k)", "the thread height (radius)")),
+            None => {
+                return Err(alarm_missing(
+                    g76,
+                    &name,
+                    "P(k)",
+                    "the thread height (radius)",
+                ))
+            }
         };
         let first = match line.word(b'Q') {
             Some(w) => self.increments(modal, w, "Q(Δd)", "the depth of the first cut (radius)")?,
@@ -1066,14 +1073,16 @@ pub fn native_g76(
         Exit::PullOut { length, .. } => {
             let tenths = length / (0.1 * lead);
             if (tenths - tenths.round()).abs() > 1e-6 || tenths.round() > 99.0 {
-                return Err(format!("{name}'s chamfer is a whole number of tenths of a lead, 0 to 99"));
+                return Err(format!(
+                    "{name}'s chamfer is a whole number of tenths of a lead, 0 to 99"
+                ));
             }
             tenths.round() as u32
         }
         Exit::ToRetract { .. } | Exit::FeedOut { .. } => {
-            return Err(
-                format!("{name}'s chamfer is a synchronised pull-out ending at the thread's end"),
-            )
+            return Err(format!(
+                "{name}'s chamfer is a synchronised pull-out ending at the thread's end"
+            ))
         }
     };
     let u = job.units;

@@ -554,13 +554,8 @@ impl Dialect for Gsk {
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
         // G78 first; the Fanuc-family cycles when G78 cannot; G78's reason when none can.
         native_g78(&self.machine, job).or_else(|why| {
-            fanuc_family::native_g92(
-                &self.machine,
-                &self.family.codes,
-                &self.family.flavour,
-                job,
-            )
-            .or_else(|_| fanuc_family::native_g76(&self.machine, &self.family.codes, job))
+            fanuc_family::native_g92(&self.machine, &self.family.codes, &self.family.flavour, job)
+                .or_else(|_| fanuc_family::native_g76(&self.machine, &self.family.codes, job))
                 .map_err(|_| why)
         })
     }

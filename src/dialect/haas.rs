@@ -124,9 +124,7 @@ impl Dialect for Haas {
     /// The family's blocks, and blocks with an M (M23/M24) or an E (on G32).
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        self.family.wants(line)
-            || line.summary.has_letter(b'M')
-            || line.summary.has_letter(b'E')
+        self.family.wants(line) || line.summary.has_letter(b'M') || line.summary.has_letter(b'E')
     }
 
     fn read(

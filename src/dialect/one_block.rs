@@ -46,7 +46,7 @@ impl Infeed {
 
     /// P2 and P4 cut on both edges, alternating.
     pub fn alternating(self) -> bool {
-        self.0 % 2 == 0
+        self.0.is_multiple_of(2)
     }
 
     /// P3 and P4 cut the same depth every pass; P1 and P2 the same chip area.
@@ -115,7 +115,7 @@ pub struct Setup {
 /// A radius word that is unsigned and above zero (K, D), in mm.
 pub fn positive(modal: &Modal, w: &Word, what: &str) -> Result<f64> {
     let v = modal.value(w);
-    if !(v > 0.0) {
+    if v <= 0.0 {
         return Err(Diagnostic::error(
             Code::OutOfRange,
             w.span,
@@ -386,7 +386,12 @@ pub fn read_g76(
         .with_hint(two_block_hint(line, name)));
     }
     // (The family reader has checked the block's other G codes.)
-    super::only_words(line, words.letters, &format!("a one-block {name}"), words.format)?;
+    super::only_words(
+        line,
+        words.letters,
+        &format!("a one-block {name}"),
+        words.format,
+    )?;
     let missing = |word: &str, what: &str| {
         Diagnostic::error(
             Code::MissingWord,
@@ -490,7 +495,9 @@ fn lead(line: &Line, modal: &mut Modal, g76: Span, name: &str, e_is_lead: bool) 
             return Err(Diagnostic::error(
                 Code::Unsupported,
                 e.span,
-                format!("E on {name} means threads per inch or a precise lead depending on the series"),
+                format!(
+                    "E on {name} means threads per inch or a precise lead depending on the series"
+                ),
             )
             .with_hint("write the lead with F"))
         }
@@ -539,7 +546,9 @@ pub fn native_g76(
         return Err(format!("{name} has no entry ramp"));
     }
     if job.lead.dlead != 0.0 || job.lead.starts != 1 {
-        return Err(format!("{name} cuts one start of a constant lead (a start angle Q shifts it)"));
+        return Err(format!(
+            "{name} cuts one start of a constant lead (a start angle Q shifts it)"
+        ));
     }
     if job.finish_at != FinishPosition::Axis {
         return Err(format!("{name} finishes on the groove's axis"));

@@ -463,7 +463,9 @@ pub fn motion_json(m: &Motion, units: Units) -> String {
     match m.kind {
         MotionKind::Thread { phase_deg, .. } if phase_deg != 0.0 => {
             let plain = motion_json_without_phase(m, units);
-            let at = plain.rfind(r#","pass":"#).expect("a thread object has a pass");
+            let at = plain
+                .rfind(r#","pass":"#)
+                .expect("a thread object has a pass");
             format!(
                 r#"{},"phase":{}{}"#,
                 &plain[..at],
