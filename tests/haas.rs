@@ -531,3 +531,33 @@ fn haas_alarms_at_line_and_column() {
         .iter()
         .any(|w| w.code == Code::Suspicious && w.message.contains("one pass")));
 }
+
+/// `post` and `convert` write Haas's own cycles where they reproduce the motion: the one-block G76
+/// (A, P, Q included) and G92 with I and Q; a job whose finishing allowance is not Setting 86's is
+/// plain moves with the reason.
+#[test]
+fn native_cycles_read_back() {
+    use threadcut::translate::{job_to_string, Written};
+    let src = "G20\nG00 X0.9 Z0.3\nG76 X0.6273 Z-1.125 K0.0613 D0.015 F0.1 A60 P2 Q90000\nG92 X0.7 Z-1. I-0.02 F0.1 Q270000\n";
+    let js = jobs(src);
+    let (text, how) = job_to_string(&haas(), &js[0]).unwrap();
+    assert_eq!(how, Written::Native, "{text}");
+    assert_eq!(
+        text,
+        "G76 X0.6273 Z-1.125 K0.0613 D0.015 F0.1 A60 P2 Q90000\n"
+    );
+    let (text, how) = job_to_string(&haas(), &js[1]).unwrap();
+    assert_eq!(how, Written::Native, "{text}");
+    assert_eq!(text, "G92 X0.7 Z-1. I-0.02 F0.1 Q270000\n");
+    // Fanuc's two-block G76 leaves 0.05 mm for its finishing passes; Haas's Setting 86 is 0.
+    let fanuc = Machine::built_in("fanuc").unwrap();
+    let job = &jobs_on(
+        "G0 X32. Z5.\nG76 P011060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\n",
+        &fanuc,
+    )[0];
+    let (text, how) = job_to_string(&haas(), job).unwrap();
+    assert!(
+        matches!(how, Written::Plain(ref why) if why.contains("Setting 86")),
+        "{text}"
+    );
+}

@@ -106,3 +106,38 @@ fn a_haas_program_on_fanuc_names_the_right_controllers() {
         "{err}"
     );
 }
+
+#[test]
+fn convert_refuses_g_code_systems_it_cannot_rewrite_yet() {
+    let out = threadcut(&[
+        "convert",
+        &example("fanuc-m30x2-g76.nc"),
+        "--from",
+        "fanuc",
+        "--to",
+        "fanuc-b",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("G-code system B"));
+    // Haas and the FS15 format are system A: their cycles convert through the model.
+    let dir = std::env::temp_dir().join(format!("threadcut-ff-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("fs15.nc");
+    std::fs::write(
+        &file,
+        "G21 G99\nG00 X32. Z5.\nG76 X27.546 Z-30. K1.227 D0.4 F2. A60 P1\nG00 X100.\n",
+    )
+    .unwrap();
+    let text = ok(threadcut(&[
+        "convert",
+        file.to_str().unwrap(),
+        "--from",
+        "fanuc15",
+        "--to",
+        "fanuc",
+    ]));
+    assert!(
+        text.contains("G76 P011060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\n"),
+        "{text}"
+    );
+}

@@ -650,21 +650,7 @@ impl FanucFamily {
     ) -> Result<Job> {
         let f = self.flavour;
         let name = g_name(self.codes.single);
-        // E is read only to refuse it with its own message (except where it is the lead).
-        let mut letters: Vec<u8> = b"GNXZUWFE".to_vec();
-        letters.push(f.taper_letter);
-        let mut format = format!("X(U) Z(W) {}(i) F(L)", f.taper_letter as char);
-        if conv.tpi_letter != 0 {
-            letters.push(conv.tpi_letter);
-        }
-        if f.gsk_g92_words {
-            letters.extend_from_slice(b"JKL");
-            format.push_str(" or I(threads per inch), J K L");
-        }
-        if f.start_angle {
-            letters.push(b'Q');
-            format.push_str(" Q(start angle)");
-        }
+        let (letters, format) = self.g92_words(conv);
         only_words(line, &letters, &format!("a {name} block"), &format)?;
         let lead = self.lead(conv, line, modal, span, &name)?;
         let a = start_point(modal, span, &name)?;
@@ -686,26 +672,7 @@ impl FanucFamily {
             Some(r) => modal.length_mm(r),
             None => repeat.map_or(0.0, |m| m.taper),
         };
-        let phase_deg = match line.word(b'Q').filter(|_| f.start_angle) {
-            Some(q) => start_angle(q)?,
-            None => {
-                if let Some(m) = repeat.filter(|m| m.phase_deg != 0.0) {
-                    warnings.push(
-                        Diagnostic::warning(
-                            Code::Suspicious,
-                            span,
-                            format!(
-                                "this pass starts at 0°: the start angle Q{} of line {} is not modal",
-                                crate::post::start_angle_count(m.phase_deg),
-                                m.phase_line
-                            ),
-                        )
-                        .with_hint("repeat Q on every pass of a start other than the first"),
-                    );
-                }
-                0.0
-            }
-        };
+        let phase_deg = self.g92_start_angle(line, span, repeat, warnings)?;
         self.g92 = Some(G92Modal {
             end_z: end.z,
             taper,
@@ -769,6 +736,56 @@ impl FanucFamily {
             retract: Retract { x: a.x, z: a.z },
             return_path: ReturnPath::Box,
         })
+    }
+
+    /// The single-pass cycle's words on this controller (E is read only to refuse it with its own
+    /// message, except where it is the lead), and the hint that lists them.
+    fn g92_words(&self, conv: &Conventions) -> (Vec<u8>, String) {
+        let f = self.flavour;
+        let mut letters: Vec<u8> = b"GNXZUWFE".to_vec();
+        letters.push(f.taper_letter);
+        let mut format = format!("X(U) Z(W) {}(i) F(L)", f.taper_letter as char);
+        if conv.tpi_letter != 0 {
+            letters.push(conv.tpi_letter);
+        }
+        if f.gsk_g92_words {
+            letters.extend_from_slice(b"JKL");
+            format.push_str(" or I(threads per inch), J K L");
+        }
+        if f.start_angle {
+            letters.push(b'Q');
+            format.push_str(" Q(start angle)");
+        }
+        (letters, format)
+    }
+
+    /// The pass's start angle: its own Q, else 0 — Q is not modal, and a repeat without one after
+    /// a pass that had one draws a warning (the usual slip on a second start).
+    fn g92_start_angle(
+        &self,
+        line: &Line,
+        span: Span,
+        repeat: Option<G92Modal>,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<f64> {
+        if let Some(q) = line.word(b'Q').filter(|_| self.flavour.start_angle) {
+            return start_angle(q);
+        }
+        if let Some(m) = repeat.filter(|m| m.phase_deg != 0.0) {
+            warnings.push(
+                Diagnostic::warning(
+                    Code::Suspicious,
+                    span,
+                    format!(
+                        "this pass starts at 0°: the start angle Q{} of line {} is not modal",
+                        crate::post::start_angle_count(m.phase_deg),
+                        m.phase_line
+                    ),
+                )
+                .with_hint("repeat Q on every pass of a start other than the first"),
+            );
+        }
+        Ok(0.0)
     }
 
     /// GSK's G92 tail-out J (short axis) and K (long axis) in the block's own words, and L starts
