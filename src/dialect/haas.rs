@@ -121,10 +121,17 @@ impl Dialect for Haas {
         &self.conv
     }
 
-    /// The family's blocks, and blocks with an M (M23/M24) or an E (on G32).
+    /// The family's blocks, and blocks with M23/M24 or an E (on G32). Most M blocks (M3, M8) are
+    /// not offered: `read` would leave them as they are.
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        self.family.wants(line) || line.summary.has_letter(b'M') || line.summary.has_letter(b'E')
+        self.family.wants(line)
+            || line.summary.has_letter(b'E')
+            || (line.summary.has_letter(b'M')
+                && line
+                    .words
+                    .iter()
+                    .any(|w| w.letter == b'M' && matches!(g_code(w.value), Some(M23 | M24))))
     }
 
     fn read(
