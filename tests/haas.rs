@@ -561,3 +561,27 @@ fn native_cycles_read_back() {
         "{text}"
     );
 }
+
+/// U/W are incremental X/Z from the start point (system A); E is the lead as F is, on G76 and G92.
+#[test]
+fn u_w_and_e_are_haas_words() {
+    let pre = "G20\nG00 X0.85 Z0.25\n";
+    let abs = &jobs(&format!("{pre}G76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60\n"))[0];
+    let inc = &jobs(&format!(
+        "{pre}G76 U-0.2228 W-1.25 K0.0614 D0.02 E0.1 A60\n"
+    ))[0];
+    threadcut::translate::same_motion(
+        &toolpath::build(abs).unwrap(),
+        &toolpath::build(inc).unwrap(),
+        (1e-9, 1e-12),
+    )
+    .unwrap();
+    let f = &jobs(&format!("{pre}G92 X0.7 Z-1. F0.1\n"))[0];
+    let e = &jobs(&format!("{pre}G92 X0.7 Z-1. E0.1\n"))[0];
+    assert_eq!(f.lead, e.lead);
+    let err = error_on(&format!("{pre}G92 X0.7 Z-1. E0.1 F0.1\n"), &haas());
+    assert_eq!(
+        (err.code, err.span.line, err.span.column),
+        (Code::Conflict, 3, 20)
+    );
+}
