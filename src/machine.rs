@@ -12,6 +12,9 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ("omniturn", include_str!("../profiles/omniturn.toml")),
     ("ab9", include_str!("../profiles/ab9.toml")),
     ("fanuc", include_str!("../profiles/fanuc.toml")),
+    ("fanuc15", include_str!("../profiles/fanuc15.toml")),
+    ("fanuc-b", include_str!("../profiles/fanuc-b.toml")),
+    ("haas", include_str!("../profiles/haas.toml")),
     ("linuxcnc", include_str!("../profiles/linuxcnc.toml")),
 ];
 
@@ -127,11 +130,30 @@ pub struct AbParameters {
     pub finish_passes: u32,
 }
 
+/// Fanuc's G-code systems for lathes (the "G code list" of the lathe manuals; parameter bits, B and
+/// C are options): which G numbers thread, set coordinates and select units. `docs/dialects/fanuc.md`
+/// has the table.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GCodeSystem {
+    /// G32 thread, G92 threading cycle, G50 coordinates, U/W incremental, G20/G21 units.
+    #[default]
+    A,
+    /// G33 thread, G78 threading cycle, G92 coordinates, G90/G91 distance, G20/G21 units.
+    B,
+    /// As B, but G21 is the threading cycle, G70/G71 the units and G72–G78 the multiple
+    /// repetitive cycles (G78: the multiple threading cycle).
+    C,
+}
+
 /// Fanuc parameters of the threading cycles G92/G76 (Fanuc numbering, threading-notes §c.3, §e).
 /// Lengths in mm (radius).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FanucParameters {
+    /// The G-code system (A when absent).
+    #[serde(default)]
+    pub gcode_system: GCodeSystem,
     /// Chamfer (thread pull-out) amount for G92/G76 in 0.1 lead, 0–127.
     pub p5130: u8,
     /// Chamfer angle for G92/G76 in degrees, 1–89; 0 means 45.
@@ -144,6 +166,21 @@ pub struct FanucParameters {
     pub p5142: u8,
     /// G76 tool-tip angle a (degrees).
     pub p5143: u8,
+}
+
+/// The Haas lathe settings that govern its threading cycles (G76, G92), in inches as the Haas
+/// settings pages give them. `docs/dialects/haas.md` gives the source of each.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HaasSettings {
+    /// Setting 86, thread finish allowance (radius): the G76 finishing pass removes it.
+    pub finish_allowance_in: f64,
+    /// Setting 95, thread chamfer size, in leads ("number of threads"); 0: no chamfer.
+    pub chamfer_leads: f64,
+    /// Setting 96, thread chamfer angle (degrees, from the Z axis).
+    pub chamfer_angle_deg: f64,
+    /// Setting 99, thread minimum cut (radius).
+    pub min_cut_in: f64,
 }
 
 /// LinuxCNC settings that are not in the program.
@@ -179,6 +216,8 @@ pub struct Machine {
     pub fanuc: Option<FanucParameters>,
     #[serde(default)]
     pub linuxcnc: Option<LinuxCncSettings>,
+    #[serde(default)]
+    pub haas: Option<HaasSettings>,
 }
 
 impl Machine {

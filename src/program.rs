@@ -639,6 +639,15 @@ mod tests {
         "G78 X8.16 Z-20. K0.92 D0.35 F1.5 A60 P1",
         "G33X.212Z-.5I.012K.05PC",
         "G76 P2.5 Z-30 I-1.0 J0.3 K1.5335",
+        // The one-block G76 (FS15, Haas), start angles, Haas's chamfer switch, system B's G78/G33.
+        "G76 X27.546 Z-30. K1.227 D0.4 F2. A60 P2 Q90000",
+        "G92 X29.2 Z-30. I-0.5 F2. Q180000",
+        "X28.6 Q180000",
+        "G32 Z-3 F1 Q90000",
+        "M24",
+        "M23 M8",
+        "G78 X29.2 Z-30. F2.",
+        "G33 Z-2 F1 Q45000",
         // Errors of the lexer, of the modal state and of the dialects.
         "G0 X1.2.3",
         "G1 X2 U3",

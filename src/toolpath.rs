@@ -14,7 +14,9 @@ pub enum MotionKind {
     Feed,
     /// A spindle-synchronised move. `lead` is the travel per revolution along this move's longer
     /// axis (what a G32/G33 F or K word means), `dlead` its change per revolution, `phase_deg` the
-    /// spindle angle at which it starts.
+    /// spindle angle (degrees after the one-revolution signal) at which the synchronised run this
+    /// move belongs to begins: the same for every move of one run (a pass's thread move and its
+    /// pull-out), since only the run's first move waits for the signal.
     Thread {
         lead: f64,
         dlead: f64,
@@ -110,7 +112,7 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
         MotionKind::Thread {
             lead: lead_on_move(here, to.minus(from), side.is_face()),
             dlead,
-            phase_deg: 0.0,
+            phase_deg: job.lead.phase_deg,
         }
     };
     let diagonal = match job.return_path {
@@ -153,7 +155,7 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                                 MotionKind::Thread {
                                     lead: lead_along_long_axis(path_rate, ramp_start.minus(back)),
                                     dlead: job.lead.dlead,
-                                    phase_deg: 0.0,
+                                    phase_deg: job.lead.phase_deg,
                                 },
                                 ramp_start,
                                 pass.n,

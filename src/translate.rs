@@ -110,6 +110,9 @@ fn tolerance(target: &Machine, units: Units) -> (f64, f64) {
     (pos, lead)
 }
 
+/// Start angles closer than this are the same (degrees): half the 0.001° a `Q` word counts in.
+const PHASE_TOLERANCE_DEG: f64 = 0.0005 + 1e-9;
+
 /// Compares two toolpaths move by move; the first difference is the reason.
 pub fn same_motion(
     a: &Toolpath,
@@ -130,19 +133,23 @@ pub fn same_motion(
                 MotionKind::Thread {
                     lead: la,
                     dlead: da,
-                    ..
+                    phase_deg: pa,
                 },
                 MotionKind::Thread {
                     lead: lb,
                     dlead: db,
-                    ..
+                    phase_deg: pb,
                 },
-            ) => (la - lb).abs() <= lead_tol && (da - db).abs() <= lead_tol,
+            ) => {
+                (la - lb).abs() <= lead_tol
+                    && (da - db).abs() <= lead_tol
+                    && (pa - pb).abs() <= PHASE_TOLERANCE_DEG
+            }
             _ => false,
         };
         if !kinds_match {
             return Err(format!(
-                "move {} differs in kind or lead when read back",
+                "move {} differs in kind, lead or start angle when read back",
                 i + 1
             ));
         }

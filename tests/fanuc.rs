@@ -288,3 +288,136 @@ fn fanuc_reads_numbers_without_a_point_as_least_increments() {
         toolpath::build(b).unwrap().motions
     );
 }
+
+/// Real Haas and FS15 programs were refused with "K is not a word of the second G76 block": a
+/// one-block G76 on a two-block control now says what it is and which controllers read it.
+#[test]
+fn a_one_block_g76_on_a_two_block_control_says_so() {
+    let src = "G20\nG00 X0.85 Z0.25\nG76 X0.6272 Z-1. K0.0614 D0.02 F0.1 A60\n";
+    for controller in ["fanuc", "gsk980", "fanuc-b"] {
+        let e = error(src, &Machine::built_in(controller).unwrap());
+        assert_eq!(
+            (e.code, e.span.line, e.span.column),
+            (Code::Unsupported, 3, 18),
+            "{controller}: {e}"
+        );
+        assert!(e.message.contains("one-block G76"), "{}", e.message);
+        assert!(!e.message.contains("second G76 block"), "{}", e.message);
+        let hint = e.hint.unwrap();
+        assert!(
+            hint.contains("--controller haas") && hint.contains("--controller fanuc15"),
+            "{hint}"
+        );
+    }
+}
+
+/// Q on G32 and G92: the start angle in 0.001° (Fanuc 30i manual §4.1.2: "Increment: 0.001
+/// degrees, Valid setting range: 0 to 360 degrees"), written without a decimal point.
+#[test]
+fn q_is_the_start_angle_of_g32_and_g92() {
+    let pre = "G0 X40. Z5.\n";
+    let js = jobs(&format!("{pre}G92 X29.2 Z-30. F4. Q180000\n"), &fanuc());
+    assert_eq!(js[0].lead.phase_deg, 180.0);
+    for (block, code, column) in [
+        ("G32 Z-30. F2. Q180.", Code::Syntax, 15),
+        ("G32 Z-30. F2. Q360001", Code::OutOfRange, 15),
+        ("G92 X29.2 Z-30. F2. Q-90000", Code::OutOfRange, 21),
+        ("G92 X29.2 Z-30. F2. Q1.5", Code::Syntax, 21),
+    ] {
+        let e = error(&format!("{pre}{block}\n"), &fanuc());
+        assert_eq!(
+            (e.code, e.span.line, e.span.column),
+            (code, 2, column),
+            "{block}"
+        );
+    }
+    // The two-block G76 has no start angle: its Q is Δd.
+    assert_eq!(jobs(M30, &fanuc())[0].lead.phase_deg, 0.0);
+    // GSK reads none (G92 L cuts further starts): Q there is not a G92 word.
+    let gsk = Machine::built_in("gsk980").unwrap();
+    let e = error(&format!("{pre}G92 X29.2 Z-30. F2. Q90000\n"), &gsk);
+    assert_eq!((e.code, e.span.column), (Code::Unsupported, 21));
+    // A G92 with a start angle is written back natively, Q included.
+    let (text, how) = threadcut::translate::job_to_string(&fanuc(), &js[0]).unwrap();
+    assert_eq!(how, threadcut::translate::Written::Native);
+    assert_eq!(text, "G92 X29.2 Z-30. F4. Q180000\n");
+}
+
+/// The same M30×2 job in G-code systems A, B and C: the cycles' G numbers change, the motion does
+/// not. B: G33, G78 (single pass), G76, G92 sets coordinates, G90/G91. C: G21 (single pass), G78
+/// (multiple, two blocks), G70/G71 inch/mm, G20 a turning cycle.
+#[test]
+fn g_code_systems_a_b_and_c() {
+    let a = "G21\nG0 X32. Z5.\nG92 X29.2 Z-30. F2.\nX28.6\nG76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\n";
+    let b = "G21 G95\nG92 X100. Z50.\nG0 X32. Z5.\nG78 X29.2 Z-30. F2.\nX28.6\nG76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\n";
+    let c = "G71 G95\nG92 X100. Z50.\nG20 X30. Z-10. F0.2\nG0 X32. Z5.\nG21 X29.2 Z-30. F2.\nX28.6\nG78 P020060 Q100 R0.05\nG78 X27.546 Z-30. P1227 Q400 F2.\n";
+    let system_b = Machine::built_in("fanuc-b").unwrap();
+    let mut system_c = system_b.clone();
+    system_c.fanuc.as_mut().unwrap().gcode_system = threadcut::machine::GCodeSystem::C;
+    let ja = jobs(a, &fanuc());
+    for (src, m) in [(b, &system_b), (c, &system_c)] {
+        let js = jobs(src, m);
+        assert_eq!(js.len(), 3, "{src}");
+        for (x, y) in ja.iter().zip(&js) {
+            threadcut::translate::same_motion(
+                &toolpath::build(x).unwrap(),
+                &toolpath::build(y).unwrap(),
+                (1e-12, 1e-12),
+            )
+            .unwrap_or_else(|e| panic!("{e}: {src}"));
+            assert_eq!(
+                y.units,
+                threadcut::units::Units::Mm,
+                "G20 is no unit code in C"
+            );
+        }
+    }
+    // In B, G91 makes X/Z incremental (U/W stay incremental words too), and G33 is the thread move.
+    let js = jobs(
+        "G21\nG0 X40. Z10.\nG91 G0 X-8. Z-5.\nG90 G78 X29.2 Z-30. F2.\nG0 U8. W5.\nG78 X29.2 Z-30. F2.\n",
+        &system_b,
+    );
+    assert_eq!(js[0].start, threadcut::units::Pos::new(16.0, 5.0));
+    assert_eq!(js[1].start, threadcut::units::Pos::new(20.0, 10.0));
+    let out = {
+        let mut out = Vec::new();
+        program::expand_gcode(
+            "G21\nG0 X40. Z5.\nG78 X29.2 Z-30. F2. Q90000\n".as_bytes(),
+            &mut out,
+            &system_b,
+        )
+        .unwrap();
+        String::from_utf8(out).unwrap()
+    };
+    assert!(
+        out.contains("G0 X29.2 Z5.\nG33 X29.2 Z-28. F2. Q90000\nG33 X33.2 Z-30. F2.\n"),
+        "{out}"
+    );
+    // A G91 on the cycle's own block applies to its words and stays: expand writes the moves
+    // absolute between G90 and G91.
+    let mut out = Vec::new();
+    program::expand_gcode(
+        "G21\nG0 X40. Z5.\nG91 G78 X-10.8 Z-35. F2.\nG0 X5.\n".as_bytes(),
+        &mut out,
+        &system_b,
+    )
+    .unwrap();
+    let out = String::from_utf8(out).unwrap();
+    assert!(
+        out.contains("G90\nG0 X29.2 Z5.\nG33 X29.2 Z-28. F2.\nG33 X33.2 Z-30. F2.\nG0 X40. Z-30.\nG0 X40. Z5.\nG91\nG0 X5.\n"),
+        "{out}"
+    );
+    // In B, G92 is not a thread cycle: with X/Z it sets the position, never cuts.
+    assert!(jobs("G21\nG92 X29.2 Z-30.\n", &system_b).is_empty());
+    // In A, G78 is nothing of Fanuc's threading: the block passes to the modal reader.
+    assert!(jobs("G21\nG0 X40. Z5.\nG78 X29.2 Z-30. F2.\n", &fanuc()).is_empty());
+    // Native writing uses the system's numbers, and reads back.
+    let (text, how) = threadcut::translate::job_to_string(&system_c, &ja[2]).unwrap();
+    assert_eq!(how, threadcut::translate::Written::Native, "{text}");
+    assert!(
+        text.starts_with("G78 P020060 Q100 R0.05\nG78 X27.546 Z-30. P1227 Q400 F2."),
+        "{text}"
+    );
+    let (text, _) = threadcut::translate::job_to_string(&system_c, &ja[0]).unwrap();
+    assert_eq!(text, "G21 X29.2 Z-30. F2.\n");
+}

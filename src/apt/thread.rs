@@ -907,6 +907,7 @@ pub fn lower(t: &ThreadOn, c: &Contour, pitch: Pitch, units: Units, off: Span) -
             lead: pitch.lead,
             dlead: pitch.dlead,
             starts: pitch.starts,
+            phase_deg: 0.0,
         },
         plan: PassPlan {
             law: match plan.power {

@@ -5,29 +5,26 @@
 //! ```text
 //! G78 X__ Z__ K__ D__ F__|E__ A__ P__ I__ ;
 //! ```
-//! Every decision on an ambiguity of the seed is a row of `docs/dialects/allen-bradley-g78.md`.
+//! The cycle is the one-block cycle of Fanuc's FS15 format (`super::one_block`, shared with Haas's
+//! and FS15's G76); this module reads Allen-Bradley's own words. Every decision on an ambiguity of
+//! the seed is a row of `docs/dialects/allen-bradley-g78.md`.
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, Word};
 use crate::machine::{AbParameters, EWord, Machine};
-use crate::post::{self, Format};
-use crate::thread::{
-    tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
-    Retract, ReturnPath, Side,
-};
-use crate::units::{Pos, MM_PER_INCH};
+use crate::post::Format;
+use crate::thread::Job;
+use crate::units::MM_PER_INCH;
 
-use super::{Dialect, Read};
+use super::{one_block, Dialect, Read};
 
 const G33: u16 = 330;
 const G78: u16 = 780;
 const G92: u16 = 920;
 
-/// "It must be entered as an integer value from 0 to 120".
-pub const MAX_TOOL_ANGLE: f64 = 120.0;
-/// The tool assumed for chip areas when A0 (plunge infeed) says nothing of the tool's angle.
-pub const PLUNGE_TOOL_ANGLE: f64 = 60.0;
+/// "It must be entered as an integer value from 0 to 120"; A0's chip areas assume a 60° tool.
+pub use super::one_block::{MAX_TOOL_ANGLE, PLUNGE_TOOL_ANGLE};
 
 pub struct AllenBradley {
     conv: Conventions,
@@ -60,6 +57,7 @@ impl AllenBradley {
                 },
                 set_position: G92,
                 canned_cycles: &[],
+                units_codes: crate::gcode::modal::G20_G21,
             },
             machine: machine.clone(),
             params,
@@ -99,58 +97,26 @@ impl AllenBradley {
         if line.word(b'Z').is_none() {
             return Err(missing("Z: the end of the threading pass"));
         }
-        let units = modal.units;
-        let positive = |w: &Word, what: &str| -> Result<f64> {
-            let v = modal.value(w);
-            if v <= 0.0 {
-                return Err(Diagnostic::error(
-                    Code::OutOfRange,
-                    w.span,
-                    format!(
-                        "{}{v}: {what} is unsigned and must be above zero",
-                        w.letter as char
-                    ),
-                ));
-            }
-            Ok(units.to_mm(v))
-        };
-        let height = positive(
+        let height = one_block::positive(
+            modal,
             line.word(b'K')
                 .ok_or_else(|| missing("K: the thread height (root to top, radius)"))?,
             "the thread height K",
         )?;
-        let first = positive(
+        let first = one_block::positive(
+            modal,
             line.word(b'D')
                 .ok_or_else(|| missing("D: the depth of the first pass (radius)"))?,
             "the first depth D",
         )?;
-        let whole = |w: &Word, lo: f64, hi: f64, what: &str| -> Result<f64> {
-            if w.value.fract() != 0.0 || w.value < lo || w.value > hi {
-                return Err(Diagnostic::error(
-                    Code::OutOfRange,
-                    w.span,
-                    format!(
-                        "{}{}: {what} must be a whole number from {lo} to {hi}",
-                        w.letter as char, w.value
-                    ),
-                ));
-            }
-            Ok(w.value)
-        };
         let tool_angle = match line.word(b'A') {
-            Some(a) => whole(a, 0.0, MAX_TOOL_ANGLE, "the tool angle A")?,
+            Some(a) => one_block::whole(a, 0.0, MAX_TOOL_ANGLE, "the tool angle A")?,
             None => 0.0, // "Not programming a value for A is the same as A0."
         };
-        let infeed_type = whole(
-            line.word(b'P').ok_or_else(|| {
-                missing("P: the tool infeed, 1 to 4").with_hint(
-                    "P1/P2 constant amount, single/alternating edges; P3/P4 constant depth, single/alternating edges",
-                )
-            })?,
-            1.0,
-            4.0,
-            "the tool infeed P",
-        )? as u8;
+        // P has no default in the Allen-Bradley text: threadcut does not guess an infeed.
+        let infeed = one_block::infeed(line.word(b'P'), None, || {
+            missing("P: the tool infeed, 1 to 4")
+        })?;
         let lead = match (line.word(b'E'), line.word(b'F')) {
             (Some(e), Some(f)) => {
                 let later = if e.span.start > f.span.start { e } else { f };
@@ -163,7 +129,7 @@ impl AllenBradley {
             }
             (Some(e), None) => self.e_lead(e)?,
             (None, Some(f)) => {
-                let lead = positive(f, "the lead F")?;
+                let lead = one_block::positive(modal, f, "the lead F")?;
                 modal.f_word = Some(modal.value(f));
                 lead
             }
@@ -179,8 +145,8 @@ impl AllenBradley {
             "position the tool at the cycle's start point before G78",
         )?;
         let end = modal.target(&self.conv, line, start)?;
-        self.lower(
-            &Cycle {
+        one_block::lower(
+            &one_block::Cycle {
                 span: g78,
                 line: line.number,
                 start,
@@ -189,187 +155,39 @@ impl AllenBradley {
                 height,
                 first,
                 tool_angle,
-                infeed_type,
+                infeed,
                 lead,
+                phase_deg: 0.0,
             },
+            &self.setup(),
             modal,
             warnings,
         )
     }
 
-    /// The validated words as a machine-neutral job.
-    fn lower(&self, c: &Cycle, modal: &Modal, warnings: &mut Vec<Diagnostic>) -> Result<Job> {
-        let units = modal.units;
-        let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, c.span, msg);
-        let travel_z = c.end.z - c.start.z;
-        if travel_z == 0.0 {
-            return Err(geometry_error(
-                "Z is the start point's Z: the thread has no length".into(),
-            ));
-        }
-        if c.taper.abs() >= travel_z.abs() {
-            return Err(geometry_error(format!(
-                "the taper I changes the radius by {} over {} of Z: G78 threads along Z",
-                units.from_mm(c.taper.abs()),
-                units.from_mm(travel_z.abs())
-            )));
-        }
-        // "I … added to the X parameter to determine the start-point of the threading pass."
-        let root_start = Pos::new(c.end.x + c.taper, c.start.z);
-        let side = Side::of_cut(c.start.x, root_start.x).ok_or_else(|| {
-            geometry_error(
-                "the start point's X is the thread's root: cannot tell an external from an internal thread"
-                    .into(),
-            )
-        })?;
-        let outward = side.outward().x;
-        let crest_x = root_start.x + outward * c.height;
-        if (c.start.x - crest_x) * outward < 0.0 {
-            return Err(geometry_error(format!(
-                "the start point X{} lies inside the thread (its top is at X{}): the return between passes would cut through it",
-                post::number(modal.x_from_mm(c.start.x), 4, false),
-                post::number(modal.x_from_mm(crest_x), 4, false)
-            ))
-            .with_hint("start G78 from a point clear of the top of the thread"));
-        }
+    /// The AMP values, as the shared one-block cycle takes them.
+    fn setup(&self) -> one_block::Setup {
         let p = &self.params;
-        let allowance = units_in(p.finish_allowance_in);
-        if allowance >= c.height {
-            return Err(geometry_error(format!(
-                "the AMP finishing allowance {}\" is not smaller than the thread height K",
-                p.finish_allowance_in
-            )));
-        }
-        let axial_dir = travel_z.signum();
-        let half = c.tool_angle / 2.0;
-        // Single edge: deeper passes move in the cutting direction, so the leading edge cuts, and
-        // the full-depth pass lands on the programmed start Z and ends on the programmed Z.
-        let leading = if axial_dir < 0.0 {
-            Flank::Right
-        } else {
-            Flank::Left
-        };
-        let trailing = if axial_dir < 0.0 {
-            Flank::Left
-        } else {
-            Flank::Right
-        };
-        let infeed = match (c.tool_angle == 0.0, c.infeed_type) {
-            (true, _) => Infeed::Radial,
-            (false, 1 | 3) => Infeed::Flank {
-                flank: leading,
-                angle_deg: half,
-            },
-            (false, _) => Infeed::Alternating {
-                first: leading,
-                second: trailing,
-                angle_deg: half,
-            },
-        };
-        let law = if c.infeed_type <= 2 {
-            DepthLaw::Power {
-                first: c.first,
-                degression: 2.0,
-                min_step: units_in(p.min_cut_in),
-            }
-        } else {
-            DepthLaw::Power {
-                first: c.first,
-                degression: 1.0,
-                min_step: 0.0,
-            }
-        };
-        let shift = infeed.axis(c.height);
-        let crest_start = Pos::new(crest_x, c.start.z - shift);
-        let crest_end = Pos::new(c.end.x + outward * c.height, c.end.z - shift);
-        let exit = if p.chamfer_leads > 0.0 {
-            if !(p.chamfer_angle_deg > 0.0 && p.chamfer_angle_deg < 90.0) {
-                return Err(geometry_error(format!(
-                    "the AMP pull-out angle {}° must lie between 0 and 90",
-                    p.chamfer_angle_deg
-                )));
-            }
-            let length = p.chamfer_leads * c.lead;
-            if length >= travel_z.abs() {
-                return Err(geometry_error(format!(
-                    "the AMP pull-out ({} leads = {}) is not shorter than the thread ({})",
-                    p.chamfer_leads,
-                    units.from_mm(length),
-                    units.from_mm(travel_z.abs())
-                )));
-            }
-            Exit::PullOut {
-                start_before: length,
-                length,
-                outward: length * tan_deg(p.chamfer_angle_deg),
-            }
-        } else {
-            Exit::Straight
-        };
-        if c.first >= c.height {
-            warnings.push(Diagnostic::warning(
-                Code::Suspicious,
-                c.span,
-                format!(
-                    "the first depth D {} is not smaller than the thread height K {}: the whole thread is cut in one pass",
-                    units.from_mm(c.first),
-                    units.from_mm(c.height)
-                ),
-            ));
-        }
-        Ok(Job {
-            line: c.line,
-            span: c.span,
+        one_block::Setup {
             controller: "ab9",
-            units,
-            start: c.start,
-            geometry: Geometry {
-                crest_start,
-                crest_end,
-                depth: c.height,
-                side,
-            },
-            lead: Lead::constant(c.lead),
-            plan: PassPlan {
-                law,
-                finish_allowance: allowance,
-                finish_passes: p.finish_passes,
-            },
-            infeed,
-            finish_at: FinishPosition::Axis,
-            tool_angle_deg: if c.tool_angle == 0.0 {
-                PLUNGE_TOOL_ANGLE
-            } else {
-                c.tool_angle
-            },
-            entry: Entry::Direct,
-            exit,
-            retract: Retract {
-                x: c.start.x,
-                z: c.start.z,
-            },
-            return_path: ReturnPath::Box,
-        })
+            allowance: units_in(p.finish_allowance_in),
+            allowance_name: "the AMP finishing allowance",
+            min_cut: units_in(p.min_cut_in),
+            finish_passes: p.finish_passes,
+            // "Not programming a value for A is the same as A0."
+            tool_angle: 0.0,
+            pull_out: Some(one_block::PullOut {
+                leads: p.chamfer_leads,
+                angle_deg: p.chamfer_angle_deg,
+            }),
+            pull_out_name: "the AMP pull-out",
+        }
     }
 }
 
 /// Inches to mm (AMP values are kept in inches).
 fn units_in(v: f64) -> f64 {
     v * MM_PER_INCH
-}
-
-/// A G78 block's values in the model's terms (mm, radius, absolute).
-struct Cycle {
-    span: Span,
-    line: u32,
-    start: Pos,
-    end: Pos,
-    taper: f64,
-    height: f64,
-    first: f64,
-    tool_angle: f64,
-    infeed_type: u8,
-    lead: f64,
 }
 
 impl Dialect for AllenBradley {

@@ -1,6 +1,8 @@
-//! Fanuc 0i/30i-class lathe controls, G-code system A (`shared/reference/threading-notes.md` §e):
-//! G32 (single synchronised move, read by the shared modal reader), G92 and the two-block G76 (read
-//! by [`super::fanuc_family`], which GSK's G76/G92 share). Decisions: `docs/dialects/fanuc.md`.
+//! Fanuc 0i/30i-class lathe controls (`shared/reference/threading-notes.md` §e) in G-code system A,
+//! B or C (the profile's `[fanuc] gcode_system`): the thread move G32 (G33 in B and C, read by the
+//! shared modal reader, its start angle Q checked here), the single-pass cycle G92 (G78, G21) and
+//! the two-block G76 (G78 in C), read by [`super::fanuc_family`], which GSK, Haas and the FS15
+//! program format ([`super::fanuc15`]) share. Decisions: `docs/dialects/fanuc.md`.
 
 use crate::diag::{Diagnostic, Result};
 use crate::gcode::{Conventions, Line, Modal};
@@ -8,9 +10,11 @@ use crate::machine::{FanucParameters, Machine};
 use crate::post::Format;
 use crate::thread::Job;
 
-use super::fanuc_family::{self, FanucFamily, Flavour, ThreadParameters};
-use super::{Dialect, Read};
+use super::fanuc_family::{self, FanucFamily, Flavour, G76Form, GCodes, ThreadParameters};
+use super::{one_block, Dialect, Read};
 
+/// A Fanuc-family control whose words are Fanuc's own: the standard program format (`fanuc`) or
+/// the FS15 format (`fanuc15`), as its [`Flavour`] says.
 pub struct Fanuc {
     conv: Conventions,
     machine: Machine,
@@ -25,37 +29,18 @@ pub fn default_parameters() -> FanucParameters {
 }
 
 impl Fanuc {
+    /// The standard program format: the two-block G76.
     pub fn new(machine: &Machine) -> Fanuc {
+        Fanuc::with_flavour(machine, Flavour::fanuc("fanuc"))
+    }
+
+    /// A Fanuc control whose program format is `flavour`'s.
+    pub fn with_flavour(machine: &Machine, flavour: Flavour) -> Fanuc {
         let p = machine.fanuc.clone().unwrap_or_else(default_parameters);
-        let params = ThreadParameters {
-            chamfer_tenths: u32::from(p.p5130),
-            chamfer_angle: u32::from(p.p5131),
-            min_cut_mm: p.p5140,
-            allowance_mm: p.p5141,
-            finish_passes: u32::from(p.p5142),
-            tool_angle: u32::from(p.p5143),
-        };
+        let codes = GCodes::of(p.gcode_system);
         Fanuc {
-            conv: Conventions {
-                uw_incremental: true,
-                g90_g91_distance: false,
-                diameter_x: machine.diameter_x,
-                thread_move: 320,
-                // E on G32 is TPI on some series and a precise lead on others: not read.
-                tpi_letter: 0,
-                lead_letter: b'F',
-                lead_along_path: false,
-                set_position: 500,
-                canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 900, 920, 940],
-            },
-            family: FanucFamily::new(
-                Flavour {
-                    controller: "fanuc",
-                    gsk_g92_words: false,
-                },
-                params,
-                machine,
-            ),
+            conv: codes.conventions(machine),
+            family: FanucFamily::new(flavour, ThreadParameters::of_fanuc(&p), codes, machine),
             machine: machine.clone(),
         }
     }
@@ -63,14 +48,15 @@ impl Fanuc {
 
 impl Dialect for Fanuc {
     fn name(&self) -> &'static str {
-        "fanuc"
+        self.family.flavour.controller
     }
 
     fn conventions(&self) -> &Conventions {
         &self.conv
     }
 
-    /// Only G76/G92 blocks, and any block while a G92 is modal, are the family reader's business.
+    /// Only thread-cycle blocks, any block while the single-pass cycle is modal, and blocks with
+    /// a start angle Q are the family reader's business.
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
         self.family.wants(line)
@@ -89,11 +75,24 @@ impl Dialect for Fanuc {
     }
 
     fn format(&self) -> Format {
-        Format::lathe(&self.machine, "G32", 'F')
+        Format {
+            start_angle: Some('Q'),
+            ..Format::lathe(&self.machine, self.family.codes.thread_move_name(), 'F')
+        }
     }
 
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
-        fanuc_family::native_g92(&self.machine, job, false)
-            .or_else(|_| fanuc_family::native_g76(&self.machine, job))
+        let f = &self.family;
+        fanuc_family::native_g92(&self.machine, &f.codes, &f.flavour, job).or_else(|_| {
+            match f.flavour.g76 {
+                G76Form::TwoBlock => fanuc_family::native_g76(&self.machine, &f.codes, job),
+                G76Form::OneBlock(_) => one_block::native_g76(
+                    &self.machine,
+                    &format!("G{}", f.codes.multiple / 10),
+                    &f.one_block_setup(),
+                    job,
+                ),
+            }
+        })
     }
 }

@@ -1,85 +1,222 @@
-//! The Fanuc family's threading cycles, shared by every controller that copies them (Fanuc 0i/30i
-//! system A, GSK 980TDi): the single-pass box cycle G92 and the two-block multiple-pass cycle G76
-//! (`shared/reference/threading-notes.md` §c.1, §c.3, §e).
+//! The Fanuc family's threading cycles, shared by every controller that copies them (Fanuc 0i/30i in
+//! G-code systems A, B and C, Fanuc's FS15 program format, Haas, GSK 980TDi): the single-pass box
+//! cycle G92 and the multiple-pass cycle G76 (`shared/reference/threading-notes.md` §c.1, §c.3, §e).
+//! G numbers are system A's; [`GCodes`] gives the others (G78/G21 for G92, G78 for G76 in C).
 //!
 //! ```text
-//! G92 X(U) Z(W) [R(i)] F(L) ;                     one pass; modal: a following `X..` repeats it
+//! G92 X(U) Z(W) [R(i)] F(L) [Q] ;                  one pass; modal: a following `X..` repeats it
 //! G76 P(m)(r)(a) Q(Δdmin) R(d) ;                   first block: rewrites parameters 5142/5130/5143, 5140, 5141
 //! G76 X(U) Z(W) R(i) P(k) Q(Δd) F(L) ;             second block: the cycle
+//! G76 X(U) Z(W) I K D F A P Q ;                    or in one block (FS15 format, Haas: `super::one_block`)
 //! ```
 //! P(k), Q(Δd) and Q(Δdmin) are counts of least input increments, written without a decimal point,
-//! whatever the machine's decimal-point setting. Each decision is a row of `docs/dialects/fanuc.md`.
+//! whatever the machine's decimal-point setting. Q on G32/G92 (and the one-block G76) shifts the
+//! thread's start angle, in 0.001°. Each member's words are its own dialect's ([`Flavour`]); each
+//! decision is a row of `docs/dialects/fanuc.md` (or `haas.md`).
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::reader::g_code;
-use crate::gcode::{Conventions, Line, Modal, Word};
-use crate::machine::Machine;
+use crate::gcode::{Conventions, Line, Modal, MotionMode, Word};
+use crate::machine::{FanucParameters, GCodeSystem, Machine};
 use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
     Retract, ReturnPath, Side,
 };
 use crate::units::{Pos, Units};
 
-use super::{only_words, Read};
-
-const G76: u16 = 760;
-const G92: u16 = 920;
+use super::{one_block, only_words, Read};
 
 /// Tool-tip angles the first G76 block accepts (Fanuc: 80, 60, 55, 30, 29 and 0 degrees).
 pub const TOOL_ANGLES: [u32; 6] = [80, 60, 55, 30, 29, 0];
 
-/// G codes that end a modal G92 (group 01 and the other turning cycles), ×10.
-const CANCELS_G92: &[u16] = &[
-    0, 10, 20, 30, 320, 330, 340, 700, 710, 720, 730, 740, 750, 760, 780, 900, 940,
-];
+/// The G numbers (×10) of one of Fanuc's G-code systems that the threading code needs (the lathe
+/// manuals' G code list; `docs/dialects/fanuc.md` has the table and its sources).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GCodes {
+    pub system: GCodeSystem,
+    /// The synchronised move: G32 (A), G33 (B, C).
+    pub thread_move: u16,
+    /// The single-pass threading cycle: G92 (A), G78 (B), G21 (C).
+    pub single: u16,
+    /// The multiple threading cycle: G76 (A, B), G78 (C).
+    pub multiple: u16,
+    /// Sets the coordinates: G50 (A), G92 (B, C).
+    pub set_position: u16,
+    /// Inch and millimetre input: G20/G21 (A, B), G70/G71 (C).
+    pub units: [u16; 2],
+    /// G90/G91 select absolute or incremental distance (B, C); in A, G90 is a turning cycle.
+    pub g90_g91: bool,
+    /// The cycles that leave the tool where they began (turning and multiple repetitive cycles).
+    pub canned: &'static [u16],
+    /// The codes that end a modal single-pass cycle: group 01 and the other turning cycles.
+    pub ends_single: &'static [u16],
+}
+
+impl GCodes {
+    /// The table of `system`.
+    pub const fn of(system: GCodeSystem) -> GCodes {
+        match system {
+            GCodeSystem::A => GCodes {
+                system,
+                thread_move: 320,
+                single: 920,
+                multiple: 760,
+                set_position: 500,
+                units: [200, 210],
+                g90_g91: false,
+                canned: &[700, 710, 720, 730, 740, 750, 760, 900, 920, 940],
+                ends_single: &[
+                    0, 10, 20, 30, 320, 330, 340, 700, 710, 720, 730, 740, 750, 760, 780, 900, 940,
+                ],
+            },
+            GCodeSystem::B => GCodes {
+                system,
+                thread_move: 330,
+                single: 780,
+                multiple: 760,
+                set_position: 920,
+                units: [200, 210],
+                g90_g91: true,
+                canned: &[700, 710, 720, 730, 740, 750, 760, 770, 780, 790],
+                ends_single: &[
+                    0, 10, 20, 30, 330, 340, 700, 710, 720, 730, 740, 750, 760, 770, 790,
+                ],
+            },
+            GCodeSystem::C => GCodes {
+                system,
+                thread_move: 330,
+                single: 210,
+                multiple: 780,
+                set_position: 920,
+                units: [700, 710],
+                g90_g91: true,
+                canned: &[200, 210, 240, 720, 730, 740, 750, 760, 770, 780],
+                ends_single: &[
+                    0, 10, 20, 30, 330, 340, 200, 240, 720, 730, 740, 750, 760, 770, 780,
+                ],
+            },
+        }
+    }
+
+    /// The modal reader's conventions of a Fanuc-family lathe in this system: U/W incremental
+    /// (in B and C as well: see `docs/dialects/fanuc.md`), the lead in F.
+    pub fn conventions(&self, machine: &Machine) -> Conventions {
+        Conventions {
+            uw_incremental: true,
+            g90_g91_distance: self.g90_g91,
+            diameter_x: machine.diameter_x,
+            thread_move: self.thread_move,
+            // E on G32 is TPI on some series and a precise lead on others: not read.
+            tpi_letter: 0,
+            lead_letter: b'F',
+            lead_along_path: false,
+            set_position: self.set_position,
+            canned_cycles: self.canned,
+            units_codes: self.units,
+        }
+    }
+
+    /// The synchronised move as it is written (`G32`, `G33`).
+    pub fn thread_move_name(&self) -> &'static str {
+        if self.thread_move == 320 {
+            "G32"
+        } else {
+            "G33"
+        }
+    }
+}
+
+/// `G76`, `G78`, `G21`: a code's name.
+fn g_name(code: u16) -> String {
+    format!("G{}", code / 10)
+}
 
 /// Parameters of the threading cycles. The first G76 block rewrites them, as on the controller.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ThreadParameters {
-    /// 5130: chamfer amount in 0.1 lead (0: no chamfer).
-    pub chamfer_tenths: u32,
-    /// 5131: chamfer angle in degrees (0 reads as 45).
-    pub chamfer_angle: u32,
+    /// The pull-out's length in leads (Fanuc 5130 ÷ 10, Haas Setting 95); 0: none.
+    pub chamfer_leads: f64,
+    /// Its angle from the Z axis, degrees (Fanuc 5131, 0 read as 45; Haas Setting 96).
+    pub chamfer_angle_deg: f64,
     /// 5140: Δdmin (mm, radius).
     pub min_cut_mm: f64,
     /// 5141: d (mm, radius).
     pub allowance_mm: f64,
     /// 5142: m.
     pub finish_passes: u32,
-    /// 5143: a (degrees).
+    /// 5143: a (degrees); the one-block G76's tool angle when the block has no A.
     pub tool_angle: u32,
 }
 
 impl ThreadParameters {
-    fn chamfer_angle_deg(&self) -> f64 {
-        if self.chamfer_angle == 0 {
-            45.0
-        } else {
-            f64::from(self.chamfer_angle)
+    /// Fanuc's parameters 5130, 5131, 5140–5143 (GSK numbers them the same).
+    pub fn fanuc(
+        p5130: u8,
+        p5131: u8,
+        p5140: f64,
+        p5141: f64,
+        p5142: u8,
+        p5143: u8,
+    ) -> ThreadParameters {
+        ThreadParameters {
+            chamfer_leads: f64::from(p5130) * 0.1,
+            chamfer_angle_deg: if p5131 == 0 { 45.0 } else { f64::from(p5131) },
+            min_cut_mm: p5140,
+            allowance_mm: p5141,
+            finish_passes: u32::from(p5142),
+            tool_angle: u32::from(p5143),
         }
     }
 
-    /// The pull-out of a pass for lead `lead` (mm): `r·0.1·L` along Z at the chamfer angle.
-    fn chamfer(&self, lead: f64) -> Exit {
-        let length = f64::from(self.chamfer_tenths) * 0.1 * lead;
-        if length <= 0.0 {
-            return Exit::Straight;
-        }
-        Exit::PullOut {
-            start_before: length,
-            length,
-            outward: length * tan_deg(self.chamfer_angle_deg()),
-        }
+    /// A Fanuc profile's `[fanuc]` table.
+    pub fn of_fanuc(p: &FanucParameters) -> ThreadParameters {
+        ThreadParameters::fanuc(p.p5130, p.p5131, p.p5140, p.p5141, p.p5142, p.p5143)
     }
 }
 
-/// What a member of the family adds to the common words.
+/// The multiple threading cycle's form.
+#[derive(Clone, Copy, Debug)]
+pub enum G76Form {
+    /// Fanuc 0i/30i standard format, GSK: `G76 P(m)(r)(a) Q(Δdmin) R(d)` then `G76 X Z R P Q F`.
+    TwoBlock,
+    /// FS15 format, Haas: `G76 X Z I K D F A P Q` in these words.
+    OneBlock(one_block::G76Words),
+}
+
+/// What a member of the family adds to the common words, and how its manuals name things.
 #[derive(Clone, Copy, Debug)]
 pub struct Flavour {
     /// The controller's name on jobs.
     pub controller: &'static str,
     /// GSK's G92 words: J/K (tail-out, short and long axis) and L (starts).
     pub gsk_g92_words: bool,
+    /// The single-pass cycle's taper word: `R` (Fanuc standard format), `I` (FS15 format, Haas).
+    pub taper_letter: u8,
+    /// `Q` on the thread move and the single-pass cycle shifts the thread's start angle.
+    pub start_angle: bool,
+    /// Haas's `F(E)`: E is the lead as F is; elsewhere E is refused.
+    pub e_is_lead: bool,
+    pub g76: G76Form,
+    /// What messages call the setting of the pull-out, e.g. "the chamfer (parameter 5130)".
+    pub chamfer_name: &'static str,
+    /// … and of the finishing allowance, e.g. "the finishing allowance d".
+    pub allowance_name: &'static str,
+}
+
+impl Flavour {
+    /// Fanuc's standard program format (and GSK's G76/G92).
+    pub const fn fanuc(controller: &'static str) -> Flavour {
+        Flavour {
+            controller,
+            gsk_g92_words: false,
+            taper_letter: b'R',
+            start_angle: true,
+            e_is_lead: false,
+            g76: G76Form::TwoBlock,
+            chamfer_name: "the chamfer (parameter 5130)",
+            allowance_name: "the finishing allowance d",
+        }
+    }
 }
 
 /// The modal state of G92: the values a following block without a G code repeats.
@@ -87,22 +224,35 @@ pub struct Flavour {
 struct G92Modal {
     end_z: f64,
     taper: f64,
+    /// The start angle of the last pass (not repeated: Q is not modal), and its line.
+    phase_deg: f64,
+    phase_line: u32,
 }
 
 /// The shared reader. A dialect offers it every line first.
 pub struct FanucFamily {
     pub flavour: Flavour,
     pub params: ThreadParameters,
+    pub codes: GCodes,
+    /// Haas's M23/M24: the pull-out of G76/G92 is cut (M23, the default) or not (M24).
+    pub chamfer_on: bool,
     /// Least input increment in mm and in inch (for P(k), Q(Δd), Q(Δdmin)).
     increment: [f64; 2],
     g92: Option<G92Modal>,
 }
 
 impl FanucFamily {
-    pub fn new(flavour: Flavour, params: ThreadParameters, machine: &Machine) -> FanucFamily {
+    pub fn new(
+        flavour: Flavour,
+        params: ThreadParameters,
+        codes: GCodes,
+        machine: &Machine,
+    ) -> FanucFamily {
         FanucFamily {
             flavour,
             params,
+            codes,
+            chamfer_on: true,
             increment: [
                 machine.resolution(Units::Mm),
                 machine.resolution(Units::Inch),
@@ -111,11 +261,47 @@ impl FanucFamily {
         }
     }
 
-    /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, or any block while a G92
-    /// is modal (a block of axis words repeats it; a motion code cancels it).
+    /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, any block while a G92
+    /// is modal (a block of axis words repeats it; a motion code cancels it), and a block with a
+    /// `Q` where Q is a start angle (a thread move's Q is checked).
     #[inline]
     pub fn wants(&self, line: &Line) -> bool {
-        self.g92.is_some() || line.has_g(G76) || line.has_g(G92)
+        self.g92.is_some()
+            || line.has_g(self.codes.multiple)
+            || line.has_g(self.codes.single)
+            || (self.flavour.start_angle && line.summary.has_letter(b'Q'))
+    }
+
+    /// The pull-out of a pass for lead `lead` (mm), as the parameters (and M23/M24) give it.
+    fn chamfer(&self, lead: f64) -> Exit {
+        let p = &self.params;
+        let length = p.chamfer_leads * lead;
+        if !self.chamfer_on || length <= 0.0 {
+            return Exit::Straight;
+        }
+        Exit::PullOut {
+            start_before: length,
+            length,
+            outward: length * tan_deg(p.chamfer_angle_deg),
+        }
+    }
+
+    /// The parameters as the one-block G76 takes them.
+    pub fn one_block_setup(&self) -> one_block::Setup {
+        let p = &self.params;
+        one_block::Setup {
+            controller: self.flavour.controller,
+            allowance: p.allowance_mm,
+            allowance_name: self.flavour.allowance_name,
+            min_cut: p.min_cut_mm,
+            finish_passes: p.finish_passes,
+            tool_angle: f64::from(p.tool_angle),
+            pull_out: self.chamfer_on.then_some(one_block::PullOut {
+                leads: p.chamfer_leads,
+                angle_deg: p.chamfer_angle_deg,
+            }),
+            pull_out_name: self.flavour.chamfer_name,
+        }
     }
 
     /// Reads `line` if it is a G76 or G92 block (or a block repeating a modal G92); `None` otherwise.
@@ -126,7 +312,8 @@ impl FanucFamily {
         modal: &mut Modal,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Option<Read>> {
-        // No allocation: this runs on every line.
+        let codes = self.codes;
+        // No allocation: this runs on every line offered.
         let gs = || {
             line.words
                 .iter()
@@ -134,10 +321,10 @@ impl FanucFamily {
                 .map(|w| (w, g_code(w.value)))
         };
         let cycle = gs()
-            .find(|(_, c)| matches!(c, Some(G76) | Some(G92)))
+            .find(|(_, c)| *c == Some(codes.multiple) || *c == Some(codes.single))
             .map(|(w, c)| (w, c.expect("matched")));
         let Some((gword, code)) = cycle else {
-            if gs().any(|(_, c)| c.is_some_and(|c| CANCELS_G92.contains(&c))) {
+            if gs().any(|(_, c)| c.is_some_and(|c| codes.ends_single.contains(&c))) {
                 self.g92 = None;
             }
             // A repeat is a block of axis words alone: any G code (a dwell `G4 X1.`, `G50 X..`) makes
@@ -152,29 +339,52 @@ impl FanucFamily {
                     let job = self.read_g92(conv, line, modal, line.span(), Some(m), warnings)?;
                     Ok(Some(Read::Cycle(Box::new(job))))
                 }
-                _ => Ok(None),
+                _ => {
+                    self.thread_move_start_angle(line, modal)?;
+                    Ok(None)
+                }
             };
         };
-        super::alone_in_block(line, gword.span, &format!("G{}", code / 10), &[])?;
+        let name = g_name(code);
+        // In systems B and C a G90/G91 may share the cycle's block: it applies to the block's own
+        // words (and stays in force), as on the modal reader's blocks.
+        let distance: &[u16] = if codes.g90_g91 { &[900, 910] } else { &[] };
+        super::alone_in_block(line, gword.span, &name, distance)?;
+        for (_, c) in gs() {
+            match c {
+                Some(900) if codes.g90_g91 => modal.absolute = true,
+                Some(910) if codes.g90_g91 => modal.absolute = false,
+                _ => {}
+            }
+        }
         let second = line
             .words
             .iter()
             .any(|w| matches!(w.letter, b'X' | b'Z' | b'U' | b'W'));
-        if code == G92 {
+        if code == codes.single {
             if !second {
                 return Err(Diagnostic::error(
                     Code::MissingWord,
                     gword.span,
-                    "G92 needs the thread end point: X (or U) and Z (or W)",
+                    format!("{name} needs the thread end point: X (or U) and Z (or W)"),
                 )
-                .with_hint(
-                    "this dialect reads G92 as the thread-cutting cycle (G-code system A)",
-                ));
+                .with_hint(format!(
+                    "this dialect reads {name} as the thread-cutting cycle (G-code system {:?})",
+                    codes.system
+                )));
             }
             let job = self.read_g92(conv, line, modal, gword.span, None, warnings)?;
             return Ok(Some(Read::Cycle(Box::new(job))));
         }
         self.g92 = None;
+        if let G76Form::OneBlock(words) = self.flavour.g76 {
+            let setup = self.one_block_setup();
+            let job = one_block::read_g76(
+                conv, line, modal, gword.span, &name, &words, &setup, warnings,
+            )?;
+            return Ok(Some(Read::Cycle(Box::new(job))));
+        }
+        one_block_words_on_two_block(line, self.flavour.controller, &name)?;
         if second {
             let job = self.read_g76_second(conv, line, modal, gword.span, warnings)?;
             Ok(Some(Read::Cycle(Box::new(job))))
@@ -182,6 +392,31 @@ impl FanucFamily {
             self.read_g76_first(line, modal)?;
             Ok(Some(Read::Settings))
         }
+    }
+
+    /// Ends a modal single-pass cycle (a dialect that reads a block itself calls this).
+    pub fn end_single(&mut self) {
+        self.g92 = None;
+    }
+
+    /// `Q` on a thread move (`G32 … Q`, or a block of axis words while the thread move is modal):
+    /// its start angle is checked here; the move itself is the modal reader's.
+    fn thread_move_start_angle(&self, line: &Line, modal: &Modal) -> Result<()> {
+        if !self.flavour.start_angle {
+            return Ok(());
+        }
+        let Some(q) = line.word(b'Q') else {
+            return Ok(());
+        };
+        let no_g = !line.words.iter().any(|w| w.letter == b'G');
+        if line.has_g(self.codes.thread_move) || (no_g && modal.motion == MotionMode::Thread) {
+            start_angle(q)?;
+        }
+        Ok(())
+    }
+
+    fn multiple_name(&self) -> String {
+        g_name(self.codes.multiple)
     }
 
     /// A count of least input increments, written without a decimal point, in mm.
@@ -216,17 +451,18 @@ impl FanucFamily {
     }
 
     fn read_g76_first(&mut self, line: &Line, modal: &Modal) -> Result<()> {
+        let name = self.multiple_name();
         only_words(
             line,
             b"GNPQR",
-            "the first G76 block",
+            &format!("the first {name} block"),
             "P(m)(r)(a) Q(Δdmin) R(d)",
         )?;
         let mut p = self.params;
         if let Some(w) = line.word(b'P') {
-            let (m, r, a) = unpack_p(line, w)?;
+            let (m, r, a) = unpack_p(line, w, &name)?;
             p.finish_passes = m;
-            p.chamfer_tenths = r;
+            p.chamfer_leads = f64::from(r) * 0.1;
             p.tool_angle = a;
         }
         if let Some(q) = line.word(b'Q') {
@@ -259,6 +495,7 @@ impl FanucFamily {
         g76: Span,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
+        let name = self.multiple_name();
         let letters: &[u8] = if conv.tpi_letter == b'I' {
             b"GNXZUWRPQFIE"
         } else {
@@ -267,24 +504,32 @@ impl FanucFamily {
         only_words(
             line,
             letters,
-            "the second G76 block",
+            &format!("the second {name} block"),
             "X(U) Z(W) R(i) P(k) Q(Δd) F(L)",
         )?;
         let height = match line.word(b'P') {
             Some(w) => self.increments(modal, w, "P(k)", "the thread height (radius)")?,
-            None => return Err(alarm_missing(g76, "P(k)", "the thread height (radius)")),
+            None => {
+                return Err(alarm_missing(
+                    g76,
+                    &name,
+                    "P(k)",
+                    "the thread height (radius)",
+                ))
+            }
         };
         let first = match line.word(b'Q') {
             Some(w) => self.increments(modal, w, "Q(Δd)", "the depth of the first cut (radius)")?,
             None => {
                 return Err(alarm_missing(
                     g76,
+                    &name,
                     "Q(Δd)",
                     "the depth of the first cut (radius)",
                 ))
             }
         };
-        for (w, v, name) in [
+        for (w, v, word) in [
             (line.word(b'P'), height, "P(k)"),
             (line.word(b'Q'), first, "Q(Δd)"),
         ] {
@@ -292,13 +537,13 @@ impl FanucFamily {
                 return Err(Diagnostic::error(
                     Code::OutOfRange,
                     w.map_or(g76, |w| w.span),
-                    format!("G76 alarm (PS0062): {name} must be greater than 0"),
+                    format!("{name} alarm (PS0062): {word} must be greater than 0"),
                 ));
             }
         }
         let taper = line.word(b'R').map_or(0.0, |r| modal.length_mm(r));
-        let lead = self.lead(conv, line, modal, g76, "G76")?;
-        let (a, end) = self.endpoints(conv, line, modal, g76, "G76")?;
+        let lead = self.lead(conv, line, modal, g76, &name)?;
+        let (a, end) = self.endpoints(conv, line, modal, g76, &name)?;
         let p = self.params;
         if p.allowance_mm >= height {
             return Err(Diagnostic::error(
@@ -359,8 +604,8 @@ impl FanucFamily {
         let full_offset = infeed.axis(height);
         let crest_start = Pos::new(crest_c.x, a.z - full_offset);
         let crest_end = Pos::new(crest_c.x - taper, end.z - full_offset);
-        let exit = p.chamfer(lead);
-        check_exit(&exit, travel_z, modal.units, g76)?;
+        let exit = self.chamfer(lead);
+        self.check_exit(&exit, travel_z, modal.units, g76)?;
         super::lead_warning(lead, travel_z, modal.units, g76, "check F", warnings);
         Ok(Job {
             line: line.number,
@@ -403,26 +648,12 @@ impl FanucFamily {
         repeat: Option<G92Modal>,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
-        // E is read only to refuse it with its own message.
-        let mut letters: Vec<u8> = b"GNXZUWRFE".to_vec();
-        if conv.tpi_letter != 0 {
-            letters.push(conv.tpi_letter);
-        }
-        if self.flavour.gsk_g92_words {
-            letters.extend_from_slice(b"JKL");
-        }
-        only_words(
-            line,
-            &letters,
-            "a G92 block",
-            if self.flavour.gsk_g92_words {
-                "X(U) Z(W) R(i) F(L) or I(threads per inch), J K L"
-            } else {
-                "X(U) Z(W) R(i) F(L)"
-            },
-        )?;
-        let lead = self.lead(conv, line, modal, span, "G92")?;
-        let a = start_point(modal, span, "G92")?;
+        let f = self.flavour;
+        let name = g_name(self.codes.single);
+        let (letters, format) = self.g92_words(conv);
+        only_words(line, &letters, &format!("a {name} block"), &format)?;
+        let lead = self.lead(conv, line, modal, span, &name)?;
+        let a = start_point(modal, span, &name)?;
         let mut end = modal.target(conv, line, a)?;
         let has_z = line.word(b'Z').or(line.word(b'W')).is_some();
         let has_x = line.word(b'X').or(line.word(b'U')).is_some();
@@ -432,18 +663,21 @@ impl FanucFamily {
                 return Err(Diagnostic::error(
                     Code::MissingWord,
                     span,
-                    "G92 needs the thread end point: X (or U) and Z (or W)",
+                    format!("{name} needs the thread end point: X (or U) and Z (or W)"),
                 ))
             }
             _ => {}
         }
-        let taper = match line.word(b'R') {
+        let taper = match line.word(f.taper_letter) {
             Some(r) => modal.length_mm(r),
             None => repeat.map_or(0.0, |m| m.taper),
         };
+        let phase_deg = self.g92_start_angle(line, span, repeat, warnings)?;
         self.g92 = Some(G92Modal {
             end_z: end.z,
             taper,
+            phase_deg,
+            phase_line: line.number,
         });
         let travel_z = end.z - a.z;
         if travel_z == 0.0 {
@@ -456,25 +690,26 @@ impl FanucFamily {
         let cut_start = Pos::new(end.x + taper, a.z);
         let side = side_of(a, end, span)?;
         if (a.x - cut_start.x) * side.outward().x <= 0.0 {
+            let t = f.taper_letter as char;
             return Err(geometry(
                 span,
                 format!(
-                    "R(i) {} puts the thread's start beyond the start point's X: when R's sign differs from U's, |R| must not exceed |U/2|",
+                    "{t}(i) {} puts the thread's start beyond the start point's X: when {t}'s sign differs from U's, |{t}| must not exceed |U/2|",
                     modal.units.from_mm(taper)
                 ),
             ));
         }
-        let (exit, starts) = if self.flavour.gsk_g92_words {
+        let (exit, starts) = if f.gsk_g92_words {
             self.gsk_tail(line, modal, lead)?
         } else {
-            (self.params.chamfer(lead), 1)
+            (self.chamfer(lead), 1)
         };
-        check_exit(&exit, travel_z, modal.units, span)?;
+        self.check_exit(&exit, travel_z, modal.units, span)?;
         super::lead_warning(lead, travel_z, modal.units, span, "check F", warnings);
         Ok(Job {
             line: line.number,
             span,
-            controller: self.flavour.controller,
+            controller: f.controller,
             units: modal.units,
             start: a,
             geometry: Geometry {
@@ -485,6 +720,7 @@ impl FanucFamily {
             },
             lead: Lead {
                 starts,
+                phase_deg,
                 ..Lead::constant(lead)
             },
             plan: PassPlan {
@@ -500,6 +736,56 @@ impl FanucFamily {
             retract: Retract { x: a.x, z: a.z },
             return_path: ReturnPath::Box,
         })
+    }
+
+    /// The single-pass cycle's words on this controller (E is read only to refuse it with its own
+    /// message, except where it is the lead), and the hint that lists them.
+    fn g92_words(&self, conv: &Conventions) -> (Vec<u8>, String) {
+        let f = self.flavour;
+        let mut letters: Vec<u8> = b"GNXZUWFE".to_vec();
+        letters.push(f.taper_letter);
+        let mut format = format!("X(U) Z(W) {}(i) F(L)", f.taper_letter as char);
+        if conv.tpi_letter != 0 {
+            letters.push(conv.tpi_letter);
+        }
+        if f.gsk_g92_words {
+            letters.extend_from_slice(b"JKL");
+            format.push_str(" or I(threads per inch), J K L");
+        }
+        if f.start_angle {
+            letters.push(b'Q');
+            format.push_str(" Q(start angle)");
+        }
+        (letters, format)
+    }
+
+    /// The pass's start angle: its own Q, else 0 — Q is not modal, and a repeat without one after
+    /// a pass that had one draws a warning (the usual slip on a second start).
+    fn g92_start_angle(
+        &self,
+        line: &Line,
+        span: Span,
+        repeat: Option<G92Modal>,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<f64> {
+        if let Some(q) = line.word(b'Q').filter(|_| self.flavour.start_angle) {
+            return start_angle(q);
+        }
+        if let Some(m) = repeat.filter(|m| m.phase_deg != 0.0) {
+            warnings.push(
+                Diagnostic::warning(
+                    Code::Suspicious,
+                    span,
+                    format!(
+                        "this pass starts at 0°: the start angle Q{} of line {} is not modal",
+                        crate::post::start_angle_count(m.phase_deg),
+                        m.phase_line
+                    ),
+                )
+                .with_hint("repeat Q on every pass of a start other than the first"),
+            );
+        }
+        Ok(0.0)
     }
 
     /// GSK's G92 tail-out J (short axis) and K (long axis) in the block's own words, and L starts
@@ -521,7 +807,7 @@ impl FanucFamily {
             }
         }
         let exit = match (j, k) {
-            (None, None) => self.params.chamfer(lead),
+            (None, None) => self.chamfer(lead),
             (Some(j), None) | (Some(j), Some(0.0)) => pull_out(j, j),
             (None, Some(k)) => pull_out(k, k),
             (Some(j), Some(k)) => pull_out(j, k),
@@ -543,6 +829,7 @@ impl FanucFamily {
         Ok((exit, starts))
     }
 
+    /// The cycle's lead: F (or a TPI word), modal from an earlier thread block; Haas's E as F.
     fn lead(
         &self,
         conv: &Conventions,
@@ -552,14 +839,27 @@ impl FanucFamily {
         cycle: &str,
     ) -> Result<f64> {
         if let Some(e) = line.word(b'E') {
-            return Err(Diagnostic::error(
-                Code::Unsupported,
-                e.span,
-                format!(
-                    "E on {cycle} means threads per inch or a precise lead depending on the series"
-                ),
-            )
-            .with_hint("write the lead with F"));
+            if !self.flavour.e_is_lead {
+                return Err(Diagnostic::error(
+                    Code::Unsupported,
+                    e.span,
+                    format!(
+                        "E on {cycle} means threads per inch or a precise lead depending on the series"
+                    ),
+                )
+                .with_hint("write the lead with F"));
+            }
+            if let Some(f) = line.word(b'F') {
+                let later = if e.span.start > f.span.start { e } else { f };
+                return Err(Diagnostic::error(
+                    Code::Conflict,
+                    later.span,
+                    format!("F and E in one {cycle} block: the lead is given by either F or E"),
+                ));
+            }
+            let lead = one_block::positive(modal, e, "the lead")?;
+            modal.lead = Some(lead);
+            return Ok(lead);
         }
         modal.read_lead(conv, line.words)?;
         if let Some(f) = line.word(b'F') {
@@ -594,6 +894,71 @@ impl FanucFamily {
         }
         let a = start_point(modal, span, cycle)?;
         Ok((a, modal.target(conv, line, a)?))
+    }
+
+    fn check_exit(&self, exit: &Exit, travel_z: f64, units: Units, span: Span) -> Result<()> {
+        if let Exit::PullOut { length, .. } = *exit {
+            if length >= travel_z.abs() {
+                return Err(geometry(
+                    span,
+                    format!(
+                        "{} {} is not shorter than the thread ({} along Z)",
+                        self.flavour.chamfer_name,
+                        units.from_mm(length),
+                        units.from_mm(travel_z.abs())
+                    ),
+                )
+                .with_hint(format!("lower {}", self.flavour.chamfer_name)));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// `Q`, the thread's start angle: a count of 0.001° without a decimal point, 0 to 360000 (Fanuc:
+/// "Angle for shifting the threading start angle (Increment: 0.001 degrees, Valid setting range: 0
+/// to 360 degrees)"; Haas: "Thread Start Angle (Do not use a decimal point)"). In degrees, below 360.
+pub(crate) fn start_angle(q: &Word) -> Result<f64> {
+    if q.has_dot || q.value.fract() != 0.0 {
+        return Err(Diagnostic::error(
+            Code::Syntax,
+            q.span,
+            "Q (the thread's start angle) is written in 0.001° without a decimal point",
+        )
+        .with_hint("Q180000 is 180°; a decimal point is not allowed"));
+    }
+    if !(0.0..=360_000.0).contains(&q.value) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            q.span,
+            format!(
+                "Q{}: the start angle is 0 to 360000 (0.001°: 0 to 360°)",
+                q.value
+            ),
+        ));
+    }
+    Ok((q.value / 1000.0) % 360.0)
+}
+
+/// A one-block G76's words on a two-block control: say so, and name the controls that read it.
+fn one_block_words_on_two_block(line: &Line, controller: &str, name: &str) -> Result<()> {
+    match line
+        .words
+        .iter()
+        .find(|w| matches!(w.letter, b'K' | b'D' | b'A'))
+    {
+        Some(w) => Err(Diagnostic::error(
+            Code::Unsupported,
+            w.span,
+            format!(
+                "{} belongs to the one-block {name} (X Z K D F A P), which {controller} does not read: {controller} reads {name} in two blocks",
+                w.letter as char
+            ),
+        )
+        .with_hint(format!(
+            "Haas lathes and Fanuc controls in the FS15 program format take the one-block form: read this program with --controller haas or --controller fanuc15; for {controller} write {name} P(m)(r)(a) Q(Δdmin) R(d) then {name} X(U) Z(W) R(i) P(k) Q(Δd) F(L)"
+        ))),
+        None => Ok(()),
     }
 }
 
@@ -632,33 +997,16 @@ fn side_of(a: Pos, reference: Pos, span: Span) -> Result<Side> {
     }
 }
 
-fn check_exit(exit: &Exit, travel_z: f64, units: Units, span: Span) -> Result<()> {
-    if let Exit::PullOut { length, .. } = *exit {
-        if length >= travel_z.abs() {
-            return Err(geometry(
-                span,
-                format!(
-                    "the chamfer {} is not shorter than the thread ({} along Z)",
-                    units.from_mm(length),
-                    units.from_mm(travel_z.abs())
-                ),
-            )
-            .with_hint("lower the chamfer amount (G76 P(r), parameter 5130)"));
-        }
-    }
-    Ok(())
-}
-
 fn geometry(span: Span, msg: impl Into<String>) -> Diagnostic {
     Diagnostic::error(Code::Geometry, span, msg)
 }
 
 /// P(m)(r)(a): three two-digit fields, leading zeros may be omitted (`P21060` is m 02, r 10, a 60).
-fn unpack_p(line: &Line, p: &Word) -> Result<(u32, u32, u32)> {
+fn unpack_p(line: &Line, p: &Word, name: &str) -> Result<(u32, u32, u32)> {
     let packed = super::packed_p(
         line,
         p,
-        "G76",
+        name,
         "P021060 is 2 finishing passes, a chamfer of 1.0 lead, a 60° tool",
     )?;
     let [m, r, a] = packed.fields;
@@ -679,18 +1027,29 @@ fn unpack_p(line: &Line, p: &Word) -> Result<(u32, u32, u32)> {
     Ok((m, r, a))
 }
 
-fn alarm_missing(span: Span, word: &str, what: &str) -> Diagnostic {
+fn alarm_missing(span: Span, name: &str, word: &str, what: &str) -> Diagnostic {
     Diagnostic::error(
         Code::MissingWord,
         span,
-        format!("G76 alarm (PS0062): {word} is missing; it gives {what}"),
+        format!("{name} alarm (PS0062): {word} is missing; it gives {what}"),
     )
-    .with_hint(format!("{word} has no default on the second G76 block"))
+    .with_hint(format!("{word} has no default on the second {name} block"))
 }
 
-/// The two G76 blocks that express `job`, when G76 can (the read-back check decides in the end).
-pub fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, String> {
+/// The two G76 blocks (G78 in system C) that express `job`, when G76 can (the read-back check
+/// decides in the end).
+pub fn native_g76(
+    machine: &Machine,
+    codes: &GCodes,
+    job: &Job,
+) -> std::result::Result<Vec<String>, String> {
+    let name = g_name(codes.multiple);
     let g = &job.geometry;
+    if job.lead.phase_deg != 0.0 {
+        return Err(format!(
+            "the two-block {name} has no start angle: its Q is the first depth"
+        ));
+    }
     if job.return_path != ReturnPath::Box
         || job.retract
             != (Retract {
@@ -699,17 +1058,17 @@ pub fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<Strin
             })
     {
         return Err(
-            "G76 retracts to the start point's X and returns to its Z after every pass, and this job does not".into(),
+            format!("{name} retracts to the start point's X and returns to its Z after every pass, and this job does not"),
         );
     }
     if job.entry != Entry::Direct {
-        return Err("G76 has no entry ramp".into());
+        return Err(format!("{name} has no entry ramp"));
     }
     if job.lead.dlead != 0.0 || job.lead.starts != 1 {
-        return Err("G76 cuts one start of a constant lead".into());
+        return Err(format!("{name} cuts one start of a constant lead"));
     }
     if !(1..=99).contains(&job.plan.finish_passes) {
-        return Err("G76 has 1 to 99 finishing passes".into());
+        return Err(format!("{name} has 1 to 99 finishing passes"));
     }
     let (first, min_cut) = match job.plan.law {
         DepthLaw::Power {
@@ -717,28 +1076,30 @@ pub fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<Strin
             degression: 2.0,
             min_step,
         } => (first, min_step),
-        _ => return Err("G76 cuts the constant-area law d·√n only".into()),
+        _ => return Err(format!("{name} cuts the constant-area law d·√n only")),
     };
     let a = job.tool_angle_deg;
     let angle = TOOL_ANGLES
         .iter()
         .copied()
         .find(|&t| f64::from(t) == a)
-        .ok_or_else(|| format!("G76's tool angle is 80, 60, 55, 30, 29 or 0, not {a}"))?;
+        .ok_or_else(|| format!("{name}'s tool angle is 80, 60, 55, 30, 29 or 0, not {a}"))?;
     let lead = job.lead.lead;
     let r = match job.exit {
         Exit::Straight => 0,
         Exit::PullOut { length, .. } => {
             let tenths = length / (0.1 * lead);
             if (tenths - tenths.round()).abs() > 1e-6 || tenths.round() > 99.0 {
-                return Err("G76's chamfer is a whole number of tenths of a lead, 0 to 99".into());
+                return Err(format!(
+                    "{name}'s chamfer is a whole number of tenths of a lead, 0 to 99"
+                ));
             }
             tenths.round() as u32
         }
         Exit::ToRetract { .. } | Exit::FeedOut { .. } => {
-            return Err(
-                "G76's chamfer is a synchronised pull-out ending at the thread's end".into(),
-            )
+            return Err(format!(
+                "{name}'s chamfer is a synchronised pull-out ending at the thread's end"
+            ))
         }
     };
     let u = job.units;
@@ -758,7 +1119,7 @@ pub fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<Strin
         root_end.x
     };
     let mut second = format!(
-        "G76 X{} Z{}",
+        "{name} X{} Z{}",
         crate::post::number(u.from_mm(x_end), nd, false),
         num(root_end.z)
     );
@@ -773,7 +1134,7 @@ pub fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<Strin
     ));
     Ok(vec![
         format!(
-            "G76 P{:02}{r:02}{angle:02} Q{} R{}",
+            "{name} P{:02}{r:02}{angle:02} Q{} R{}",
             job.plan.finish_passes,
             count(min_cut),
             num(job.plan.finish_allowance)
@@ -782,14 +1143,17 @@ pub fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<Strin
     ])
 }
 
-/// The G92 block that expresses a single-pass `job`, when G92 can.
-/// `tail_words`: GSK writes the pull-out as J (short axis) and K (long axis) on the block; Fanuc
-/// takes it from parameters 5130/5131.
+/// The G92 block (G78 in system B, G21 in C) that expresses a single-pass `job`, when G92 can.
+/// GSK writes the pull-out as J (short axis) and K (long axis) on the block (`gsk_g92_words`);
+/// the others take it from their parameters. The taper and start-angle words are the flavour's.
 pub fn native_g92(
     machine: &Machine,
+    codes: &GCodes,
+    flavour: &Flavour,
     job: &Job,
-    tail_words: bool,
 ) -> std::result::Result<Vec<String>, String> {
+    let name = g_name(codes.single);
+    let tail_words = flavour.gsk_g92_words;
     let g = &job.geometry;
     let single = g.depth == 0.0
         && job.plan.finish_passes == 1
@@ -798,7 +1162,7 @@ pub fn native_g92(
         return Err("not a single pass".into());
     }
     if job.return_path != ReturnPath::Box || job.entry != Entry::Direct || job.lead.dlead != 0.0 {
-        return Err("G92 has no entry ramp or variable lead".into());
+        return Err(format!("{name} has no entry ramp or variable lead"));
     }
     let u = job.units;
     let nd = machine.decimals(u);
@@ -809,12 +1173,16 @@ pub fn native_g92(
         g.crest_end.x
     };
     let mut block = format!(
-        "G92 X{} Z{}",
+        "{name} X{} Z{}",
         crate::post::number(u.from_mm(x), nd, false),
         num(g.crest_end.z)
     );
     if g.taper() != 0.0 {
-        block.push_str(&format!(" R{}", num(g.taper())));
+        block.push_str(&format!(
+            " {}{}",
+            flavour.taper_letter as char,
+            num(g.taper())
+        ));
     }
     if tail_words {
         match job.exit {
@@ -827,14 +1195,19 @@ pub fn native_g92(
                 block.push_str(&format!(" J{} K{}", num(outward), num(length)))
             }
             Exit::PullOut { .. } | Exit::ToRetract { .. } | Exit::FeedOut { .. } => {
-                return Err("G92's tail-out is synchronised and ends at the thread's end".into())
+                return Err(format!(
+                    "{name}'s tail-out is synchronised and ends at the thread's end"
+                ))
             }
         }
         if job.lead.starts > 1 {
             block.push_str(&format!(" L{}", job.lead.starts));
         }
     } else if job.lead.starts != 1 {
-        return Err("G92 cuts one start".into());
+        return Err(format!("{name} cuts one start (a start angle Q shifts it)"));
+    }
+    if job.lead.phase_deg != 0.0 && !flavour.start_angle {
+        return Err(format!("{name} has no start angle on this controller"));
     }
     block.push_str(&format!(
         " F{}",
@@ -844,5 +1217,11 @@ pub fn native_g92(
             false
         )
     ));
+    if job.lead.phase_deg != 0.0 {
+        block.push_str(&format!(
+            " Q{}",
+            crate::post::start_angle_count(job.lead.phase_deg)
+        ));
+    }
     Ok(vec![block])
 }

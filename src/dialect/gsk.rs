@@ -9,7 +9,7 @@
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::{Conventions, Line, Modal, Word};
-use crate::machine::{GskParameters, IncrementSystem, Machine};
+use crate::machine::{GCodeSystem, GskParameters, IncrementSystem, Machine};
 use crate::post::Format;
 use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
@@ -17,7 +17,7 @@ use crate::thread::{
 };
 use crate::units::{Pos, Units};
 
-use super::fanuc_family::{self, FanucFamily, Flavour, ThreadParameters};
+use super::fanuc_family::{self, FanucFamily, Flavour, GCodes, ThreadParameters};
 use super::{only_words, Dialect, Read};
 
 const G78: u16 = 780;
@@ -85,22 +85,26 @@ impl Gsk {
                 lead_along_path: false,
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
+                units_codes: crate::gcode::modal::G20_G21,
             },
             machine: machine.clone(),
             settings: Settings::from_parameters(&params),
             family: FanucFamily::new(
                 Flavour {
-                    controller: "gsk980",
                     gsk_g92_words: true,
+                    // GSK's G92 cuts further starts with L, not by a start angle.
+                    start_angle: false,
+                    ..Flavour::fanuc("gsk980")
                 },
-                ThreadParameters {
-                    chamfer_tenths: u32::from(params.p5130),
-                    chamfer_angle: u32::from(params.p5131),
-                    min_cut_mm: params.p5140,
-                    allowance_mm: params.p5141,
-                    finish_passes: u32::from(params.p5142),
-                    tool_angle: u32::from(params.p5143),
-                },
+                ThreadParameters::fanuc(
+                    params.p5130,
+                    params.p5131,
+                    params.p5140,
+                    params.p5141,
+                    params.p5142,
+                    params.p5143,
+                ),
+                GCodes::of(GCodeSystem::A),
                 machine,
             ),
             params,
@@ -550,8 +554,8 @@ impl Dialect for Gsk {
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
         // G78 first; the Fanuc-family cycles when G78 cannot; G78's reason when none can.
         native_g78(&self.machine, job).or_else(|why| {
-            fanuc_family::native_g92(&self.machine, job, true)
-                .or_else(|_| fanuc_family::native_g76(&self.machine, job))
+            fanuc_family::native_g92(&self.machine, &self.family.codes, &self.family.flavour, job)
+                .or_else(|_| fanuc_family::native_g76(&self.machine, &self.family.codes, job))
                 .map_err(|_| why)
         })
     }

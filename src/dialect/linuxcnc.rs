@@ -54,6 +54,7 @@ impl LinuxCnc {
                 // G92 sets coordinate offsets: the tool does not move.
                 set_position: 920,
                 canned_cycles: &[730, 740, 810, 820, 830, 840, 850, 860, 870, 880, 890],
+                units_codes: crate::gcode::modal::G20_G21,
             },
             machine: machine.clone(),
             spindles,

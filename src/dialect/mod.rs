@@ -4,10 +4,13 @@
 
 pub mod allen_bradley;
 pub mod fanuc;
+pub mod fanuc15;
 pub mod fanuc_family;
 pub mod gsk;
+pub mod haas;
 pub mod linuxcnc;
 pub mod omniturn;
+pub mod one_block;
 
 use crate::diag::{Diagnostic, Result, Span};
 use crate::gcode::{Conventions, Line, Modal, Word};
@@ -223,10 +226,12 @@ pub fn open_with<W: WithDialect>(
         "omniturn" => work.run(omniturn::OmniTurn::new(machine)),
         "allen_bradley" => work.run(allen_bradley::AllenBradley::new(machine)),
         "fanuc" => work.run(fanuc::Fanuc::new(machine)),
+        "fanuc15" => work.run(fanuc15::new(machine)),
+        "haas" => work.run(haas::Haas::new(machine)),
         "linuxcnc" => work.run(linuxcnc::LinuxCnc::new(machine)),
         other => {
             return Err(format!(
-                "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, linuxcnc)",
+                "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, fanuc15, haas, linuxcnc)",
                 machine.name
             ))
         }

@@ -92,6 +92,7 @@ impl OmniTurn {
                 tpi_letter: 0,
                 set_position: G92,
                 canned_cycles: &[],
+                units_codes: crate::gcode::modal::G20_G21,
             },
             machine: machine.clone(),
             params: machine.omniturn.clone().unwrap_or_else(default_parameters),

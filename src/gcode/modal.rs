@@ -30,7 +30,13 @@ pub struct Conventions {
     pub set_position: u16,
     /// G codes that run a canned cycle and leave the tool where it started.
     pub canned_cycles: &'static [u16],
+    /// The G codes (×10) that select inch and millimetre input: [`G20_G21`] nearly everywhere,
+    /// `G70`/`G71` in Fanuc's G-code system C (where G20 and G21 are turning cycles).
+    pub units_codes: [u16; 2],
 }
+
+/// `G20` inch, `G21` millimetre input.
+pub const G20_G21: [u16; 2] = [200, 210];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionMode {
@@ -246,8 +252,8 @@ impl Modal {
                 } else {
                     match code {
                         40 => dwell = true,
-                        200 => self.units = Units::Inch,
-                        210 => self.units = Units::Mm,
+                        c if c == conv.units_codes[0] => self.units = Units::Inch,
+                        c if c == conv.units_codes[1] => self.units = Units::Mm,
                         280 | 300 => home = true,
                         900 if conv.g90_g91_distance => self.absolute = true,
                         910 if conv.g90_g91_distance => self.absolute = false,
@@ -500,6 +506,7 @@ mod tests {
             lead_along_path: false,
             set_position: 500,
             canned_cycles: &[900, 920, 940, 710, 720, 730, 700, 760, 780],
+            units_codes: G20_G21,
         }
     }
 
@@ -584,6 +591,26 @@ mod tests {
         m.apply(&plain_conv(), &r.next_line().unwrap().unwrap())
             .unwrap();
         assert_eq!(m.position, Some(Pos::new(25.0, 2.0)));
+    }
+
+    #[test]
+    fn units_codes_are_the_dialects() {
+        // Fanuc's G-code system C: G70/G71 select inch/mm; G20 is a turning cycle there.
+        let c = Conventions {
+            units_codes: [700, 710],
+            canned_cycles: &[200, 210, 240],
+            ..conv()
+        };
+        let mut m = Modal::new(&c, Units::Mm, [1.0, 1.0]);
+        let mut r = Reader::new(&b"G70\nG20 X1 Z1\nG71\nG21\n"[..]);
+        m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap();
+        assert_eq!(m.units, Units::Inch);
+        m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap();
+        assert_eq!((m.units, m.motion), (Units::Inch, MotionMode::Cycle));
+        m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap();
+        assert_eq!(m.units, Units::Mm);
+        m.apply(&c, &r.next_line().unwrap().unwrap()).unwrap();
+        assert_eq!(m.units, Units::Mm, "G21 is no units code in system C");
     }
 
     fn plain_conv() -> Conventions {

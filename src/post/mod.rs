@@ -30,6 +30,11 @@ pub struct Format {
     /// The lead word is the travel per revolution along the move's path (LinuxCNC's `G33 K`), not
     /// along its longer axis (Fanuc's `G32 F`); the writer converts the model's lead.
     pub lead_along_path: bool,
+    /// The word that shifts a synchronised run's start angle, in 0.001° without a decimal point
+    /// (Fanuc's and Haas's `G32 … Q`), if the controller has one. It is written on the first move
+    /// of each run whose phase is not 0. Without it a job with a phase cannot be written as plain
+    /// moves: callers must refuse it ([`expressible`]).
+    pub start_angle: Option<char>,
 }
 
 impl Format {
@@ -48,6 +53,7 @@ impl Format {
             trailing_zeros: machine.output.trailing_zeros,
             comment: machine.output.comment,
             lead_along_path: false,
+            start_angle: None,
         }
     }
 
@@ -245,11 +251,22 @@ pub fn number_on_grid(value: f64, step: f64, trailing_zeros: bool) -> String {
 }
 
 /// Whether `format` can write `job`'s moves as plain blocks: a lead that changes every revolution
-/// needs the controller's variable-lead move.
+/// needs the controller's variable-lead move, a start angle other than 0 its start-angle word.
 pub fn expressible(
     format: &Format,
     job: &crate::thread::Job,
 ) -> Result<(), crate::diag::Diagnostic> {
+    if job.lead.phase_deg != 0.0 && format.start_angle.is_none() {
+        return Err(crate::diag::Diagnostic::error(
+            crate::diag::Code::Unsupported,
+            job.span,
+            format!(
+                "the thread starts {}° after the spindle's one-revolution signal, and this controller has no start-angle word in threadcut",
+                job.lead.phase_deg
+            ),
+        )
+        .with_hint("choose a controller whose thread move takes a start angle (Fanuc, Haas: G32 … Q)"));
+    }
     if job.lead.dlead != 0.0 && format.variable_thread.is_none() {
         return Err(crate::diag::Diagnostic::error(
             crate::diag::Code::Unsupported,
@@ -303,6 +320,8 @@ pub fn write_moves(
     // Consecutive moves share coordinates and leads: each is formatted once (same text either way).
     let (mut x_cache, mut z_cache) = (Cached::default(), Cached::default());
     let mut lead_cache = [Cached::default(), Cached::default()];
+    // Whether the previous move was synchronised: a start angle belongs to a run's first move.
+    let mut in_run = false;
     for (from, m) in path.segments() {
         if line.len() > 1 << 16 {
             out.write_all(&line)?;
@@ -353,9 +372,36 @@ pub fn write_moves(
             line.extend_from_slice(letter.encode_utf8(&mut buf).as_bytes());
             push_number(&mut line, finite(units.from_mm(dlead))?, ld, tz);
         }
+        if let MotionKind::Thread { phase_deg, .. } = m.kind {
+            if !in_run && phase_deg != 0.0 {
+                push_start_angle(&mut line, format, phase_deg)?;
+            }
+        }
+        in_run = matches!(m.kind, MotionKind::Thread { .. });
         line.push(b'\n');
     }
     out.write_all(&line)
+}
+
+/// ` Q180000`: a start angle in 0.001° without a decimal point, the way Fanuc and Haas write it.
+fn push_start_angle(out: &mut Vec<u8>, format: &Format, phase_deg: f64) -> io::Result<()> {
+    let Some(letter) = format.start_angle else {
+        // Callers check first (`expressible`); this is the last guard.
+        return Err(io::Error::new(
+            io::ErrorKind::InvalidData,
+            "refusing to drop a thread's start angle: this controller has no start-angle word",
+        ));
+    };
+    out.push(b' ');
+    let mut buf = [0u8; 4];
+    out.extend_from_slice(letter.encode_utf8(&mut buf).as_bytes());
+    out.extend_from_slice(start_angle_count(finite(phase_deg)?).to_string().as_bytes());
+    Ok(())
+}
+
+/// A start angle (degrees) as the count of 0.001° a `Q` word carries.
+pub fn start_angle_count(phase_deg: f64) -> u32 {
+    (phase_deg * 1000.0).round() as u32
 }
 
 /// Appends a few bytes; for a handful a memmove call costs more than the copy.
@@ -412,8 +458,26 @@ pub fn long_axis_lead(path_lead: f64, d: crate::units::Vec2) -> f64 {
 
 /// One motion as a JSON object in program units, X as a radius:
 /// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}` (`"dlead"` after `"lead"` when the
-/// lead varies).
+/// lead varies, then `"phase"`, the run's start angle in degrees, when it is not 0).
 pub fn motion_json(m: &Motion, units: Units) -> String {
+    match m.kind {
+        MotionKind::Thread { phase_deg, .. } if phase_deg != 0.0 => {
+            let plain = motion_json_without_phase(m, units);
+            let at = plain
+                .rfind(r#","pass":"#)
+                .expect("a thread object has a pass");
+            format!(
+                r#"{},"phase":{}{}"#,
+                &plain[..at],
+                json_num(phase_deg),
+                &plain[at..]
+            )
+        }
+        _ => motion_json_without_phase(m, units),
+    }
+}
+
+fn motion_json_without_phase(m: &Motion, units: Units) -> String {
     let x = units.from_mm(m.to.x);
     let z = units.from_mm(m.to.z);
     match m.kind {

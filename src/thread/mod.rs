@@ -113,6 +113,11 @@ pub struct Lead {
     pub dlead: f64,
     /// Number of starts; each start is the same thread shifted by lead/starts along the axis.
     pub starts: u32,
+    /// The spindle angle (degrees, 0 ≤ φ < 360) at which every pass's synchronised run begins,
+    /// counted from the spindle's one-revolution signal: the thread-start shift of Fanuc's and
+    /// Haas's `Q` word. A thread of n starts can be cut as n cycles whose phases differ by 360°/n
+    /// (each with `starts` = 1) instead of by the axial shift that `starts` gives.
+    pub phase_deg: f64,
 }
 
 impl Lead {
@@ -121,6 +126,7 @@ impl Lead {
             lead,
             dlead: 0.0,
             starts: 1,
+            phase_deg: 0.0,
         }
     }
 

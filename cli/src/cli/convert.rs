@@ -102,6 +102,23 @@ pub fn convert(
     let sname = source.name();
     drop((target, source));
     let same = from == to;
+    // The block rewriting below knows Fanuc's G-code system A only (G32, G50, U/W); a system B or
+    // C machine would get blocks it reads otherwise. Refused until conversion lives in the library.
+    for m in [from, to] {
+        if let Some(system) = m
+            .fanuc
+            .as_ref()
+            .map(|p| p.gcode_system)
+            .filter(|s| *s != threadcut::machine::GCodeSystem::A)
+        {
+            if !same {
+                return Err(Error::Setup(format!(
+                    "convert does not rewrite Fanuc G-code system {system:?} blocks yet (profile `{}`); expand and passes read it",
+                    m.name
+                )));
+            }
+        }
+    }
     let (ff, tf) = (family(from), family(to));
     // A header before the first line that is not a `%` delimiter: what was converted, and for
     // LinuxCNC the modes the rewritten positions assume (absolute, the profile's X convention).

@@ -1,0 +1,174 @@
+//! Haas lathes (the Haas control; Fanuc-style G-code system A): the one-block multiple-pass cycle
+//! `G76 X(U) Z(W) I K D F(E) A P Q` (the FS15 format's cycle, `super::one_block`), the modal
+//! single-pass cycle `G92 X(U) Z(W) I F(E) Q`, the thread move `G32 … F Q`, and the settings that
+//! govern them: 86 (thread finish allowance), 95 and 96 (thread chamfer size and angle, switched by
+//! M23/M24), 99 (thread minimum cut). Sources (Haas's G76, G32 and settings pages) and every
+//! inference: `docs/dialects/haas.md`.
+
+use crate::diag::{Code, Diagnostic, Result};
+use crate::gcode::reader::g_code;
+use crate::gcode::{Conventions, Line, Modal, MotionMode};
+use crate::machine::{GCodeSystem, HaasSettings, Machine};
+use crate::post::Format;
+use crate::thread::Job;
+use crate::units::MM_PER_INCH;
+
+use super::fanuc_family::{self, FanucFamily, Flavour, G76Form, GCodes, ThreadParameters};
+use super::one_block::{self, G76Words};
+use super::{Dialect, Read};
+
+/// M23: "chamfer out of thread" on (the default); M24: off.
+const M23: u16 = 230;
+const M24: u16 = 240;
+
+/// Haas's G76 words: `F(E)` (E is the lead as F is), A and Q "Do not use a decimal point", and M
+/// for the M23/M24 written on the cycle's own block. The manual gives no alarm numbers for K or D.
+pub const G76_WORDS: G76Words = G76Words {
+    letters: b"GNXZUWIKDFEAPQM",
+    format: "X(U) Z(W) I(taper) K(height) D(first depth) F|E(lead) A(tool angle 0-120) P(infeed 1-4) Q(start angle), M23/M24",
+    e_is_lead: true,
+    no_point_a: true,
+    alarm: None,
+};
+
+/// Haas on Fanuc's family reader.
+pub const FLAVOUR: Flavour = Flavour {
+    controller: "haas",
+    gsk_g92_words: false,
+    taper_letter: b'I',
+    start_angle: true,
+    e_is_lead: true,
+    g76: G76Form::OneBlock(G76_WORDS),
+    chamfer_name: "the thread chamfer (Setting 95)",
+    allowance_name: "the thread finish allowance (Setting 86)",
+};
+
+pub struct Haas {
+    conv: Conventions,
+    machine: Machine,
+    family: FanucFamily,
+}
+
+/// The built-in settings when a profile has no `[haas]` table.
+pub fn default_settings() -> HaasSettings {
+    Machine::built_in("haas")
+        .and_then(|m| m.haas)
+        .expect("the haas profile has a [haas] table")
+}
+
+/// The settings as the family reader's parameters. G76 finishes with one pass at K that removes
+/// Setting 86, and with none when Setting 86 is 0 (the last constant-amount pass lands on K); A
+/// absent is A0 ("the tool nose angle … 0 to 120").
+pub fn parameters(s: &HaasSettings) -> ThreadParameters {
+    ThreadParameters {
+        chamfer_leads: s.chamfer_leads,
+        chamfer_angle_deg: s.chamfer_angle_deg,
+        min_cut_mm: s.min_cut_in * MM_PER_INCH,
+        allowance_mm: s.finish_allowance_in * MM_PER_INCH,
+        finish_passes: u32::from(s.finish_allowance_in > 0.0),
+        tool_angle: 0,
+    }
+}
+
+impl Haas {
+    pub fn new(machine: &Machine) -> Haas {
+        let settings = machine.haas.clone().unwrap_or_else(default_settings);
+        let codes = GCodes::of(GCodeSystem::A);
+        Haas {
+            conv: codes.conventions(machine),
+            family: FanucFamily::new(FLAVOUR, parameters(&settings), codes, machine),
+            machine: machine.clone(),
+        }
+    }
+
+    /// M23/M24 switch the chamfer of the cycles that follow (and of the block they are on).
+    fn chamfer_switch(&mut self, line: &Line) {
+        for w in line.words.iter().filter(|w| w.letter == b'M') {
+            match g_code(w.value) {
+                Some(M23) => self.family.chamfer_on = true,
+                Some(M24) => self.family.chamfer_on = false,
+                _ => {}
+            }
+        }
+    }
+
+    /// G32's words are X/U Z/W F Q: an E there is refused rather than ignored (F(E) is G76's and
+    /// G92's).
+    fn thread_move_e(&self, line: &Line, modal: &Modal) -> Result<()> {
+        let Some(e) = line.word(b'E') else {
+            return Ok(());
+        };
+        let no_g = !line.words.iter().any(|w| w.letter == b'G');
+        if line.has_g(self.family.codes.thread_move) || (no_g && modal.motion == MotionMode::Thread)
+        {
+            return Err(Diagnostic::error(
+                Code::Unsupported,
+                e.span,
+                "E is not a word of Haas's G32: its lead is F",
+            )
+            .with_hint("G32 X(U) Z(W) F Q"));
+        }
+        Ok(())
+    }
+}
+
+impl Dialect for Haas {
+    fn name(&self) -> &'static str {
+        "haas"
+    }
+
+    fn conventions(&self) -> &Conventions {
+        &self.conv
+    }
+
+    /// The family's blocks, and blocks with M23/M24 or an E (on G32). Most M blocks (M3, M8) are
+    /// not offered: `read` would leave them as they are.
+    #[inline]
+    fn prefilter(&self, line: &Line) -> bool {
+        self.family.wants(line)
+            || line.summary.has_letter(b'E')
+            || (line.summary.has_letter(b'M')
+                && line
+                    .words
+                    .iter()
+                    .any(|w| w.letter == b'M' && matches!(g_code(w.value), Some(M23 | M24))))
+    }
+
+    fn read(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read> {
+        self.chamfer_switch(line);
+        self.thread_move_e(line, modal)?;
+        Ok(self
+            .family
+            .read(&self.conv, line, modal, warnings)?
+            .unwrap_or(Read::Plain))
+    }
+
+    fn format(&self) -> Format {
+        Format {
+            start_angle: Some('Q'),
+            ..Format::lathe(&self.machine, "G32", 'F')
+        }
+    }
+
+    /// The cycle is read back with the chamfer on (M23, the power-on state).
+    fn assume_ready(&mut self) {
+        self.family.chamfer_on = true;
+    }
+
+    fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        let f = &self.family;
+        fanuc_family::native_g92(&self.machine, &f.codes, &f.flavour, job).or_else(|_| {
+            let mut setup = f.one_block_setup();
+            setup.pull_out = Some(one_block::PullOut {
+                leads: f.params.chamfer_leads,
+                angle_deg: f.params.chamfer_angle_deg,
+            });
+            one_block::native_g76(&self.machine, "G76", &setup, job)
+        })
+    }
+}
