@@ -13,6 +13,7 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ("ab9", include_str!("../profiles/ab9.toml")),
     ("fanuc", include_str!("../profiles/fanuc.toml")),
     ("linuxcnc", include_str!("../profiles/linuxcnc.toml")),
+    ("sinumerik", include_str!("../profiles/sinumerik.toml")),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

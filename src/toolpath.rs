@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::diag::{Code, Diagnostic, Result};
-use crate::thread::{Entry, Exit, Job, Pass, ReturnPath};
+use crate::thread::{Entry, Exit, Job, Lead, Pass, ReturnPath, StartIndexing};
 use crate::units::{Pos, Vec2};
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -99,8 +99,9 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
             line: job.line,
         })
     };
-    // The synchronised move from `from` to `to` of a pass whose thread begins at `origin`.
-    let thread = |origin: Pos, from: Pos, to: Pos| {
+    // The synchronised move from `from` to `to` of a pass whose thread begins at `origin`, for
+    // a start whose moves begin at spindle angle `phase_deg`.
+    let thread = |origin: Pos, from: Pos, to: Pos, phase_deg: f64| {
         let s = side.along(from.minus(origin)) * long.signum();
         let here = if dlead != 0.0 && s > 0.0 {
             (lead * lead + 2.0 * dlead * s).sqrt()
@@ -110,17 +111,31 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
         MotionKind::Thread {
             lead: lead_on_move(here, to.minus(from), side.is_face()),
             dlead,
-            phase_deg: 0.0,
+            phase_deg,
         }
     };
     let diagonal = match job.return_path {
-        ReturnPath::Box => None,
+        ReturnPath::Box | ReturnPath::BoxAtRetract => None,
         ReturnPath::Diagonal { clearance, end } => Some((clearance, end)),
     };
-    for pass in passes {
-        for s in 0..job.lead.starts {
-            // Further starts begin further from the part, so every start keeps its full length.
-            let shift = axial_dir.scale(-job.lead.start_spacing() * f64::from(s));
+    if job.return_path == ReturnPath::BoxAtRetract {
+        // The cycle's own start point first, from wherever the tool is.
+        push(
+            MotionKind::Rapid,
+            Pos::new(job.retract.x, job.retract.z),
+            passes.first().map_or(0, |p| p.n),
+        );
+    }
+    for (pass, s) in pass_order(passes, job.lead) {
+        {
+            // Starts reached by a shift begin further from the part, so every start keeps its
+            // full length; starts reached by the spindle angle begin where the first does.
+            let shift = match job.lead.indexing {
+                StartIndexing::Shift => axial_dir.scale(-job.lead.start_spacing() * f64::from(s)),
+                StartIndexing::Angle => Vec2::new(0.0, 0.0),
+            };
+            let phase = job.lead.start_phase(s);
+            let thread = |origin: Pos, from: Pos, to: Pos| thread(origin, from, to, phase);
             let infeed = pass.start.plus(shift);
             // LinuxCNC: the pass's own retract X, `clearance` outward of its cut X.
             let back_x = diagonal.map(|(clearance, _)| infeed.plus(outward.scale(clearance)).x);
@@ -153,7 +168,7 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                                 MotionKind::Thread {
                                     lead: lead_along_long_axis(path_rate, ramp_start.minus(back)),
                                     dlead: job.lead.dlead,
-                                    phase_deg: 0.0,
+                                    phase_deg: phase,
                                 },
                                 ramp_start,
                                 pass.n,
@@ -291,6 +306,21 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
         ));
     }
     Ok(path)
+}
+
+/// The order in which the passes of each start are cut: (pass, start index). Shifted starts are
+/// all cut at one depth before the next depth; starts reached by the spindle angle are each cut
+/// to full depth before the next ([`StartIndexing`]).
+fn pass_order(passes: &[Pass], lead: Lead) -> impl Iterator<Item = (&Pass, u32)> {
+    let starts = lead.starts.max(1);
+    let n = passes.len() as u64;
+    (0..n * u64::from(starts)).map(move |k| match lead.indexing {
+        StartIndexing::Shift => (
+            &passes[(k / u64::from(starts)) as usize],
+            (k % u64::from(starts)) as u32,
+        ),
+        StartIndexing::Angle => (&passes[(k % n) as usize], (k / n) as u32),
+    })
 }
 
 /// A radius this far below zero is still the axis (rounding), not a crossing of it.

@@ -74,7 +74,9 @@ pub fn verify(
     );
     modal.position = Some(job.start);
     let text = lines.join("\n") + "\n";
-    let mut reader = Reader::new(text.as_bytes());
+    let mut reader = Reader::new(text.as_bytes())
+        .with_bare_letters(d.bare_letters())
+        .with_syntax(d.syntax());
     let mut warnings = Vec::new();
     let mut read_back = None;
     while let Some(line) = reader.next_line() {
@@ -82,7 +84,7 @@ pub fn verify(
             line.map_err(|e| format!("the native cycle does not read back: {}", e.message))?;
         match d.read(&line, &mut modal, &mut warnings) {
             Ok(Read::Cycle(job)) => read_back = Some(job),
-            Ok(Read::Settings) => {}
+            Ok(Read::Settings | Read::Applied(_)) => {}
             Ok(Read::Plain) => {
                 modal
                     .apply(&conv, &line)
@@ -130,14 +132,14 @@ pub fn same_motion(
                 MotionKind::Thread {
                     lead: la,
                     dlead: da,
-                    ..
+                    phase_deg: pa,
                 },
                 MotionKind::Thread {
                     lead: lb,
                     dlead: db,
-                    ..
+                    phase_deg: pb,
                 },
-            ) => (la - lb).abs() <= lead_tol && (da - db).abs() <= lead_tol,
+            ) => (la - lb).abs() <= lead_tol && (da - db).abs() <= lead_tol && same_angle(pa, pb),
             _ => false,
         };
         if !kinds_match {
@@ -155,6 +157,16 @@ pub fn same_motion(
         }
     }
     Ok(())
+}
+
+/// Start angles closer than this are the same (degrees): below the 0.0001° that the controllers
+/// that state one write, far above rounding.
+const PHASE_TOLERANCE_DEG: f64 = 5e-5 + 1e-9;
+
+/// Whether two spindle angles are the same, modulo a turn.
+fn same_angle(a: f64, b: f64) -> bool {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d) <= PHASE_TOLERANCE_DEG
 }
 
 /// Convenience for tests: write to a string.

@@ -8,6 +8,7 @@ pub mod fanuc_family;
 pub mod gsk;
 pub mod linuxcnc;
 pub mod omniturn;
+pub mod sinumerik;
 
 use crate::diag::{Diagnostic, Result, Span};
 use crate::gcode::{Conventions, Line, Modal, Word};
@@ -24,6 +25,10 @@ pub enum Read {
     Settings,
     /// A complete cycle.
     Cycle(Box<Job>),
+    /// A block that is not a threading cycle, which the dialect has applied to the modal state
+    /// itself (a block in its own syntax, or one whose move it completes, e.g. with a start
+    /// angle): the move it makes, if any. It passes through unchanged, as a `Plain` block does.
+    Applied(Option<crate::gcode::PlainMove>),
 }
 
 pub trait Dialect {
@@ -59,6 +64,11 @@ pub trait Dialect {
     /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
     fn bare_letters(&self) -> &'static [u8] {
         b""
+    }
+    /// How this controller's lines are written where it differs from RS274 (Sinumerik: `;`
+    /// comments only, and lines in its own syntax handed over unread).
+    fn syntax(&self) -> crate::gcode::Syntax {
+        crate::gcode::Syntax::default()
     }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
@@ -224,9 +234,10 @@ pub fn open_with<W: WithDialect>(
         "allen_bradley" => work.run(allen_bradley::AllenBradley::new(machine)),
         "fanuc" => work.run(fanuc::Fanuc::new(machine)),
         "linuxcnc" => work.run(linuxcnc::LinuxCnc::new(machine)),
+        "sinumerik" => work.run(sinumerik::Sinumerik::new(machine)),
         other => {
             return Err(format!(
-                "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, linuxcnc)",
+                "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, linuxcnc, sinumerik)",
                 machine.name
             ))
         }

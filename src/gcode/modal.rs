@@ -51,6 +51,9 @@ pub struct PlainMove {
     pub to: Pos,
     /// Lead in mm per revolution, for thread moves.
     pub lead: Option<f64>,
+    /// Spindle angle (degrees) at which a thread move begins when it starts a chain of thread
+    /// moves; 0 unless a dialect states one (Sinumerik `SF=`).
+    pub phase_deg: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -208,6 +211,7 @@ impl Modal {
             from,
             to,
             lead: None,
+            phase_deg: 0.0,
         }))
     }
 
@@ -310,6 +314,7 @@ impl Modal {
             from,
             to,
             lead,
+            phase_deg: 0.0,
         }))
     }
 

@@ -4,6 +4,7 @@
 use std::io::{self, Write};
 
 use crate::machine::{CommentStyle, Machine};
+use crate::thread::StartIndexing;
 use crate::toolpath::{Motion, MotionKind, Toolpath};
 use crate::units::Units;
 
@@ -30,6 +31,14 @@ pub struct Format {
     /// The lead word is the travel per revolution along the move's path (LinuxCNC's `G33 K`), not
     /// along its longer axis (Fanuc's `G32 F`); the writer converts the model's lead.
     pub lead_along_path: bool,
+    /// The lead word of a move that travels further in X than in Z, where it is not
+    /// [`lead_letter`](Format::lead_letter) (Sinumerik: `K` is the pitch along Z, `I` along X).
+    pub steep_lead_letter: Option<char>,
+    /// The word that states the spindle angle (degrees) at which a chain of thread moves begins
+    /// (Sinumerik `SF=`); written on every thread move that follows a move of another kind.
+    /// `None`: the controller's plain moves cannot state one, and callers refuse a job that needs
+    /// it ([`expressible`]).
+    pub phase_word: Option<&'static str>,
 }
 
 impl Format {
@@ -48,6 +57,8 @@ impl Format {
             trailing_zeros: machine.output.trailing_zeros,
             comment: machine.output.comment,
             lead_along_path: false,
+            steep_lead_letter: None,
+            phase_word: None,
         }
     }
 
@@ -261,6 +272,25 @@ pub fn expressible(
         )
         .with_hint("choose a controller with a variable-lead thread move (G34)"));
     }
+    let angle_indexed = job.lead.starts > 1 && job.lead.indexing == StartIndexing::Angle;
+    if format.phase_word.is_none() && (job.lead.phase_deg != 0.0 || angle_indexed) {
+        return Err(crate::diag::Diagnostic::error(
+            crate::diag::Code::Unsupported,
+            job.span,
+            if angle_indexed {
+                format!(
+                    "the {} starts of this thread are reached by turning the spindle (360°/{} apart), and this controller's plain thread moves cannot state a start angle in threadcut",
+                    job.lead.starts, job.lead.starts
+                )
+            } else {
+                format!(
+                    "the thread starts at the spindle angle {}°, and this controller's plain thread moves cannot state a start angle in threadcut",
+                    job.lead.phase_deg
+                )
+            },
+        )
+        .with_hint("choose a controller whose thread move takes a start angle (Sinumerik SF=)"));
+    }
     Ok(())
 }
 
@@ -303,6 +333,8 @@ pub fn write_moves(
     // Consecutive moves share coordinates and leads: each is formatted once (same text either way).
     let (mut x_cache, mut z_cache) = (Cached::default(), Cached::default());
     let mut lead_cache = [Cached::default(), Cached::default()];
+    // Whether the move before was a thread move: a thread move after one continues its chain.
+    let mut in_chain = false;
     for (from, m) in path.segments() {
         if line.len() > 1 << 16 {
             out.write_all(&line)?;
@@ -330,14 +362,19 @@ pub fn write_moves(
         push_bytes(&mut line, b" Z");
         z_cache.push(&mut line, finite(units.from_mm(m.to.z))?, nd, tz);
         if let Some(lead) = lead {
+            let d = m.to.minus(from);
             let lead = if format.lead_along_path {
-                path_lead(lead, m.to.minus(from))
+                path_lead(lead, d)
             } else {
                 lead
             };
+            let lead_letter = match format.steep_lead_letter {
+                Some(steep) if d.x.abs() > d.z.abs() => steep,
+                _ => format.lead_letter,
+            };
             line.push(b' ');
             let mut letter = [0u8; 4];
-            line.extend_from_slice(format.lead_letter.encode_utf8(&mut letter).as_bytes());
+            line.extend_from_slice(lead_letter.encode_utf8(&mut letter).as_bytes());
             let value = finite(units.from_mm(lead))?;
             let slot = if lead_cache[0].holds(value) { 0 } else { 1 };
             if slot == 1 && !lead_cache[1].holds(value) {
@@ -353,10 +390,22 @@ pub fn write_moves(
             line.extend_from_slice(letter.encode_utf8(&mut buf).as_bytes());
             push_number(&mut line, finite(units.from_mm(dlead))?, ld, tz);
         }
+        let is_thread = matches!(m.kind, MotionKind::Thread { .. });
+        if let (MotionKind::Thread { phase_deg, .. }, Some(word), false) =
+            (m.kind, format.phase_word, in_chain)
+        {
+            line.push(b' ');
+            push_bytes(&mut line, word.as_bytes());
+            push_number(&mut line, finite(phase_deg)?, PHASE_DECIMALS, tz);
+        }
+        in_chain = is_thread;
         line.push(b'\n');
     }
     out.write_all(&line)
 }
+
+/// Decimals of a start angle in degrees (Sinumerik's SF and NSP take 0.0001°).
+const PHASE_DECIMALS: u32 = 4;
 
 /// Appends a few bytes; for a handful a memmove call costs more than the copy.
 fn push_bytes(out: &mut Vec<u8>, bytes: &[u8]) {
@@ -412,7 +461,7 @@ pub fn long_axis_lead(path_lead: f64, d: crate::units::Vec2) -> f64 {
 
 /// One motion as a JSON object in program units, X as a radius:
 /// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}` (`"dlead"` after `"lead"` when the
-/// lead varies).
+/// lead varies; `"phase"`, the start angle in degrees, after `"lead"` when it is not 0).
 pub fn motion_json(m: &Motion, units: Units) -> String {
     let x = units.from_mm(m.to.x);
     let z = units.from_mm(m.to.z);
@@ -436,6 +485,18 @@ pub fn motion_json(m: &Motion, units: Units) -> String {
             json_num(z),
             json_num(units.from_mm(lead)),
             json_num(units.from_mm(dlead)),
+            m.pass,
+            m.line
+        ),
+        // A start angle adds `"phase"` (degrees) after the lead.
+        MotionKind::Thread {
+            lead, phase_deg, ..
+        } if phase_deg != 0.0 => format!(
+            r#"{{"kind":"thread","x":{},"z":{},"lead":{},"phase":{},"pass":{},"line":{}}}"#,
+            json_num(x),
+            json_num(z),
+            json_num(units.from_mm(lead)),
+            json_num(phase_deg),
             m.pass,
             m.line
         ),
