@@ -181,3 +181,35 @@ pub fn job_to_string(
         w,
     ))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::toolpath::Motion;
+    use crate::units::Pos;
+
+    fn path(phase_deg: f64) -> Toolpath {
+        Toolpath {
+            start: Pos::new(10.0, 2.0),
+            motions: vec![Motion {
+                kind: MotionKind::Thread {
+                    lead: 2.0,
+                    dlead: 0.0,
+                    phase_deg,
+                },
+                to: Pos::new(10.0, -20.0),
+                pass: 1,
+                line: 1,
+            }],
+        }
+    }
+
+    #[test]
+    fn start_angles_are_compared_modulo_a_turn() {
+        let tol = (1e-6, 1e-6);
+        assert!(same_motion(&path(0.0), &path(0.0), tol).is_ok());
+        assert!(same_motion(&path(359.99999), &path(0.0), tol).is_ok());
+        assert!(same_motion(&path(120.0), &path(120.0001), tol).is_err());
+        assert!(same_motion(&path(180.0), &path(0.0), tol).is_err());
+    }
+}

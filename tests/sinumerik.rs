@@ -78,7 +78,8 @@ use PassKind::{Finish as F, Rough as R};
 fn vari_1_external_constant_infeed_metric_g71() {
     // M30x2 on a 30 mm blank: TDEP 1.2, FAL 0.1, NRC 4, NID 1. Roughing 1.1 in four equal steps
     // of 0.275; the allowance in one cut to 1.2, then one idle pass. X = 30 − 2·depth.
-    let job = job("G71 DIAMON\nT1 D1\nG0 X40 Z10\nCYCLE97(2,,0,-30,30,30,3,2,1.2,0.1,0,0,4,1,1,1)\n");
+    let job =
+        job("G71 DIAMON\nT1 D1\nG0 X40 Z10\nCYCLE97(2,,0,-30,30,30,3,2,1.2,0.1,0,0,4,1,1,1)\n");
     assert_eq!(job.units, Units::Mm);
     assert_eq!(job.geometry.side, Side::External);
     assert_eq!(job.infeed, Infeed::Radial);
@@ -100,7 +101,10 @@ fn vari_1_external_constant_infeed_metric_g71() {
     assert_eq!(path.start, Pos::new(20.0, 10.0));
     assert_eq!(path.motions.len(), 1 + 6 * 4);
     let m = &path.motions;
-    assert_eq!((m[0].kind, m[0].to), (MotionKind::Rapid, Pos::new(16.0, 3.0)));
+    assert_eq!(
+        (m[0].kind, m[0].to),
+        (MotionKind::Rapid, Pos::new(16.0, 3.0))
+    );
     assert_eq!(m[1].to, Pos::new(14.725, 3.0));
     assert_eq!(
         m[2].kind,
@@ -140,7 +144,9 @@ fn vari_2_internal_constant_infeed_inch_g70() {
     // 1"-8 internal on a 0.8647" tap hole: TDEP 0.0677", FAL 0.003", NRC 5, NID 1. Roughing
     // 0.0647" in steps of 0.01294"; X grows from the tap-hole diameter. The start point lies
     // 1 mm (0.03937") below the tap hole whatever the units: radius 0.43235 − 0.03937.
-    let job = job("G70\nG0 X0.5 Z1\nCYCLE97(0.125,,0,-1,0.8647,0.8647,0.2,0.1,0.0677,0.003,0,0,5,1,2,1)\n");
+    let job = job(
+        "G70\nG0 X0.5 Z1\nCYCLE97(0.125,,0,-1,0.8647,0.8647,0.2,0.1,0.0677,0.003,0,0,5,1,2,1)\n",
+    );
     assert_eq!(job.units, Units::Inch);
     assert_eq!(job.geometry.side, Side::Internal);
     assert!(close(job.lead.lead, 3.175, 1e-12));
@@ -206,7 +212,8 @@ fn mpit_gives_the_iso_coarse_pitch_and_may_repeat_pit() {
         assert_eq!(job.lead.lead, 2.0, "{args}");
     }
     // In an inch program MPIT is still a metric size.
-    let job = job("G70\nG0 X1 Z0.2\nCYCLE97(,12,0,-0.8,0.4724,0.4724,0.1,0.05,0.0425,0,0,0,5,0,3,1)\n");
+    let job =
+        job("G70\nG0 X1 Z0.2\nCYCLE97(,12,0,-0.8,0.4724,0.4724,0.1,0.05,0.0425,0,0,0,5,0,3,1)\n");
     assert_eq!(job.lead.lead, 1.75);
 }
 
@@ -299,11 +306,17 @@ fn parameters_set_earlier_are_cycle_arguments() {
     assert_eq!(a.passes().unwrap(), b.passes().unwrap());
     // A parameter the program never set lives on the control: refused where it is used.
     let e = error("G0 X30 Z5\nCYCLE97(R7,,0,-30,24,24,4,2,0.92,0.05,30,0,6,2,3,1)\n");
-    assert_eq!((e.code, e.span.line, e.span.column), (Code::Unsupported, 2, 9));
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::Unsupported, 2, 9)
+    );
     assert!(e.message.contains("R7 is not set"), "{}", e.message);
     // An expression is refused at its operator.
     let e = error("R1=1.5\nR2=R1*2\n");
-    assert_eq!((e.code, e.span.line, e.span.column), (Code::Unsupported, 2, 6));
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::Unsupported, 2, 6)
+    );
     let e = error("G0 X30 Z5\nCYCLE97(R1+0.5,,0,-30,24,24,4,2,0.92,0.05,30,0,6,2,3,1)\n");
     assert_eq!((e.span.line, e.span.column), (2, 11));
 }
@@ -323,7 +336,10 @@ fn alarms_at_their_line_and_column() {
     assert!(msg.contains("61001") && msg.contains("contradict"), "{msg}");
     let (_, _, col, msg) = at("N20 CYCLE97(0,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)");
     assert_eq!(col, 13);
-    assert!(msg.starts_with("CYCLE97 alarm 61001 \"Thread pitch incorrectly defined\""), "{msg}");
+    assert!(
+        msg.starts_with("CYCLE97 alarm 61001 \"Thread pitch incorrectly defined\""),
+        "{msg}"
+    );
     let (_, _, col, _) = at("N20 CYCLE97(,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)");
     assert_eq!(col, 5);
     let (_, _, col, msg) = at("N20 CYCLE97(,13,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)");
@@ -334,27 +350,73 @@ fn alarms_at_their_line_and_column() {
     // 61002: VARI outside 1–4, at VARI; left out, at the cycle's name.
     let (code, _, col, msg) = at("N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1,5,1)");
     assert_eq!((code, col), (Code::OutOfRange, 46));
-    assert!(msg.contains("61002 \"Machining type incorrectly defined\""), "{msg}");
+    assert!(
+        msg.contains("61002 \"Machining type incorrectly defined\""),
+        "{msg}"
+    );
     let (_, _, col, _) = at("N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1)");
     assert_eq!(col, 5);
     // 61000: the tool offset deselected with D0.
     let e = error("T1 D0\nG0 X30 Z5\nCYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)\n");
     assert_eq!((e.code, e.span.line, e.span.column), (Code::Conflict, 3, 1));
-    assert!(e.message.contains("61000 \"No tool offset active\""), "{}", e.message);
+    assert!(
+        e.message.contains("61000 \"No tool offset active\""),
+        "{}",
+        e.message
+    );
     // … and active again with D1 or a tool change.
-    assert_eq!(jobs("D0\nT2\nG0 X30 Z5\nCYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)\n").len(), 1);
+    assert_eq!(
+        jobs("D0\nT2\nG0 X30 Z5\nCYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)\n").len(),
+        1
+    );
     // threadcut's own: no depth, allowance not below the depth, no roughing cut, a fractional
     // count, no length, a face thread, a start angle out of range, a negative run-in.
     for (call, col, code) in [
-        ("N20 CYCLE97(2,,0,-20,16,16,2,1,0,0,0,0,5,1,3,1)", 32, Code::MissingWord),
-        ("N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,1.2,0,0,5,1,3,1)", 36, Code::Geometry),
-        ("N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,0,1,3,1)", 42, Code::OutOfRange),
-        ("N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5.5,1,3,1)", 42, Code::OutOfRange),
-        ("N20 CYCLE97(2,,0,0,16,16,2,1,1.2,0,0,0,5,1,3,1)", 18, Code::Geometry),
-        ("N20 CYCLE97(2,,0,-2,16,30,2,1,1.2,0,0,0,5,1,3,1)", 24, Code::Unsupported),
-        ("N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,360,5,1,3,1)", 40, Code::OutOfRange),
-        ("N20 CYCLE97(2,,0,-20,16,16,-2,1,1.2,0,0,0,5,1,3,1)", 28, Code::OutOfRange),
-        ("N20 CYCLE97(2,,0,-20,0,0,2,1,1.2,0,0,0,5,1,3,1)", 22, Code::OutOfRange),
+        (
+            "N20 CYCLE97(2,,0,-20,16,16,2,1,0,0,0,0,5,1,3,1)",
+            32,
+            Code::MissingWord,
+        ),
+        (
+            "N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,1.2,0,0,5,1,3,1)",
+            36,
+            Code::Geometry,
+        ),
+        (
+            "N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,0,1,3,1)",
+            42,
+            Code::OutOfRange,
+        ),
+        (
+            "N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5.5,1,3,1)",
+            42,
+            Code::OutOfRange,
+        ),
+        (
+            "N20 CYCLE97(2,,0,0,16,16,2,1,1.2,0,0,0,5,1,3,1)",
+            18,
+            Code::Geometry,
+        ),
+        (
+            "N20 CYCLE97(2,,0,-2,16,30,2,1,1.2,0,0,0,5,1,3,1)",
+            24,
+            Code::Unsupported,
+        ),
+        (
+            "N20 CYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,360,5,1,3,1)",
+            40,
+            Code::OutOfRange,
+        ),
+        (
+            "N20 CYCLE97(2,,0,-20,16,16,-2,1,1.2,0,0,0,5,1,3,1)",
+            28,
+            Code::OutOfRange,
+        ),
+        (
+            "N20 CYCLE97(2,,0,-20,0,0,2,1,1.2,0,0,0,5,1,3,1)",
+            22,
+            Code::OutOfRange,
+        ),
     ] {
         let (c, line, column, msg) = at(call);
         assert_eq!((c, line, column), (code, 2, col), "{call}: {msg}");
@@ -370,7 +432,10 @@ fn alarms_at_their_line_and_column() {
 #[test]
 fn cycle99_is_refused_with_the_reason() {
     let e = error("G0 X30 Z5\nCYCLE99(0,24,-30,24,2,1,0.92,0.05,30,0,6,2,1.5,1300101,1)\n");
-    assert_eq!((e.code, e.span.line, e.span.column), (Code::Unsupported, 2, 1));
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::Unsupported, 2, 1)
+    );
     assert!(e.hint.unwrap().contains("CYCLE97"));
 }
 
@@ -383,7 +448,9 @@ fn warnings_for_a_steep_infeed_and_an_unknown_start() {
     // start point, with a warning.
     let src = "G74 X1=0 Z1=0\nCYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)\n";
     let w = warnings(src);
-    assert!(w.iter().any(|w| w.code == Code::UnknownPosition && w.severity == Severity::Warning));
+    assert!(w
+        .iter()
+        .any(|w| w.code == Code::UnknownPosition && w.severity == Severity::Warning));
     assert_eq!(job(src).start, Pos::new(9.0, 2.0));
 }
 
@@ -431,7 +498,10 @@ fn diamof_and_diam90_read_x_on_radius() {
     assert_eq!(at("DIAMON\nG0 X20 Z5\n"), Pos::new(10.0, 5.0));
     // DIAM90: absolute X on diameter, incremental X on radius.
     assert_eq!(at("DIAM90\nG0 X20 Z5\nG91 G1 X-2\n"), Pos::new(8.0, 5.0));
-    assert_eq!(at("DIAM90\nG0 X20 Z5\nG91 G1 X-2\nG90 X30\n"), Pos::new(15.0, 5.0));
+    assert_eq!(
+        at("DIAM90\nG0 X20 Z5\nG91 G1 X-2\nG90 X30\n"),
+        Pos::new(15.0, 5.0)
+    );
     // DM1/DM2 are diameters whatever the mode.
     let a = job("DIAMOF\nG0 X20 Z5\nCYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)\n");
     let b = job("G0 X40 Z5\nCYCLE97(2,,0,-20,16,16,2,1,1.2,0,0,0,5,1,3,1)\n");
@@ -479,7 +549,9 @@ fn a_shop_program_expands_and_passes_everything_else_through() {
         }
     }
     assert_eq!(at, kept.len(), "{text}");
-    assert!(text.contains("; threadcut: sinumerik cycle of line 16 as 8 rough and 3 finishing passes"));
+    assert!(
+        text.contains("; threadcut: sinumerik cycle of line 16 as 8 rough and 3 finishing passes")
+    );
     assert!(text.contains("G33 X"), "{text}");
     assert!(text.contains(" K1.5000 SF=0.0000\n"), "{text}");
     assert!(!text.contains("CYCLE97"));

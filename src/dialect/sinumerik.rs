@@ -297,7 +297,8 @@ impl Sinumerik {
                         self.vars.insert(name, v);
                     }
                 }
-                Item::Header => {}
+                // A jump label marks a block; the jumps to it are refused.
+                Item::Header | Item::Label => {}
             }
         }
         let index = word_index(&words);

@@ -916,6 +916,23 @@ mod tests {
     }
 
     #[test]
+    fn parentheses_are_comments_unless_the_syntax_says_otherwise() {
+        let mut words = Vec::new();
+        let line = b"G0 X10 (approach) Z5";
+        lex_line(line, 1, 0, &mut words).unwrap();
+        assert_eq!(words.len(), 3);
+        let sinumerik = Syntax {
+            parens_not_comments: true,
+            hand_over_unread: true,
+        };
+        let e = lex_line_in(line, 1, 0, &mut words, b"", sinumerik).unwrap_err();
+        assert_eq!((e.code, e.span.column), (Code::Syntax, 8));
+        // `;` comments are comments under both.
+        lex_line_in(b"G0 X10 ; (approach)", 1, 0, &mut words, b"", sinumerik).unwrap();
+        assert_eq!(words.len(), 2);
+    }
+
+    #[test]
     fn block_delete_and_percent() {
         let mut words = Vec::new();
         let shape = lex_line(b"/N5 G0 X1", 1, 0, &mut words).unwrap();

@@ -566,6 +566,48 @@ mod tests {
     }
 
     #[test]
+    fn start_angles_and_the_steep_lead_word() {
+        use crate::units::Pos;
+        let m = Machine::built_in("sinumerik").unwrap();
+        let format = Format {
+            steep_lead_letter: Some('I'),
+            phase_word: Some("SF="),
+            ..Format::lathe(&m, "G33", 'K')
+        };
+        let thread = |x: f64, z: f64, lead: f64| Motion {
+            kind: MotionKind::Thread {
+                lead,
+                dlead: 0.0,
+                phase_deg: 120.0,
+            },
+            to: Pos::new(x, z),
+            pass: 1,
+            line: 1,
+        };
+        let path = Toolpath {
+            start: Pos::new(10.0, 2.0),
+            motions: vec![
+                thread(10.0, -20.0, 2.0),
+                // A steep pull-out continues the chain: no start angle, I for the X pitch.
+                thread(12.0, -21.0, 4.0),
+                Motion {
+                    kind: MotionKind::Rapid,
+                    to: Pos::new(12.0, 2.0),
+                    pass: 1,
+                    line: 1,
+                },
+                thread(10.0, -20.0, 2.0),
+            ],
+        };
+        let mut out = Vec::new();
+        write_moves(&mut out, &format, Units::Mm, &path).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "G33 X20.000 Z-20.000 K2.0000 SF=120.0000\nG33 X24.000 Z-21.000 I4.0000\nG0 X24.000 Z2.000\nG33 X20.000 Z-20.000 K2.0000 SF=120.0000\n"
+        );
+    }
+
+    #[test]
     fn json_numbers_are_plain() {
         assert_eq!(json_num(-0.0), "0.0");
         assert_eq!(json_num(1.5), "1.5");

@@ -49,6 +49,8 @@ pub(super) enum Item {
     },
     /// A `%_N_…` program header line.
     Header,
+    /// A jump label, `NAME:`.
+    Label,
 }
 
 /// An operand as written; its value depends on the parameters set before it.
@@ -249,6 +251,10 @@ impl Parser<'_> {
         self.i = j;
         self.skip_blanks();
         match self.peek() {
+            Some(b':') if j > start + 1 => {
+                self.i += 1;
+                Ok(Item::Label)
+            }
             Some(b'=') => {
                 self.i += 1;
                 let value = self.operand()?;
