@@ -462,8 +462,8 @@ fn g33_with_sf_and_the_modal_start_angle() {
     let mut moves = vec![];
     program::run(src.as_bytes(), &sinumerik(), |_, ev| {
         if let Event::Plain { mv: Some(mv), .. } = ev {
-            if mv.lead.is_some() {
-                moves.push((mv.to, mv.lead.unwrap(), mv.phase_deg));
+            if let Some(lead) = mv.lead {
+                moves.push((mv.to, lead, mv.phase_deg));
             }
         }
         Ok(())
