@@ -430,6 +430,21 @@ fn alarms_at_their_line_and_column() {
 }
 
 #[test]
+fn moves_threadcut_does_not_follow_are_refused_not_guessed() {
+    for (src, col) in [
+        ("G0 X20 Z5\nG34 Z-20 K1.5 F0.01\n", 1),
+        ("G0 X20 Z5\nN5 G331 Z-20 K1.5\n", 4),
+        ("G0 X20 Z5\nG91 G63 Z-20 F300\n", 5),
+        ("G0 X20 Z5\nL100\n", 1),
+        ("G0 X20 Z5\nMYSUB\n", 1),
+        ("G0 X20 Z5\nROT RPL=10\n", 1),
+    ] {
+        let e = error(src);
+        assert_eq!((e.code, e.span.line, e.span.column), (Code::Unsupported, 2, col), "{src}");
+    }
+}
+
+#[test]
 fn cycle99_is_refused_with_the_reason() {
     let e = error("G0 X30 Z5\nCYCLE99(0,24,-30,24,2,1,0.92,0.05,30,0,6,2,1.5,1300101,1)\n");
     assert_eq!(
@@ -584,10 +599,27 @@ fn thread_moves(src: &str) -> Vec<(Pos, Pos, f64, f64)> {
     moves
 }
 
+/// The bundled Sinumerik examples.
+fn examples() -> Vec<String> {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/examples");
+    let mut found: Vec<_> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.file_name().unwrap().to_str().unwrap().starts_with("sinumerik-"))
+        .map(|p| std::fs::read_to_string(p).unwrap())
+        .collect();
+    found.sort();
+    assert!(found.len() >= 2);
+    found
+}
+
 #[test]
 fn expansions_read_back_to_the_same_motion_with_their_start_angles() {
+    let examples = examples();
     for src in [
         SHOP,
+        examples[0].as_str(),
+        examples[1].as_str(),
         // Multi-start, alternating infeed, inch, internal, taper, DIAMOF, DIAM90 under G91.
         "G0 X40 Z10\nCYCLE97(6,,0,-20,30,30,2,2,1.2,0.05,-29,30,4,1,3,3)\n",
         "G70\nG0 X0.5 Z1\nCYCLE97(0.125,,0,-1,0.8647,0.8647,0.2,0.1,0.0677,0.003,29.5,45,5,1,2,2)\n",

@@ -181,6 +181,22 @@ impl Sinumerik {
                     Some(900) => absolute = true,
                     Some(910) => absolute = false,
                     Some(G33) => thread = true,
+                    Some(c @ (340 | 350 | 630 | 3310 | 3320)) => {
+                        return Err(Diagnostic::error(
+                            Code::Unsupported,
+                            w.span,
+                            format!(
+                                "G{}: threadcut does not read Sinumerik's {} on this controller",
+                                f64::from(c) / 10.0,
+                                if c < 400 {
+                                    "variable-lead threads (G34/G35)"
+                                } else {
+                                    "tapping moves (G63/G331/G332)"
+                                }
+                            ),
+                        )
+                        .with_hint("threadcut reads G33 and CYCLE97"))
+                    }
                     _ => {}
                 },
                 _ => {}
