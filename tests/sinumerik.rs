@@ -440,7 +440,11 @@ fn moves_threadcut_does_not_follow_are_refused_not_guessed() {
         ("G0 X20 Z5\nROT RPL=10\n", 1),
     ] {
         let e = error(src);
-        assert_eq!((e.code, e.span.line, e.span.column), (Code::Unsupported, 2, col), "{src}");
+        assert_eq!(
+            (e.code, e.span.line, e.span.column),
+            (Code::Unsupported, 2, col),
+            "{src}"
+        );
     }
 }
 
@@ -605,7 +609,13 @@ fn examples() -> Vec<String> {
     let mut found: Vec<_> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().path())
-        .filter(|p| p.file_name().unwrap().to_str().unwrap().starts_with("sinumerik-"))
+        .filter(|p| {
+            p.file_name()
+                .unwrap()
+                .to_str()
+                .unwrap()
+                .starts_with("sinumerik-")
+        })
         .map(|p| std::fs::read_to_string(p).unwrap())
         .collect();
     found.sort();
