@@ -46,11 +46,12 @@ const PASSIVE_KEYWORDS: &[&str] = &[
     "CUT2DF",
     "COMPOF",
     "FNORM",
+    "TRAFOOF",
 ];
 
 /// `NAME=value` settings that change nothing threadcut follows (spindle speed limit, spindle
-/// positioning).
-const PASSIVE_SETTINGS: &[&str] = &["LIMS", "SPOS", "SPOSA", "SETMS", "ACC", "OVR"];
+/// positioning, the fixed point of a G75).
+const PASSIVE_SETTINGS: &[&str] = &["LIMS", "SPOS", "SPOSA", "SETMS", "ACC", "OVR", "FP"];
 
 /// Calls that change nothing threadcut follows: messages, the simulation's blank, the master
 /// spindle.
