@@ -440,7 +440,7 @@ impl Sinumerik {
                 format!("{n}= is not a setting threadcut reads on Sinumerik"),
             )
             .with_hint(
-                "declare a variable with DEF before assigning it; R parameters are R0, R1, …",
+                "threadcut reads R parameters (R1=…), variables declared with DEF, SF=, LIMS= and addresses given a value (X=R1); others, such as the contour's CHF=/RND=, change motion it does not follow",
             )),
         }
     }
