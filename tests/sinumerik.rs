@@ -449,6 +449,22 @@ fn moves_threadcut_does_not_follow_are_refused_not_guessed() {
 }
 
 #[test]
+fn settings_that_move_nothing_pass_through() {
+    // A machine start-up block, the spindle, the fixed point for a tool change, a message.
+    let src = "TRAFOOF\nG18 G90 G95 G54 G64 SOFT\nSETMS(1)\nG96 S180 LIMS=2800 M3\nS1=500 M1=4\nMSG(\"THREAD M24 (EXTERNAL)\")\nG75 FP=2 X1=0 Z1=0\nG0 X30 Z5\nCYCLE97(1.5,,0,-20,24,24,2,1,0.92,0,0,0,4,0,3,1)\nMSG()\n";
+    let job = job(src);
+    assert_eq!(job.start, Pos::new(15.0, 5.0));
+    let mut out = Vec::new();
+    program::expand_gcode(src.as_bytes(), &mut out, &sinumerik()).unwrap();
+    let text = String::from_utf8(out).unwrap();
+    assert!(
+        text.starts_with("TRAFOOF\nG18 G90 G95 G54 G64 SOFT\nSETMS(1)\n"),
+        "{text}"
+    );
+    assert!(text.ends_with("MSG()\n"), "{text}");
+}
+
+#[test]
 fn cycle99_is_refused_with_the_reason() {
     let e = error("G0 X30 Z5\nCYCLE99(0,24,-30,24,2,1,0.92,0.05,30,0,6,2,1.5,1300101,1)\n");
     assert_eq!(
