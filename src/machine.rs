@@ -16,6 +16,7 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ("fanuc-b", include_str!("../profiles/fanuc-b.toml")),
     ("haas", include_str!("../profiles/haas.toml")),
     ("linuxcnc", include_str!("../profiles/linuxcnc.toml")),
+    ("sinumerik", include_str!("../profiles/sinumerik.toml")),
 ];
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

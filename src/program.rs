@@ -140,7 +140,9 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
             machine.no_point_scale(Units::Inch),
         ],
     );
-    let mut reader = Reader::new(input).with_bare_letters(dialect.bare_letters());
+    let mut reader = Reader::new(input)
+        .with_bare_letters(dialect.bare_letters())
+        .with_syntax(dialect.syntax());
     let mut summary = Summary::default();
     let mut pending = 0usize;
     loop {
@@ -239,11 +241,18 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
 ) -> Result<(), Error> {
     let before = summary.warnings.len();
     let read = dialect.read(&line, modal, &mut summary.warnings);
-    if S::BATCH && !matches!(read, Ok(Read::Plain)) {
+    if S::BATCH && !matches!(read, Ok(Read::Plain | Read::Applied(_))) {
         flush_before(sink, line.before, pending)?;
     }
     match read? {
         Read::Plain => plain_line(&line, modal, conv, sink, pending)?,
+        Read::Applied(mv) => {
+            if S::BATCH {
+                *pending += line.raw.len();
+            } else {
+                sink.event(modal, Event::Plain { line: &line, mv })?;
+            }
+        }
         Read::Settings => sink.event(modal, Event::Settings { line: &line })?,
         Read::Cycle(job) => {
             summary.cycles += 1;
@@ -475,7 +484,7 @@ pub fn expand_jsonl<R: BufRead>(
                             // Already along the move's longer axis (`Modal::apply`).
                             lead: mv.lead.unwrap_or(0.0),
                             dlead: 0.0,
-                            phase_deg: 0.0,
+                            phase_deg: mv.phase_deg,
                         }),
                         units,
                     ),

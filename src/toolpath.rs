@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::diag::{Code, Diagnostic, Result};
-use crate::thread::{Entry, Exit, Job, Pass, ReturnPath};
+use crate::thread::{Entry, Exit, Job, Lead, Pass, ReturnPath, StartIndexing};
 use crate::units::{Pos, Vec2};
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -101,8 +101,9 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
             line: job.line,
         })
     };
-    // The synchronised move from `from` to `to` of a pass whose thread begins at `origin`.
-    let thread = |origin: Pos, from: Pos, to: Pos| {
+    // The synchronised move from `from` to `to` of a pass whose thread begins at `origin`, for
+    // a start whose moves begin at spindle angle `phase_deg`.
+    let thread = |origin: Pos, from: Pos, to: Pos, phase_deg: f64| {
         let s = side.along(from.minus(origin)) * long.signum();
         let here = if dlead != 0.0 && s > 0.0 {
             (lead * lead + 2.0 * dlead * s).sqrt()
@@ -112,79 +113,92 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
         MotionKind::Thread {
             lead: lead_on_move(here, to.minus(from), side.is_face()),
             dlead,
-            phase_deg: job.lead.phase_deg,
+            phase_deg,
         }
     };
     let diagonal = match job.return_path {
-        ReturnPath::Box => None,
+        ReturnPath::Box | ReturnPath::BoxAtRetract => None,
         ReturnPath::Diagonal { clearance, end } => Some((clearance, end)),
     };
-    for pass in passes {
-        for s in 0..job.lead.starts {
-            // Further starts begin further from the part, so every start keeps its full length.
-            let shift = axial_dir.scale(-job.lead.start_spacing() * f64::from(s));
-            let infeed = pass.start.plus(shift);
-            // LinuxCNC: the pass's own retract X, `clearance` outward of its cut X.
-            let back_x = diagonal.map(|(clearance, _)| infeed.plus(outward.scale(clearance)).x);
-            match job.entry {
-                Entry::Direct => {
-                    if let Some(x) = back_x {
-                        push(MotionKind::Rapid, Pos::new(x, infeed.z), pass.n);
-                    }
-                    push(MotionKind::Rapid, infeed, pass.n)
+    if job.return_path == ReturnPath::BoxAtRetract {
+        // The cycle's own start point first, from wherever the tool is.
+        push(
+            MotionKind::Rapid,
+            Pos::new(job.retract.x, job.retract.z),
+            passes.first().map_or(0, |p| p.n),
+        );
+    }
+    for (pass, s) in pass_order(passes, job.lead) {
+        // Starts reached by a shift begin further from the part, so every start keeps its
+        // full length; starts reached by the spindle angle begin where the first does.
+        let shift = match job.lead.indexing {
+            StartIndexing::Shift => axial_dir.scale(-job.lead.start_spacing() * f64::from(s)),
+            StartIndexing::Angle => Vec2::new(0.0, 0.0),
+        };
+        let phase = job.lead.start_phase(s);
+        let thread = |origin: Pos, from: Pos, to: Pos| thread(origin, from, to, phase);
+        let infeed = pass.start.plus(shift);
+        // LinuxCNC: the pass's own retract X, `clearance` outward of its cut X.
+        let back_x = diagonal.map(|(clearance, _)| infeed.plus(outward.scale(clearance)).x);
+        match job.entry {
+            Entry::Direct => {
+                if let Some(x) = back_x {
+                    push(MotionKind::Rapid, Pos::new(x, infeed.z), pass.n);
                 }
-                Entry::Ramp {
-                    outward: up,
-                    before,
-                } => {
-                    let ramp_start = infeed
-                        .plus(outward.scale(up))
-                        .plus(axial_dir.scale(-before));
-                    match back_x {
-                        Some(x) => {
-                            let back = Pos::new(x, ramp_start.z);
-                            push(MotionKind::Rapid, back, pass.n);
-                            // Synchronised in to the ramp's start at the ramp's rate along its path.
-                            let ramp = infeed.minus(ramp_start);
-                            let path_rate = if ramp.z == 0.0 {
-                                lead
-                            } else {
-                                lead * ramp.x.hypot(ramp.z) / ramp.z.abs()
-                            };
-                            push(
-                                MotionKind::Thread {
-                                    lead: lead_along_long_axis(path_rate, ramp_start.minus(back)),
-                                    dlead: job.lead.dlead,
-                                    phase_deg: job.lead.phase_deg,
-                                },
-                                ramp_start,
-                                pass.n,
-                            );
-                        }
-                        None => push(MotionKind::Rapid, ramp_start, pass.n),
-                    }
-                    push(thread(infeed, ramp_start, infeed), infeed, pass.n);
-                }
+                push(MotionKind::Rapid, infeed, pass.n)
             }
-            let end = match job.exit {
-                Exit::Straight => {
-                    let end = infeed.plus(travel);
-                    push(thread(infeed, infeed, end), end, pass.n);
-                    end
-                }
-                Exit::ToRetract { run_on } => {
-                    if side.is_face() {
-                        return Err(Diagnostic::error(
-                            Code::Unsupported,
-                            job.span,
-                            "a pull-out to the retract point is defined for turned threads only",
-                        ));
+            Entry::Ramp {
+                outward: up,
+                before,
+            } => {
+                let ramp_start = infeed
+                    .plus(outward.scale(up))
+                    .plus(axial_dir.scale(-before));
+                match back_x {
+                    Some(x) => {
+                        let back = Pos::new(x, ramp_start.z);
+                        push(MotionKind::Rapid, back, pass.n);
+                        // Synchronised in to the ramp's start at the ramp's rate along its path.
+                        let ramp = infeed.minus(ramp_start);
+                        let path_rate = if ramp.z == 0.0 {
+                            lead
+                        } else {
+                            lead * ramp.x.hypot(ramp.z) / ramp.z.abs()
+                        };
+                        push(
+                            MotionKind::Thread {
+                                lead: lead_along_long_axis(path_rate, ramp_start.minus(back)),
+                                dlead: job.lead.dlead,
+                                phase_deg: phase,
+                            },
+                            ramp_start,
+                            pass.n,
+                        );
                     }
-                    let dir = long.signum();
-                    // The pass's own length: from its (offset) infeed point to the programmed end Z.
-                    let own = (g.crest_end.z + shift.z - infeed.z) * dir;
-                    if own <= 0.0 {
-                        return Err(Diagnostic::error(
+                    None => push(MotionKind::Rapid, ramp_start, pass.n),
+                }
+                push(thread(infeed, ramp_start, infeed), infeed, pass.n);
+            }
+        }
+        let end = match job.exit {
+            Exit::Straight => {
+                let end = infeed.plus(travel);
+                push(thread(infeed, infeed, end), end, pass.n);
+                end
+            }
+            Exit::ToRetract { run_on } => {
+                if side.is_face() {
+                    return Err(Diagnostic::error(
+                        Code::Unsupported,
+                        job.span,
+                        "a pull-out to the retract point is defined for turned threads only",
+                    ));
+                }
+                let dir = long.signum();
+                // The pass's own length: from its (offset) infeed point to the programmed end Z.
+                let own = (g.crest_end.z + shift.z - infeed.z) * dir;
+                if own <= 0.0 {
+                    return Err(Diagnostic::error(
                             Code::Geometry,
                             job.span,
                             format!(
@@ -192,72 +206,71 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                                 pass.n
                             ),
                         ));
-                    }
-                    let end = infeed.plus(along.scale(own));
-                    push(thread(infeed, infeed, end), end, pass.n);
-                    // The retract X at the end: as far out as at the start, or further when the
-                    // thread climbs toward the retract side.
-                    let climb = (travel.x * outward.x).max(0.0);
-                    let rx = job.retract.x + outward.x * climb;
-                    let out = (rx - end.x) * outward.x;
-                    if run_on > 0.0 && out > 0.0 {
-                        let to = Pos::new(rx, end.z + dir * run_on * out);
-                        push(thread(infeed, end, to), to, pass.n);
-                    } else {
-                        push(MotionKind::Rapid, Pos::new(rx, end.z), pass.n);
-                    }
-                    push(MotionKind::Rapid, Pos::new(rx, job.retract.z), pass.n);
-                    if rx != job.retract.x {
-                        push(
-                            MotionKind::Rapid,
-                            Pos::new(job.retract.x, job.retract.z),
-                            pass.n,
-                        );
-                    }
-                    continue;
                 }
-                Exit::PullOut {
-                    start_before,
-                    length,
-                    outward: up,
+                let end = infeed.plus(along.scale(own));
+                push(thread(infeed, infeed, end), end, pass.n);
+                // The retract X at the end: as far out as at the start, or further when the
+                // thread climbs toward the retract side.
+                let climb = (travel.x * outward.x).max(0.0);
+                let rx = job.retract.x + outward.x * climb;
+                let out = (rx - end.x) * outward.x;
+                if run_on > 0.0 && out > 0.0 {
+                    let to = Pos::new(rx, end.z + dir * run_on * out);
+                    push(thread(infeed, end, to), to, pass.n);
+                } else {
+                    push(MotionKind::Rapid, Pos::new(rx, end.z), pass.n);
                 }
-                | Exit::FeedOut {
-                    start_before,
-                    length,
-                    outward: up,
-                } => {
-                    let begin = infeed.plus(along.scale(axial - start_before));
-                    let end = infeed
-                        .plus(along.scale(axial - start_before + length))
-                        .plus(outward.scale(up));
-                    push(thread(infeed, infeed, begin), begin, pass.n);
-                    let kind = if matches!(job.exit, Exit::FeedOut { .. }) {
-                        MotionKind::Feed
-                    } else {
-                        thread(infeed, begin, end)
-                    };
-                    push(kind, end, pass.n);
-                    end
+                push(MotionKind::Rapid, Pos::new(rx, job.retract.z), pass.n);
+                if rx != job.retract.x {
+                    push(
+                        MotionKind::Rapid,
+                        Pos::new(job.retract.x, job.retract.z),
+                        pass.n,
+                    );
                 }
-            };
-            match back_x {
-                // LinuxCNC: out to the pass's own retract X only; the next pass goes back diagonally.
-                Some(x) => push(MotionKind::Rapid, Pos::new(x, end.z), pass.n),
-                None => {
-                    let (level, back) = if side.is_face() {
-                        (
-                            Pos::new(end.x, job.retract.z),
-                            Pos::new(job.retract.x, job.retract.z),
-                        )
-                    } else {
-                        (
-                            Pos::new(job.retract.x, end.z),
-                            Pos::new(job.retract.x, job.retract.z),
-                        )
-                    };
-                    push(MotionKind::Rapid, level, pass.n);
-                    push(MotionKind::Rapid, back, pass.n);
-                }
+                continue;
+            }
+            Exit::PullOut {
+                start_before,
+                length,
+                outward: up,
+            }
+            | Exit::FeedOut {
+                start_before,
+                length,
+                outward: up,
+            } => {
+                let begin = infeed.plus(along.scale(axial - start_before));
+                let end = infeed
+                    .plus(along.scale(axial - start_before + length))
+                    .plus(outward.scale(up));
+                push(thread(infeed, infeed, begin), begin, pass.n);
+                let kind = if matches!(job.exit, Exit::FeedOut { .. }) {
+                    MotionKind::Feed
+                } else {
+                    thread(infeed, begin, end)
+                };
+                push(kind, end, pass.n);
+                end
+            }
+        };
+        match back_x {
+            // LinuxCNC: out to the pass's own retract X only; the next pass goes back diagonally.
+            Some(x) => push(MotionKind::Rapid, Pos::new(x, end.z), pass.n),
+            None => {
+                let (level, back) = if side.is_face() {
+                    (
+                        Pos::new(end.x, job.retract.z),
+                        Pos::new(job.retract.x, job.retract.z),
+                    )
+                } else {
+                    (
+                        Pos::new(job.retract.x, end.z),
+                        Pos::new(job.retract.x, job.retract.z),
+                    )
+                };
+                push(MotionKind::Rapid, level, pass.n);
+                push(MotionKind::Rapid, back, pass.n);
             }
         }
     }
@@ -293,6 +306,21 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
         ));
     }
     Ok(path)
+}
+
+/// The order in which the passes of each start are cut: (pass, start index). Shifted starts are
+/// all cut at one depth before the next depth; starts reached by the spindle angle are each cut
+/// to full depth before the next ([`StartIndexing`]).
+fn pass_order(passes: &[Pass], lead: Lead) -> impl Iterator<Item = (&Pass, u32)> {
+    let starts = lead.starts.max(1);
+    let n = passes.len() as u64;
+    (0..n * u64::from(starts)).map(move |k| match lead.indexing {
+        StartIndexing::Shift => (
+            &passes[(k / u64::from(starts)) as usize],
+            (k % u64::from(starts)) as u32,
+        ),
+        StartIndexing::Angle => (&passes[(k % n) as usize], (k / n) as u32),
+    })
 }
 
 /// A radius this far below zero is still the axis (rounding), not a crossing of it.

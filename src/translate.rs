@@ -74,7 +74,9 @@ pub fn verify(
     );
     modal.position = Some(job.start);
     let text = lines.join("\n") + "\n";
-    let mut reader = Reader::new(text.as_bytes());
+    let mut reader = Reader::new(text.as_bytes())
+        .with_bare_letters(d.bare_letters())
+        .with_syntax(d.syntax());
     let mut warnings = Vec::new();
     let mut read_back = None;
     while let Some(line) = reader.next_line() {
@@ -82,7 +84,7 @@ pub fn verify(
             line.map_err(|e| format!("the native cycle does not read back: {}", e.message))?;
         match d.read(&line, &mut modal, &mut warnings) {
             Ok(Read::Cycle(job)) => read_back = Some(job),
-            Ok(Read::Settings) => {}
+            Ok(Read::Settings | Read::Applied(_)) => {}
             Ok(Read::Plain) => {
                 modal
                     .apply(&conv, &line)
@@ -109,9 +111,6 @@ fn tolerance(target: &Machine, units: Units) -> (f64, f64) {
     let lead = units.to_mm(10f64.powi(-lead_digits)) * 0.5 + 1e-9;
     (pos, lead)
 }
-
-/// Start angles closer than this are the same (degrees): half the 0.001° a `Q` word counts in.
-const PHASE_TOLERANCE_DEG: f64 = 0.0005 + 1e-9;
 
 /// Compares two toolpaths move by move; the first difference is the reason.
 pub fn same_motion(
@@ -140,11 +139,7 @@ pub fn same_motion(
                     dlead: db,
                     phase_deg: pb,
                 },
-            ) => {
-                (la - lb).abs() <= lead_tol
-                    && (da - db).abs() <= lead_tol
-                    && (pa - pb).abs() <= PHASE_TOLERANCE_DEG
-            }
+            ) => (la - lb).abs() <= lead_tol && (da - db).abs() <= lead_tol && same_angle(pa, pb),
             _ => false,
         };
         if !kinds_match {
@@ -164,6 +159,19 @@ pub fn same_motion(
     Ok(())
 }
 
+/// Start angles closer than this are the same (degrees): half the coarsest resolution a
+/// start-angle word is written in ([`StartAngleUnit::Milli`], Fanuc's and Haas's `Q` in 0.001°),
+/// so that every written angle reads back as itself; Sinumerik's `SF=` (0.0001°) is finer. Far
+/// below anything a spindle encoder resolves (0.0005° is 0.008 µm along a 6 mm lead).
+pub const PHASE_TOLERANCE_DEG: f64 = 0.0005 + 1e-9;
+
+/// Whether two spindle angles (degrees) are the same, modulo a turn: 359.9999° written as `Q0`
+/// or `SF=0` is the angle it was.
+pub fn same_angle(a: f64, b: f64) -> bool {
+    let d = (a - b).rem_euclid(360.0);
+    d.min(360.0 - d) <= PHASE_TOLERANCE_DEG
+}
+
 /// Convenience for tests: write to a string.
 pub fn job_to_string(
     target: &Machine,
@@ -175,4 +183,51 @@ pub fn job_to_string(
         String::from_utf8(buf).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?,
         w,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::toolpath::Motion;
+    use crate::units::Pos;
+
+    fn path(phase_deg: f64) -> Toolpath {
+        Toolpath {
+            start: Pos::new(10.0, 2.0),
+            motions: vec![Motion {
+                kind: MotionKind::Thread {
+                    lead: 2.0,
+                    dlead: 0.0,
+                    phase_deg,
+                },
+                to: Pos::new(10.0, -20.0),
+                pass: 1,
+                line: 1,
+            }],
+        }
+    }
+
+    #[test]
+    fn start_angles_are_compared_modulo_a_turn() {
+        let tol = (1e-6, 1e-6);
+        assert!(same_motion(&path(0.0), &path(0.0), tol).is_ok());
+        assert!(same_motion(&path(359.99999), &path(0.0), tol).is_ok());
+        assert!(same_motion(&path(0.0004), &path(359.9999), tol).is_ok());
+        assert!(same_motion(&path(120.0), &path(120.0004), tol).is_ok());
+        assert!(same_motion(&path(120.0), &path(120.001), tol).is_err());
+        assert!(same_motion(&path(180.0), &path(0.0), tol).is_err());
+    }
+
+    /// Every start-angle word reads back as the angle it was written from.
+    #[test]
+    fn the_start_angle_tolerance_covers_every_words_rounding() {
+        use crate::post::AngleUnit;
+        for unit in [AngleUnit::Millidegrees, AngleUnit::Degrees { decimals: 4 }] {
+            assert!(
+                unit.resolution_deg() / 2.0 <= PHASE_TOLERANCE_DEG,
+                "{unit:?}"
+            );
+        }
+        assert!(PHASE_TOLERANCE_DEG < AngleUnit::Millidegrees.resolution_deg());
+    }
 }

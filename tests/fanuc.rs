@@ -341,6 +341,19 @@ fn q_is_the_start_angle_of_g32_and_g92() {
     let (text, how) = threadcut::translate::job_to_string(&fanuc(), &js[0]).unwrap();
     assert_eq!(how, threadcut::translate::Written::Native);
     assert_eq!(text, "G92 X29.2 Z-30. F4. Q180000\n");
+    // A plain G32's Q reaches its move, and the run's pull-out; a G32 after a rapid starts at 0°.
+    let mut phases = Vec::new();
+    let src = format!("{pre}G32 Z-30. F2. Q180000\nX42. Z-32.\nG0 X44.\nZ5.\nG32 X40. Z-30.\n");
+    program::run(src.as_bytes(), &fanuc(), |_, ev| {
+        if let program::Event::Plain { mv: Some(mv), .. } = ev {
+            if mv.lead.is_some() {
+                phases.push(mv.phase_deg);
+            }
+        }
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(phases, [180.0, 180.0, 0.0]);
 }
 
 /// The same M30×2 job in G-code systems A, B and C: the cycles' G numbers change, the motion does

@@ -585,3 +585,67 @@ fn u_w_and_e_are_haas_words() {
         (Code::Conflict, 3, 20)
     );
 }
+
+/// Every synchronised move of a program (from, to, lead, start angle), from plain blocks and
+/// cycles alike.
+fn thread_moves(src: &str) -> Vec<(threadcut::units::Pos, threadcut::units::Pos, f64, f64)> {
+    let mut moves = Vec::new();
+    program::run(src.as_bytes(), &haas(), |_, ev| {
+        match ev {
+            program::Event::Plain { mv: Some(mv), .. } if mv.lead.is_some() => {
+                moves.push((mv.from, mv.to, mv.lead.unwrap(), mv.phase_deg))
+            }
+            program::Event::Cycle { job, .. } => {
+                for (from, m) in toolpath::build(&job)?.segments() {
+                    if let MotionKind::Thread {
+                        lead, phase_deg, ..
+                    } = m.kind
+                    {
+                        moves.push((from, m.to, lead, phase_deg));
+                    }
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    })
+    .unwrap_or_else(|e| panic!("{e}\n{src}"));
+    moves
+}
+
+#[test]
+fn plain_g32_q_starts_a_run_at_its_angle() {
+    // Q90000 begins a run at 90°; the pull-out that continues it (G32 modal, no Q) is part of the
+    // same run; after a rapid a G32 without Q starts at 0°.
+    let src = "G20\nG00 X0.95 Z0.2\nG32 Z-1. F0.125 Q90000\nX1.05 Z-1.1\nM08\nG32 X1.1 Z-1.2\nG00 X1.2\nZ0.2\nG32 X0.95 Z-1. F0.125\n";
+    let phases: Vec<f64> = thread_moves(src).iter().map(|m| m.3).collect();
+    assert_eq!(phases, [90.0, 90.0, 90.0, 0.0]);
+    // The block still passes through as written.
+    assert_eq!(expand(src, &haas()), src);
+}
+
+#[test]
+fn expansions_read_back_with_their_start_angles() {
+    let src = include_str!("../examples/haas-m24x3-two-start.nc");
+    let mut out = Vec::new();
+    program::expand_gcode(src.as_bytes(), &mut out, &haas()).unwrap();
+    let expanded = String::from_utf8(out).unwrap();
+    assert!(expanded.contains(" Q180000\n"), "{expanded}");
+    let (a, b) = (thread_moves(src), thread_moves(&expanded));
+    assert_eq!(a.len(), b.len(), "{expanded}");
+    assert!(a.iter().any(|m| m.3 == 180.0) && a.iter().any(|m| m.3 == 0.0));
+    // X on diameter to 0.001 mm: within half a step on the radius.
+    let tol = 0.0005 + 1e-9;
+    for (x, y) in a.iter().zip(&b) {
+        let near = |p: f64, q: f64| (p - q).abs() <= tol;
+        assert!(
+            near(x.0.x, y.0.x) && near(x.0.z, y.0.z) && near(x.1.x, y.1.x) && near(x.1.z, y.1.z),
+            "{x:?} vs {y:?}"
+        );
+        assert!((x.2 - y.2).abs() <= 1e-6, "lead {x:?} vs {y:?}");
+        assert!(
+            threadcut::translate::same_angle(x.3, y.3),
+            "start angle {x:?} vs {y:?}"
+        );
+    }
+}

@@ -43,7 +43,9 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
             machine.no_point_scale(Units::Inch),
         ],
     );
-    let mut reader = Reader::new(src.as_bytes()).with_bare_letters(d.bare_letters());
+    let mut reader = Reader::new(src.as_bytes())
+        .with_bare_letters(d.bare_letters())
+        .with_syntax(d.syntax());
     let mut seen = vec![];
     let mut warnings = vec![];
     let mut cycles = 0;
@@ -59,6 +61,7 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
                 Ok(mv) => seen.push(format!("{} plain {mv:?} {modal:?}", line.number)),
                 Err(e) => return (seen, format!("error {:?}", program::Error::Input(e))),
             },
+            Ok(Read::Applied(mv)) => seen.push(format!("{} plain {mv:?} {modal:?}", line.number)),
             Ok(Read::Settings) => seen.push(format!("{} settings {modal:?}", line.number)),
             Ok(Read::Cycle(job)) => {
                 cycles += 1;
@@ -147,6 +150,20 @@ const WORDS: &[&str] = &[
     "G76 P2.5 Z-30 I-1.0 J0.3 K1.5335",
     "G7",
     "G8",
+    // Sinumerik: its cycle, its start angle, parameters, diameter and unit codes, tool offsets.
+    "CYCLE97(1.5,,0,-20,24,24,2,1,0.92,0.05,30,0,5,1,3,1)",
+    "CYCLE97(R1,,0,-20,24,24,2,1,0.92,0.05,-29,0,5,1,3,2)",
+    "G33 Z-20 K1.5 SF=90",
+    "R1=2",
+    "DIAMOF",
+    "DIAM90",
+    "D0",
+    "T2",
+    "G70",
+    "G71",
+    "G710",
+    "G74 X1=0 Z1=0",
+    "; c",
 ];
 
 fn program() -> impl Strategy<Value = String> {

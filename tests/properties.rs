@@ -223,6 +223,42 @@ proptest! {
         // derived from two rounded words, so it may be off by up to one resolution step, not half.
         check("omniturn", &src, 0.000_05 * 25.4 + 1e-6)?;
     }
+
+    #[test]
+    fn sinumerik_cycle97(
+        vari in 1u32..5,
+        inch in any::<bool>(),
+        diameter in 10.0..60.0f64,
+        taper in prop_oneof![Just(0.0f64), -3.0..3.0f64],
+        length in 10.0..60.0f64,
+        toward_chuck in any::<bool>(),
+        pitch in 0.5..4.0f64,
+        fal_frac in 0.0..0.2f64,
+        iang in prop_oneof![Just(0.0f64), Just(29.0), Just(-29.0), Just(30.0)],
+        nrc in 1u32..12,
+        nid in 0u32..3,
+        numt in 0u32..4,
+        nsp in 0.0..359.0f64,
+        app in 0.0..5.0f64,
+        rop in 0.0..5.0f64,
+    ) {
+        // Values in program units: mm under G71, inch under G70 (4 decimals, as written).
+        let (code, scale, digits) = if inch { ("G70", 1.0 / 25.4, 4) } else { ("G71", 1.0, 3) };
+        let v = |mm: f64| format!("{:.*}", digits, mm * scale);
+        let tdep = pitch * 0.6134;
+        let (spl, fpl) = if toward_chuck { (0.0, -length) } else { (-length, 0.0) };
+        let start_z = if toward_chuck { 10.0 } else { -length - 10.0 };
+        let internal = vari % 2 == 0;
+        let start_x = if internal { diameter / 3.0 } else { diameter + 10.0 };
+        let src = format!(
+            "{code} DIAMON\nT1 D1\nG0 X{} Z{}\nCYCLE97({},,{},{},{},{},{},{},{},{},{iang},{nsp:.4},{nrc},{nid},{vari},{numt})\n",
+            v(start_x), v(start_z), v(pitch), v(spl), v(fpl), v(diameter), v(diameter + taper),
+            v(app), v(rop), v(tdep), v(tdep * fal_frac),
+        );
+        // X on diameter to 0.001 mm / 0.0001 inch: the radius within half a step.
+        let tolerance = if inch { 0.000_05 * 25.4 } else { 0.0005 };
+        check("sinumerik", &src, tolerance + 1e-9)?;
+    }
 }
 
 /// Found by `omniturn_g33`: with I off the .00005" grid, "passes 1 and 2 as one G33" was written with

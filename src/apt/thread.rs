@@ -904,10 +904,9 @@ pub fn lower(t: &ThreadOn, c: &Contour, pitch: Pitch, units: Units, off: Span) -
             side,
         },
         lead: Lead {
-            lead: pitch.lead,
             dlead: pitch.dlead,
             starts: pitch.starts,
-            phase_deg: 0.0,
+            ..Lead::constant(pitch.lead)
         },
         plan: PassPlan {
             law: match plan.power {

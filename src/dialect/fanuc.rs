@@ -76,7 +76,11 @@ impl Dialect for Fanuc {
 
     fn format(&self) -> Format {
         Format {
-            start_angle: Some('Q'),
+            start_angle: self
+                .family
+                .flavour
+                .start_angle
+                .then_some(fanuc_family::START_ANGLE_Q),
             ..Format::lathe(&self.machine, self.family.codes.thread_move_name(), 'F')
         }
     }

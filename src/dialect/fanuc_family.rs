@@ -18,9 +18,10 @@ use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, MotionMode, Word};
 use crate::machine::{FanucParameters, GCodeSystem, Machine};
+use crate::post::{AngleUnit, StartAngleWord};
 use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
-    Retract, ReturnPath, Side,
+    Retract, ReturnPath, Side, StartIndexing,
 };
 use crate::units::{Pos, Units};
 
@@ -239,6 +240,9 @@ pub struct FanucFamily {
     /// Least input increment in mm and in inch (for P(k), Q(Δd), Q(Δdmin)).
     increment: [f64; 2],
     g92: Option<G92Modal>,
+    /// The start angle of the synchronised run in progress, from the `Q` of its first plain
+    /// thread move, while it is not 0: the moves that continue the run carry it.
+    run_phase: Option<f64>,
 }
 
 impl FanucFamily {
@@ -258,15 +262,18 @@ impl FanucFamily {
                 machine.resolution(Units::Inch),
             ],
             g92: None,
+            run_phase: None,
         }
     }
 
     /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, any block while a G92
-    /// is modal (a block of axis words repeats it; a motion code cancels it), and a block with a
-    /// `Q` where Q is a start angle (a thread move's Q is checked).
+    /// is modal (a block of axis words repeats it; a motion code cancels it), a block with a `Q`
+    /// where Q is a start angle (a thread move's Q), and any block while a run of thread moves
+    /// begun with a start angle goes on.
     #[inline]
     pub fn wants(&self, line: &Line) -> bool {
         self.g92.is_some()
+            || self.run_phase.is_some()
             || line.has_g(self.codes.multiple)
             || line.has_g(self.codes.single)
             || (self.flavour.start_angle && line.summary.has_letter(b'Q'))
@@ -339,12 +346,10 @@ impl FanucFamily {
                     let job = self.read_g92(conv, line, modal, line.span(), Some(m), warnings)?;
                     Ok(Some(Read::Cycle(Box::new(job))))
                 }
-                _ => {
-                    self.thread_move_start_angle(line, modal)?;
-                    Ok(None)
-                }
+                _ => self.thread_move(conv, line, modal),
             };
         };
+        self.run_phase = None;
         let name = g_name(code);
         // In systems B and C a G90/G91 may share the cycle's block: it applies to the block's own
         // words (and stays in force), as on the modal reader's blocks.
@@ -399,20 +404,48 @@ impl FanucFamily {
         self.g92 = None;
     }
 
-    /// `Q` on a thread move (`G32 … Q`, or a block of axis words while the thread move is modal):
-    /// its start angle is checked here; the move itself is the modal reader's.
-    fn thread_move_start_angle(&self, line: &Line, modal: &Modal) -> Result<()> {
+    /// A plain block's start angle. `Q` on a thread move (`G32 … Q`, or a block of axis words while
+    /// the thread move is modal) begins a run of thread moves at that angle: the move carries it
+    /// ([`PlainMove::phase_deg`](crate::gcode::PlainMove::phase_deg)), and so do the thread moves
+    /// that continue the run without a Q (only a run's first move waits for the one-revolution
+    /// signal), until a move of another kind. `None`: the modal reader applies the block as it is.
+    fn thread_move(
+        &mut self,
+        conv: &Conventions,
+        line: &Line,
+        modal: &mut Modal,
+    ) -> Result<Option<Read>> {
+        let q = self.thread_move_start_angle(line, modal)?;
+        if q.is_none() && self.run_phase.is_none() {
+            return Ok(None);
+        }
+        let mut mv = modal.apply(conv, line)?;
+        match mv.as_mut() {
+            Some(m) if m.mode == MotionMode::Thread => {
+                let phase = q.or(self.run_phase).unwrap_or(0.0);
+                m.phase_deg = phase;
+                self.run_phase = (phase != 0.0).then_some(phase);
+            }
+            // A block that does not move while G32 stays modal (M8) leaves the run as it is.
+            None if modal.motion == MotionMode::Thread => {}
+            _ => self.run_phase = None,
+        }
+        Ok(Some(Read::Applied(mv)))
+    }
+
+    /// `Q` on a thread move, checked: its start angle in degrees.
+    fn thread_move_start_angle(&self, line: &Line, modal: &Modal) -> Result<Option<f64>> {
         if !self.flavour.start_angle {
-            return Ok(());
+            return Ok(None);
         }
         let Some(q) = line.word(b'Q') else {
-            return Ok(());
+            return Ok(None);
         };
         let no_g = !line.words.iter().any(|w| w.letter == b'G');
         if line.has_g(self.codes.thread_move) || (no_g && modal.motion == MotionMode::Thread) {
-            start_angle(q)?;
+            return start_angle(q).map(Some);
         }
-        Ok(())
+        Ok(None)
     }
 
     fn multiple_name(&self) -> String {
@@ -915,6 +948,14 @@ impl FanucFamily {
     }
 }
 
+/// `Q` on a plain thread move (`G32 … Q180000`): the start angle of the run it begins, in 0.001°
+/// without a decimal point, for its own block only (not modal).
+pub const START_ANGLE_Q: StartAngleWord = StartAngleWord {
+    name: "Q",
+    unit: AngleUnit::Millidegrees,
+    modal: false,
+};
+
 /// `Q`, the thread's start angle: a count of 0.001° without a decimal point, 0 to 360000 (Fanuc:
 /// "Angle for shifting the threading start angle (Increment: 0.001 degrees, Valid setting range: 0
 /// to 360 degrees)"; Haas: "Thread Start Angle (Do not use a decimal point)"). In degrees, below 360.
@@ -1201,6 +1242,11 @@ pub fn native_g92(
             }
         }
         if job.lead.starts > 1 {
+            if job.lead.indexing != StartIndexing::Shift {
+                return Err(format!(
+                    "{name}'s L reaches further starts by a shift along Z, and this job reaches them by the spindle angle, each start whole"
+                ));
+            }
             block.push_str(&format!(" L{}", job.lead.starts));
         }
     } else if job.lead.starts != 1 {

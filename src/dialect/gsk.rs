@@ -13,7 +13,7 @@ use crate::machine::{GCodeSystem, GskParameters, IncrementSystem, Machine};
 use crate::post::Format;
 use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
-    Retract, ReturnPath, Side,
+    Retract, ReturnPath, Side, StartIndexing,
 };
 use crate::units::{Pos, Units};
 
@@ -583,6 +583,15 @@ fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
     }
     if job.lead.dlead != 0.0 {
         return Err("G78 cuts constant leads only".into());
+    }
+    if job.lead.phase_deg != 0.0 {
+        return Err("G78 has no start angle".into());
+    }
+    if job.lead.starts > 1 && job.lead.indexing != StartIndexing::Shift {
+        return Err(
+            "G78's L reaches further starts by a shift along Z, and this job reaches them by the spindle angle, each start whole"
+                .into(),
+        );
     }
     if !(1..=99).contains(&job.lead.starts) || !(1..=99).contains(&job.plan.finish_passes) {
         return Err("G78 allows 1 to 99 starts and 1 to 99 finishing passes".into());

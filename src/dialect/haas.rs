@@ -150,7 +150,7 @@ impl Dialect for Haas {
 
     fn format(&self) -> Format {
         Format {
-            start_angle: Some('Q'),
+            start_angle: Some(fanuc_family::START_ANGLE_Q),
             ..Format::lathe(&self.machine, "G32", 'F')
         }
     }

@@ -11,6 +11,7 @@ pub mod haas;
 pub mod linuxcnc;
 pub mod omniturn;
 pub mod one_block;
+pub mod sinumerik;
 
 use crate::diag::{Diagnostic, Result, Span};
 use crate::gcode::{Conventions, Line, Modal, Word};
@@ -27,6 +28,10 @@ pub enum Read {
     Settings,
     /// A complete cycle.
     Cycle(Box<Job>),
+    /// A block that is not a threading cycle, which the dialect has applied to the modal state
+    /// itself (a block in its own syntax, or one whose move it completes, e.g. with a start
+    /// angle): the move it makes, if any. It passes through unchanged, as a `Plain` block does.
+    Applied(Option<crate::gcode::PlainMove>),
 }
 
 pub trait Dialect {
@@ -62,6 +67,11 @@ pub trait Dialect {
     /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
     fn bare_letters(&self) -> &'static [u8] {
         b""
+    }
+    /// How this controller's lines are written where it differs from RS274 (Sinumerik: `;`
+    /// comments only, and lines in its own syntax handed over unread).
+    fn syntax(&self) -> crate::gcode::Syntax {
+        crate::gcode::Syntax::default()
     }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
@@ -229,9 +239,10 @@ pub fn open_with<W: WithDialect>(
         "fanuc15" => work.run(fanuc15::new(machine)),
         "haas" => work.run(haas::Haas::new(machine)),
         "linuxcnc" => work.run(linuxcnc::LinuxCnc::new(machine)),
+        "sinumerik" => work.run(sinumerik::Sinumerik::new(machine)),
         other => {
             return Err(format!(
-                "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, fanuc15, haas, linuxcnc)",
+                "profile `{}` names dialect `{other}`, which threadcut does not know (known: gsk, omniturn, allen_bradley, fanuc, fanuc15, haas, linuxcnc, sinumerik)",
                 machine.name
             ))
         }

@@ -56,6 +56,19 @@ impl Word {
         let start = self.raw_start();
         &line[start..start + self.raw_len()]
     }
+
+    /// A word whose value a dialect worked out itself from its own syntax (Sinumerik's
+    /// `X=R1`): `span` covers the whole text (letter, `=` and operand) and its lexeme is what
+    /// follows the `=`. The value counts as written with a decimal point.
+    pub(crate) fn assigned(letter: u8, value: f64, span: Span) -> Word {
+        Word {
+            letter: letter.to_ascii_uppercase(),
+            value,
+            has_dot: true,
+            raw_skip: 1,
+            span,
+        }
+    }
 }
 
 /// Which words a line has, in brief: gathered by the lexer on its way through the line, so that
@@ -161,6 +174,23 @@ pub struct LineShape {
     pub block_delete: bool,
     /// The line is a `%` program delimiter.
     pub percent: bool,
+    /// The line holds more than address words (Sinumerik's calls, assignments and named words) and
+    /// was handed out without words, for the dialect to read from [`Line::text`](super::Line::text).
+    /// Only under [`Syntax::hand_over_unread`]; never set otherwise.
+    pub unread: bool,
+}
+
+/// How a controller writes its lines, where that differs from RS274/Fanuc. The default is RS274:
+/// `(` opens a comment, and a line that is not address words is an error.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Syntax {
+    /// `(` is not a comment (Sinumerik: comments begin with `;`, and parentheses belong to calls
+    /// such as `CYCLE97(…)`): the lexers treat it as any other character they cannot read.
+    pub parens_not_comments: bool,
+    /// A line the word lexer cannot read is handed out without words and with
+    /// [`LineShape::unread`] set, rather than as an error: the dialect reads its own syntax from
+    /// the line's text (and reports the errors in it).
+    pub hand_over_unread: bool,
 }
 
 /// Lexes one line (without its line terminator) into `words`, which is cleared first and reused so
@@ -185,6 +215,19 @@ pub fn lex_line_with(
     offset: u64,
     words: &mut Vec<Word>,
     bare: &[u8],
+) -> Result<LineShape, Diagnostic> {
+    lex_line_in(line, line_no, offset, words, bare, Syntax::default())
+}
+
+/// As [`lex_line_with`], under a controller's [`Syntax`]. (`hand_over_unread` is the reader's
+/// business: here an unreadable line is an error as always.)
+pub fn lex_line_in(
+    line: &[u8],
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+    bare: &[u8],
+    syntax: Syntax,
 ) -> Result<LineShape, Diagnostic> {
     words.clear();
     let mut shape = LineShape::default();
@@ -215,6 +258,10 @@ pub fn lex_line_with(
             }
             BLANK => i += 1,
             SEMICOLON => break,
+            OPEN if syntax.parens_not_comments => {
+                other_byte(line, i, line_no, offset, words.is_empty(), &mut shape)?;
+                i += 1;
+            }
             OPEN => match memchr::memchr(b')', &line[i + 1..]) {
                 Some(close) => i += close + 2,
                 None => return Err(unclosed_comment(span_at(offset, line_no, i, n - i))),
@@ -259,6 +306,7 @@ pub(crate) fn lex_buffered_line(
     offset: u64,
     words: &mut [Word; FAST_WORDS],
     index: &mut WordIndex,
+    parens_not_comments: bool,
 ) -> Option<BufferedLine> {
     // The reader hands over whole lines only; the numbers below rely on the final line end.
     if input.last() != Some(&b'\n') {
@@ -300,6 +348,10 @@ pub(crate) fn lex_buffered_line(
         } else if CLASS[c as usize] == BLANK {
             i += 1;
         } else if c == b'(' {
+            // Not a comment on every controller (`Syntax`): then the reference way.
+            if parens_not_comments {
+                return None;
+            }
             // The comment must close before the line ends.
             let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
             if input[close] == b'\n' {
@@ -586,6 +638,19 @@ fn word_slow(
     Ok(number.end)
 }
 
+/// Lexes the one address word whose letter is at `line[i]` (the reference way, errors included)
+/// and appends it to `words`; returns the index after it. For a dialect that reads its own syntax
+/// around address words (Sinumerik).
+pub(crate) fn lex_word(
+    line: &[u8],
+    i: usize,
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+) -> Result<usize, Diagnostic> {
+    word_slow(line, i, line_no, offset, words, b"")
+}
+
 /// Whether a number follows (after blanks): a digit, a sign or a decimal point.
 fn starts_number(rest: &[u8]) -> bool {
     rest.iter()
@@ -848,6 +913,23 @@ mod tests {
         // sign is still malformed.
         assert!(lex_line(line, 1, 0, &mut words).is_err());
         assert!(lex_line_with(b"G33 P-", 1, 0, &mut words, b"P").is_err());
+    }
+
+    #[test]
+    fn parentheses_are_comments_unless_the_syntax_says_otherwise() {
+        let mut words = Vec::new();
+        let line = b"G0 X10 (approach) Z5";
+        lex_line(line, 1, 0, &mut words).unwrap();
+        assert_eq!(words.len(), 3);
+        let sinumerik = Syntax {
+            parens_not_comments: true,
+            hand_over_unread: true,
+        };
+        let e = lex_line_in(line, 1, 0, &mut words, b"", sinumerik).unwrap_err();
+        assert_eq!((e.code, e.span.column), (Code::Syntax, 8));
+        // `;` comments are comments under both.
+        lex_line_in(b"G0 X10 ; (approach)", 1, 0, &mut words, b"", sinumerik).unwrap();
+        assert_eq!(words.len(), 2);
     }
 
     #[test]

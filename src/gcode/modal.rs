@@ -57,6 +57,9 @@ pub struct PlainMove {
     pub to: Pos,
     /// Lead in mm per revolution, for thread moves.
     pub lead: Option<f64>,
+    /// Spindle angle (degrees) at which a thread move begins when it starts a chain of thread
+    /// moves; 0 unless a dialect states one (Sinumerik `SF=`).
+    pub phase_deg: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -214,6 +217,7 @@ impl Modal {
             from,
             to,
             lead: None,
+            phase_deg: 0.0,
         }))
     }
 
@@ -316,6 +320,7 @@ impl Modal {
             from,
             to,
             lead,
+            phase_deg: 0.0,
         }))
     }
 

@@ -3,7 +3,7 @@
 use std::io::BufRead;
 
 use super::lexer::{
-    letter_slot, lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordIndex,
+    letter_slot, lex_buffered_line, lex_line_in, BufferedLine, LineShape, Syntax, Word, WordIndex,
     WordSummary, FAST_WORDS,
 };
 use crate::diag::{Code, Diagnostic, Span};
@@ -132,6 +132,7 @@ pub struct Reader<R> {
     offset: u64,
     done: bool,
     bare: &'static [u8],
+    syntax: Syntax,
 }
 
 impl<R: BufRead> Reader<R> {
@@ -150,12 +151,19 @@ impl<R: BufRead> Reader<R> {
             offset: 0,
             done: false,
             bare: b"",
+            syntax: Syntax::default(),
         }
     }
 
     /// Lets these letters stand without a number (see [`lex_line_with`](super::lexer::lex_line_with)).
     pub fn with_bare_letters(mut self, bare: &'static [u8]) -> Reader<R> {
         self.bare = bare;
+        self
+    }
+
+    /// Reads lines as a controller writes them (see [`Syntax`]).
+    pub fn with_syntax(mut self, syntax: Syntax) -> Reader<R> {
+        self.syntax = syntax;
         self
     }
 
@@ -192,7 +200,7 @@ impl<R: BufRead> Reader<R> {
         self.next_line_by_reference()
     }
 
-    /// The next line, lexed by the reference lexer ([`lex_line_with`]) whatever it holds: for a
+    /// The next line, lexed by the reference lexer ([`lex_line_in`]) whatever it holds: for a
     /// caller that took the lines the fast path reads with
     /// [`next_plain_line`](Self::next_plain_line) already (the two lexers give the same words).
     #[inline(never)]
@@ -223,12 +231,13 @@ impl<R: BufRead> Reader<R> {
                 text_len -= 1;
             }
         }
-        match lex_line_with(
+        match lex_line_in(
             &raw[..text_len],
             line_no,
             offset,
             &mut self.words,
             self.bare,
+            self.syntax,
         ) {
             Ok(shape) => {
                 let summary = WordSummary::of(&self.words);
@@ -237,6 +246,21 @@ impl<R: BufRead> Reader<R> {
                     self.index[letter_slot(w.letter)] = at as u32;
                 }
                 Some(Ok(self.take_line(shape, summary, text_len, raw_len, None)))
+            }
+            Err(_) if self.syntax.hand_over_unread => {
+                // The dialect reads the line's own syntax (and reports its errors).
+                self.words.clear();
+                let shape = LineShape {
+                    unread: true,
+                    ..LineShape::default()
+                };
+                Some(Ok(self.take_line(
+                    shape,
+                    WordSummary::default(),
+                    text_len,
+                    raw_len,
+                    None,
+                )))
             }
             Err(e) => {
                 // The line is consumed: a caller may go on with the next one.
@@ -287,6 +311,7 @@ impl<R: BufRead> Reader<R> {
             self.offset,
             &mut self.fast_words,
             &mut self.index,
+            self.syntax.parens_not_comments,
         )
     }
 
@@ -457,8 +482,15 @@ mod tests {
 
     /// What the reader gives for every line. `before` and `handed_out` must be the input right
     /// before the line and right after the last one: `input` is the whole input, to check them.
-    fn read_all(source: impl BufRead, bare: &'static [u8], input: &[u8]) -> Vec<Lexed> {
-        let mut r = Reader::new(source).with_bare_letters(bare);
+    fn read_all(
+        source: impl BufRead,
+        bare: &'static [u8],
+        syntax: Syntax,
+        input: &[u8],
+    ) -> Vec<Lexed> {
+        let mut r = Reader::new(source)
+            .with_bare_letters(bare)
+            .with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -537,9 +569,12 @@ mod tests {
     fn read_plain_first(
         source: impl BufRead,
         bare: &'static [u8],
+        syntax: Syntax,
         put_back: impl Fn(u32) -> bool,
     ) -> Vec<Lexed> {
-        let mut r = Reader::new(source).with_bare_letters(bare);
+        let mut r = Reader::new(source)
+            .with_bare_letters(bare)
+            .with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -584,8 +619,9 @@ mod tests {
         got
     }
 
-    /// The same, line by line with the reference lexer: split at `\n`, drop the terminator.
-    fn reference(src: &[u8], bare: &[u8]) -> Vec<Lexed> {
+    /// The same, line by line with the reference lexer: split at `\n`, drop the terminator. Under
+    /// `hand_over_unread`, a line the lexer refuses comes without words, marked unread.
+    fn reference(src: &[u8], bare: &[u8], syntax: Syntax) -> Vec<Lexed> {
         let mut got = vec![];
         let mut offset = 0u64;
         for (i, raw) in src.split_inclusive(|&b| b == b'\n').enumerate() {
@@ -595,19 +631,34 @@ mod tests {
             }
             let mut words = vec![];
             let n = i as u32 + 1;
-            got.push(match lex_line_with(text, n, offset, &mut words, bare) {
-                Ok(shape) => {
-                    let summary = WordSummary::of(&words);
-                    (
-                        n,
-                        offset,
-                        text.to_vec(),
-                        raw.to_vec(),
-                        Ok((words, shape, summary)),
-                    )
-                }
-                Err(e) => (n, 0, vec![], vec![], Err(e)),
-            });
+            got.push(
+                match lex_line_in(text, n, offset, &mut words, bare, syntax) {
+                    Ok(shape) => {
+                        let summary = WordSummary::of(&words);
+                        (
+                            n,
+                            offset,
+                            text.to_vec(),
+                            raw.to_vec(),
+                            Ok((words, shape, summary)),
+                        )
+                    }
+                    Err(_) if syntax.hand_over_unread => {
+                        let shape = LineShape {
+                            unread: true,
+                            ..LineShape::default()
+                        };
+                        (
+                            n,
+                            offset,
+                            text.to_vec(),
+                            raw.to_vec(),
+                            Ok((vec![], shape, WordSummary::default())),
+                        )
+                    }
+                    Err(e) => (n, 0, vec![], vec![], Err(e)),
+                },
+            );
             offset += raw.len() as u64;
         }
         got
@@ -625,17 +676,26 @@ mod tests {
             ),
             step in 1usize..40,
             flags in proptest::bool::ANY,
+            sinumerik in proptest::bool::ANY,
         ) {
             let bare: &'static [u8] = if flags { b"PC" } else { b"" };
-            let want = reference(&text, bare);
-            proptest::prop_assert_eq!(read_all(&text[..], bare, &text), want.clone());
-            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare, &text), want.clone());
+            // Sinumerik's: parentheses are no comments, and unreadable lines are handed over.
+            let syntax = Syntax {
+                parens_not_comments: sinumerik,
+                hand_over_unread: sinumerik,
+            };
+            let want = reference(&text, bare, syntax);
+            proptest::prop_assert_eq!(read_all(&text[..], bare, syntax, &text), want.clone());
+            proptest::prop_assert_eq!(
+                read_all(Trickle { data: &text, step }, bare, syntax, &text),
+                want.clone()
+            );
             let none = |_| false;
             let some = |n: u32| n % 3 == 1;
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, none), want.clone());
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, some), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, syntax, none), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, syntax, some), want.clone());
             proptest::prop_assert_eq!(
-                read_plain_first(Trickle { data: &text, step }, bare, some),
+                read_plain_first(Trickle { data: &text, step }, bare, syntax, some),
                 want
             );
         }
@@ -645,15 +705,22 @@ mod tests {
     fn lines_across_reads_and_longer_than_the_buffer() {
         let long = format!("G1 X1 ({})\r\n", "c".repeat(3 * CHUNK));
         let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
-        let want = reference(src.as_bytes(), b"");
+        let want = reference(src.as_bytes(), b"", Syntax::default());
         assert_eq!(want.len(), 5);
-        assert_eq!(read_all(src.as_bytes(), b"", src.as_bytes()), want);
+        assert_eq!(
+            read_all(src.as_bytes(), b"", Syntax::default(), src.as_bytes()),
+            want
+        );
         for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
             let trickle = Trickle {
                 data: src.as_bytes(),
                 step,
             };
-            assert_eq!(read_all(trickle, b"", src.as_bytes()), want, "step {step}");
+            assert_eq!(
+                read_all(trickle, b"", Syntax::default(), src.as_bytes()),
+                want,
+                "step {step}"
+            );
         }
     }
 
@@ -662,7 +729,7 @@ mod tests {
         // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
         // without a terminator.
         let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
-        let got = read_all(ok.as_bytes(), b"", ok.as_bytes());
+        let got = read_all(ok.as_bytes(), b"", Syntax::default(), ok.as_bytes());
         assert_eq!(got.len(), 2);
         assert!(got.iter().all(|l| l.4.is_ok()));
         for tail in ["\r\n", ""] {

@@ -4,6 +4,7 @@
 use std::io::{self, Write};
 
 use crate::machine::{CommentStyle, Machine};
+use crate::thread::StartIndexing;
 use crate::toolpath::{Motion, MotionKind, Toolpath};
 use crate::units::Units;
 
@@ -30,11 +31,69 @@ pub struct Format {
     /// The lead word is the travel per revolution along the move's path (LinuxCNC's `G33 K`), not
     /// along its longer axis (Fanuc's `G32 F`); the writer converts the model's lead.
     pub lead_along_path: bool,
-    /// The word that shifts a synchronised run's start angle, in 0.001° without a decimal point
-    /// (Fanuc's and Haas's `G32 … Q`), if the controller has one. It is written on the first move
-    /// of each run whose phase is not 0. Without it a job with a phase cannot be written as plain
-    /// moves: callers must refuse it ([`expressible`]).
-    pub start_angle: Option<char>,
+    /// The lead word of a move that travels further in X than in Z, where it is not
+    /// [`lead_letter`](Format::lead_letter) (Sinumerik: `K` is the pitch along Z, `I` along X).
+    pub steep_lead_letter: Option<char>,
+    /// The word that states the spindle angle at which a synchronised run begins (Fanuc's and
+    /// Haas's `G32 … Q`, Sinumerik's `G33 … SF=`), if the controller's plain thread move takes
+    /// one. It is written on the first thread move of each run (a thread move after a move of
+    /// another kind). `None`: a job with a start angle, or with starts reached by turning the
+    /// spindle, cannot be written as plain moves, and callers refuse it ([`expressible`]).
+    pub start_angle: Option<StartAngleWord>,
+}
+
+/// How a controller's thread move states its start angle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StartAngleWord {
+    /// The word as written before its value: `Q`, `SF=`.
+    pub name: &'static str,
+    pub unit: AngleUnit,
+    /// The control keeps the last angle stated (Sinumerik's `SF=` writes setting data 42000
+    /// THREAD_START_ANGLE): the word is written on every run, 0 included, so that no angle of an
+    /// earlier block carries over. Otherwise the word holds for its block only (Fanuc's and Haas's
+    /// `Q`: a run without it starts at 0) and is written where the angle is not 0.
+    pub modal: bool,
+}
+
+/// The unit and notation of a start-angle word's value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AngleUnit {
+    /// A whole count of 0.001° without a decimal point (Fanuc, Haas: `Q180000` is 180°).
+    Millidegrees,
+    /// Degrees with a decimal point, to this many decimals (Sinumerik: `SF=180.0000`, 0.0001°).
+    Degrees { decimals: u32 },
+}
+
+impl AngleUnit {
+    /// The smallest step the word writes, in degrees.
+    pub fn resolution_deg(self) -> f64 {
+        match self {
+            AngleUnit::Millidegrees => 0.001,
+            AngleUnit::Degrees { decimals } => 10f64.powi(-(decimals as i32)),
+        }
+    }
+}
+
+impl StartAngleWord {
+    /// Appends ` Q180000` / ` SF=180.0000`: the angle modulo a turn, rounded once to the word's
+    /// resolution (an angle that rounds to 360° is written as 0).
+    pub fn push(&self, out: &mut Vec<u8>, phase_deg: f64, trailing_zeros: bool) -> io::Result<()> {
+        let phase_deg = finite(phase_deg)?;
+        out.push(b' ');
+        push_bytes(out, self.name.as_bytes());
+        match self.unit {
+            AngleUnit::Millidegrees => {
+                out.extend_from_slice(start_angle_count(phase_deg).to_string().as_bytes())
+            }
+            AngleUnit::Degrees { decimals } => {
+                let scale = 10f64.powi(decimals as i32);
+                let steps = round_half_away(phase_deg.rem_euclid(360.0) * scale);
+                let steps = if steps >= 360.0 * scale { 0.0 } else { steps };
+                push_number(out, steps / scale, decimals, trailing_zeros);
+            }
+        }
+        Ok(())
+    }
 }
 
 impl Format {
@@ -53,6 +112,7 @@ impl Format {
             trailing_zeros: machine.output.trailing_zeros,
             comment: machine.output.comment,
             lead_along_path: false,
+            steep_lead_letter: None,
             start_angle: None,
         }
     }
@@ -251,22 +311,12 @@ pub fn number_on_grid(value: f64, step: f64, trailing_zeros: bool) -> String {
 }
 
 /// Whether `format` can write `job`'s moves as plain blocks: a lead that changes every revolution
-/// needs the controller's variable-lead move, a start angle other than 0 its start-angle word.
+/// needs the controller's variable-lead move, a start angle other than 0 (or starts reached by
+/// turning the spindle) its start-angle word.
 pub fn expressible(
     format: &Format,
     job: &crate::thread::Job,
 ) -> Result<(), crate::diag::Diagnostic> {
-    if job.lead.phase_deg != 0.0 && format.start_angle.is_none() {
-        return Err(crate::diag::Diagnostic::error(
-            crate::diag::Code::Unsupported,
-            job.span,
-            format!(
-                "the thread starts {}° after the spindle's one-revolution signal, and this controller has no start-angle word in threadcut",
-                job.lead.phase_deg
-            ),
-        )
-        .with_hint("choose a controller whose thread move takes a start angle (Fanuc, Haas: G32 … Q)"));
-    }
     if job.lead.dlead != 0.0 && format.variable_thread.is_none() {
         return Err(crate::diag::Diagnostic::error(
             crate::diag::Code::Unsupported,
@@ -277,6 +327,25 @@ pub fn expressible(
             ),
         )
         .with_hint("choose a controller with a variable-lead thread move (G34)"));
+    }
+    let angle_indexed = job.lead.starts > 1 && job.lead.indexing == StartIndexing::Angle;
+    if format.start_angle.is_none() && (job.lead.phase_deg != 0.0 || angle_indexed) {
+        return Err(crate::diag::Diagnostic::error(
+            crate::diag::Code::Unsupported,
+            job.span,
+            if angle_indexed {
+                format!(
+                    "the {} starts of this thread are reached by turning the spindle (360°/{} apart), and this controller's plain thread moves cannot state a start angle in threadcut",
+                    job.lead.starts, job.lead.starts
+                )
+            } else {
+                format!(
+                    "the thread starts {}° after the spindle's one-revolution signal, and this controller's plain thread moves cannot state a start angle in threadcut",
+                    job.lead.phase_deg
+                )
+            },
+        )
+        .with_hint("choose a controller whose thread move takes a start angle (Fanuc, Haas: G32 … Q; Sinumerik: G33 … SF=)"));
     }
     Ok(())
 }
@@ -349,14 +418,19 @@ pub fn write_moves(
         push_bytes(&mut line, b" Z");
         z_cache.push(&mut line, finite(units.from_mm(m.to.z))?, nd, tz);
         if let Some(lead) = lead {
+            let d = m.to.minus(from);
             let lead = if format.lead_along_path {
-                path_lead(lead, m.to.minus(from))
+                path_lead(lead, d)
             } else {
                 lead
             };
+            let lead_letter = match format.steep_lead_letter {
+                Some(steep) if d.x.abs() > d.z.abs() => steep,
+                _ => format.lead_letter,
+            };
             line.push(b' ');
             let mut letter = [0u8; 4];
-            line.extend_from_slice(format.lead_letter.encode_utf8(&mut letter).as_bytes());
+            line.extend_from_slice(lead_letter.encode_utf8(&mut letter).as_bytes());
             let value = finite(units.from_mm(lead))?;
             let slot = if lead_cache[0].holds(value) { 0 } else { 1 };
             if slot == 1 && !lead_cache[1].holds(value) {
@@ -373,7 +447,7 @@ pub fn write_moves(
             push_number(&mut line, finite(units.from_mm(dlead))?, ld, tz);
         }
         if let MotionKind::Thread { phase_deg, .. } = m.kind {
-            if !in_run && phase_deg != 0.0 {
+            if !in_run {
                 push_start_angle(&mut line, format, phase_deg)?;
             }
         }
@@ -383,25 +457,27 @@ pub fn write_moves(
     out.write_all(&line)
 }
 
-/// ` Q180000`: a start angle in 0.001° without a decimal point, the way Fanuc and Haas write it.
+/// The start angle of a run's first thread move, where the format writes one: always where the
+/// control keeps the last angle, else where it is not 0.
 fn push_start_angle(out: &mut Vec<u8>, format: &Format, phase_deg: f64) -> io::Result<()> {
-    let Some(letter) = format.start_angle else {
+    match format.start_angle {
+        Some(word) if word.modal || phase_deg != 0.0 => {
+            word.push(out, phase_deg, format.trailing_zeros)
+        }
+        Some(_) => Ok(()),
         // Callers check first (`expressible`); this is the last guard.
-        return Err(io::Error::new(
+        None if phase_deg != 0.0 => Err(io::Error::new(
             io::ErrorKind::InvalidData,
             "refusing to drop a thread's start angle: this controller has no start-angle word",
-        ));
-    };
-    out.push(b' ');
-    let mut buf = [0u8; 4];
-    out.extend_from_slice(letter.encode_utf8(&mut buf).as_bytes());
-    out.extend_from_slice(start_angle_count(finite(phase_deg)?).to_string().as_bytes());
-    Ok(())
+        )),
+        None => Ok(()),
+    }
 }
 
-/// A start angle (degrees) as the count of 0.001° a `Q` word carries.
+/// A start angle (degrees) as the count of 0.001° a Fanuc or Haas `Q` word carries, modulo a
+/// turn (0 to 359999).
 pub fn start_angle_count(phase_deg: f64) -> u32 {
-    (phase_deg * 1000.0).round() as u32
+    (round_half_away(phase_deg.rem_euclid(360.0) * 1000.0) as u32) % 360_000
 }
 
 /// Appends a few bytes; for a handful a memmove call costs more than the copy.
@@ -460,58 +536,46 @@ pub fn long_axis_lead(path_lead: f64, d: crate::units::Vec2) -> f64 {
 /// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}` (`"dlead"` after `"lead"` when the
 /// lead varies, then `"phase"`, the run's start angle in degrees, when it is not 0).
 pub fn motion_json(m: &Motion, units: Units) -> String {
-    match m.kind {
-        MotionKind::Thread { phase_deg, .. } if phase_deg != 0.0 => {
-            let plain = motion_json_without_phase(m, units);
-            let at = plain
-                .rfind(r#","pass":"#)
-                .expect("a thread object has a pass");
-            format!(
-                r#"{},"phase":{}{}"#,
-                &plain[..at],
-                json_num(phase_deg),
-                &plain[at..]
-            )
-        }
-        _ => motion_json_without_phase(m, units),
-    }
-}
-
-fn motion_json_without_phase(m: &Motion, units: Units) -> String {
     let x = units.from_mm(m.to.x);
     let z = units.from_mm(m.to.z);
-    match m.kind {
-        MotionKind::Rapid | MotionKind::Feed => format!(
-            r#"{{"kind":"{}","x":{},"z":{},"pass":{},"line":{}}}"#,
-            if m.kind == MotionKind::Rapid {
-                "rapid"
-            } else {
-                "feed"
-            },
-            json_num(x),
-            json_num(z),
-            m.pass,
-            m.line
-        ),
-        // A variable lead adds `"dlead"` (change of lead per revolution, at the move's start lead).
-        MotionKind::Thread { lead, dlead, .. } if dlead != 0.0 => format!(
-            r#"{{"kind":"thread","x":{},"z":{},"lead":{},"dlead":{},"pass":{},"line":{}}}"#,
-            json_num(x),
-            json_num(z),
-            json_num(units.from_mm(lead)),
-            json_num(units.from_mm(dlead)),
-            m.pass,
-            m.line
-        ),
-        MotionKind::Thread { lead, .. } => format!(
-            r#"{{"kind":"thread","x":{},"z":{},"lead":{},"pass":{},"line":{}}}"#,
-            json_num(x),
-            json_num(z),
-            json_num(units.from_mm(lead)),
-            m.pass,
-            m.line
-        ),
+    let (lead, dlead, phase_deg) = match m.kind {
+        MotionKind::Rapid | MotionKind::Feed => {
+            return format!(
+                r#"{{"kind":"{}","x":{},"z":{},"pass":{},"line":{}}}"#,
+                if m.kind == MotionKind::Rapid {
+                    "rapid"
+                } else {
+                    "feed"
+                },
+                json_num(x),
+                json_num(z),
+                m.pass,
+                m.line
+            )
+        }
+        MotionKind::Thread {
+            lead,
+            dlead,
+            phase_deg,
+        } => (lead, dlead, phase_deg),
+    };
+    let mut out = format!(
+        r#"{{"kind":"thread","x":{},"z":{},"lead":{}"#,
+        json_num(x),
+        json_num(z),
+        json_num(units.from_mm(lead))
+    );
+    // A variable lead adds `"dlead"` (change of lead per revolution, at the move's start lead).
+    if dlead != 0.0 {
+        out.push_str(r#","dlead":"#);
+        out.push_str(&json_num(units.from_mm(dlead)));
     }
+    if phase_deg != 0.0 {
+        out.push_str(r#","phase":"#);
+        out.push_str(&json_num(phase_deg));
+    }
+    out.push_str(&format!(r#","pass":{},"line":{}}}"#, m.pass, m.line));
+    out
 }
 
 /// Shortest round-trip text of a finite f64 (serde_json's), `0` for negative zero.
@@ -566,6 +630,129 @@ mod tests {
         assert_eq!(number(-1234567.891234, 4, true), "-1234567.8912");
         assert_eq!(number(0.0001, 4, false), "0.0001");
         assert_eq!(number(100.0, 4, false), "100.");
+    }
+
+    const SF: StartAngleWord = StartAngleWord {
+        name: "SF=",
+        unit: AngleUnit::Degrees { decimals: 4 },
+        modal: true,
+    };
+    const Q: StartAngleWord = StartAngleWord {
+        name: "Q",
+        unit: AngleUnit::Millidegrees,
+        modal: false,
+    };
+
+    #[test]
+    fn start_angle_words_round_once_modulo_a_turn() {
+        let text = |w: StartAngleWord, deg: f64| {
+            let mut out = Vec::new();
+            w.push(&mut out, deg, true).unwrap();
+            String::from_utf8(out).unwrap()
+        };
+        assert_eq!(text(Q, 180.0), " Q180000");
+        assert_eq!(text(Q, 0.0005), " Q1");
+        assert_eq!(text(Q, 359.9996), " Q0");
+        assert_eq!(text(SF, 180.0), " SF=180.0000");
+        assert_eq!(text(SF, 359.9996), " SF=359.9996");
+        assert_eq!(text(SF, 359.99996), " SF=0.0000");
+        assert_eq!(text(SF, -90.0), " SF=270.0000");
+        assert_eq!(start_angle_count(360.0), 0);
+        assert_eq!(start_angle_count(45.0), 45_000);
+        let mut out = Vec::new();
+        assert!(Q.push(&mut out, f64::NAN, true).is_err());
+    }
+
+    /// A word the control keeps is written on every run, 0 included; a word of one block only
+    /// where the angle is not 0.
+    #[test]
+    fn start_angles_on_the_first_move_of_each_run() {
+        use crate::units::Pos;
+        let m = Machine::built_in("fanuc").unwrap();
+        let run = |phase_deg: f64| {
+            [
+                Motion {
+                    kind: MotionKind::Thread {
+                        lead: 2.0,
+                        dlead: 0.0,
+                        phase_deg,
+                    },
+                    to: Pos::new(10.0, -20.0),
+                    pass: 1,
+                    line: 1,
+                },
+                Motion {
+                    kind: MotionKind::Rapid,
+                    to: Pos::new(10.0, 2.0),
+                    pass: 1,
+                    line: 1,
+                },
+            ]
+        };
+        let path = Toolpath {
+            start: Pos::new(10.0, 2.0),
+            motions: [run(0.0), run(90.0)].concat(),
+        };
+        let written = |word: Option<StartAngleWord>| {
+            let format = Format {
+                start_angle: word,
+                ..Format::lathe(&m, "G32", 'F')
+            };
+            let mut out = Vec::new();
+            write_moves(&mut out, &format, Units::Mm, &path)
+                .map(|_| String::from_utf8(out).unwrap())
+        };
+        let lines = |text: String| -> Vec<String> {
+            text.lines()
+                .filter(|l| l.starts_with("G32"))
+                .map(|l| l.split_once(" F").unwrap().1.to_string())
+                .collect()
+        };
+        assert_eq!(lines(written(Some(Q)).unwrap()), ["2.", "2. Q90000"]);
+        assert_eq!(lines(written(Some(SF)).unwrap()), ["2. SF=0.", "2. SF=90."]);
+        assert!(written(None).is_err(), "a start angle is never dropped");
+    }
+
+    #[test]
+    fn start_angles_and_the_steep_lead_word() {
+        use crate::units::Pos;
+        let m = Machine::built_in("sinumerik").unwrap();
+        let format = Format {
+            steep_lead_letter: Some('I'),
+            start_angle: Some(SF),
+            ..Format::lathe(&m, "G33", 'K')
+        };
+        let thread = |x: f64, z: f64, lead: f64| Motion {
+            kind: MotionKind::Thread {
+                lead,
+                dlead: 0.0,
+                phase_deg: 120.0,
+            },
+            to: Pos::new(x, z),
+            pass: 1,
+            line: 1,
+        };
+        let path = Toolpath {
+            start: Pos::new(10.0, 2.0),
+            motions: vec![
+                thread(10.0, -20.0, 2.0),
+                // A steep pull-out continues the chain: no start angle, I for the X pitch.
+                thread(12.0, -21.0, 4.0),
+                Motion {
+                    kind: MotionKind::Rapid,
+                    to: Pos::new(12.0, 2.0),
+                    pass: 1,
+                    line: 1,
+                },
+                thread(10.0, -20.0, 2.0),
+            ],
+        };
+        let mut out = Vec::new();
+        write_moves(&mut out, &format, Units::Mm, &path).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "G33 X20.000 Z-20.000 K2.0000 SF=120.0000\nG33 X24.000 Z-21.000 I4.0000\nG0 X24.000 Z2.000\nG33 X20.000 Z-20.000 K2.0000 SF=120.0000\n"
+        );
     }
 
     #[test]

@@ -111,13 +111,31 @@ pub struct Lead {
     pub lead: f64,
     /// Change of lead per revolution (variable-lead threads); 0 for a constant lead.
     pub dlead: f64,
-    /// Number of starts; each start is the same thread shifted by lead/starts along the axis.
+    /// Number of starts; each start is the same thread, lead/starts further along the axis.
     pub starts: u32,
-    /// The spindle angle (degrees, 0 ≤ φ < 360) at which every pass's synchronised run begins,
-    /// counted from the spindle's one-revolution signal: the thread-start shift of Fanuc's and
-    /// Haas's `Q` word. A thread of n starts can be cut as n cycles whose phases differ by 360°/n
-    /// (each with `starts` = 1) instead of by the axial shift that `starts` gives.
+    /// The spindle angle (degrees, 0 ≤ φ < 360, after the spindle's one-revolution signal) at
+    /// which every synchronised run of the first start begins: Fanuc's and Haas's `Q` on G32/G92/
+    /// G76, Sinumerik's `SF=` on G33 and CYCLE97's NSP. 0 where the program states none. Further
+    /// starts begin where [`indexing`](Lead::indexing) puts them ([`start_phase`](Lead::start_phase)).
     pub phase_deg: f64,
+    /// How the tool reaches the further starts.
+    pub indexing: StartIndexing,
+}
+
+/// How a multi-start thread's further starts are reached. Both cut the same grooves: a start
+/// lead/starts further along the axis is the same helix turned by 360°/starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StartIndexing {
+    /// Each further start begins lead/starts further from the part along the axis, at the same
+    /// spindle angle; every start is cut at one depth before the next depth (OmniTurn, GSK G92 L,
+    /// APT MULTRD). A program that cuts each start as a cycle of its own with its own start angle
+    /// (Fanuc/Haas `Q`) reads as one job per start, each with one start and its `phase_deg`.
+    Shift,
+    /// Each further start begins at the same point with the spindle angle advanced by
+    /// 360°/starts; each start is cut to full depth, all its passes, before the next (Sinumerik
+    /// CYCLE97 NUMT: "the whole motion sequence is repeated for each further thread turn").
+    Angle,
 }
 
 impl Lead {
@@ -127,7 +145,17 @@ impl Lead {
             dlead: 0.0,
             starts: 1,
             phase_deg: 0.0,
+            indexing: StartIndexing::Shift,
         }
+    }
+
+    /// The spindle angle (degrees, 0 ≤ a < 360) at which start `s` (0-based) begins.
+    pub fn start_phase(&self, s: u32) -> f64 {
+        let turn = match self.indexing {
+            StartIndexing::Shift => 0.0,
+            StartIndexing::Angle => 360.0 * f64::from(s) / f64::from(self.starts.max(1)),
+        };
+        (self.phase_deg + turn).rem_euclid(360.0)
     }
 
     /// Axial distance between adjacent starts.
@@ -309,6 +337,11 @@ pub enum ReturnPath {
     /// back point to the ramp's start, at the ramp's rate along its path. After the last pass the tool
     /// rapids to `end` (always emitted, even when it is a zero-length move).
     Diagonal { clearance: f64, end: Pos },
+    /// A cycle with a start point of its own, the retract point (Sinumerik CYCLE97: "approach of
+    /// the starting point determined in the cycle … with G0"): the tool first rapids there from
+    /// wherever it is (a move that is always made, even of zero length), every pass then runs as
+    /// in [`Box`](ReturnPath::Box), and the tool stays at the retract point after the last pass.
+    BoxAtRetract,
 }
 
 /// One threading cycle in machine-neutral terms.
@@ -342,6 +375,7 @@ impl Job {
         match self.return_path {
             ReturnPath::Box => self.start,
             ReturnPath::Diagonal { end, .. } => end,
+            ReturnPath::BoxAtRetract => Pos::new(self.retract.x, self.retract.z),
         }
     }
 

@@ -279,6 +279,15 @@ const ISO_COARSE: &[(f64, f64)] = &[
     (68.0, 6.0),
 ];
 
+/// The ISO 261 coarse pitch (mm) of the metric thread of nominal diameter `d` (mm), where the
+/// coarse series has that diameter.
+pub fn iso_coarse_pitch(d: f64) -> Option<f64> {
+    ISO_COARSE
+        .iter()
+        .find(|(cd, _)| (cd - d).abs() < 1e-9)
+        .map(|&(_, p)| p)
+}
+
 /// ISO 261 fine pitches by diameter (the combinations of ISO 261 Table 1 up to M64).
 const ISO_FINE: &[(f64, &[f64])] = &[
     (1.6, &[0.2]),

@@ -1,0 +1,612 @@
+//! Siemens Sinumerik 828D/840D turning: the thread-cutting cycle CYCLE97, `G33 Z… K… SF=…` as the
+//! synchronised move (with the start angle SF), DIAMON/DIAMOF/DIAM90, G70/G71/G700/G710, and the
+//! parts of Sinumerik's own block syntax that programs around a thread are written in: `;`
+//! comments, R parameters and DEF variables set to numbers, `NAME=value` words, calls.
+//!
+//! Lines of address words only are read by the shared lexer as on every controller; a line in
+//! Sinumerik's own syntax is handed over unread ([`Syntax::hand_over_unread`]) and read here
+//! ([`block`]). Every decision is a row of `docs/dialects/sinumerik.md`.
+
+mod block;
+mod cycle97;
+
+use std::collections::HashMap;
+
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::lexer::{letter_slot, WordIndex};
+use crate::gcode::reader::g_code;
+use crate::gcode::{Conventions, Line, Modal, MotionMode, Syntax, Word, WordSummary};
+use crate::machine::Machine;
+use crate::post::{AngleUnit, Format, StartAngleWord};
+use crate::units::Units;
+
+use super::{Dialect, Read};
+use block::{Item, Operand};
+
+const G33: u16 = 330;
+
+/// Words that change nothing threadcut follows: technology and look-ahead settings.
+const PASSIVE_KEYWORDS: &[&str] = &[
+    "STOPRE",
+    "SOFT",
+    "BRISK",
+    "DRIVE",
+    "FFWON",
+    "FFWOF",
+    "CFC",
+    "CFTCP",
+    "CFIN",
+    "DIAMCYCOF",
+    "SPCON",
+    "SPCOF",
+    "RET",
+    "ORIWKS",
+    "ORIMKS",
+    "CUT2D",
+    "CUT2DF",
+    "COMPOF",
+    "FNORM",
+    "TRAFOOF",
+];
+
+/// `NAME=value` settings that change nothing threadcut follows (spindle speed limit, spindle
+/// positioning, the fixed point of a G75).
+const PASSIVE_SETTINGS: &[&str] = &["LIMS", "SPOS", "SPOSA", "SETMS", "ACC", "OVR", "FP"];
+
+/// Calls that change nothing threadcut follows: messages, the simulation's blank, the master
+/// spindle.
+const PASSIVE_CALLS: &[&str] = &["MSG", "WORKPIECE", "SETMS", "SETPIECE", "SPOS", "SUPD"];
+
+/// Program flow: threadcut reads a program from top to bottom and cannot follow these.
+const FLOW: &[&str] = &[
+    "GOTO", "GOTOF", "GOTOB", "GOTOC", "IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "REPEAT",
+    "REPEATB", "UNTIL", "LOOP", "ENDLOOP", "FOR", "ENDFOR", "CASE", "CALL", "PCALL", "MCALL",
+    "PROC", "EXTERN",
+];
+
+/// Frames: they move every later coordinate in a way threadcut does not follow.
+const FRAMES: &[&str] = &[
+    "TRANS", "ATRANS", "ROT", "AROT", "SCALE", "ASCALE", "MIRROR", "AMIRROR", "RPL",
+];
+
+/// `SF=` on G33: the start angle in degrees (0.0001°, as CYCLE97's NSP), kept by the control
+/// (setting data 42000 THREAD_START_ANGLE) until the next `SF=`.
+const SF: StartAngleWord = StartAngleWord {
+    name: "SF=",
+    unit: AngleUnit::Degrees { decimals: 4 },
+    modal: true,
+};
+
+pub struct Sinumerik {
+    conv: Conventions,
+    machine: Machine,
+    /// The start angle of a G33 block that begins a thread (setting data 42000
+    /// THREAD_START_ANGLE, which `SF=` writes): 0 at power-on.
+    sf: f64,
+    /// DIAM90: X on diameter under G90, on radius under G91.
+    diam90: bool,
+    /// The X convention to put back on the next line: CYCLE97 under DIAM90 and G91 is expanded
+    /// under G90, where X is a diameter.
+    restore_diameter: Option<bool>,
+    /// Whether a tool offset (a cutting edge D) is active: D0 deselects it, D1… and a tool
+    /// change select one. Unknown at the start of a program: taken as active.
+    offset_active: bool,
+    /// R parameters set in this program.
+    r: HashMap<u32, f64>,
+    /// Variables declared with DEF in this program.
+    vars: HashMap<String, f64>,
+}
+
+impl Sinumerik {
+    pub fn new(machine: &Machine) -> Sinumerik {
+        Sinumerik {
+            conv: Conventions {
+                uw_incremental: false,
+                g90_g91_distance: true,
+                diameter_x: machine.diameter_x,
+                thread_move: G33,
+                tpi_letter: 0,
+                // K: the pitch along Z; I (along X) is read here, for moves steeper than 45°.
+                lead_letter: b'K',
+                lead_along_path: false,
+                set_position: 0,
+                canned_cycles: &[],
+                // G70/G71; G700/G710 (feeds too) are read here.
+                units_codes: [700, 710],
+            },
+            machine: machine.clone(),
+            sf: 0.0,
+            diam90: false,
+            restore_diameter: None,
+            offset_active: true,
+            r: HashMap::new(),
+            vars: HashMap::new(),
+        }
+    }
+
+    /// The value of an operand: a number, or a parameter set earlier in the program.
+    fn value(&self, op: &Operand) -> Result<f64> {
+        match op {
+            Operand::Number { value, .. } => Ok(*value),
+            Operand::R { n, negative, span } => match self.r.get(n) {
+                Some(v) => Ok(if *negative { -v } else { *v }),
+                None => Err(Diagnostic::error(
+                    Code::Unsupported,
+                    *span,
+                    format!(
+                        "R{n} is not set earlier in this program: its value lives on the control"
+                    ),
+                )
+                .with_hint(format!(
+                    "set it before it is used, e.g. `R{n}=1.5`, or write the number"
+                ))),
+            },
+            Operand::Name {
+                name,
+                negative,
+                span,
+            } => match self.vars.get(name) {
+                Some(v) => Ok(if *negative { -v } else { *v }),
+                None => Err(Diagnostic::error(
+                    Code::Unsupported,
+                    *span,
+                    format!("{name} is not a variable declared earlier in this program"),
+                )
+                .with_hint(
+                    "declare it with `DEF REAL NAME=value` before it is used, or write the number",
+                )),
+            },
+            Operand::Text { span, .. } => Err(Diagnostic::error(
+                Code::Syntax,
+                *span,
+                "a string where a number was expected",
+            )),
+        }
+    }
+
+    /// A line of address words: the state this dialect keeps, then the modal reader. `words` are
+    /// the line's own or, for a line in Sinumerik's syntax, the address words found in it.
+    fn read_words(&mut self, line: &Line, modal: &mut Modal, leave_position: bool) -> Result<Read> {
+        let mut home = false;
+        let mut absolute = modal.absolute;
+        let mut thread = false;
+        for w in line.words {
+            match w.letter {
+                b'D' => self.offset_active = w.value != 0.0,
+                // A tool change selects the tool's first cutting edge (machine data 20270).
+                b'T' => self.offset_active = w.value != 0.0,
+                b'L' => {
+                    return Err(Diagnostic::error(
+                        Code::Unsupported,
+                        w.span,
+                        format!("L{}: threadcut does not follow subprogram calls", w.value),
+                    )
+                    .with_hint("expand the subprogram into the program"))
+                }
+                b'G' => match g_code(w.value) {
+                    Some(700 | 7000) => modal.units = Units::Inch,
+                    Some(710 | 7100) => modal.units = Units::Mm,
+                    // Reference point and fixed point approach: the tool goes where the
+                    // machine data say.
+                    Some(740 | 750) => home = true,
+                    Some(900) => absolute = true,
+                    Some(910) => absolute = false,
+                    Some(G33) => thread = true,
+                    Some(c @ (340 | 350 | 630 | 3310 | 3320)) => {
+                        return Err(Diagnostic::error(
+                            Code::Unsupported,
+                            w.span,
+                            format!(
+                                "G{}: threadcut does not read Sinumerik's {} on this controller",
+                                f64::from(c) / 10.0,
+                                if c < 400 {
+                                    "variable-lead threads (G34/G35)"
+                                } else {
+                                    "tapping moves (G63/G331/G332)"
+                                }
+                            ),
+                        )
+                        .with_hint("threadcut reads G33 and CYCLE97"))
+                    }
+                    _ => {}
+                },
+                _ => {}
+            }
+        }
+        if self.diam90 {
+            modal.diameter_x = absolute;
+        }
+        let steep = if thread || modal.motion == MotionMode::Thread {
+            self.steep_lead(line, modal)?
+        } else {
+            false
+        };
+        if !(thread || steep || home || leave_position) {
+            return Ok(Read::Plain);
+        }
+        let mut mv = modal.apply(&self.conv, line)?;
+        if let Some(m) = mv.as_mut().filter(|m| m.mode == MotionMode::Thread) {
+            m.phase_deg = self.sf;
+        }
+        if home || leave_position {
+            modal.position = None;
+        }
+        Ok(Read::Applied(mv))
+    }
+
+    /// `G33 … I…`: the pitch along X of a thread steeper than 45°, read into the modal lead.
+    fn steep_lead(&self, line: &Line, modal: &mut Modal) -> Result<bool> {
+        let Some(i) = line.word(b'I') else {
+            return Ok(false);
+        };
+        if let Some(k) = line.word(b'K') {
+            return Err(Diagnostic::error(
+                Code::Conflict,
+                i.span,
+                "I and K in one G33 block",
+            )
+            .with_hint(format!(
+                "K is the pitch along Z, I along X: keep the one of the axis that travels further (K{} was also given)",
+                k.value
+            )));
+        }
+        if i.value <= 0.0 {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                i.span,
+                format!("I{} lead must be positive", i.value),
+            ));
+        }
+        modal.lead = Some(modal.length_mm(i));
+        Ok(true)
+    }
+
+    /// A line in Sinumerik's own syntax.
+    fn read_block(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read> {
+        let items = block::parse(line.text, line.number, line.offset)?;
+        let mut words: Vec<Word> = Vec::new();
+        let mut cycle = None;
+        let mut leave_position = false;
+        let mut machine_axis = None;
+        for item in items {
+            match item {
+                Item::Word(w) => words.push(w),
+                Item::Assign { name, span, value } => {
+                    if let Some(w) = self.assign(&name, span, &value, &mut machine_axis)? {
+                        words.push(w);
+                    }
+                }
+                Item::Keyword { name, span } => {
+                    leave_position |= self.keyword(&name, span, modal)?;
+                }
+                Item::Call {
+                    name,
+                    span,
+                    args,
+                    arg_spans,
+                } => match name.as_str() {
+                    "CYCLE97" => cycle = Some(self.cycle97_call(span, &args, &arg_spans)?),
+                    "CYCLE99" => return Err(Diagnostic::error(
+                        Code::Unsupported,
+                        span,
+                        "CYCLE99 (thread turning from the ShopTurn/programGUIDE forms) is not read by threadcut",
+                    )
+                    .with_hint("the public descriptions of its parameter list found for threadcut disagree on the order of its parameters; program the thread with CYCLE97 or G33 blocks")),
+                    // Another cycle (stock removal, grooving, drilling): it passes through, and
+                    // threadcut does not know where it leaves the tool.
+                    n if n.starts_with("CYCLE") => leave_position = true,
+                    n if PASSIVE_CALLS.contains(&n) => {}
+                    n => return Err(Diagnostic::error(
+                        Code::Unsupported,
+                        span,
+                        format!("{n}(…) is not a call threadcut reads on Sinumerik"),
+                    )
+                    .with_hint("threadcut reads CYCLE97, passes other CYCLE… calls and MSG/WORKPIECE through, and does not follow subprograms")),
+                },
+                Item::Def { kind, vars } => {
+                    for (name, span, value) in vars {
+                        let v = match &value {
+                            Some(op) => self.value(op)?,
+                            None => 0.0,
+                        };
+                        if kind == "INT" && v.fract() != 0.0 {
+                            return Err(Diagnostic::error(
+                                Code::OutOfRange,
+                                value.map_or(span, |op| op.span()),
+                                format!("{name} is an INT and {v} is not a whole number"),
+                            ));
+                        }
+                        self.vars.insert(name, v);
+                    }
+                }
+                // A jump label marks a block; the jumps to it are refused.
+                Item::Header | Item::Label => {}
+            }
+        }
+        let index = word_index(&words);
+        let own = Line {
+            number: line.number,
+            offset: line.offset,
+            text: line.text,
+            raw: line.raw,
+            words: &words,
+            shape: line.shape,
+            before: line.before,
+            summary: WordSummary::of(&words),
+            index: &index,
+        };
+        if let Some(span) = machine_axis {
+            if !(own.has_g(740) || own.has_g(750)) {
+                return Err(Diagnostic::error(
+                    Code::Unsupported,
+                    span,
+                    "a machine axis word outside G74/G75: threadcut does not follow machine coordinates",
+                ));
+            }
+        }
+        if let Some(call) = cycle {
+            if let Some(w) = own.words.iter().find(|w| w.letter != b'N') {
+                return Err(Diagnostic::error(
+                    Code::Conflict,
+                    w.span,
+                    format!(
+                        "{}{} shares a block with CYCLE97",
+                        w.letter as char, w.value
+                    ),
+                )
+                .with_hint("write CYCLE97 in a block of its own"));
+            }
+            return self.cycle97(&call, &own, modal, warnings);
+        }
+        match self.read_words(&own, modal, leave_position)? {
+            Read::Plain => Ok(Read::Applied(modal.apply(&self.conv, &own)?)),
+            read => Ok(read),
+        }
+    }
+
+    /// `NAME=value`: a parameter, a setting, or an address given by an operand (`X=R1`), which
+    /// comes back as a word.
+    fn assign(
+        &mut self,
+        name: &str,
+        span: Span,
+        value: &Operand,
+        machine_axis: &mut Option<Span>,
+    ) -> Result<Option<Word>> {
+        let letter = name.as_bytes()[0];
+        let digits = &name[1..];
+        let indexed = !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit());
+        if let (b'T', Operand::Text { .. }) = (letter, value) {
+            // A tool by name: its first cutting edge is selected.
+            if name.len() == 1 {
+                self.offset_active = true;
+                return Ok(None);
+            }
+        }
+        match (letter, indexed) {
+            (b'R', true) => {
+                let v = self.value(value)?;
+                let n = digits.parse::<u32>().map_err(|_| {
+                    Diagnostic::error(
+                        Code::OutOfRange,
+                        span,
+                        format!("{name} is not an R parameter"),
+                    )
+                })?;
+                self.r.insert(n, v);
+                return Ok(None);
+            }
+            // Spindle speeds and auxiliary functions of a numbered spindle (`S1=500`, `M1=3`).
+            (b'S' | b'M' | b'H', true) => {
+                self.value(value)?;
+                return Ok(None);
+            }
+            (b'T', true) => {
+                self.offset_active = self.value(value)? != 0.0;
+                return Ok(None);
+            }
+            (_, true) => {
+                // A machine axis (`X1=0` with G74).
+                self.value(value)?;
+                machine_axis.get_or_insert(span);
+                return Ok(None);
+            }
+            _ => {}
+        }
+        if self.vars.contains_key(name) {
+            let v = self.value(value)?;
+            self.vars.insert(name.to_string(), v);
+            return Ok(None);
+        }
+        if name.len() == 1 {
+            let v = self.value(value)?;
+            return Ok(Some(Word::assigned(letter, v, span)));
+        }
+        match name {
+            "SF" => {
+                let v = self.value(value)?;
+                if !(0.0..360.0).contains(&v) {
+                    return Err(Diagnostic::error(
+                        Code::OutOfRange,
+                        value.span(),
+                        format!("SF={v}: the start angle is 0 to 359.9999 degrees"),
+                    ));
+                }
+                self.sf = v;
+                Ok(None)
+            }
+            n if PASSIVE_SETTINGS.contains(&n) => {
+                self.value(value)?;
+                Ok(None)
+            }
+            n => Err(Diagnostic::error(
+                Code::Unsupported,
+                span,
+                format!("{n}= is not a setting threadcut reads on Sinumerik"),
+            )
+            .with_hint(
+                "threadcut reads R parameters (R1=…), variables declared with DEF, SF=, LIMS= and addresses given a value (X=R1); others, such as the contour's CHF=/RND=, change motion it does not follow",
+            )),
+        }
+    }
+
+    /// A keyword; `true` when threadcut no longer knows where the tool is after the block.
+    fn keyword(&mut self, name: &str, span: Span, modal: &mut Modal) -> Result<bool> {
+        match name {
+            "DIAMON" => {
+                self.diam90 = false;
+                modal.diameter_x = true;
+            }
+            "DIAMOF" => {
+                self.diam90 = false;
+                modal.diameter_x = false;
+            }
+            "DIAM90" => {
+                self.diam90 = true;
+                modal.diameter_x = modal.absolute;
+            }
+            // The block's positions are in machine coordinates.
+            "SUPA" => return Ok(true),
+            n if PASSIVE_KEYWORDS.contains(&n) => {}
+            n if FLOW.contains(&n) => {
+                return Err(Diagnostic::error(
+                    Code::Unsupported,
+                    span,
+                    format!("{n}: threadcut reads a program from top to bottom and does not follow program flow"),
+                )
+                .with_hint("unroll the program (or run it in the control's simulation) before expanding it"))
+            }
+            n if FRAMES.contains(&n) => {
+                return Err(Diagnostic::error(
+                    Code::Unsupported,
+                    span,
+                    format!("{n}: threadcut does not follow frames, which move every later position"),
+                )
+                .with_hint("write the positions in the workpiece coordinates the frame gives"))
+            }
+            n => {
+                return Err(Diagnostic::error(
+                    Code::Unsupported,
+                    span,
+                    format!("{n} is not a word threadcut reads on Sinumerik"),
+                )
+                .with_hint("a name alone calls a subprogram, which threadcut does not follow"))
+            }
+        }
+        Ok(false)
+    }
+
+    /// The values of a CYCLE97 call's parameters.
+    fn cycle97_call(
+        &self,
+        name: Span,
+        args: &[Option<Operand>],
+        spans: &[Span],
+    ) -> Result<cycle97::Call> {
+        if args.len() > cycle97::NAMES.len() {
+            return Err(Diagnostic::error(
+                Code::Syntax,
+                spans[cycle97::NAMES.len()],
+                format!(
+                    "CYCLE97 takes {} parameters ({}), and this call has {}",
+                    cycle97::NAMES.len(),
+                    cycle97::NAMES.join(", "),
+                    args.len()
+                ),
+            ));
+        }
+        let mut values = [None; 17];
+        for (i, (arg, span)) in args.iter().zip(spans).enumerate() {
+            if let Some(op) = arg {
+                values[i] = Some((self.value(op)?, *span));
+            }
+        }
+        Ok(cycle97::Call { name, args: values })
+    }
+
+    fn cycle97(
+        &mut self,
+        call: &cycle97::Call,
+        line: &Line,
+        modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read> {
+        let state = cycle97::State {
+            offset_active: self.offset_active,
+        };
+        let job = cycle97::lower(call, line, modal, &state, warnings)?;
+        // The cycle's last thread turn leaves its start angle in the setting data, as the
+        // expansion (which writes SF on every pass) does.
+        self.sf = job.lead.start_phase(job.lead.starts - 1);
+        if self.diam90 && !modal.absolute {
+            // Expanded under G90, where DIAM90 reads X as a diameter; radius again after.
+            modal.diameter_x = true;
+            self.restore_diameter = Some(false);
+        }
+        Ok(Read::Cycle(Box::new(job)))
+    }
+}
+
+/// Where each letter's last word is, as the lexer fills it for its own lines.
+fn word_index(words: &[Word]) -> WordIndex {
+    let mut index = [0; 32];
+    for (at, w) in words.iter().enumerate() {
+        index[letter_slot(w.letter)] = at as u32;
+    }
+    index
+}
+
+impl Dialect for Sinumerik {
+    fn name(&self) -> &'static str {
+        "sinumerik"
+    }
+
+    fn conventions(&self) -> &Conventions {
+        &self.conv
+    }
+
+    fn syntax(&self) -> Syntax {
+        Syntax {
+            parens_not_comments: true,
+            hand_over_unread: true,
+        }
+    }
+
+    fn prefilter(&self, line: &Line) -> bool {
+        line.shape.unread
+            || line.summary.other_g()
+            || line.summary.has_letter(b'D')
+            || line.summary.has_letter(b'T')
+            || line.summary.has_letter(b'L')
+            || self.restore_diameter.is_some()
+    }
+
+    fn read(
+        &mut self,
+        line: &Line,
+        modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Read> {
+        if let Some(d) = self.restore_diameter.take() {
+            modal.diameter_x = d;
+        }
+        if line.shape.unread {
+            self.read_block(line, modal, warnings)
+        } else {
+            self.read_words(line, modal, false)
+        }
+    }
+
+    fn format(&self) -> Format {
+        Format {
+            steep_lead_letter: Some('I'),
+            start_angle: Some(SF),
+            ..Format::lathe(&self.machine, "G33", 'K')
+        }
+    }
+}

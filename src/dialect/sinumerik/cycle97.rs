@@ -1,0 +1,422 @@
+//! CYCLE97, Sinumerik's thread-cutting cycle, lowered into the shared [`Job`]:
+//!
+//! ```text
+//! CYCLE97(PIT, MPIT, SPL, FPL, DM1, DM2, APP, ROP, TDEP, FAL, IANG, NSP, NRC, NID, VARI, NUMT, _VRT)
+//! ```
+//!
+//! Every rule below is a row of `docs/dialects/sinumerik.md` with its source and the test that
+//! pins it.
+
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::{Line, Modal};
+use crate::thread::standard::iso_coarse_pitch;
+use crate::thread::{
+    DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan, Retract,
+    ReturnPath, Side, StartIndexing,
+};
+use crate::units::Pos;
+
+/// The parameters, in the order of the call.
+pub(super) const NAMES: [&str; 17] = [
+    "PIT", "MPIT", "SPL", "FPL", "DM1", "DM2", "APP", "ROP", "TDEP", "FAL", "IANG", "NSP", "NRC",
+    "NID", "VARI", "NUMT", "_VRT",
+];
+
+const PIT: usize = 0;
+const MPIT: usize = 1;
+const SPL: usize = 2;
+const FPL: usize = 3;
+const DM1: usize = 4;
+const DM2: usize = 5;
+const APP: usize = 6;
+const ROP: usize = 7;
+const TDEP: usize = 8;
+const FAL: usize = 9;
+const IANG: usize = 10;
+const NSP: usize = 11;
+const NRC: usize = 12;
+const NID: usize = 13;
+const VARI: usize = 14;
+const NUMT: usize = 15;
+const VRT: usize = 16;
+
+/// The lift-off above the thread's diameter when `_VRT` is 0 or left out: 1 mm whatever the
+/// system of units (840D sl Programming Manual, Job planning, 02/2011, p. 811, `_VRT`: "0 = intern
+/// wird ein Abhebweg von 1 mm unabhängig vom Maßsystem inch/metrisch verwendet").
+const DEFAULT_LIFT_MM: f64 = 1.0;
+
+/// The included angle threadcut assumes for chip areas: CYCLE97 does not know its tool.
+const TOOL_ANGLE_DEG: f64 = 60.0;
+
+/// A CYCLE97 call: each parameter's value (program units, as written) and where it is written;
+/// `None` for a parameter left empty or left out (the cycle reads it as 0).
+pub(super) struct Call {
+    /// The cycle's name in the block.
+    pub name: Span,
+    pub args: [Option<(f64, Span)>; 17],
+}
+
+impl Call {
+    fn value(&self, i: usize) -> f64 {
+        self.args[i].map_or(0.0, |(v, _)| v)
+    }
+
+    /// Where parameter `i` is written, or the cycle's name when it is not.
+    fn span(&self, i: usize) -> Span {
+        self.args[i].map_or(self.name, |(_, s)| s)
+    }
+
+    fn error(&self, i: usize, code: Code, message: String) -> Diagnostic {
+        Diagnostic::error(code, self.span(i), message)
+    }
+
+    /// A parameter that counts something: a whole number, at least `min`.
+    fn count(&self, i: usize, min: u32, what: &str) -> Result<u32> {
+        let v = self.value(i);
+        if v.fract() != 0.0 || v < f64::from(min) || v > f64::from(u32::MAX) {
+            return Err(self.error(
+                i,
+                Code::OutOfRange,
+                format!(
+                    "{} {} is not a {what}: a whole number, at least {min}",
+                    NAMES[i], v
+                ),
+            ));
+        }
+        Ok(v as u32)
+    }
+
+    /// A length written without a sign (APP, ROP, TDEP, FAL, _VRT).
+    fn unsigned(&self, i: usize) -> Result<f64> {
+        let v = self.value(i);
+        if v < 0.0 {
+            return Err(self
+                .error(
+                    i,
+                    Code::OutOfRange,
+                    format!("{} {} is negative", NAMES[i], v),
+                )
+                .with_hint("CYCLE97 takes this length without a sign"));
+        }
+        Ok(v)
+    }
+}
+
+/// What CYCLE97 needs from the program around it.
+pub(super) struct State {
+    /// Whether a tool offset (a cutting edge D) is active.
+    pub offset_active: bool,
+}
+
+/// Reads a CYCLE97 call into a job, raising the cycle's alarms and threadcut's own errors at
+/// the parameter they concern.
+pub(super) fn lower(
+    call: &Call,
+    line: &Line,
+    modal: &Modal,
+    state: &State,
+    warnings: &mut Vec<Diagnostic>,
+) -> Result<Job> {
+    if !state.offset_active {
+        return Err(Diagnostic::error(
+            Code::Conflict,
+            call.name,
+            "CYCLE97 alarm 61000 \"No tool offset active\"",
+        )
+        .with_hint("select a cutting edge (D1) before the cycle: D0 deselects the tool offset"));
+    }
+    let units = modal.units;
+    let mm = |v: f64| units.to_mm(v);
+    let lead = pitch(call, modal)?;
+    let side = match call.value(VARI) {
+        v if v == 1.0 || v == 3.0 => Side::External,
+        v if v == 2.0 || v == 4.0 => Side::Internal,
+        v => {
+            return Err(call
+                .error(
+                    VARI,
+                    Code::OutOfRange,
+                    format!("CYCLE97 alarm 61002 \"Machining type incorrectly defined\": VARI {v}"),
+                )
+                .with_hint("VARI is 1 (external, constant infeed), 2 (internal, constant infeed), 3 (external, constant cutting cross-section) or 4 (internal, constant cutting cross-section)"))
+        }
+    };
+    let constant_area = call.value(VARI) >= 3.0;
+    // Geometry, in mm: Z of the thread's start and end, radii there.
+    let (spl, fpl) = (mm(call.value(SPL)), mm(call.value(FPL)));
+    let diameter = |i: usize| -> Result<f64> {
+        let v = call.value(i);
+        if v <= 0.0 {
+            return Err(call
+                .error(
+                    i,
+                    Code::OutOfRange,
+                    format!("{} {} is not a thread diameter", NAMES[i], v),
+                )
+                .with_hint("DM1 and DM2 are the thread's diameters at SPL and FPL (an internal thread's: the tap-hole diameter)"));
+        }
+        Ok(mm(v) / 2.0)
+    };
+    let (r1, r2) = (diameter(DM1)?, diameter(DM2)?);
+    let length = fpl - spl;
+    if length == 0.0 {
+        return Err(call.error(
+            FPL,
+            Code::Geometry,
+            format!(
+                "FPL {} equals SPL: the thread has no length",
+                call.value(FPL)
+            ),
+        ));
+    }
+    if (r2 - r1).abs() > length.abs() {
+        return Err(call
+            .error(
+                DM2,
+                Code::Unsupported,
+                format!(
+                    "DM1 {} and DM2 {} over {} along Z make a taper steeper than 45°: CYCLE97 then cuts a face thread, which threadcut does not read",
+                    call.value(DM1),
+                    call.value(DM2),
+                    units.from_mm(length.abs())
+                ),
+            )
+            .with_hint("threadcut reads CYCLE97's longitudinal threads (a taper angle of 45° or less)"));
+    }
+    let (app, rop) = (mm(call.unsigned(APP)?), mm(call.unsigned(ROP)?));
+    let tdep = mm(call.unsigned(TDEP)?);
+    if tdep == 0.0 {
+        return Err(call.error(
+            TDEP,
+            Code::MissingWord,
+            "TDEP, the thread depth, is 0 or missing".into(),
+        ));
+    }
+    let fal = mm(call.unsigned(FAL)?);
+    if fal >= tdep {
+        return Err(call.error(
+            FAL,
+            Code::Geometry,
+            format!(
+                "the finishing allowance FAL {} is not smaller than the thread depth TDEP {}",
+                call.value(FAL),
+                call.value(TDEP)
+            ),
+        ));
+    }
+    let nrc = call.count(NRC, 1, "number of roughing cuts")?;
+    let nid = call.count(NID, 0, "number of idle passes")?;
+    let numt = call.count(NUMT, 0, "number of thread turns")?.max(1);
+    let nsp = call.value(NSP);
+    if !(0.0..360.0).contains(&nsp) {
+        return Err(call
+            .error(
+                NSP,
+                Code::OutOfRange,
+                format!("NSP {nsp} is not a start angle"),
+            )
+            .with_hint(
+                "NSP is the spindle angle of the first thread turn's start, 0 to 359.9999 degrees",
+            ));
+    }
+    let lift = match mm(call.unsigned(VRT)?) {
+        v if v > 0.0 => v,
+        _ => DEFAULT_LIFT_MM,
+    };
+    let infeed = infeed(call, length, r1 != r2, warnings)?;
+
+    // The thread runs from the run-in path APP before SPL to the run-out path ROP past FPL,
+    // along the taper line through (SPL, DM1) and (FPL, DM2).
+    let dir = length.signum();
+    let slope = (r2 - r1) / length;
+    let radius_at = |z: f64| r1 + slope * (z - spl);
+    let (z0, z1) = (spl - dir * app, fpl + dir * rop);
+    // Flank infeed: the full-depth passes run on the programmed thread; shallower ones start
+    // behind, by (TDEP − depth)·tan(IANG).
+    let full_offset = infeed.axis(tdep);
+    let crest_start = Pos::new(radius_at(z0), z0 - full_offset);
+    let crest_end = Pos::new(radius_at(z1), z1 - full_offset);
+    // The start point: the lift-off above the thread's outermost crest (its innermost, inside),
+    // at the start of the run-in path.
+    let outward = side.outward().x;
+    let crest_out = if outward > 0.0 {
+        radius_at(z0).max(radius_at(z1))
+    } else {
+        radius_at(z0).min(radius_at(z1))
+    };
+    let retract = Retract {
+        x: crest_out + outward * lift,
+        z: z0,
+    };
+    let rough = tdep - fal;
+    let law = if constant_area {
+        // Constant cutting cross-section: d_n = (TDEP − FAL)·√(n/NRC).
+        DepthLaw::Power {
+            first: rough / f64::from(nrc).sqrt(),
+            degression: 2.0,
+            min_step: 0.0,
+        }
+    } else {
+        // Constant infeed: NRC equal steps.
+        DepthLaw::Power {
+            first: rough / f64::from(nrc),
+            degression: 1.0,
+            min_step: 0.0,
+        }
+    };
+    super::super::lead_warning(
+        lead,
+        z1 - z0,
+        units,
+        call.span(PIT),
+        "check PIT (the lead, in program units)",
+        warnings,
+    );
+    let start = match modal.position {
+        Some(p) => p,
+        None => {
+            warnings.push(
+                Diagnostic::warning(
+                    Code::UnknownPosition,
+                    call.name,
+                    "the tool's position is not known before CYCLE97: its G0 to the cycle's start point is shown from that start point",
+                )
+                .with_hint("position the tool with G0 X.. Z.. before the cycle to see the whole approach"),
+            );
+            Pos::new(retract.x, retract.z)
+        }
+    };
+    Ok(Job {
+        line: line.number,
+        span: call.name,
+        controller: "sinumerik",
+        units,
+        start,
+        geometry: Geometry {
+            crest_start,
+            crest_end,
+            depth: tdep,
+            side,
+        },
+        lead: Lead {
+            starts: numt,
+            phase_deg: nsp,
+            indexing: StartIndexing::Angle,
+            ..Lead::constant(lead)
+        },
+        plan: PassPlan {
+            law,
+            finish_allowance: fal,
+            // The finishing allowance in one cut, then NID idle passes at full depth.
+            finish_passes: 1 + nid,
+        },
+        infeed,
+        finish_at: FinishPosition::Axis,
+        tool_angle_deg: TOOL_ANGLE_DEG,
+        entry: Entry::Direct,
+        exit: Exit::Straight,
+        retract,
+        return_path: ReturnPath::BoxAtRetract,
+    })
+}
+
+/// The lead in mm from PIT or MPIT (alarm 61001 when neither or both-and-different).
+fn pitch(call: &Call, modal: &Modal) -> Result<f64> {
+    let alarm = |i: usize, detail: String| {
+        call.error(
+            i,
+            Code::OutOfRange,
+            format!("CYCLE97 alarm 61001 \"Thread pitch incorrectly defined\": {detail}"),
+        )
+        .with_hint("program the lead in PIT (program units, without a sign), or the size of an ISO metric coarse thread M3 to M60 in MPIT")
+    };
+    let (pit, mpit) = (call.value(PIT), call.value(MPIT));
+    if pit < 0.0 {
+        return Err(alarm(PIT, format!("PIT {pit} is negative")));
+    }
+    let from_size = if mpit != 0.0 {
+        match iso_coarse_pitch(mpit).filter(|_| (3.0..=60.0).contains(&mpit)) {
+            Some(p) => Some(p),
+            None => {
+                return Err(alarm(
+                    MPIT,
+                    format!("MPIT {mpit} is not an ISO metric coarse thread size from M3 to M60"),
+                ))
+            }
+        }
+    } else {
+        None
+    };
+    let from_pit = (pit != 0.0).then(|| modal.units.to_mm(pit));
+    match (from_pit, from_size) {
+        (None, None) => Err(alarm(PIT, "PIT and MPIT are both empty or 0".to_string())),
+        (Some(p), None) | (None, Some(p)) => Ok(p),
+        (Some(p), Some(q)) => {
+            // The same pitch within the program's resolution (0.0001 mm or 0.00001 inch).
+            let tolerance = modal.units.to_mm(match modal.units {
+                crate::units::Units::Mm => 1e-4,
+                crate::units::Units::Inch => 1e-5,
+            }) / 2.0;
+            if (p - q).abs() <= tolerance {
+                Ok(q)
+            } else {
+                Err(alarm(
+                    MPIT,
+                    format!(
+                        "PIT {pit} and MPIT {mpit} (M{mpit}: pitch {q} mm) contradict each other"
+                    ),
+                ))
+            }
+        }
+    }
+}
+
+/// The infeed from IANG's value and sign: 0 radial; positive along one flank; negative
+/// alternating on both flanks, except on a taper, where the cycle infeeds along one flank.
+fn infeed(call: &Call, length: f64, taper: bool, warnings: &mut Vec<Diagnostic>) -> Result<Infeed> {
+    let iang = call.value(IANG);
+    if iang == 0.0 {
+        return Ok(Infeed::Radial);
+    }
+    let angle = iang.abs();
+    if angle >= 90.0 {
+        return Err(call.error(
+            IANG,
+            Code::OutOfRange,
+            format!("IANG {iang}: the infeed angle must be below 90°"),
+        ));
+    }
+    if angle > TOOL_ANGLE_DEG / 2.0 {
+        warnings.push(
+            Diagnostic::warning(
+                Code::Suspicious,
+                call.span(IANG),
+                format!("IANG {iang} is more than half the flank angle of a 60° insert"),
+            )
+            .with_hint("infeed along the flanks at most half the tool's flank angle (30° for ISO metric and unified threads)"),
+        );
+    }
+    // Deeper passes move in the cutting direction: the leading edge cuts, the trailing edge
+    // follows the rear flank.
+    let flank = if length < 0.0 {
+        Flank::Right
+    } else {
+        Flank::Left
+    };
+    Ok(if iang > 0.0 || taper {
+        Infeed::Flank {
+            flank,
+            angle_deg: angle,
+        }
+    } else {
+        let second = match flank {
+            Flank::Left => Flank::Right,
+            _ => Flank::Left,
+        };
+        Infeed::Alternating {
+            first: flank,
+            second,
+            angle_deg: angle,
+        }
+    })
+}
