@@ -59,6 +59,7 @@ fn write_thread(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
     let family = match t.family {
         standard::Family::Metric => "ISO metric",
         standard::Family::Unified => "Unified inch",
+        _ => return write_form(out, t),
     };
     match t.tpi {
         Some(tpi) => writeln!(
@@ -105,6 +106,112 @@ fn write_thread(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
     Ok(())
 }
 
+fn edge_text(e: &standard::Edge, u: Units, d: usize) -> String {
+    let v = |mm: f64| u.from_mm(mm);
+    match *e {
+        standard::Edge::Sharp => "sharp".into(),
+        standard::Edge::Flat { width } => format!("flat {:.d$}", v(width)),
+        standard::Edge::Round { radius } => format!("radius {:.d$}", v(radius)),
+        standard::Edge::Truncated { min, max } => {
+            format!("truncated {:.d$} to {:.d$}", v(min), v(max))
+        }
+    }
+}
+
+/// The pipe, trapezoidal, Acme and Whitworth forms: every quantity of the form, then the limits.
+fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
+    let u = t.units;
+    let d = decimals(u);
+    let d5 = d + 1;
+    let un = u.name();
+    let v = |mm: f64| u.from_mm(mm);
+    match t.tpi {
+        Some(tpi) => writeln!(
+            out,
+            "{}  {}, {tpi} threads per inch (pitch {:.6} {un} = {:.4} mm)",
+            t.name,
+            t.family.name(),
+            v(t.pitch),
+            t.pitch
+        )?,
+        None => writeln!(out, "{}  {}, pitch {} mm", t.name, t.family.name(), t.pitch)?,
+    }
+    let p = &t.profile;
+    writeln!(
+        out,
+        "form: {}° (flanks {}° from the radial), fundamental triangle H {:.d5$} {un}",
+        p.angle_deg,
+        p.flank_angle_deg,
+        v(p.fundamental_height)
+    )?;
+    writeln!(
+        out,
+        "  external crest {}, root {}; internal crest {}, root {} ({un})",
+        edge_text(&p.external_crest, u, d5),
+        edge_text(&p.external_root, u, d5),
+        edge_text(&p.internal_crest, u, d5),
+        edge_text(&p.internal_root, u, d5)
+    )?;
+    let at = if t.taper.is_some() { " at the gauge plane" } else { "" };
+    writeln!(
+        out,
+        "basic{at} ({un}): major {:.d5$}  pitch diameter {:.d5$}  minor {:.d5$}",
+        v(t.basic.major),
+        v(t.basic.pitch_diameter),
+        v(t.basic.minor),
+    )?;
+    writeln!(
+        out,
+        "thread height / turning infeed ({un}, radial): external {:.d5$}, internal {:.d5$}",
+        v(t.external_depth),
+        v(t.internal_depth),
+    )?;
+    if let Some(tp) = &t.taper {
+        writeln!(
+            out,
+            "taper 1:{} on diameter; gauge plane {:.d$} {un} from the small end of the external thread (at the opening of the internal one)",
+            1.0 / tp.diameter_per_length,
+            v(tp.gauge_length)
+        )?;
+        writeln!(
+            out,
+            "  pitch diameter: small end {:.d5$}, gauge plane {:.d5$}, end of the effective thread {:.d5$} ({un})",
+            v(tp.small_end_pitch_diameter),
+            v(tp.gauge_pitch_diameter),
+            v(tp.effective_end_pitch_diameter)
+        )?;
+        writeln!(
+            out,
+            "  effective (useful) thread {:.d$} {un}; gauge plane tolerance ±{:.d$} external, ±{:.d$} internal ({un}, {:.2} / {:.2} turns)",
+            v(tp.effective_length),
+            v(tp.external_position_tolerance),
+            v(tp.internal_position_tolerance),
+            tp.external_position_tolerance / t.pitch,
+            tp.internal_position_tolerance / t.pitch
+        )?;
+        if tp.vanish_length > 0.0 {
+            writeln!(
+                out,
+                "  vanish thread {:.d$}, wrench make-up {:.d$} ({un})",
+                v(tp.vanish_length),
+                v(tp.wrench_makeup)
+            )?;
+        }
+    }
+    for side in [Side::External, Side::Internal] {
+        let given = match side {
+            Side::External => t.external,
+            Side::Internal => t.internal,
+        };
+        let Some(l) = given else { continue };
+        write_limits(out, &l, u)?;
+    }
+    if t.taper.is_some() {
+        writeln!(out, "  (limits at the gauge plane)")?;
+    }
+    Ok(())
+}
+
 fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
     let d = decimals(u);
     let f =
@@ -128,7 +235,7 @@ fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
     for (name, r) in rows {
         writeln!(out, "  {name:<6} {:>10} {:>10}", f(r.min), f(r.max))?;
     }
-    if l.side == Side::External {
+    if l.side == Side::External && l.minor.min.is_none() {
         writeln!(
             out,
             "  (minor: rounded-root d3 / UNR maximum; the standard sets no minimum)"
@@ -151,7 +258,7 @@ fn thread_json(t: &StandardThread) -> Value {
             "minor": {"min": o(l.minor.min), "max": o(l.minor.max)},
         })
     };
-    json!({
+    let mut v = json!({
         "name": t.name,
         "family": t.family,
         "series": t.series,
@@ -169,7 +276,44 @@ fn thread_json(t: &StandardThread) -> Value {
         "turning_infeed": {"external": n(t.external_depth), "internal": n(t.internal_depth)},
         "external": t.external.as_ref().map(limits),
         "internal": t.internal.as_ref().map(limits),
-    })
+    });
+    if !matches!(
+        t.family,
+        standard::Family::Metric | standard::Family::Unified
+    ) {
+        let e = |e: &standard::Edge| match *e {
+            standard::Edge::Sharp => json!({"kind": "sharp"}),
+            standard::Edge::Flat { width } => json!({"kind": "flat", "width": n(width)}),
+            standard::Edge::Round { radius } => json!({"kind": "round", "radius": n(radius)}),
+            standard::Edge::Truncated { min, max } => {
+                json!({"kind": "truncated", "min": n(min), "max": n(max)})
+            }
+        };
+        let p = &t.profile;
+        v["profile"] = json!({
+            "angle_deg": p.angle_deg,
+            "flank_angle_deg": p.flank_angle_deg,
+            "fundamental_height": n(p.fundamental_height),
+            "external": {"crest": e(&p.external_crest), "root": e(&p.external_root)},
+            "internal": {"crest": e(&p.internal_crest), "root": e(&p.internal_root)},
+        });
+        v["taper"] = t.taper.as_ref().map_or(Value::Null, |tp| {
+            json!({
+                "diameter_per_length": tp.diameter_per_length,
+                "gauge_length": n(tp.gauge_length),
+                "gauge_pitch_diameter": n(tp.gauge_pitch_diameter),
+                "gauge_major_diameter": n(tp.gauge_major_diameter),
+                "small_end_pitch_diameter": n(tp.small_end_pitch_diameter),
+                "effective_length": n(tp.effective_length),
+                "effective_end_pitch_diameter": n(tp.effective_end_pitch_diameter),
+                "vanish_length": n(tp.vanish_length),
+                "wrench_makeup": n(tp.wrench_makeup),
+                "external_position_tolerance": n(tp.external_position_tolerance),
+                "internal_position_tolerance": n(tp.internal_position_tolerance),
+            })
+        });
+    }
+    v
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
