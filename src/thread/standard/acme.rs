@@ -10,7 +10,8 @@
 //!   to 0.0001 before use, as the standard's tables are;
 //! * major diameter of the external thread and minor diameter of the internal one: tolerance
 //!   `0.05·P`, at least 0.005; minor diameter of the external thread: tolerance 1.5 × the pitch
-//!   diameter tolerance (rounded to 0.0001, a half up: 1.5·0.0123 = 0.01845 → 0.0185);
+//!   diameter tolerance as computed, the limit rounded once (5/8-8 2G: 0.48 − 1.5·0.01535 =
+//!   0.456975 → 0.4570, the published value; 1.5 × the rounded 0.0154 would give 0.4569);
 //! * limits rounded to 0.0001 inch. The internal major diameter has a minimum only here: no
 //!   published maximum was found to check one against.
 
@@ -77,8 +78,21 @@ pub fn clearance(tpi: f64) -> f64 {
     }
 }
 
+/// Pitch-diameter allowance of the external thread and pitch-diameter tolerance (inch), as
+/// computed (not rounded).
+pub fn allowance_and_tolerance_exact(d: f64, tpi: f64, grade: u8) -> Option<(f64, f64)> {
+    let p = 1.0 / tpi;
+    let (a, kd, kp) = match grade {
+        2 => (0.008, 0.006, 0.030),
+        3 => (0.006, 0.0028, 0.014),
+        4 => (0.004, 0.002, 0.010),
+        _ => return None,
+    };
+    Some((a * d.sqrt(), kd * d.sqrt() + kp * p.sqrt()))
+}
+
 /// Pitch-diameter allowance of the external thread and pitch-diameter tolerance (inch), rounded
-/// to 0.0001.
+/// to 0.0001 as the standard rounds them before use.
 pub fn allowance_and_tolerance(d: f64, tpi: f64, grade: u8) -> Option<(f64, f64)> {
     let p = 1.0 / tpi;
     let (a, kd, kp) = match grade {
@@ -202,13 +216,20 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
     let p = 1.0 / n;
     let (allowance, td2) =
         allowance_and_tolerance(d, n, grade).ok_or_else(|| format!("ASME B1.5 has no class {grade}G"))?;
+    let (_, td2_exact) = allowance_and_tolerance_exact(d, n, grade).unwrap_or((0.0, td2));
     let cl = clearance(n);
-    let crest_tol = (0.05 * p).max(0.005);
-    let r4 = |v: f64| round_half_up(v, 4);
+    // 0.05·P, at least 0.005, to 0.0001 a tie to the even digit: 8 tpi 0.00625 → 0.0062
+    // (5/8-8 major minimum 0.6188).
+    let crest_tol = super::round_half_even((0.05 * p).max(0.005), 4);
+    // Limits to 0.0001, a tie to the even digit: 1/4-16 minor minimum 0.1775 − 1.5·0.0105 =
+    // 0.16175 → 0.1618 (2G), 0.1775 − 1.5·0.0035 = 0.17225 → 0.1722 (4G), as published.
+    let r4 = |v: f64| super::round_half_even(v, 4);
     let pd = d - 0.5 * p;
     let l = if side == Surface::External {
         let minor_max = d - p - cl;
-        let minor_tol = round_half_up(1.5 * td2, 4);
+        // 1.5 × the tolerance as computed, the limit rounded once: 5/8-8 2G 0.48 − 1.5·0.01535 =
+        // 0.456975 → 0.4570 (from the rounded 0.0154 it would be 0.4569).
+        let minor_tol = 1.5 * td2_exact;
         Limits {
             class,
             side,

@@ -34,7 +34,7 @@ use std::fmt;
 use serde::Serialize;
 
 pub use gauge::{judge_taper, TaperCut, TaperFinding, TaperJudgement};
-pub use profile::{Edge, Profile};
+pub use profile::{Edge, Groove, Profile};
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::units::{Units, MM_PER_INCH};

@@ -65,6 +65,16 @@ const NPT_TRUNCATION_MAX: &[(f64, f64)] = &[
     (8.0, 0.0078),
 ];
 
+/// Length of the vanish thread by threads per inch (inch), ASME B1.20.1 Table 2 ("3.47
+/// threads"; the printed lengths are 3.4696·p to the digit: 14 tpi 0.2478, not 3.47/14 → 0.2479).
+const NPT_VANISH: &[(f64, f64)] = &[
+    (27.0, 0.1285),
+    (18.0, 0.1928),
+    (14.0, 0.2478),
+    (11.5, 0.3017),
+    (8.0, 0.4337),
+];
+
 /// The computed NPT quantities of one size (inch).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NptData {
@@ -105,7 +115,10 @@ fn npt_data(od: f64, tpi: f64, l1: f64) -> NptData {
             .iter()
             .find(|(n, _)| (n - tpi).abs() < 1e-9)
             .map_or(0.0, |&(_, f)| f),
-        vanish: r4(3.47 * p),
+        vanish: NPT_VANISH
+            .iter()
+            .find(|(n, _)| (n - tpi).abs() < 1e-9)
+            .map_or(r4(3.47 * p), |&(_, v)| v),
         l3: r4(3.0 * p),
     }
 }

@@ -6,14 +6,14 @@
 //!   `d3 = d − 2·h3`, `D4 = d + 2·ac`; root radii `R1 ≤ 0.5·ac`, `R2 ≤ ac`.
 //! * Tolerances (ISO 2903, built on ISO 965-1): pitch-diameter grades 7, 8, 9 as ISO 965-1's
 //!   `Td2(6) = 90·P^0.4·d^0.1` × 1.25, 1.6, 2 (external) or × 1.7, 2.12 (internal), each rounded to
-//!   R40; fundamental deviations `es(e) = −(50 + 11P)`, `es(c) = −(100 + 11P)` rounded to R40
+//!   the nearest R40 value (by difference, see [`r40`]); fundamental deviations `es(e) = −(50 + 11P)`, `es(c) = −(100 + 11P)` rounded to R40
 //!   (`H`: 0); the crest diameters in grade 4 (`Td(4) = 0.63·Td(6)`, `TD1(4) = 0.63·TD1(6)`, R40);
 //!   the external minor diameter `d3` in position h with `Td3 = 1.25·Td2 + |es|` (whole µm, a half
 //!   up); the internal major diameter `D4` has a minimum only.
 
 use super::{
-    bad_name, fill, grade_factor, iso_td1_6, iso_td2_6, iso_td_6, round_r40, round_to, trim,
-    unknown, Basic, Class, Family, Limits, Range, Result, Series, StandardThread, Surface,
+    bad_name, fill, grade_factor, iso_range, round_to, trim, unknown, Basic, Class, Family,
+    Limits, Range, Result, Series, StandardThread, Surface, ISO_RANGES, ISO_TD_6_TABLE,
     TD2_GRADES, TD2_INTERNAL_GRADES,
 };
 use super::profile::{Edge, Profile};
@@ -193,10 +193,44 @@ fn profile(p: f64) -> Profile {
     }
 }
 
+/// The R40 value (ISO 3) nearest in ratio among the values as printed (…, 160, 170, 180, 190 …).
+/// ISO 2903's tables round this way: Td2(6) for 11.2 < d ≤ 22.4, P 3 is 184.1 µm, tabulated 180
+/// (Tr12x3 … Tr16x3 7e: d2 tolerance 224 = 1.25·180), nearer to the printed 180 than to 190,
+/// although nearer to the exact 10^(91/40) = 188.4 than to 10^(90/40) = 177.8; and 1.25·132 =
+/// 165 goes to 170 (Tr8x1.5 7e: 7.183/7.013), nearer to it in ratio than to 160.
+fn r40(um: f64) -> f64 {
+    let k = (40.0 * um.log10()).floor() as i32;
+    let lo = super::round_r40(10f64.powf((f64::from(k) + 0.01) / 40.0));
+    let hi = super::round_r40(10f64.powf((f64::from(k) + 1.01) / 40.0));
+    let (lo, hi) = if lo > um { (super::round_r40(10f64.powf((f64::from(k) - 0.99) / 40.0)), lo) } else if hi < um { (hi, super::round_r40(10f64.powf((f64::from(k) + 2.01) / 40.0))) } else { (lo, hi) };
+    if um / lo <= hi / um {
+        lo
+    } else {
+        hi
+    }
+}
+
+/// ISO 965-1's grade-6 tolerances, the base of ISO 2903's grades (µm).
+fn td2_6(d: f64, p: f64) -> Option<f64> {
+    let (lo, hi) = ISO_RANGES[iso_range(d)?];
+    Some(r40(90.0 * p.powf(0.4) * (lo * hi).sqrt().powf(0.1)))
+}
+
+fn td_6(p: f64) -> f64 {
+    ISO_TD_6_TABLE
+        .iter()
+        .find(|&&(tp, _)| (tp - p).abs() < 1e-9)
+        .map_or_else(|| r40(180.0 * p.powf(2.0 / 3.0) - 3.15 / p.sqrt()), |r| r.1)
+}
+
+fn td1_6(p: f64) -> f64 {
+    r40(230.0 * p.powf(0.7))
+}
+
 fn deviation(position: char, p: f64) -> Option<f64> {
     match position {
-        'e' => Some(-round_r40(50.0 + 11.0 * p)),
-        'c' => Some(-round_r40(100.0 + 11.0 * p)),
+        'e' => Some(-r40(50.0 + 11.0 * p)),
+        'c' => Some(-r40(100.0 + 11.0 * p)),
         'H' => Some(0.0),
         _ => None,
     }
@@ -209,7 +243,7 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
     let (d, p) = (t.basic.major, t.pitch);
     let es = deviation(position, p)
         .ok_or_else(|| format!("`{position}` is not an ISO 2903 position (c, e, H)"))?;
-    let td2_6 = iso_td2_6(d, p).ok_or("the diameter lies outside ISO 2903's ranges")?;
+    let td2_6 = td2_6(d, p).ok_or("the diameter lies outside ISO 2903's ranges")?;
     let ac = crest_clearance(p);
     let um = |v: f64| v / 1000.0;
     let r3 = |v: f64| round_to(v, 3);
@@ -218,8 +252,8 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
         let f = grade_factor(grade, TD2_INTERNAL_GRADES)
             .filter(|_| grade >= 7)
             .ok_or_else(|| format!("ISO 2903 has internal pitch-diameter grades 7 and 8, not {grade}"))?;
-        let td2 = round_r40(td2_6 * f);
-        let td1 = round_r40(iso_td1_6(p) * 0.63);
+        let td2 = r40(td2_6 * f);
+        let td1 = r40(td1_6(p) * 0.63);
         Ok(Limits {
             class,
             side: Surface::Internal,
@@ -235,8 +269,8 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
         let f = grade_factor(grade, TD2_GRADES)
             .filter(|_| grade >= 7)
             .ok_or_else(|| format!("ISO 2903 has external pitch-diameter grades 7, 8 and 9, not {grade}"))?;
-        let td2 = round_r40(td2_6 * f);
-        let td = round_r40(iso_td_6(p) * 0.63);
+        let td2 = r40(td2_6 * f);
+        let td = r40(td_6(p) * 0.63);
         let td3 = TD3_TABLE
             .iter()
             .find(|&&(tp, g, pos, _)| (tp - p).abs() < 1e-9 && g == grade && pos == position)
