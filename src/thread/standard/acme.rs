@@ -218,12 +218,12 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
         allowance_and_tolerance(d, n, grade).ok_or_else(|| format!("ASME B1.5 has no class {grade}G"))?;
     let (_, td2_exact) = allowance_and_tolerance_exact(d, n, grade).unwrap_or((0.0, td2));
     let cl = clearance(n);
-    // 0.05·P, at least 0.005, to 0.0001 a tie to the even digit: 8 tpi 0.00625 → 0.0062
-    // (5/8-8 major minimum 0.6188).
-    let crest_tol = super::round_half_even((0.05 * p).max(0.005), 4);
-    // Limits to 0.0001, a tie to the even digit: 1/4-16 minor minimum 0.1775 − 1.5·0.0105 =
-    // 0.16175 → 0.1618 (2G), 0.1775 − 1.5·0.0035 = 0.17225 → 0.1722 (4G), as published.
-    let r4 = |v: f64| super::round_half_even(v, 4);
+    // 0.05·P, at least 0.005, as computed; the limit is rounded once (3/4-6 internal minor
+    // maximum 0.583333 + 0.008333 = 0.5917, not 0.5916 from a rounded 0.0083).
+    let crest_tol = (0.05 * p).max(0.005);
+    // Limits to 0.0001, a tie a half up: 5/8-8 major minimum 0.61875 → 0.6188, internal minor
+    // maximum 0.50625 → 0.5063, 1/4-16 2G minor minimum 0.16175 → 0.1618, as published.
+    let r4 = |v: f64| round_half_up(v, 4);
     let pd = d - 0.5 * p;
     let l = if side == Surface::External {
         let minor_max = d - p - cl;
