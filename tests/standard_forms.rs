@@ -418,3 +418,62 @@ fn groove_at_maximum_material() {
     }
     assert_eq!(g.outline(0.0, 1e-4).len(), 4);
 }
+
+/// A form tool turns the standard's form: the simulated groove after the last pass, against the
+/// standard's maximum-material groove placed where the groove ended up, within 1 µm (the
+/// simulation runs on a 1 nm grid).
+fn turned_form(src: &str, controller: &str, thread: &str) -> f64 {
+    use threadcut::machine::Machine;
+    use threadcut::sim::{self, Tool};
+    let machine = Machine::built_in(controller).unwrap();
+    let job = threadcut::program::jobs(src.as_bytes(), &machine)
+        .unwrap()
+        .remove(0);
+    let t = lookup(thread).unwrap();
+    let g = Groove::at_maximum_material(&t.external.unwrap(), t.pitch, &t.profile).unwrap();
+    assert!((job.geometry.depth - g.depth).abs() < 1e-9, "{} vs {}", job.geometry.depth, g.depth);
+    let tool = Tool::for_groove(&g);
+    assert!((tool.angle_deg - job.tool_angle_deg).abs() < 1e-9);
+    let passes = job.passes().unwrap();
+    let s = sim::section(&job, &passes, &tool, 0.0).unwrap();
+    assert!(passes.len() > 5, "{} passes", passes.len());
+    let target = g.outline(s.groove.centre, 1e-5);
+    sim::profile_deviation(&s, &target, 0.5 * t.pitch)
+}
+
+/// Tr20x4-7e turned with a 30° flat-tip tool on a GSK G78, flank infeed (the tool's half angle,
+/// 15°), to h3 = 2.25 mm: the groove is ISO 2901's form at maximum material within 1 µm.
+#[test]
+fn turned_trapezoidal_matches_its_form() {
+    let src = "G00 X24 Z5\nG78 P010130 Q0.05 R0\nG78 X15.5 Z-30 P2.25 Q0.4 F4\n";
+    let dev = turned_form(src, "gsk980", "Tr20x4-7e");
+    assert!(dev < 1e-3, "{dev} mm");
+}
+
+/// 1/2-10 ACME-2G turned with a 29° flat-tip tool (inch program), flank infeed at 14.5°, to
+/// 0.5·P + 0.010 = 0.0600 in: the groove is ASME B1.5's form at maximum material within 1 µm.
+#[test]
+fn turned_acme_matches_its_form() {
+    let src = "G20\nG00 X0.6 Z0.2\nG78 P010129 Q0.002 R0\nG78 X0.38 Z-1.0 P0.06 Q0.015 F0.1\n";
+    let dev = turned_form(src, "gsk980", "1/2-10 ACME-2G");
+    assert!(dev < 1e-3, "{dev} mm");
+}
+
+/// The same Tr20x4 with a 60° tool is not the form: the measure can fail.
+#[test]
+fn a_wrong_tool_misses_the_form() {
+    use threadcut::machine::Machine;
+    use threadcut::sim::{self, Tip, Tool};
+    let src = "G00 X24 Z5\nG78 P010130 Q0.05 R0\nG78 X15.5 Z-30 P2.25 Q0.4 F4\n";
+    let machine = Machine::built_in("gsk980").unwrap();
+    let job = threadcut::program::jobs(src.as_bytes(), &machine).unwrap().remove(0);
+    let t = lookup("Tr20x4-7e").unwrap();
+    let g = Groove::at_maximum_material(&t.external.unwrap(), t.pitch, &t.profile).unwrap();
+    let tool = Tool {
+        angle_deg: 30.0,
+        tip: Tip::Flat { width: 1.0 },
+    };
+    let s = sim::section(&job, &job.passes().unwrap(), &tool, 0.0).unwrap();
+    let dev = sim::profile_deviation(&s, &g.outline(s.groove.centre, 1e-5), 2.0);
+    assert!(dev > 0.1, "{dev}");
+}
