@@ -477,3 +477,53 @@ fn a_wrong_tool_misses_the_form() {
     let dev = sim::profile_deviation(&s, &g.outline(s.groove.centre, 1e-5), 2.0);
     assert!(dev > 0.1, "{dev}");
 }
+
+/// The taper word of each controller for a taper thread, hand-computed and read back: R1/2
+/// external, small end at Z0, the cycle from Z5 to Z−13.2: the crest grows 1/32 in radius per mm
+/// toward −Z, so over the 18.2 mm of Z travel X at the start is 0.56875 below X at the end —
+/// Fanuc's R(i) = −0.569 (start − end), OmniTurn's A = +0.569 on a radius lathe, written twice
+/// that as a diameter. A Fanuc G76 written with that R and the root at the end reads back as a
+/// 1:16 cone through the standard's gauge diameter.
+#[test]
+fn taper_words_for_a_taper_thread() {
+    use threadcut::dialect::{self, TaperWord};
+    use threadcut::machine::Machine;
+    use threadcut::thread::standard::lathe::{taper_cycle, Placement};
+    let t = lookup("R1/2").unwrap();
+    let at = Placement {
+        side: Surface::External,
+        face_z: 0.0,
+        start_z: 5.0,
+        length: 13.2,
+    };
+    let c = taper_cycle(&t, &at).unwrap();
+    close(c.radial_change, -18.2 / 32.0, 1e-9, "radial change");
+    // The crest at the gauge plane (8.2 from the small end) is the gauge diameter 20.955.
+    close(c.crest_end_x * 2.0 - 5.0 / 16.0, 20.955, 1e-9, "crest at the gauge plane");
+    let word = |name: &str| {
+        dialect::open(&Machine::built_in(name).unwrap())
+            .unwrap()
+            .taper_word()
+    };
+    let fanuc = word("fanuc").unwrap();
+    close(c.word_value(&fanuc, true), -0.56875, 1e-9, "fanuc R");
+    assert_eq!(fanuc.letter, 'R');
+    assert_eq!(word("gsk980").unwrap().letter, 'R');
+    assert_eq!(word("ab9").unwrap().letter, 'I');
+    let omni: TaperWord = word("omniturn").unwrap();
+    close(c.word_value(&omni, false), 0.56875, 1e-9, "omniturn A, radius");
+    close(c.word_value(&omni, true), 1.1375, 1e-9, "omniturn A, diameter");
+    assert!(word("linuxcnc").is_none());
+    // Read back through the Fanuc dialect.
+    let src = format!(
+        "G21\nG0 X25. Z5.\nG76 P010055 Q50 R0.\nG76 X{:.3} Z-13.2 R{:.3} P1162 Q300 F1.814\n",
+        2.0 * c.root_end_x,
+        c.word_value(&fanuc, true)
+    );
+    let job = threadcut::program::jobs(src.as_bytes(), &Machine::built_in("fanuc").unwrap())
+        .unwrap()
+        .remove(0);
+    close(job.geometry.taper(), -0.569, 1e-9, "read back: taper");
+    let slope = job.geometry.taper() / (job.geometry.crest_start.z - job.geometry.crest_end.z);
+    close(slope, -1.0 / 32.0, 1e-2, "1:16 on diameter (R to 0.001 mm)");
+}

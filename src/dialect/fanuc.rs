@@ -62,6 +62,16 @@ impl Fanuc {
 }
 
 impl Dialect for Fanuc {
+    /// G76 (second block) and G92 R(i): the radius at the start point minus at the end point,
+    /// signed (docs/dialects/fanuc.md).
+    fn taper_word(&self) -> Option<super::TaperWord> {
+        Some(super::TaperWord {
+            cycles: "G76 (second block) / G92 R(i)",
+            letter: 'R',
+            start_minus_end: true,
+            radius: true,
+        })
+    }
     fn name(&self) -> &'static str {
         "fanuc"
     }

@@ -19,8 +19,22 @@ pub fn usage(d: Diagnostic) -> Failure {
     }
 }
 
+/// `thread --controller`: where a taper thread is cut (the thread's units).
+pub struct CycleArgs {
+    pub controller: String,
+    pub internal: bool,
+    pub face_z: Option<f64>,
+    pub start_z: Option<f64>,
+    pub length: Option<f64>,
+}
+
 /// `threadcut thread NAME [--json]`, or `--list`.
-pub fn thread(name: Option<&str>, json: bool, list: bool) -> Result<(), Failure> {
+pub fn thread(
+    name: Option<&str>,
+    json: bool,
+    list: bool,
+    cycle: Option<CycleArgs>,
+) -> Result<(), Failure> {
     let mut out = io::stdout().lock();
     if list {
         for n in standard::known_names() {
@@ -35,14 +49,113 @@ pub fn thread(name: Option<&str>, json: bool, list: bool) -> Result<(), Failure>
         ));
     };
     let t = standard::lookup(name).map_err(usage)?;
+    let taper = match cycle {
+        Some(c) => Some(taper_word(&t, &c)?),
+        None => None,
+    };
     if json {
-        let v = thread_json(&t);
+        let mut v = thread_json(&t);
+        if let Some((_, j)) = &taper {
+            v["cycle"] = j.clone();
+        }
         serde_json::to_writer_pretty(&mut out, &v).map_err(|e| io_failure(e.into()))?;
         writeln!(out).map_err(io_failure)?;
     } else {
         write_thread(&mut out, &t).map_err(io_failure)?;
+        if let Some((text, _)) = &taper {
+            out.write_all(text.as_bytes()).map_err(io_failure)?;
+        }
     }
     Ok(())
+}
+
+/// The taper word of a controller's cycle for a taper thread: the text lines and their JSON.
+fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Failure> {
+    use threadcut::thread::standard::lathe::{taper_cycle, Placement};
+    let machine = super::load_machine(&super::MachineArgs {
+        controller: Some(c.controller.clone()),
+        machine: None,
+    })?;
+    let dialect = threadcut::dialect::open(&machine).map_err(Failure::Usage)?;
+    let u = t.units;
+    let tp = t.taper.ok_or_else(|| {
+        Failure::Usage(format!(
+            "--controller: {} is a parallel thread; its cycle has no taper word",
+            t.name
+        ))
+    })?;
+    let side = if c.internal {
+        Side::Internal
+    } else {
+        Side::External
+    };
+    let face_z = u.to_mm(c.face_z.unwrap_or(0.0));
+    let start_z = c.start_z.map_or(face_z + 3.0 * t.pitch, |z| u.to_mm(z));
+    let length = c.length.map_or(tp.effective_length, |l| u.to_mm(l));
+    let cycle = taper_cycle(
+        t,
+        &Placement {
+            side,
+            face_z,
+            start_z,
+            length,
+        },
+    )
+    .map_err(usage)?;
+    let d = decimals(u);
+    let v = |mm: f64| u.from_mm(mm);
+    let dia = |r: f64| format!("Ø{:.d$}", v(2.0 * r));
+    let mut text = format!(
+        "{} {} thread on {} ({}): Z{:.d$} → Z{:.d$}, crest {} → {}, root {} → {}, height {:.d$} {}\n",
+        if side == Side::External { "external" } else { "internal" },
+        t.name,
+        machine.name,
+        dialect.name(),
+        v(cycle.start_z),
+        v(cycle.end_z),
+        dia(cycle.crest_start_x),
+        dia(cycle.crest_end_x),
+        dia(cycle.root_start_x),
+        dia(cycle.root_end_x),
+        v(cycle.depth),
+        u.name()
+    );
+    let word = dialect.taper_word();
+    let value = word.map(|w| cycle.word_value(&w, machine.diameter_x));
+    match (word, value) {
+        (Some(w), Some(val)) => text.push_str(&format!(
+            "  taper word {} = {}{:.d$} ({}: {}, {}, over the cycle's whole Z travel)\n",
+            w.cycles,
+            w.letter,
+            v(val),
+            u.name(),
+            if w.start_minus_end {
+                "X at the start minus X at the end"
+            } else {
+                "X at the end minus X at the start"
+            },
+            if w.radius || !machine.diameter_x {
+                "a radius"
+            } else {
+                "a diameter, as X is written"
+            }
+        )),
+        _ => text.push_str(&format!(
+            "  {} has no taper word in its threading cycle: cut this thread with synchronised moves (G33/G32) or a post-processed program\n",
+            machine.name
+        )),
+    }
+    let j = json!({
+        "controller": machine.name,
+        "side": if side == Side::External { "external" } else { "internal" },
+        "start_z": v(cycle.start_z),
+        "end_z": v(cycle.end_z),
+        "crest": {"start": v(2.0 * cycle.crest_start_x), "end": v(2.0 * cycle.crest_end_x)},
+        "root": {"start": v(2.0 * cycle.root_start_x), "end": v(2.0 * cycle.root_end_x)},
+        "height": v(cycle.depth),
+        "taper_word": word.map(|w| json!({"cycles": w.cycles, "letter": w.letter.to_string(), "value": value.map(v)})),
+    });
+    Ok((text, j))
 }
 
 fn decimals(units: Units) -> usize {

@@ -24,6 +24,7 @@
 
 pub mod acme;
 pub mod gauge;
+pub mod lathe;
 pub mod pipe;
 pub mod profile;
 pub mod trapezoidal;
