@@ -318,6 +318,23 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
         };
         let Some(l) = given else { continue };
         write_limits(out, &l, u)?;
+        if let Some(g) = standard::Groove::at_maximum_material(&l, t.pitch, &t.profile) {
+            let tip = match g.root {
+                standard::Edge::Flat { width } => {
+                    format!("flat tip {:.d5$} (--tip-flat {:.d5$})", v(width), v(width))
+                }
+                standard::Edge::Round { radius } => {
+                    format!("nose radius {:.d5$} (--nose-radius {:.d5$})", v(radius), v(radius))
+                }
+                _ => "sharp tip".into(),
+            };
+            writeln!(
+                out,
+                "  form tool: {}° {tip}, {:.d5$} deep to the maximum-material root ({un})",
+                2.0 * g.flank_angle_deg,
+                v(g.depth)
+            )?;
+        }
     }
     if t.taper.is_some() {
         writeln!(out, "  (limits at the gauge plane)")?;
