@@ -50,7 +50,12 @@ fn npt_helix_follows_one_in_sixteen() {
             // On the cone.
             let contour = (m.to.x - cx).hypot(m.to.y - cy) - r_t;
             let want = plan.pass_radii[(m.pass - 1) as usize] + (plan.top_z - m.to.z) / 32.0;
-            assert!((contour - want).abs() < 1e-9, "pass {} Z{}: {contour} vs {want}", m.pass, m.to.z);
+            assert!(
+                (contour - want).abs() < 1e-9,
+                "pass {} Z{}: {contour} vs {want}",
+                m.pass,
+                m.to.z
+            );
             if m.pass == last {
                 arcs += 1;
             }

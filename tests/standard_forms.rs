@@ -3,9 +3,7 @@
 //! threadcut computes them from the standards' formulas.
 
 use threadcut::thread::standard::pipe::npt;
-use threadcut::thread::standard::{
-    judge_taper, lookup, Class, Family, Groove, Surface, TaperCut,
-};
+use threadcut::thread::standard::{judge_taper, lookup, Class, Family, Groove, Surface, TaperCut};
 
 const IN: f64 = 25.4;
 
@@ -113,7 +111,9 @@ fn iso_228_g_threads() {
     for (size, w) in table {
         let int = lookup(&format!("G{size}")).unwrap();
         assert_eq!(int.family, Family::Bspp);
-        let i = int.internal.expect("G without a class is the internal thread");
+        let i = int
+            .internal
+            .expect("G without a class is the internal thread");
         assert!(int.external.is_none());
         close(i.major.min.unwrap(), w[0], 1e-3, "D");
         close(i.pitch.min.unwrap(), w[1], 1e-3, "D2 min");
@@ -223,7 +223,12 @@ fn trapezoidal_basic_and_internal() {
     close(i.minor.max.unwrap(), 16.375, 1e-3, "D1 max");
     let e8 = lookup("Tr20x4-8e").unwrap().external.unwrap();
     close(e8.pitch.max.unwrap(), 17.905, 1e-3, "8e d2 max");
-    close(e8.pitch.min.unwrap(), 17.905 - 0.335, 1e-3, "8e d2 min (1.6·212 → R40 335)");
+    close(
+        e8.pitch.min.unwrap(),
+        17.905 - 0.335,
+        1e-3,
+        "8e d2 min (1.6·212 → R40 335)",
+    );
     // ac by pitch: 0.15, 0.25, 0.5, 1.
     close(lookup("Tr8x1.5").unwrap().external_depth, 0.9, 1e-9, "P1.5");
     close(lookup("Tr40x7").unwrap().external_depth, 4.0, 1e-9, "P7");
@@ -291,7 +296,12 @@ fn acme_3g_4g() {
         );
     }
     let t = lookup("5/8-8 ACME").unwrap();
-    close(t.external.unwrap().major.min.unwrap() / IN, 0.6188, 1e-4, "5/8-8 d min");
+    close(
+        t.external.unwrap().major.min.unwrap() / IN,
+        0.6188,
+        1e-4,
+        "5/8-8 d min",
+    );
     let t = lookup("1/2-10 ACME").unwrap();
     assert_eq!(t.profile.angle_deg, 29.0);
     close(t.external_depth / IN, 0.06, 1e-9, "h + clearance/2");
@@ -322,7 +332,12 @@ fn whitworth() {
     let l = t.external.unwrap();
     let tt = 0.002 * 0.5f64.cbrt() + 0.003 * 0.5f64.sqrt() + 0.005 * (1.0f64 / 12.0).sqrt();
     let r4 = |v: f64| (v * 1e4).round() / 1e4;
-    close(l.pitch.min.unwrap() / IN, r4(0.4466 - tt), 1e-4, "medium bolt effective min");
+    close(
+        l.pitch.min.unwrap() / IN,
+        r4(0.4466 - tt),
+        1e-4,
+        "medium bolt effective min",
+    );
     close(
         l.major.min.unwrap() / IN,
         r4(0.5 - (tt + 0.01 * (1.0f64 / 12.0).sqrt())),
@@ -330,7 +345,12 @@ fn whitworth() {
         "medium bolt major min",
     );
     let free = lookup("1/2-12 BSW-free").unwrap().external.unwrap();
-    close(free.pitch.min.unwrap() / IN, r4(0.4466 - 1.5 * tt), 1e-4, "free");
+    close(
+        free.pitch.min.unwrap() / IN,
+        r4(0.4466 - 1.5 * tt),
+        1e-4,
+        "free",
+    );
     assert!(lookup("1/2-13 BSW").is_err());
 }
 
@@ -353,12 +373,21 @@ fn npt_judged_at_its_gauge_plane() {
     };
     let j = judge_taper(&t, &cut(0.06, 1.0 / 16.0, 14.0)).unwrap();
     close(j.gauge_plane_z, -8.128, 1e-6, "gauge plane Z");
-    close(j.pitch_diameter, e0 + 0.06 + 8.128 / 16.0, 1e-9, "pd at gauge plane");
+    close(
+        j.pitch_diameter,
+        e0 + 0.06 + 8.128 / 16.0,
+        1e-9,
+        "pd at gauge plane",
+    );
     close(j.standoff_turns, 0.06 / (IN / 14.0 / 16.0), 1e-9, "turns");
     assert!(j.ok(), "{:?}", j.findings);
     let j = judge_taper(&t, &cut(0.15, 1.0 / 16.0, 14.0)).unwrap();
     assert!(!j.ok());
-    assert!(j.findings[0].message.contains("above the maximum"), "{:?}", j.findings);
+    assert!(
+        j.findings[0].message.contains("above the maximum"),
+        "{:?}",
+        j.findings
+    );
     close(j.standoff_turns, 1.3228, 1e-2, "turns");
     // Undersize by a turn and a half.
     let j = judge_taper(&t, &cut(-0.17, 1.0 / 16.0, 14.0)).unwrap();
@@ -366,7 +395,10 @@ fn npt_judged_at_its_gauge_plane() {
     // A parallel cut (no taper) is outside NPT's taper tolerance; a short thread is a warning,
     // one that ends before the gauge plane an error.
     let j = judge_taper(&t, &cut(0.0, 0.0, 14.0)).unwrap();
-    assert!(j.findings.iter().any(|f| f.error && f.message.contains("taper")));
+    assert!(j
+        .findings
+        .iter()
+        .any(|f| f.error && f.message.contains("taper")));
     let j = judge_taper(&t, &cut(0.0, 1.0 / 16.0, 12.0)).unwrap();
     assert!(j.ok() && j.findings.len() == 1, "{:?}", j.findings);
     let j = judge_taper(&t, &cut(0.0, 1.0 / 16.0, 6.0)).unwrap();
@@ -431,7 +463,12 @@ fn turned_form(src: &str, controller: &str, thread: &str) -> f64 {
         .remove(0);
     let t = lookup(thread).unwrap();
     let g = Groove::at_maximum_material(&t.external.unwrap(), t.pitch, &t.profile).unwrap();
-    assert!((job.geometry.depth - g.depth).abs() < 1e-9, "{} vs {}", job.geometry.depth, g.depth);
+    assert!(
+        (job.geometry.depth - g.depth).abs() < 1e-9,
+        "{} vs {}",
+        job.geometry.depth,
+        g.depth
+    );
     let tool = Tool::for_groove(&g);
     assert!((tool.angle_deg - job.tool_angle_deg).abs() < 1e-9);
     let passes = job.passes().unwrap();
@@ -466,7 +503,9 @@ fn a_wrong_tool_misses_the_form() {
     use threadcut::sim::{self, Tip, Tool};
     let src = "G00 X24 Z5\nG78 P010130 Q0.05 R0\nG78 X15.5 Z-30 P2.25 Q0.4 F4\n";
     let machine = Machine::built_in("gsk980").unwrap();
-    let job = threadcut::program::jobs(src.as_bytes(), &machine).unwrap().remove(0);
+    let job = threadcut::program::jobs(src.as_bytes(), &machine)
+        .unwrap()
+        .remove(0);
     let t = lookup("Tr20x4-7e").unwrap();
     let g = Groove::at_maximum_material(&t.external.unwrap(), t.pitch, &t.profile).unwrap();
     let tool = Tool {
@@ -499,7 +538,12 @@ fn taper_words_for_a_taper_thread() {
     let c = taper_cycle(&t, &at).unwrap();
     close(c.radial_change, -18.2 / 32.0, 1e-9, "radial change");
     // The crest at the gauge plane (8.2 from the small end) is the gauge diameter 20.955.
-    close(c.crest_end_x * 2.0 - 5.0 / 16.0, 20.955, 1e-9, "crest at the gauge plane");
+    close(
+        c.crest_end_x * 2.0 - 5.0 / 16.0,
+        20.955,
+        1e-9,
+        "crest at the gauge plane",
+    );
     let word = |name: &str| {
         dialect::open(&Machine::built_in(name).unwrap())
             .unwrap()
@@ -511,8 +555,18 @@ fn taper_words_for_a_taper_thread() {
     assert_eq!(word("gsk980").unwrap().letter, 'R');
     assert_eq!(word("ab9").unwrap().letter, 'I');
     let omni: TaperWord = word("omniturn").unwrap();
-    close(c.word_value(&omni, false), 0.56875, 1e-9, "omniturn A, radius");
-    close(c.word_value(&omni, true), 1.1375, 1e-9, "omniturn A, diameter");
+    close(
+        c.word_value(&omni, false),
+        0.56875,
+        1e-9,
+        "omniturn A, radius",
+    );
+    close(
+        c.word_value(&omni, true),
+        1.1375,
+        1e-9,
+        "omniturn A, diameter",
+    );
     assert!(word("linuxcnc").is_none());
     // Read back through the Fanuc dialect.
     let src = format!(

@@ -420,11 +420,24 @@ fn thread_command_prints_the_new_forms() {
     assert_eq!(v["external"]["pitch"]["max"], 17.905);
     assert_eq!(v["external"]["minor"]["min"], 15.074);
     let (out, _, _) = cli(&["thread", "1/2-12 BSW"]);
-    assert!(out.contains("55°") && out.contains("radius 0.01144"), "{out}");
+    assert!(
+        out.contains("55°") && out.contains("radius 0.01144"),
+        "{out}"
+    );
     let (out, _, _) = cli(&["thread", "1/2-10 ACME-2G"]);
-    assert!(out.contains("0.4443") && out.contains("form tool: 29° flat tip"), "{out}");
+    assert!(
+        out.contains("0.4443") && out.contains("form tool: 29° flat tip"),
+        "{out}"
+    );
     let (out, _, _) = cli(&["thread", "--list"]);
-    for n in ["1/2-14 NPT", "Rc1/2", "G1/2-B", "Tr20x4", "1/2-10 ACME", "1/2-16 BSF"] {
+    for n in [
+        "1/2-14 NPT",
+        "Rc1/2",
+        "G1/2-B",
+        "Tr20x4",
+        "1/2-10 ACME",
+        "1/2-16 BSF",
+    ] {
         assert!(out.lines().any(|l| l == n), "{n}");
     }
     // 1/2-14 NPT external, face Z0, cycle from 3 pitches out: 0.2143 + 0.5337 = 0.748 in of Z

@@ -303,7 +303,10 @@ pub fn profile_deviation(section: &Section, target: &[(f64, f64)], margin: f64) 
     for w in target.windows(2) {
         for k in 0..=8 {
             let f = f64::from(k) / 8.0;
-            let p = (w[0].0 + f * (w[1].0 - w[0].0), w[0].1 + f * (w[1].1 - w[0].1));
+            let p = (
+                w[0].0 + f * (w[1].0 - w[0].0),
+                w[0].1 + f * (w[1].1 - w[0].1),
+            );
             if p.1 <= AREA_EPSILON {
                 continue;
             }

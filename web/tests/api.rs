@@ -248,7 +248,14 @@ fn every_form_reaches_the_standard_thread_height() {
 #[test]
 fn standard_forms_fill_the_forms() {
     let names = api::controllers()["threads"].clone();
-    for n in ["Tr20x4", "1/2-10 ACME", "1/2-14 NPT", "R1/2", "G1/2", "1/2-12 BSW"] {
+    for n in [
+        "Tr20x4",
+        "1/2-10 ACME",
+        "1/2-14 NPT",
+        "R1/2",
+        "G1/2",
+        "1/2-12 BSW",
+    ] {
         assert!(names.as_array().unwrap().iter().any(|v| v == n), "{n}");
     }
     let v = values("gsk980", "Tr20x4");

@@ -265,7 +265,11 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
         edge_text(&p.internal_crest, u, d5),
         edge_text(&p.internal_root, u, d5)
     )?;
-    let at = if t.taper.is_some() { " at the gauge plane" } else { "" };
+    let at = if t.taper.is_some() {
+        " at the gauge plane"
+    } else {
+        ""
+    };
     writeln!(
         out,
         "basic{at} ({un}): major {:.d5$}  pitch diameter {:.d5$}  minor {:.d5$}",
@@ -324,7 +328,11 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
                     format!("flat tip {:.d5$} (--tip-flat {:.d5$})", v(width), v(width))
                 }
                 standard::Edge::Round { radius } => {
-                    format!("nose radius {:.d5$} (--nose-radius {:.d5$})", v(radius), v(radius))
+                    format!(
+                        "nose radius {:.d5$} (--nose-radius {:.d5$})",
+                        v(radius),
+                        v(radius)
+                    )
                 }
                 _ => "sharp tip".into(),
             };

@@ -214,8 +214,8 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
     let d = t.basic.major / MM_PER_INCH;
     let n = t.tpi.ok_or("an Acme thread carries its threads per inch")?;
     let p = 1.0 / n;
-    let (allowance, td2) =
-        allowance_and_tolerance(d, n, grade).ok_or_else(|| format!("ASME B1.5 has no class {grade}G"))?;
+    let (allowance, td2) = allowance_and_tolerance(d, n, grade)
+        .ok_or_else(|| format!("ASME B1.5 has no class {grade}G"))?;
     let (_, td2_exact) = allowance_and_tolerance_exact(d, n, grade).unwrap_or((0.0, td2));
     let cl = clearance(n);
     // 0.05·P, at least 0.005, as computed; the limit is rounded once (3/4-6 internal minor

@@ -203,7 +203,10 @@ pub fn judge_taper(t: &StandardThread, cut: &TaperCut) -> Result<TaperJudgement>
     let measured = cut.taper;
     match taper.taper_tolerance {
         Some((below, above)) => {
-            let (lo, hi) = (taper.diameter_per_length - below, taper.diameter_per_length + above);
+            let (lo, hi) = (
+                taper.diameter_per_length - below,
+                taper.diameter_per_length + above,
+            );
             let m = sign * measured;
             if m < lo - 1e-12 || m > hi + 1e-12 {
                 findings.push(TaperFinding {

@@ -61,7 +61,9 @@ pub fn taper_cycle(t: &StandardThread, at: &Placement) -> Result<TaperCycle> {
     let Some(tp) = t.taper else {
         return Err(bad(format!("{} is not a taper thread", t.name)));
     };
-    let finite = [at.face_z, at.start_z, at.length].iter().all(|v| v.is_finite());
+    let finite = [at.face_z, at.start_z, at.length]
+        .iter()
+        .all(|v| v.is_finite());
     if !finite || at.length <= 0.0 || at.start_z == at.face_z {
         return Err(bad(
             "the cycle needs a positive length and a start Z off the face".to_string(),
@@ -78,7 +80,11 @@ pub fn taper_cycle(t: &StandardThread, at: &Placement) -> Result<TaperCycle> {
         Surface::External => (tp.gauge_major_diameter / 2.0, 1.0, t.external_depth),
         // The internal crest (minor) shrinks into the part from the opening; the form is
         // symmetric about the pitch line.
-        Surface::Internal => (pd_gauge - tp.gauge_major_diameter / 2.0, -1.0, t.internal_depth),
+        Surface::Internal => (
+            pd_gauge - tp.gauge_major_diameter / 2.0,
+            -1.0,
+            t.internal_depth,
+        ),
     };
     let gauge_s = tp.gauge_plane_from_face(at.side);
     let crest = |z: f64| crest_gauge + grow * k * (s(z) - gauge_s);

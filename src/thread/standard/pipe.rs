@@ -144,19 +144,28 @@ pub fn lookup_npt(text: &str) -> Result<StandardThread> {
     if !tail.is_empty() {
         return Err(bad_name(
             text,
-            format!("`{tail}`: NPT threads have one class (gauged ±1 turn); write e.g. `1/2-14 NPT`"),
+            format!(
+                "`{tail}`: NPT threads have one class (gauged ±1 turn); write e.g. `1/2-14 NPT`"
+            ),
         ));
     }
     let (size, tpi) = split_size_tpi(head);
     let norm = norm_size(size);
     let Some(&(name, od, n, l1)) = NPT.iter().find(|(s, _, _, _)| *s == norm) else {
-        return Err(super::unknown(text, "no ASME B1.20.1 NPT size of that name", None));
+        return Err(super::unknown(
+            text,
+            "no ASME B1.20.1 NPT size of that name",
+            None,
+        ));
     };
     if let Some(tpi) = tpi {
         if (tpi - n).abs() > 1e-9 {
             return Err(bad_name(
                 text,
-                format!("NPT {name} has {} threads per inch, not {tpi}", super::trim(n)),
+                format!(
+                    "NPT {name} has {} threads per inch, not {tpi}",
+                    super::trim(n)
+                ),
             ));
         }
     }
@@ -413,7 +422,11 @@ pub fn lookup_iso7(text: &str) -> Result<StandardThread> {
             major: d,
             pitch_diameter: d2,
             minor: d1,
-            fundamental_height: if tapered { TAPER_H } else { WHITWORTH_FUNDAMENTAL } * p,
+            fundamental_height: if tapered {
+                TAPER_H
+            } else {
+                WHITWORTH_FUNDAMENTAL
+            } * p,
         },
         external_depth: h,
         internal_depth: h,
@@ -486,7 +499,10 @@ pub fn lookup_iso228(text: &str) -> Result<StandardThread> {
         } else {
             ParallelClass::B
         };
-        rest = rest[..rest.len() - 1].trim_end().trim_end_matches('-').trim_end();
+        rest = rest[..rest.len() - 1]
+            .trim_end()
+            .trim_end_matches('-')
+            .trim_end();
     }
     let (name, tpi, d) = pipe_size(text, rest)?;
     let (d, d2, d1, h, p) = pipe_diameters(d, tpi);
@@ -516,7 +532,10 @@ pub fn lookup_iso228(text: &str) -> Result<StandardThread> {
 
 /// ISO 228-1 limits (mm): internal D2 +TD2, D1 +TD1, D min; external d −Td (= 2·TD2), d2 −Td2
 /// (class A = TD2, class B = 2·TD2), d1 max.
-pub(super) fn iso228_limits(t: &StandardThread, class: Class) -> std::result::Result<Limits, String> {
+pub(super) fn iso228_limits(
+    t: &StandardThread,
+    class: Class,
+) -> std::result::Result<Limits, String> {
     let Class::Parallel { grade } = class else {
         return Err("an ISO 228-1 thread takes class A or B (external) or none (internal)".into());
     };

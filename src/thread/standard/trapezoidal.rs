@@ -11,12 +11,12 @@
 //!   the external minor diameter `d3` in position h with `Td3 = 1.25·Td2 + |es|` (whole µm, a half
 //!   up); the internal major diameter `D4` has a minimum only.
 
-use super::{
-    bad_name, fill, grade_factor, iso_range, round_to, trim, unknown, Basic, Class, Family,
-    Limits, Range, Result, Series, StandardThread, Surface, ISO_RANGES, ISO_TD_6_TABLE,
-    TD2_GRADES, TD2_INTERNAL_GRADES,
-};
 use super::profile::{Edge, Profile};
+use super::{
+    bad_name, fill, grade_factor, iso_range, round_to, trim, unknown, Basic, Class, Family, Limits,
+    Range, Result, Series, StandardThread, Surface, ISO_RANGES, ISO_TD_6_TABLE, TD2_GRADES,
+    TD2_INTERNAL_GRADES,
+};
 use crate::units::Units;
 
 /// ISO 2902 general plan (d: pitches, the first the preferred one), with DIN 103's P 3 for
@@ -117,7 +117,10 @@ pub fn lookup(text: &str) -> Result<StandardThread> {
             let class = parse_class(c).ok_or_else(|| {
                 bad_name(
                     text,
-                    format!("`{}` is not an ISO 2903 class (write 7e, 8e, 7H, 8H, 8c …)", c.trim()),
+                    format!(
+                        "`{}` is not an ISO 2903 class (write 7e, 8e, 7H, 8H, 8c …)",
+                        c.trim()
+                    ),
                 )
             })?;
             (s, Some(class))
@@ -132,12 +135,19 @@ pub fn lookup(text: &str) -> Result<StandardThread> {
         }
         None => (size.as_str(), None),
     };
-    let d = super::number(d_text).ok_or_else(|| unknown(text, "not a trapezoidal thread name", None))?;
+    let d = super::number(d_text)
+        .ok_or_else(|| unknown(text, "not a trapezoidal thread name", None))?;
     let row = PLAN.iter().find(|(pd, _)| (pd - d).abs() < 1e-9);
     let p = match p_text {
-        Some(t) => super::number(t).ok_or_else(|| unknown(text, "not a trapezoidal thread name", None))?,
+        Some(t) => {
+            super::number(t).ok_or_else(|| unknown(text, "not a trapezoidal thread name", None))?
+        }
         None => row.map(|r| r.1[0]).ok_or_else(|| {
-            unknown(text, "no ISO 2902 trapezoidal thread of that diameter", Some((d, 0.0)))
+            unknown(
+                text,
+                "no ISO 2902 trapezoidal thread of that diameter",
+                Some((d, 0.0)),
+            )
         })?,
     };
     if !row.is_some_and(|r| r.1.iter().any(|&q| (q - p).abs() < 1e-9)) {
@@ -202,7 +212,19 @@ fn r40(um: f64) -> f64 {
     let k = (40.0 * um.log10()).floor() as i32;
     let lo = super::round_r40(10f64.powf((f64::from(k) + 0.01) / 40.0));
     let hi = super::round_r40(10f64.powf((f64::from(k) + 1.01) / 40.0));
-    let (lo, hi) = if lo > um { (super::round_r40(10f64.powf((f64::from(k) - 0.99) / 40.0)), lo) } else if hi < um { (hi, super::round_r40(10f64.powf((f64::from(k) + 2.01) / 40.0))) } else { (lo, hi) };
+    let (lo, hi) = if lo > um {
+        (
+            super::round_r40(10f64.powf((f64::from(k) - 0.99) / 40.0)),
+            lo,
+        )
+    } else if hi < um {
+        (
+            hi,
+            super::round_r40(10f64.powf((f64::from(k) + 2.01) / 40.0)),
+        )
+    } else {
+        (lo, hi)
+    };
     if um / lo <= hi / um {
         lo
     } else {
@@ -251,7 +273,9 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
     if position == 'H' {
         let f = grade_factor(grade, TD2_INTERNAL_GRADES)
             .filter(|_| grade >= 7)
-            .ok_or_else(|| format!("ISO 2903 has internal pitch-diameter grades 7 and 8, not {grade}"))?;
+            .ok_or_else(|| {
+                format!("ISO 2903 has internal pitch-diameter grades 7 and 8, not {grade}")
+            })?;
         let td2 = r40(td2_6 * f);
         let td1 = r40(td1_6(p) * 0.63);
         Ok(Limits {
@@ -268,7 +292,9 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
     } else {
         let f = grade_factor(grade, TD2_GRADES)
             .filter(|_| grade >= 7)
-            .ok_or_else(|| format!("ISO 2903 has external pitch-diameter grades 7, 8 and 9, not {grade}"))?;
+            .ok_or_else(|| {
+                format!("ISO 2903 has external pitch-diameter grades 7, 8 and 9, not {grade}")
+            })?;
         let td2 = r40(td2_6 * f);
         let td = r40(td_6(p) * 0.63);
         let td3 = TD3_TABLE

@@ -11,7 +11,7 @@
 //!   per inch and finer), `+ 0.005` (24, 22), `+ 0.007` (20 and coarser); no allowance; limits
 //!   and tolerances to 0.0001 inch.
 
-use super::pipe::{WHITWORTH_FUNDAMENTAL, WHITWORTH_RADIUS, WHITWORTH_DEPTH};
+use super::pipe::{WHITWORTH_DEPTH, WHITWORTH_FUNDAMENTAL, WHITWORTH_RADIUS};
 use super::profile::{Edge, Profile};
 use super::{
     bad_name, fill, round_to, trim, unknown, Basic, Class, Family, Limits, Range, Result, Series,
@@ -92,7 +92,10 @@ fn name(size: &str, tpi: f64, series: Series) -> String {
 }
 
 pub fn known_names() -> Vec<String> {
-    let mut v: Vec<String> = BSW.iter().map(|&(s, _, n)| name(s, n, Series::Bsw)).collect();
+    let mut v: Vec<String> = BSW
+        .iter()
+        .map(|&(s, _, n)| name(s, n, Series::Bsw))
+        .collect();
     v.extend(BSF.iter().map(|&(s, _, n)| name(s, n, Series::Bsf)));
     v
 }
@@ -122,7 +125,9 @@ pub fn lookup(text: &str) -> Result<StandardThread> {
         Some(parse_class(tail).ok_or_else(|| {
             bad_name(
                 text,
-                format!("`{tail}` is not a BS 84 class (close, medium, free; nuts: medium, normal)"),
+                format!(
+                    "`{tail}` is not a BS 84 class (close, medium, free; nuts: medium, normal)"
+                ),
             )
         })?)
     };
@@ -209,17 +214,26 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
         return Err("a Whitworth thread takes a BS 84 class: close, medium, free or normal".into());
     };
     let d = t.basic.major / MM_PER_INCH;
-    let n = t.tpi.ok_or("a Whitworth thread carries its threads per inch")?;
+    let n = t
+        .tpi
+        .ok_or("a Whitworth thread carries its threads per inch")?;
     let p = 1.0 / n;
     let tt = 0.002 * d.cbrt() + 0.003 * d.sqrt() + 0.005 * p.sqrt();
     let r4 = |v: f64| round_to(v, 4);
-    let (de, dm) = (t.basic.pitch_diameter / MM_PER_INCH, t.basic.minor / MM_PER_INCH);
+    let (de, dm) = (
+        t.basic.pitch_diameter / MM_PER_INCH,
+        t.basic.minor / MM_PER_INCH,
+    );
     let l = match (side, grade) {
         (Surface::External, WhitworthClass::Normal) | (Surface::Internal, WhitworthClass::Free) => {
             return Err(format!(
                 "BS 84 has no {} class {} thread",
                 grade.name(),
-                if side == Surface::External { "external" } else { "internal" }
+                if side == Surface::External {
+                    "external"
+                } else {
+                    "internal"
+                }
             ))
         }
         (Surface::External, g) => {
@@ -228,7 +242,11 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
                 WhitworthClass::Free => 1.5,
                 _ => 1.0,
             };
-            let minor_extra = if g == WhitworthClass::Close { 0.013 } else { 0.02 };
+            let minor_extra = if g == WhitworthClass::Close {
+                0.013
+            } else {
+                0.02
+            };
             Limits {
                 class,
                 side,
