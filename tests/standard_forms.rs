@@ -581,3 +581,62 @@ fn taper_words_for_a_taper_thread() {
     let slope = job.geometry.taper() / (job.geometry.crest_start.z - job.geometry.crest_end.z);
     close(slope, -1.0 / 32.0, 1e-2, "1:16 on diameter (R to 0.001 mm)");
 }
+
+/// Odd names are refused with an error, never a panic.
+#[test]
+fn odd_names_are_refused() {
+    for bad in [
+        "R",
+        "Rc",
+        "Rp",
+        "G",
+        "Tr",
+        "TR",
+        "NPT",
+        "ACME",
+        "BSW",
+        "BSF",
+        "Gé1/2",
+        "R1/2-A",
+        "R 9/16",
+        "G1/2-C",
+        "G1/2AB",
+        "Tr20x4-7",
+        "Tr20x4-7G",
+        "Tr20x4-9H",
+        "Trx4",
+        "Tr20x",
+        "Tr-7e",
+        "1/2 NPT-2A",
+        "-14 NPT",
+        "1/2--14 NPT",
+        "1/2-10 ACME-5G",
+        "1/2-10 ACME-G",
+        "1/2 ACMEx",
+        "1/2-12 BSW-tight",
+        "1/2-12 BSW-normalx",
+        "ACME 1/2",
+        "1/2-0 NPT",
+        "é NPT",
+        "Rcé",
+    ] {
+        assert!(lookup(bad).is_err(), "`{bad}` must be refused");
+    }
+    // Case and spacing.
+    assert_eq!(lookup("tr20x4").unwrap().name, "Tr20x4");
+    assert_eq!(lookup("rc1/2").unwrap().name, "Rc1/2");
+    assert_eq!(lookup("g 1-1/2 b").unwrap().name, "G1-1/2");
+    assert_eq!(lookup("1/2-10 acme-3g").unwrap().name, "1/2-10 ACME");
+}
+
+proptest::proptest! {
+    /// Any text, and any text after the new forms' prefixes, is looked up without a panic.
+    #[test]
+    fn lookup_never_panics(
+        prefix in proptest::sample::select(vec!["", "R", "Rc", "Rp", "G", "Tr", "1/2 ", "1-1/4-"]),
+        body in "\\PC{0,16}",
+        suffix in proptest::sample::select(vec!["", " NPT", " ACME", "-2G", " BSW", " BSF", "-A", "-7e"]),
+    ) {
+        let _ = lookup(&format!("{prefix}{body}{suffix}"));
+    }
+}

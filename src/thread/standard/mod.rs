@@ -1241,8 +1241,11 @@ fn lookup_unified(text: &str) -> Result<StandardThread> {
     let mut rest = text.trim();
     let mut class = None;
     // Class: a trailing `-2A` / ` 2A`.
-    if rest.len() >= 3 {
-        let tail = &rest[rest.len() - 2..];
+    // (`get`: the last two bytes may fall inside a character of a name that is no thread.)
+    if let Some(tail) = rest
+        .get(rest.len().saturating_sub(2)..)
+        .filter(|_| rest.len() >= 3)
+    {
         let sep = rest.as_bytes()[rest.len() - 3];
         if (sep == b'-' || sep == b' ') && tail.as_bytes()[0].is_ascii_digit() {
             if let Some(c) = parse_class(tail, Family::Unified) {

@@ -362,6 +362,10 @@ fn split_size_tpi(head: &str) -> (&str, Option<f64>) {
 /// `1 1/4`, `1-1/4`, `1.1/4` → `1-1/4`.
 pub(super) fn norm_size(size: &str) -> String {
     let s = size.trim();
+    if s.starts_with(['-', '.']) || s.ends_with(['-', '.']) || s.contains("--") {
+        // Not a size: left as written, it matches none.
+        return s.to_string();
+    }
     let parts: Vec<&str> = s.split([' ', '-', '.']).filter(|p| !p.is_empty()).collect();
     parts.join("-")
 }
