@@ -393,3 +393,61 @@ fn thread_command_prints_the_limits() {
     assert!(out.lines().any(|l| l == "#10-32 UNF"));
     assert!(out.lines().count() > 150);
 }
+
+/// The pipe, trapezoidal, Acme and Whitworth forms through the command: every quantity of the
+/// form, JSON with the profile and the taper, the list, and a controller's taper word.
+#[test]
+fn thread_command_prints_the_new_forms() {
+    let (out, err, code) = cli(&["thread", "1/2-14 NPT"]);
+    assert_eq!(code, 0, "{err}");
+    for want in [
+        "60°",
+        "truncated",
+        "gauge plane 0.3200 inch",
+        "0.75843",
+        "0.77843",
+        "0.79179",
+        "effective (useful) thread 0.5337",
+        "(limits at the gauge plane)",
+    ] {
+        assert!(out.contains(want), "`{want}` missing from\n{out}");
+    }
+    let (out, _, code) = cli(&["thread", "Tr20x4-7e", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["family"], "trapezoidal");
+    assert_eq!(v["profile"]["angle_deg"], 30.0);
+    assert_eq!(v["external"]["pitch"]["max"], 17.905);
+    assert_eq!(v["external"]["minor"]["min"], 15.074);
+    let (out, _, _) = cli(&["thread", "1/2-12 BSW"]);
+    assert!(
+        out.contains("55°") && out.contains("radius 0.01144"),
+        "{out}"
+    );
+    let (out, _, _) = cli(&["thread", "1/2-10 ACME-2G"]);
+    assert!(
+        out.contains("0.4443") && out.contains("form tool: 29° flat tip"),
+        "{out}"
+    );
+    let (out, _, _) = cli(&["thread", "--list"]);
+    for n in [
+        "1/2-14 NPT",
+        "Rc1/2",
+        "G1/2-B",
+        "Tr20x4",
+        "1/2-10 ACME",
+        "1/2-16 BSF",
+    ] {
+        assert!(out.lines().any(|l| l == n), "{n}");
+    }
+    // 1/2-14 NPT external, face Z0, cycle from 3 pitches out: 0.2143 + 0.5337 = 0.748 in of Z
+    // travel, the crest rising 1/32 of it in radius toward −Z: Fanuc R(i) = −0.0234.
+    let (out, err, code) = cli(&["thread", "1/2 NPT", "--controller", "fanuc"]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.contains("R-0.0234"), "{out}");
+    let (out, _, _) = cli(&["thread", "1/2 NPT", "-c", "linuxcnc"]);
+    assert!(out.contains("no taper word"), "{out}");
+    let (_, err, code) = cli(&["thread", "G1/2", "-c", "fanuc"]);
+    assert_eq!(code, 2);
+    assert!(err.contains("parallel"), "{err}");
+}

@@ -191,6 +191,15 @@ fn units_in(v: f64) -> f64 {
 }
 
 impl Dialect for AllenBradley {
+    /// G78 I: the root's radius at the thread start minus at its end (docs/dialects/allen-bradley-g78.md).
+    fn taper_word(&self) -> Option<super::TaperWord> {
+        Some(super::TaperWord {
+            cycles: "G78 I",
+            letter: 'I',
+            start_minus_end: true,
+            radius: true,
+        })
+    }
     fn name(&self) -> &'static str {
         "ab9"
     }

@@ -47,6 +47,11 @@ impl Fanuc {
 }
 
 impl Dialect for Fanuc {
+    /// G76 (second block) and G92 R(i): the radius at the start point minus at the end point,
+    /// signed (docs/dialects/fanuc.md).
+    fn taper_word(&self) -> Option<super::TaperWord> {
+        Some(self.family.taper_word())
+    }
     fn name(&self) -> &'static str {
         self.family.flavour.controller
     }

@@ -246,6 +246,27 @@ pub struct FanucFamily {
 }
 
 impl FanucFamily {
+    /// The taper word of the member's cycles: `R` in Fanuc's standard format (the two-block G76 and
+    /// G92), `I` in the FS15 format and on Haas (the one-block G76 and G92), a radius, X at the
+    /// cycle's start minus X at its end either way.
+    pub fn taper_word(&self) -> super::TaperWord {
+        let r = self.flavour.taper_letter == b'R';
+        let cycles = match (self.codes.system, r) {
+            (GCodeSystem::A, true) => "G76 (second block) / G92 R(i)",
+            (GCodeSystem::A, false) => "G76 / G92 I(i)",
+            (GCodeSystem::B, true) => "G76 (second block) / G78 R(i)",
+            (GCodeSystem::B, false) => "G76 / G78 I(i)",
+            (GCodeSystem::C, true) => "G78 (second block) / G21 R(i)",
+            (GCodeSystem::C, false) => "G78 / G21 I(i)",
+        };
+        super::TaperWord {
+            cycles,
+            letter: self.flavour.taper_letter as char,
+            start_minus_end: true,
+            radius: true,
+        }
+    }
+
     pub fn new(
         flavour: Flavour,
         params: ThreadParameters,

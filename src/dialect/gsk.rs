@@ -503,6 +503,16 @@ fn lower<F: Fn(f64) -> f64>(
 }
 
 impl Dialect for Gsk {
+    /// G78, G76 and G92 R(i): the radius at the cycle's start minus at its end (GSK980TDc §3.21,
+    /// docs/dialects/gsk-g78.md).
+    fn taper_word(&self) -> Option<super::TaperWord> {
+        Some(super::TaperWord {
+            cycles: "G78 / G76 / G92 R(i)",
+            letter: 'R',
+            start_minus_end: true,
+            radius: true,
+        })
+    }
     fn name(&self) -> &'static str {
         "gsk980"
     }

@@ -113,6 +113,9 @@ impl Haas {
 }
 
 impl Dialect for Haas {
+    fn taper_word(&self) -> Option<super::TaperWord> {
+        Some(self.family.taper_word())
+    }
     fn name(&self) -> &'static str {
         "haas"
     }

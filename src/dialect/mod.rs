@@ -34,6 +34,21 @@ pub enum Read {
     Applied(Option<crate::gcode::PlainMove>),
 }
 
+/// How a controller's threading cycle takes a taper: the word and its sign and scale, as the
+/// dialect reads it (each dialect states its own).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct TaperWord {
+    /// The cycles that take it and the word, as the manual writes them (`G76/G92 R(i)`).
+    pub cycles: &'static str,
+    pub letter: char,
+    /// The value is X at the cycle's start minus X at its end (Fanuc's R(i)); otherwise the end
+    /// minus the start (OmniTurn's A).
+    pub start_minus_end: bool,
+    /// The value is a radius whatever X's mode; otherwise it is written as X is (a diameter on a
+    /// lathe programmed in diameters).
+    pub radius: bool,
+}
+
 pub trait Dialect {
     fn name(&self) -> &'static str;
     fn conventions(&self) -> &Conventions;
@@ -63,6 +78,10 @@ pub trait Dialect {
             "{} has no native threading cycle in threadcut",
             self.name()
         ))
+    }
+    /// The word that tapers this controller's threading cycle, if it has one.
+    fn taper_word(&self) -> Option<TaperWord> {
+        None
     }
     /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
     fn bare_letters(&self) -> &'static [u8] {

@@ -521,6 +521,16 @@ impl OmniTurn {
 }
 
 impl Dialect for OmniTurn {
+    /// G33 A: the X travel over the whole Z travel, end minus start, written as X is
+    /// (docs/dialects/omniturn-g33.md).
+    fn taper_word(&self) -> Option<super::TaperWord> {
+        Some(super::TaperWord {
+            cycles: "G33 A",
+            letter: 'A',
+            start_minus_end: false,
+            radius: false,
+        })
+    }
     fn name(&self) -> &'static str {
         "omniturn"
     }

@@ -241,6 +241,12 @@ pub struct Plan {
     /// How far the tool's top tooth rises above `top_z` at the top of the helix (mm), from the
     /// extra fraction of a turn and the teeth above the bottom one.
     pub flute_overhang: f64,
+    /// A taper thread: the change of the contour radius per mm going down (+1/32 external,
+    /// −1/32 internal on a 1:16 taper); `crest_radius`, `final_radius` and `pass_radii` are then
+    /// at `top_z`. 0 for a parallel thread.
+    pub taper: f64,
+    /// The lead-in asked for was an arc but the thread is tapered: it is entered radially.
+    pub radial_for_taper: bool,
     pub moves: Vec<Move>,
 }
 
@@ -259,6 +265,11 @@ impl Plan {
                 u(self.bottom_z),
                 if self.direction == Direction::BottomUp { "the lead-in climbs in from below" } else { "the lead-out continues down" }
             ));
+        }
+        if self.radial_for_taper {
+            w.push(
+                "a taper thread is entered and left radially (TB029 step 4): an arc lead-in cannot follow the cone".to_string(),
+            );
         }
         if self.teeth > 1 && self.flute_overhang > self.pitch + 1e-9 {
             w.push(format!(
@@ -380,7 +391,31 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
             limits.minor.max.ok_or_else(|| missing("minor"))? / 2.0,
         ),
     };
-    if spec.side == Side::Internal && r_t >= crest {
+    // A taper thread (NPT, ISO 7-1 R/Rc): crest and root are cones, 1:16 on diameter, given here
+    // at the top of the thread (`start_z`), which is the face the standard measures from (the
+    // small end of an external thread, the opening of an internal one); the radius then changes
+    // by `slope` per mm going down: an external thread grows, an internal one shrinks.
+    let (crest, root, slope) = match t.taper {
+        Some(tp) => {
+            let k = tp.diameter_per_length / 2.0;
+            let (crest_gauge, grow, depth) = match spec.side {
+                Side::External => (tp.gauge_major_diameter / 2.0, 1.0, t.external_depth),
+                Side::Internal => (
+                    tp.gauge_pitch_diameter - tp.gauge_major_diameter / 2.0,
+                    -1.0,
+                    t.internal_depth,
+                ),
+            };
+            let c = crest_gauge - grow * k * tp.gauge_plane_from_face(spec.side);
+            let r = match spec.side {
+                Side::External => c - depth,
+                Side::Internal => c + depth,
+            };
+            (c, r, grow * k)
+        }
+        None => (crest, root, 0.0),
+    };
+    if spec.side == Side::Internal && r_t >= crest - slope.abs() * spec.length {
         return Err(flag_error(
             "--tool-diameter",
             format!(
@@ -471,6 +506,9 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
     for (k, &r) in pass_radii.iter().enumerate() {
         let pass = k as u32 + 1;
         let mut one: Vec<Move> = Vec::new();
+        // The contour radius at Z (a taper changes it along the helix), and at the helix start.
+        let rad_at = |z: f64| r + slope * (top - z);
+        let r = rad_at(z_start);
         // Tool-centre radius of the helix.
         let a_c = r - inward * r_t;
         let prog_r = a_c + inward * off;
@@ -504,7 +542,14 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         // External: externally tangent and turning the other way; its start clears the cylinder
         // (a_c + a = crest + r_t + clear). There the phase is not linear in the arc angle, so the
         // arc is split into EXTERNAL_LEAD_PIECES arcs, each ending exactly in phase.
-        let leads = match spec.lead_in {
+        // An arc lead-out cannot follow the cone (its circle is the start's): a taper is entered
+        // and left radially (TB029 step 4).
+        let lead_in = if slope != 0.0 {
+            LeadIn::Radial
+        } else {
+            spec.lead_in
+        };
+        let leads = match lead_in {
             LeadIn::Radial => None,
             LeadIn::Arc => {
                 let quarter = std::f64::consts::FRAC_PI_2;
@@ -641,19 +686,46 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
                 on,
             ),
         }
-        // 5.–6. Full turns, each Z from the exact pitch.
+        // 5.–6. Full turns, each Z from the exact pitch. On a taper each turn is
+        // `TAPER_ARCS_PER_TURN` arcs whose ends lie on the cone, each about the centre on its
+        // chord's bisector nearest the axis (so both ends are exactly on its circle).
         for turn in 1..=turns {
             let z = z_start + s_z * f64::from(turn) * lead;
-            push(
-                &mut one,
-                MoveKind::Arc {
-                    center: (cx, cy),
-                    cw,
-                },
-                P3::new(s_prog.0, s_prog.1, z),
-                f_helix,
-                on,
-            );
+            if slope == 0.0 {
+                push(
+                    &mut one,
+                    MoveKind::Arc {
+                        center: (cx, cy),
+                        cw,
+                    },
+                    P3::new(s_prog.0, s_prog.1, z),
+                    f_helix,
+                    on,
+                );
+                continue;
+            }
+            let n = TAPER_ARCS_PER_TURN;
+            let point = |k: u32| {
+                let f = f64::from(turn - 1) + f64::from(k) / f64::from(n);
+                let zk = z_start + s_z * f * lead;
+                let rk = rad_at(zk) - inward * r_t + inward * off;
+                let ang = sigma * std::f64::consts::TAU * f64::from(k) / f64::from(n);
+                (cx + rk * ang.cos(), cy + rk * ang.sin(), zk)
+            };
+            for k in 1..=n {
+                let (x0, y0, _) = point(k - 1);
+                let (x1, y1, z1) = point(k);
+                push(
+                    &mut one,
+                    MoveKind::Arc {
+                        center: bisector_centre((x0, y0), (x1, y1), (cx, cy)),
+                        cw,
+                    },
+                    P3::new(x1, y1, if k == n { z } else { z1 }),
+                    f_helix,
+                    on,
+                );
+            }
         }
         // Lead-out, compensation off on the way back, rapid up.
         if let (Some(l), Some(q)) = (&leads, exit) {
@@ -758,8 +830,28 @@ pub fn plan(spec: &MillSpec) -> Result<Plan> {
         helix_feed,
         center: spec.center,
         flute_overhang,
+        taper: slope,
+        radial_for_taper: slope != 0.0 && spec.lead_in == LeadIn::Arc,
         moves,
     })
+}
+
+/// Arcs per helical turn on a taper thread. A quarter-turn arc whose ends lie on the cone strays
+/// from the conical helix between them by about (Δr)²/(8r) with Δr the radius change over the
+/// arc (P/128 on a 1:16 taper): 0.03 µm for 1/2-14 NPT (docs/milling.md).
+pub const TAPER_ARCS_PER_TURN: u32 = 4;
+
+/// The centre of the circle through `a` and `b` nearest `axis`: on the chord's perpendicular
+/// bisector, at the foot of the perpendicular from the axis.
+fn bisector_centre(a: (f64, f64), b: (f64, f64), axis: (f64, f64)) -> (f64, f64) {
+    let m = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+    let d = (-(b.1 - a.1), b.0 - a.0);
+    let len2 = d.0 * d.0 + d.1 * d.1;
+    if len2 == 0.0 {
+        return axis;
+    }
+    let t = ((axis.0 - m.0) * d.0 + (axis.1 - m.1) * d.1) / len2;
+    (m.0 + t * d.0, m.1 + t * d.1)
 }
 
 /// Checks a plan against a controller's rules: LinuxCNC refuses a compensation entry (or exit) move

@@ -92,6 +92,16 @@ pub fn summary(plan: &Plan, units: Units) -> Vec<String> {
             u(plan.helix_feed)
         ),
     ];
+    if plan.taper != 0.0 {
+        lines.push(format!(
+            "taper 1:16 on diameter: the diameters above are at Z {:.d$}; the radius {} {:.6} {un} per {un} going down, {:.6} {un} per turn ({} arcs a turn)",
+            u(plan.top_z),
+            if plan.taper > 0.0 { "grows" } else { "shrinks" },
+            plan.taper.abs(),
+            u(plan.taper.abs() * plan.lead),
+            super::TAPER_ARCS_PER_TURN
+        ));
+    }
     lines.push("tool, spindle and work offset are the program's: this block only moves".into());
     lines
 }

@@ -132,6 +132,9 @@ pub struct Section {
     pub passes: Vec<PassSim>,
     pub total_area: f64,
     pub groove: GrooveReport,
+    /// The material left after the last pass: its contours in section coordinates (u, v).
+    #[serde(skip)]
+    pub material: Vec<Vec<(f64, f64)>>,
 }
 
 type Contour = Vec<IntPoint<i32>>;
@@ -252,7 +255,81 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
         passes: sims,
         total_area,
         groove,
+        material: material
+            .iter()
+            .flatten()
+            .map(|c| c.iter().map(|&p| to_float(p)).collect())
+            .collect(),
     })
+}
+
+/// How far the groove the passes left lies from a target form (mm): the largest distance, either
+/// way, between the material's surface below the crest line (`v > 0`, within the target's
+/// lateral extent widened by `margin`) and the target's outline (a polyline in section
+/// coordinates, such as [`crate::thread::standard::Groove::outline`] placed at
+/// [`GrooveReport::centre`]). Distances are measured to segments, so a polyline sampled finely
+/// enough stands for the true form; the material's vertices and edge midpoints are sampled.
+pub fn profile_deviation(section: &Section, target: &[(f64, f64)], margin: f64) -> f64 {
+    let (lo, hi) = target
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+            (a.min(p.0), b.max(p.0))
+        });
+    let below = |p: (f64, f64)| p.1 > AREA_EPSILON && p.0 >= lo - margin && p.0 <= hi + margin;
+    let to_polyline = |p: (f64, f64), line: &[(f64, f64)]| {
+        line.windows(2)
+            .map(|w| segment_distance(p, w[0], w[1]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    let mut surface: Vec<((f64, f64), (f64, f64))> = Vec::new();
+    for c in &section.material {
+        let n = c.len();
+        for i in 0..n {
+            let (a, b) = (c[i], c[(i + 1) % n]);
+            if below(a) || below(b) {
+                surface.push((a, b));
+            }
+        }
+    }
+    let mut worst: f64 = 0.0;
+    for &(a, b) in &surface {
+        let mid = ((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0);
+        for p in [a, mid, b] {
+            if below(p) {
+                worst = worst.max(to_polyline(p, target));
+            }
+        }
+    }
+    for w in target.windows(2) {
+        for k in 0..=8 {
+            let f = f64::from(k) / 8.0;
+            let p = (
+                w[0].0 + f * (w[1].0 - w[0].0),
+                w[0].1 + f * (w[1].1 - w[0].1),
+            );
+            if p.1 <= AREA_EPSILON {
+                continue;
+            }
+            let d = surface
+                .iter()
+                .map(|&(a, b)| segment_distance(p, a, b))
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+    }
+    worst
+}
+
+/// Distance from `p` to the segment `a`–`b`.
+fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let k = if len2 > 0.0 {
+        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.0 - a.0 - k * dx).hypot(p.1 - a.1 - k * dy)
 }
 
 fn contour(points: &[(f64, f64)]) -> Contour {

@@ -132,6 +132,22 @@ impl Tool {
         }
     }
 
+    /// The form tool that cuts a standard thread's groove in one plunge: the groove's included
+    /// angle and its root — a flat tip as wide as a flat root (the 29° Acme and 30° trapezoidal
+    /// forms), a nose radius for a round root (the 55° Whitworth and pipe forms), sharp
+    /// otherwise.
+    pub fn for_groove(groove: &crate::thread::standard::Groove) -> Tool {
+        use crate::thread::standard::Edge;
+        Tool {
+            angle_deg: 2.0 * groove.flank_angle_deg,
+            tip: match groove.root {
+                Edge::Flat { width } => Tip::Flat { width },
+                Edge::Round { radius } => Tip::Radius { radius },
+                Edge::Sharp | Edge::Truncated { .. } => Tip::Sharp,
+            },
+        }
+    }
+
     /// Refuses tools that have no sensible outline.
     pub fn validate(&self, span: Span) -> Result<()> {
         if !(self.angle_deg > 0.0 && self.angle_deg < 180.0) {

@@ -322,7 +322,11 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
         crest + clear
     };
     let sz = (3.0 * lead).max(if u == Units::Mm { 3.0 } else { 0.12 });
-    let length = (1.5 * mm(t.basic.major)).max(4.0 * lead);
+    // A taper thread is as long as its effective (useful) thread; others 1.5 diameters.
+    let length = match t.taper {
+        Some(tp) => mm(tp.effective_length),
+        None => (1.5 * mm(t.basic.major)).max(4.0 * lead),
+    };
     let z = -round(length, if u == Units::Mm { 0 } else { 2 });
     let fin = if u == Units::Mm { 0.05 } else { 0.002 };
     let qmin = if u == Units::Mm { 0.1 } else { 0.004 };
@@ -333,6 +337,26 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
         if u == Units::Mm { 0.01 } else { 0.001 },
     );
     let units = if u == Units::Mm { "21" } else { "20" };
+    // The tool's angle is the form's: 60° (ISO, Unified, NPT), 55° (Whitworth, pipe), 30° (Tr),
+    // 29° (Acme); LinuxCNC's compound angle half a degree under the flank.
+    let angle = format!("{:02}", t.profile.angle_deg.round() as u32);
+    let compound = format!("{}", t.profile.flank_angle_deg - 0.5);
+    // A taper thread: the root at the cycle's end and its taper over the cycle, for the forms that
+    // have a taper word (Allen-Bradley's I); the small end (external) or the opening (internal)
+    // at Z0.
+    let taper = t.taper.and_then(|_| {
+        use threadcut::thread::standard::lathe::{taper_cycle, Placement};
+        taper_cycle(
+            t,
+            &Placement {
+                side,
+                face_z: 0.0,
+                start_z: u.to_mm(sz),
+                length: u.to_mm(-z),
+            },
+        )
+        .ok()
+    });
     let n = |v: f64| number(v, d as usize);
     let incr = |v: f64| format!("{}", (v * 10f64.powi(d)).round() as i64);
     let mut v = vec![
@@ -345,7 +369,7 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
         "gsk980" => v.extend([
             ("m", "02".into()),
             ("r", "01".into()),
-            ("a", "60".into()),
+            ("a", angle.clone()),
             ("qmin", n(qmin)),
             ("fin", n(fin)),
             ("x", n(root)),
@@ -359,7 +383,7 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
         "fanuc" => v.extend([
             ("m", "02".into()),
             ("r", "00".into()),
-            ("a", "60".into()),
+            ("a", angle.clone()),
             ("qmin", incr(qmin)),
             ("fin", n(fin)),
             ("x", n(root)),
@@ -376,19 +400,25 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
             ("dd", n(2.0 * dd)),
             ("degression", "1.5".into()),
             ("k", n(2.0 * k)),
-            ("q", "29.5".into()),
+            ("q", compound),
             ("h", "2".into()),
             ("e", String::new()),
             ("l", String::new()),
         ]),
         "ab9" => v.extend([
-            ("x", n(root)),
+            (
+                "x",
+                n(taper.map_or(root, |c| round(mm(2.0 * c.root_end_x), d))),
+            ),
             ("k", n(k)),
             ("dd", n(dd)),
             ("lead", n(lead)),
-            ("a", "60".into()),
+            ("a", angle),
             ("p", "1".into()),
-            ("taper", String::new()),
+            (
+                "taper",
+                taper.map_or(String::new(), |c| n(mm(c.radial_change))),
+            ),
         ]),
         _ => {}
     }

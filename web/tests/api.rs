@@ -240,3 +240,40 @@ fn every_form_reaches_the_standard_thread_height() {
         }
     }
 }
+
+/// The new forms in the picker: Tr20x4 on GSK G78 takes the 30° tool and h3 = 2.25 mm (root
+/// 20 − 4.5 = 15.5); 1/2-10 ACME on Fanuc the 29° tool; a 1/2 NPT on Allen-Bradley's G78 gets its
+/// taper word I = −(Z travel)/32 in inch (Z0.2143 → Z−0.53, the effective thread L2 0.5337 to
+/// 0.01: 0.7443/32 = 0.0233); every plan reads without an error.
+#[test]
+fn standard_forms_fill_the_forms() {
+    let names = api::controllers()["threads"].clone();
+    for n in [
+        "Tr20x4",
+        "1/2-10 ACME",
+        "1/2-14 NPT",
+        "R1/2",
+        "G1/2",
+        "1/2-12 BSW",
+    ] {
+        assert!(names.as_array().unwrap().iter().any(|v| v == n), "{n}");
+    }
+    let v = values("gsk980", "Tr20x4");
+    assert_eq!(v["a"], "30");
+    assert_eq!(v["k"], "2.25");
+    assert_eq!(v["x"], "15.5");
+    let p = plan("gsk980", &v);
+    assert_eq!(p["ok"], true, "{p}");
+    let v = values("fanuc", "1/2-10 ACME");
+    assert_eq!(v["a"], "29");
+    assert_eq!(plan("fanuc", &v)["ok"], true);
+    let v = values("ab9", "1/2 NPT");
+    assert_eq!(v["a"], "60");
+    assert_eq!(v["z"], "-0.53", "{v}");
+    assert_eq!(v["taper"], "-0.0233", "{v}");
+    let p = plan("ab9", &v);
+    assert_eq!(p["ok"], true, "{p}");
+    let t = api::thread("1/2-14 NPT");
+    assert_eq!(t["thread"]["profile"]["angle_deg"], 60.0);
+    assert!(t["thread"]["taper"]["gauge_length"].as_f64().unwrap() > 8.0);
+}

@@ -99,9 +99,13 @@ function describeThread(name) {
   const th = t.thread;
   const mm = (v) => (Math.round(v * 1000) / 1000).toString();
   const side = $('internal').checked ? t.internal : t.external;
+  const taper = th.taper
+    ? ` Taper 1:16: diameters at the gauge plane, ${mm(th.taper.gauge_length)} mm from the small end; ` +
+      'a form without a taper word cuts it parallel (threadcut thread NAME --controller C gives the word).'
+    : '';
   $('thread-info').textContent =
-    `${th.name}: pitch ${mm(th.pitch)} mm, major ${mm(th.basic.major)} mm, minor ${mm(th.basic.minor)} mm, ` +
-    `thread height ${mm($('internal').checked ? th.internal_depth : th.external_depth)} mm (${side.class}).`;
+    `${th.name}: ${th.profile.angle_deg}° form, pitch ${mm(th.pitch)} mm, major ${mm(th.basic.major)} mm, minor ${mm(th.basic.minor)} mm, ` +
+    `thread height ${mm($('internal').checked ? th.internal_depth : th.external_depth)} mm (${side.class}).` + taper;
 }
 
 function plan() {

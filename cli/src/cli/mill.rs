@@ -19,8 +19,22 @@ pub fn usage(d: Diagnostic) -> Failure {
     }
 }
 
+/// `thread --controller`: where a taper thread is cut (the thread's units).
+pub struct CycleArgs {
+    pub controller: String,
+    pub internal: bool,
+    pub face_z: Option<f64>,
+    pub start_z: Option<f64>,
+    pub length: Option<f64>,
+}
+
 /// `threadcut thread NAME [--json]`, or `--list`.
-pub fn thread(name: Option<&str>, json: bool, list: bool) -> Result<(), Failure> {
+pub fn thread(
+    name: Option<&str>,
+    json: bool,
+    list: bool,
+    cycle: Option<CycleArgs>,
+) -> Result<(), Failure> {
     let mut out = io::stdout().lock();
     if list {
         for n in standard::known_names() {
@@ -35,14 +49,113 @@ pub fn thread(name: Option<&str>, json: bool, list: bool) -> Result<(), Failure>
         ));
     };
     let t = standard::lookup(name).map_err(usage)?;
+    let taper = match cycle {
+        Some(c) => Some(taper_word(&t, &c)?),
+        None => None,
+    };
     if json {
-        let v = thread_json(&t);
+        let mut v = thread_json(&t);
+        if let Some((_, j)) = &taper {
+            v["cycle"] = j.clone();
+        }
         serde_json::to_writer_pretty(&mut out, &v).map_err(|e| io_failure(e.into()))?;
         writeln!(out).map_err(io_failure)?;
     } else {
         write_thread(&mut out, &t).map_err(io_failure)?;
+        if let Some((text, _)) = &taper {
+            out.write_all(text.as_bytes()).map_err(io_failure)?;
+        }
     }
     Ok(())
+}
+
+/// The taper word of a controller's cycle for a taper thread: the text lines and their JSON.
+fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Failure> {
+    use threadcut::thread::standard::lathe::{taper_cycle, Placement};
+    let machine = super::load_machine(&super::MachineArgs {
+        controller: Some(c.controller.clone()),
+        machine: None,
+    })?;
+    let dialect = threadcut::dialect::open(&machine).map_err(Failure::Usage)?;
+    let u = t.units;
+    let tp = t.taper.ok_or_else(|| {
+        Failure::Usage(format!(
+            "--controller: {} is a parallel thread; its cycle has no taper word",
+            t.name
+        ))
+    })?;
+    let side = if c.internal {
+        Side::Internal
+    } else {
+        Side::External
+    };
+    let face_z = u.to_mm(c.face_z.unwrap_or(0.0));
+    let start_z = c.start_z.map_or(face_z + 3.0 * t.pitch, |z| u.to_mm(z));
+    let length = c.length.map_or(tp.effective_length, |l| u.to_mm(l));
+    let cycle = taper_cycle(
+        t,
+        &Placement {
+            side,
+            face_z,
+            start_z,
+            length,
+        },
+    )
+    .map_err(usage)?;
+    let d = decimals(u);
+    let v = |mm: f64| u.from_mm(mm);
+    let dia = |r: f64| format!("Ø{:.d$}", v(2.0 * r));
+    let mut text = format!(
+        "{} {} thread on {} ({}): Z{:.d$} → Z{:.d$}, crest {} → {}, root {} → {}, height {:.d$} {}\n",
+        if side == Side::External { "external" } else { "internal" },
+        t.name,
+        machine.name,
+        dialect.name(),
+        v(cycle.start_z),
+        v(cycle.end_z),
+        dia(cycle.crest_start_x),
+        dia(cycle.crest_end_x),
+        dia(cycle.root_start_x),
+        dia(cycle.root_end_x),
+        v(cycle.depth),
+        u.name()
+    );
+    let word = dialect.taper_word();
+    let value = word.map(|w| cycle.word_value(&w, machine.diameter_x));
+    match (word, value) {
+        (Some(w), Some(val)) => text.push_str(&format!(
+            "  taper word {} = {}{:.d$} ({}: {}, {}, over the cycle's whole Z travel)\n",
+            w.cycles,
+            w.letter,
+            v(val),
+            u.name(),
+            if w.start_minus_end {
+                "X at the start minus X at the end"
+            } else {
+                "X at the end minus X at the start"
+            },
+            if w.radius || !machine.diameter_x {
+                "a radius"
+            } else {
+                "a diameter, as X is written"
+            }
+        )),
+        _ => text.push_str(&format!(
+            "  {} has no taper word in its threading cycle: cut this thread with synchronised moves (G33/G32) or a post-processed program\n",
+            machine.name
+        )),
+    }
+    let j = json!({
+        "controller": machine.name,
+        "side": if side == Side::External { "external" } else { "internal" },
+        "start_z": v(cycle.start_z),
+        "end_z": v(cycle.end_z),
+        "crest": {"start": v(2.0 * cycle.crest_start_x), "end": v(2.0 * cycle.crest_end_x)},
+        "root": {"start": v(2.0 * cycle.root_start_x), "end": v(2.0 * cycle.root_end_x)},
+        "height": v(cycle.depth),
+        "taper_word": word.map(|w| json!({"cycles": w.cycles, "letter": w.letter.to_string(), "value": value.map(v)})),
+    });
+    Ok((text, j))
 }
 
 fn decimals(units: Units) -> usize {
@@ -59,6 +172,7 @@ fn write_thread(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
     let family = match t.family {
         standard::Family::Metric => "ISO metric",
         standard::Family::Unified => "Unified inch",
+        _ => return write_form(out, t),
     };
     match t.tpi {
         Some(tpi) => writeln!(
@@ -105,6 +219,137 @@ fn write_thread(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
     Ok(())
 }
 
+fn edge_text(e: &standard::Edge, u: Units, d: usize) -> String {
+    let v = |mm: f64| u.from_mm(mm);
+    match *e {
+        standard::Edge::Sharp => "sharp".into(),
+        standard::Edge::Flat { width } => format!("flat {:.d$}", v(width)),
+        standard::Edge::Round { radius } => format!("radius {:.d$}", v(radius)),
+        standard::Edge::Truncated { min, max } => {
+            format!("truncated {:.d$} to {:.d$}", v(min), v(max))
+        }
+    }
+}
+
+/// The pipe, trapezoidal, Acme and Whitworth forms: every quantity of the form, then the limits.
+fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
+    let u = t.units;
+    let d = decimals(u);
+    let d5 = d + 1;
+    let un = u.name();
+    let v = |mm: f64| u.from_mm(mm);
+    match t.tpi {
+        Some(tpi) => writeln!(
+            out,
+            "{}  {}, {tpi} threads per inch (pitch {:.6} {un} = {:.4} mm)",
+            t.name,
+            t.family.name(),
+            v(t.pitch),
+            t.pitch
+        )?,
+        None => writeln!(out, "{}  {}, pitch {} mm", t.name, t.family.name(), t.pitch)?,
+    }
+    let p = &t.profile;
+    writeln!(
+        out,
+        "form: {}° (flanks {}° from the radial), fundamental triangle H {:.d5$} {un}",
+        p.angle_deg,
+        p.flank_angle_deg,
+        v(p.fundamental_height)
+    )?;
+    writeln!(
+        out,
+        "  external crest {}, root {}; internal crest {}, root {} ({un})",
+        edge_text(&p.external_crest, u, d5),
+        edge_text(&p.external_root, u, d5),
+        edge_text(&p.internal_crest, u, d5),
+        edge_text(&p.internal_root, u, d5)
+    )?;
+    let at = if t.taper.is_some() {
+        " at the gauge plane"
+    } else {
+        ""
+    };
+    writeln!(
+        out,
+        "basic{at} ({un}): major {:.d5$}  pitch diameter {:.d5$}  minor {:.d5$}",
+        v(t.basic.major),
+        v(t.basic.pitch_diameter),
+        v(t.basic.minor),
+    )?;
+    writeln!(
+        out,
+        "thread height / turning infeed ({un}, radial): external {:.d5$}, internal {:.d5$}",
+        v(t.external_depth),
+        v(t.internal_depth),
+    )?;
+    if let Some(tp) = &t.taper {
+        writeln!(
+            out,
+            "taper 1:{} on diameter; gauge plane {:.d$} {un} from the small end of the external thread (at the opening of the internal one)",
+            1.0 / tp.diameter_per_length,
+            v(tp.gauge_length)
+        )?;
+        writeln!(
+            out,
+            "  pitch diameter: small end {:.d5$}, gauge plane {:.d5$}, end of the effective thread {:.d5$} ({un})",
+            v(tp.small_end_pitch_diameter),
+            v(tp.gauge_pitch_diameter),
+            v(tp.effective_end_pitch_diameter)
+        )?;
+        writeln!(
+            out,
+            "  effective (useful) thread {:.d$} {un}; gauge plane tolerance ±{:.d$} external, ±{:.d$} internal ({un}, {:.2} / {:.2} turns)",
+            v(tp.effective_length),
+            v(tp.external_position_tolerance),
+            v(tp.internal_position_tolerance),
+            tp.external_position_tolerance / t.pitch,
+            tp.internal_position_tolerance / t.pitch
+        )?;
+        if tp.vanish_length > 0.0 {
+            writeln!(
+                out,
+                "  vanish thread {:.d$}, wrench make-up {:.d$} ({un})",
+                v(tp.vanish_length),
+                v(tp.wrench_makeup)
+            )?;
+        }
+    }
+    for side in [Side::External, Side::Internal] {
+        let given = match side {
+            Side::External => t.external,
+            Side::Internal => t.internal,
+        };
+        let Some(l) = given else { continue };
+        write_limits(out, &l, u)?;
+        if let Some(g) = standard::Groove::at_maximum_material(&l, t.pitch, &t.profile) {
+            let tip = match g.root {
+                standard::Edge::Flat { width } => {
+                    format!("flat tip {:.d5$} (--tip-flat {:.d5$})", v(width), v(width))
+                }
+                standard::Edge::Round { radius } => {
+                    format!(
+                        "nose radius {:.d5$} (--nose-radius {:.d5$})",
+                        v(radius),
+                        v(radius)
+                    )
+                }
+                _ => "sharp tip".into(),
+            };
+            writeln!(
+                out,
+                "  form tool: {}° {tip}, {:.d5$} deep to the maximum-material root ({un})",
+                2.0 * g.flank_angle_deg,
+                v(g.depth)
+            )?;
+        }
+    }
+    if t.taper.is_some() {
+        writeln!(out, "  (limits at the gauge plane)")?;
+    }
+    Ok(())
+}
+
 fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
     let d = decimals(u);
     let f =
@@ -128,7 +373,7 @@ fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
     for (name, r) in rows {
         writeln!(out, "  {name:<6} {:>10} {:>10}", f(r.min), f(r.max))?;
     }
-    if l.side == Side::External {
+    if l.side == Side::External && l.minor.min.is_none() {
         writeln!(
             out,
             "  (minor: rounded-root d3 / UNR maximum; the standard sets no minimum)"
@@ -151,7 +396,7 @@ fn thread_json(t: &StandardThread) -> Value {
             "minor": {"min": o(l.minor.min), "max": o(l.minor.max)},
         })
     };
-    json!({
+    let mut v = json!({
         "name": t.name,
         "family": t.family,
         "series": t.series,
@@ -169,7 +414,44 @@ fn thread_json(t: &StandardThread) -> Value {
         "turning_infeed": {"external": n(t.external_depth), "internal": n(t.internal_depth)},
         "external": t.external.as_ref().map(limits),
         "internal": t.internal.as_ref().map(limits),
-    })
+    });
+    if !matches!(
+        t.family,
+        standard::Family::Metric | standard::Family::Unified
+    ) {
+        let e = |e: &standard::Edge| match *e {
+            standard::Edge::Sharp => json!({"kind": "sharp"}),
+            standard::Edge::Flat { width } => json!({"kind": "flat", "width": n(width)}),
+            standard::Edge::Round { radius } => json!({"kind": "round", "radius": n(radius)}),
+            standard::Edge::Truncated { min, max } => {
+                json!({"kind": "truncated", "min": n(min), "max": n(max)})
+            }
+        };
+        let p = &t.profile;
+        v["profile"] = json!({
+            "angle_deg": p.angle_deg,
+            "flank_angle_deg": p.flank_angle_deg,
+            "fundamental_height": n(p.fundamental_height),
+            "external": {"crest": e(&p.external_crest), "root": e(&p.external_root)},
+            "internal": {"crest": e(&p.internal_crest), "root": e(&p.internal_root)},
+        });
+        v["taper"] = t.taper.as_ref().map_or(Value::Null, |tp| {
+            json!({
+                "diameter_per_length": tp.diameter_per_length,
+                "gauge_length": n(tp.gauge_length),
+                "gauge_pitch_diameter": n(tp.gauge_pitch_diameter),
+                "gauge_major_diameter": n(tp.gauge_major_diameter),
+                "small_end_pitch_diameter": n(tp.small_end_pitch_diameter),
+                "effective_length": n(tp.effective_length),
+                "effective_end_pitch_diameter": n(tp.effective_end_pitch_diameter),
+                "vanish_length": n(tp.vanish_length),
+                "wrench_makeup": n(tp.wrench_makeup),
+                "external_position_tolerance": n(tp.external_position_tolerance),
+                "internal_position_tolerance": n(tp.internal_position_tolerance),
+            })
+        });
+    }
+    v
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]

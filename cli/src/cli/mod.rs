@@ -176,6 +176,23 @@ enum Command {
         /// List every thread threadcut knows.
         #[arg(long, conflicts_with = "name")]
         list: bool,
+        /// For a taper thread: the taper word of this lathe controller's threading cycle, for
+        /// the thread placed by --face-z, --start-z and --length.
+        #[arg(long, short = 'c')]
+        controller: Option<String>,
+        /// The internal thread (with --controller; default: the external one).
+        #[arg(long, requires = "controller")]
+        internal: bool,
+        /// Z of the part's face: the small end of an external taper thread, the opening of an
+        /// internal one (the thread's units; default 0).
+        #[arg(long, allow_negative_numbers = true, requires = "controller")]
+        face_z: Option<f64>,
+        /// Z where the cycle starts (default: 3 pitches outside the face).
+        #[arg(long, allow_negative_numbers = true, requires = "controller")]
+        start_z: Option<f64>,
+        /// Thread length from the face (default: the standard's effective/useful thread).
+        #[arg(long, requires = "controller")]
+        length: Option<f64>,
     },
     /// Mill a standard thread by helical interpolation (Centroid TB029): a complete block of G2/G3
     /// full circles with absolute Z per turn, cutter compensation and lead-in/out.
@@ -231,8 +248,24 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             mill::mill(args)?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Thread { name, json, list } => {
-            mill::thread(name.as_deref(), json, list)?;
+        Command::Thread {
+            name,
+            json,
+            list,
+            controller,
+            internal,
+            face_z,
+            start_z,
+            length,
+        } => {
+            let cycle = controller.map(|c| mill::CycleArgs {
+                controller: c,
+                internal,
+                face_z,
+                start_z,
+                length,
+            });
+            mill::thread(name.as_deref(), json, list, cycle)?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Controllers => {

@@ -22,9 +22,20 @@
 //!   Limits are rounded as in ASME B1.1's tables: tolerances and thread heights to 6 decimals,
 //!   allowance and limits to 4 decimals, class 1B/2B minor diameters to 3 decimals.
 
+pub mod acme;
+pub mod gauge;
+pub mod lathe;
+pub mod pipe;
+pub mod profile;
+pub mod trapezoidal;
+pub mod whitworth;
+
 use std::fmt;
 
 use serde::Serialize;
+
+pub use gauge::{judge_taper, TaperCut, TaperFinding, TaperJudgement};
+pub use profile::{Edge, Groove, Profile};
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::units::{Units, MM_PER_INCH};
@@ -54,6 +65,33 @@ pub enum Family {
     Metric,
     /// Unified inch (ASME B1.1).
     Unified,
+    /// American National Standard taper pipe thread (ASME B1.20.1).
+    Npt,
+    /// Pipe threads where pressure-tight joints are made on the threads (ISO 7-1, "BSPT"): R, Rc, Rp.
+    Bspt,
+    /// Pipe threads where pressure-tight joints are not made on the threads (ISO 228-1, "BSPP"): G.
+    Bspp,
+    /// ISO metric trapezoidal (ISO 2901–2904, DIN 103): Tr.
+    Trapezoidal,
+    /// General-purpose Acme (ASME B1.5).
+    Acme,
+    /// Whitworth form (BS 84): BSW, BSF.
+    Whitworth,
+}
+
+impl Family {
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Metric => "ISO metric",
+            Family::Unified => "Unified inch",
+            Family::Npt => "NPT taper pipe (ASME B1.20.1)",
+            Family::Bspt => "ISO 7-1 pipe (BSPT)",
+            Family::Bspp => "ISO 228-1 parallel pipe (BSPP)",
+            Family::Trapezoidal => "ISO metric trapezoidal (ISO 2904, DIN 103)",
+            Family::Acme => "general-purpose Acme (ASME B1.5)",
+            Family::Whitworth => "Whitworth (BS 84)",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -68,6 +106,23 @@ pub enum Series {
     Unf,
     #[serde(rename = "UNEF")]
     Unef,
+    #[serde(rename = "NPT")]
+    Npt,
+    /// ISO 7-1 external taper.
+    R,
+    /// ISO 7-1 internal taper.
+    Rc,
+    /// ISO 7-1 internal parallel.
+    Rp,
+    /// ISO 228-1.
+    G,
+    Tr,
+    #[serde(rename = "ACME")]
+    Acme,
+    #[serde(rename = "BSW")]
+    Bsw,
+    #[serde(rename = "BSF")]
+    Bsf,
 }
 
 impl Series {
@@ -78,6 +133,15 @@ impl Series {
             Series::Unc => "UNC",
             Series::Unf => "UNF",
             Series::Unef => "UNEF",
+            Series::Npt => "NPT",
+            Series::R => "R",
+            Series::Rc => "Rc",
+            Series::Rp => "Rp",
+            Series::G => "G",
+            Series::Tr => "Tr",
+            Series::Acme => "ACME",
+            Series::Bsw => "BSW",
+            Series::Bsf => "BSF",
         }
     }
 }
@@ -94,6 +158,53 @@ pub enum Class {
     },
     /// ASME B1.1 class 1, 2 or 3; `A` external, `B` internal.
     Unified { grade: u8, side: Surface },
+    /// ISO 2903 (Tr): the pitch-diameter grade (7, 8, 9) and position (`c e` external, `H`
+    /// internal); the crest grade is always 4 (Td(4), TD1(4)).
+    Trapezoidal { grade: u8, position: char },
+    /// ASME B1.5 general purpose class 2G, 3G or 4G, on one side.
+    Acme { grade: u8, side: Surface },
+    /// ISO 228-1: external class A or B, or the one internal class.
+    Parallel { grade: ParallelClass },
+    /// BS 84: close, medium, free (external); medium, normal (internal).
+    Whitworth {
+        grade: WhitworthClass,
+        side: Surface,
+    },
+    /// A taper pipe thread (NPT, ISO 7-1 R/Rc) or an ISO 7-1 Rp: one class, gauged at the gauge
+    /// plane.
+    Pipe { side: Surface },
+}
+
+/// ISO 228-1 classes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum ParallelClass {
+    /// External, pitch-diameter tolerance = the internal TD2.
+    A,
+    /// External, twice class A.
+    B,
+    /// The internal thread.
+    Internal,
+}
+
+/// BS 84 tolerance classes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WhitworthClass {
+    Close,
+    Medium,
+    Free,
+    Normal,
+}
+
+impl WhitworthClass {
+    pub fn name(self) -> &'static str {
+        match self {
+            WhitworthClass::Close => "close",
+            WhitworthClass::Medium => "medium",
+            WhitworthClass::Free => "free",
+            WhitworthClass::Normal => "normal",
+        }
+    }
 }
 
 impl Class {
@@ -101,7 +212,18 @@ impl Class {
         match self {
             Class::Iso { position, .. } if position.is_ascii_uppercase() => Surface::Internal,
             Class::Iso { .. } => Surface::External,
-            Class::Unified { side, .. } => side,
+            Class::Unified { side, .. }
+            | Class::Acme { side, .. }
+            | Class::Whitworth { side, .. }
+            | Class::Pipe { side } => side,
+            Class::Trapezoidal { position, .. } if position.is_ascii_uppercase() => {
+                Surface::Internal
+            }
+            Class::Trapezoidal { .. } => Surface::External,
+            Class::Parallel {
+                grade: ParallelClass::Internal,
+            } => Surface::Internal,
+            Class::Parallel { .. } => Surface::External,
         }
     }
 
@@ -120,6 +242,26 @@ impl Class {
                 position: 'H',
             },
             (Family::Unified, side) => Class::Unified { grade: 2, side },
+            (Family::Trapezoidal, Surface::External) => Class::Trapezoidal {
+                grade: 7,
+                position: 'e',
+            },
+            (Family::Trapezoidal, Surface::Internal) => Class::Trapezoidal {
+                grade: 7,
+                position: 'H',
+            },
+            (Family::Acme, side) => Class::Acme { grade: 2, side },
+            (Family::Bspp, Surface::External) => Class::Parallel {
+                grade: ParallelClass::A,
+            },
+            (Family::Bspp, Surface::Internal) => Class::Parallel {
+                grade: ParallelClass::Internal,
+            },
+            (Family::Whitworth, side) => Class::Whitworth {
+                grade: WhitworthClass::Medium,
+                side,
+            },
+            (Family::Npt | Family::Bspt, side) => Class::Pipe { side },
         }
     }
 }
@@ -142,6 +284,18 @@ impl fmt::Display for Class {
                 "{grade}{}",
                 if side == Surface::External { 'A' } else { 'B' }
             ),
+            Class::Trapezoidal { grade, position } => write!(f, "{grade}{position}"),
+            Class::Acme { grade, .. } => write!(f, "{grade}G"),
+            Class::Parallel { grade } => f.write_str(match grade {
+                ParallelClass::A => "A",
+                ParallelClass::B => "B",
+                ParallelClass::Internal => "internal",
+            }),
+            Class::Whitworth { grade, .. } => f.write_str(grade.name()),
+            Class::Pipe { side } => f.write_str(match side {
+                Surface::External => "external",
+                Surface::Internal => "internal",
+            }),
         }
     }
 }
@@ -216,6 +370,11 @@ pub struct StandardThread {
     pub internal_depth: f64,
     pub external: Option<Limits>,
     pub internal: Option<Limits>,
+    /// The thread form: flank angle, crest and root shapes ([`Profile`]).
+    pub profile: Profile,
+    /// Taper pipe threads (NPT, ISO 7-1 R/Rc): the gauge plane and the taper. The limits of a
+    /// tapered thread are those at its gauge plane.
+    pub taper: Option<gauge::Taper>,
 }
 
 impl StandardThread {
@@ -428,6 +587,10 @@ pub fn known_names() -> Vec<String> {
             }
         }
     }
+    names.extend(pipe::known_names());
+    names.extend(trapezoidal::known_names());
+    names.extend(acme::known_names());
+    names.extend(whitworth::known_names());
     names
 }
 
@@ -831,6 +994,12 @@ impl Range {
 
 fn limits_for(t: &StandardThread, class: Class) -> std::result::Result<Limits, String> {
     match t.family {
+        Family::Npt => pipe::npt_limits(t, class),
+        Family::Bspt => pipe::iso7_limits(t, class),
+        Family::Bspp => pipe::iso228_limits(t, class),
+        Family::Trapezoidal => trapezoidal::limits(t, class),
+        Family::Acme => acme::limits(t, class),
+        Family::Whitworth => whitworth::limits(t, class),
         Family::Metric => iso_limits(t.basic.major, t.pitch, class),
         Family::Unified => unified_limits(
             t.basic.major / MM_PER_INCH,
@@ -853,8 +1022,26 @@ pub fn lookup(name: &str) -> Result<StandardThread> {
     if text.is_empty() {
         return Err(unknown(name, "an empty thread name", None));
     }
-    let first = text.chars().next().unwrap_or(' ');
-    if first == 'M' || first == 'm' {
+    let upper = text.to_ascii_uppercase();
+    let starts_size = |prefix: &str| {
+        upper.starts_with(prefix)
+            && upper[prefix.len()..]
+                .trim_start()
+                .starts_with(|c: char| c.is_ascii_digit())
+    };
+    if upper.starts_with("TR") {
+        trapezoidal::lookup(text)
+    } else if upper.contains("NPT") {
+        pipe::lookup_npt(text)
+    } else if starts_size("RC") || starts_size("RP") || starts_size("R") {
+        pipe::lookup_iso7(text)
+    } else if starts_size("G") {
+        pipe::lookup_iso228(text)
+    } else if upper.contains("ACME") {
+        acme::lookup(text)
+    } else if upper.contains("BSW") || upper.contains("BSF") {
+        whitworth::lookup(text)
+    } else if upper.starts_with('M') {
         lookup_metric(text)
     } else {
         lookup_unified(text)
@@ -920,6 +1107,7 @@ fn parse_class(s: &str, family: Family) -> Option<Class> {
             };
             Some(Class::Unified { grade, side })
         }
+        _ => None,
     }
 }
 
@@ -1004,6 +1192,8 @@ fn lookup_metric(text: &str) -> Result<StandardThread> {
         internal_depth: INTERNAL_DEPTH_PER_P * pitch,
         external: None,
         internal: None,
+        profile: Profile::sixty(pitch),
+        taper: None,
     };
     fill(&mut t, class, text)?;
     Ok(t)
@@ -1060,8 +1250,11 @@ fn lookup_unified(text: &str) -> Result<StandardThread> {
     let mut rest = text.trim();
     let mut class = None;
     // Class: a trailing `-2A` / ` 2A`.
-    if rest.len() >= 3 {
-        let tail = &rest[rest.len() - 2..];
+    // (`get`: the last two bytes may fall inside a character of a name that is no thread.)
+    if let Some(tail) = rest
+        .get(rest.len().saturating_sub(2)..)
+        .filter(|_| rest.len() >= 3)
+    {
         let sep = rest.as_bytes()[rest.len() - 3];
         if (sep == b'-' || sep == b' ') && tail.as_bytes()[0].is_ascii_digit() {
             if let Some(c) = parse_class(tail, Family::Unified) {
@@ -1131,6 +1324,8 @@ fn lookup_unified(text: &str) -> Result<StandardThread> {
         internal_depth: INTERNAL_DEPTH_PER_P * pitch,
         external: None,
         internal: None,
+        profile: Profile::sixty(pitch),
+        taper: None,
     };
     fill(&mut t, class, text)?;
     Ok(t)

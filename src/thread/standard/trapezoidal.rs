@@ -1,0 +1,315 @@
+//! ISO metric trapezoidal threads (Tr): ISO 2901 profile, ISO 2902 diameter–pitch plan, ISO 2903
+//! tolerances, ISO 2904 basic dimensions (the same as DIN 103).
+//!
+//! * Profile (ISO 2901, 30°): `H1 = 0.5·P`, crest clearance `ac` = 0.15 (P 1.5), 0.25 (P 2–5),
+//!   0.5 (P 6–12), 1 (P 14–44); `h3 = H4 = H1 + ac`; `d2 = D2 = d − 0.5·P`, `D1 = d − P`,
+//!   `d3 = d − 2·h3`, `D4 = d + 2·ac`; root radii `R1 ≤ 0.5·ac`, `R2 ≤ ac`.
+//! * Tolerances (ISO 2903, built on ISO 965-1): pitch-diameter grades 7, 8, 9 as ISO 965-1's
+//!   `Td2(6) = 90·P^0.4·d^0.1` × 1.25, 1.6, 2 (external) or × 1.7, 2.12 (internal), each rounded to
+//!   the nearest R40 value (by difference, see [`r40`]); fundamental deviations `es(e) = −(50 + 11P)`, `es(c) = −(100 + 11P)` rounded to R40
+//!   (`H`: 0); the crest diameters in grade 4 (`Td(4) = 0.63·Td(6)`, `TD1(4) = 0.63·TD1(6)`, R40);
+//!   the external minor diameter `d3` in position h with `Td3 = 1.25·Td2 + |es|` (whole µm, a half
+//!   up); the internal major diameter `D4` has a minimum only.
+
+use super::profile::{Edge, Profile};
+use super::{
+    bad_name, fill, grade_factor, iso_range, round_to, trim, unknown, Basic, Class, Family, Limits,
+    Range, Result, Series, StandardThread, Surface, ISO_RANGES, ISO_TD_6_TABLE, TD2_GRADES,
+    TD2_INTERNAL_GRADES,
+};
+use crate::units::Units;
+
+/// ISO 2902 general plan (d: pitches, the first the preferred one), with DIN 103's P 3 for
+/// Tr16–Tr20.
+const PLAN: &[(f64, &[f64])] = &[
+    (8.0, &[1.5]),
+    (9.0, &[2.0, 1.5]),
+    (10.0, &[2.0, 1.5]),
+    (11.0, &[3.0, 2.0]),
+    (12.0, &[3.0, 2.0]),
+    (14.0, &[3.0, 2.0]),
+    (16.0, &[4.0, 3.0, 2.0]),
+    (18.0, &[4.0, 3.0, 2.0]),
+    (20.0, &[4.0, 3.0, 2.0]),
+    (22.0, &[5.0, 8.0, 3.0]),
+    (24.0, &[5.0, 8.0, 3.0]),
+    (26.0, &[5.0, 8.0, 3.0]),
+    (28.0, &[5.0, 8.0, 3.0]),
+    (30.0, &[6.0, 10.0, 3.0]),
+    (32.0, &[6.0, 10.0, 3.0]),
+    (34.0, &[6.0, 10.0, 3.0]),
+    (36.0, &[6.0, 10.0, 3.0]),
+    (38.0, &[7.0, 10.0, 3.0]),
+    (40.0, &[7.0, 10.0, 3.0]),
+    (42.0, &[7.0, 10.0, 3.0]),
+    (44.0, &[7.0, 12.0, 3.0]),
+    (46.0, &[8.0, 12.0, 3.0]),
+    (48.0, &[8.0, 12.0, 3.0]),
+    (50.0, &[8.0, 12.0, 3.0]),
+    (52.0, &[8.0, 12.0, 3.0]),
+    (55.0, &[9.0, 14.0, 3.0]),
+    (60.0, &[9.0, 14.0, 3.0]),
+    (65.0, &[10.0, 16.0, 4.0]),
+    (70.0, &[10.0, 16.0, 4.0]),
+    (75.0, &[10.0, 16.0, 4.0]),
+    (80.0, &[10.0, 16.0, 4.0]),
+    (85.0, &[12.0, 18.0, 4.0]),
+    (90.0, &[12.0, 18.0, 4.0]),
+    (95.0, &[12.0, 18.0, 4.0]),
+    (100.0, &[12.0, 20.0, 4.0]),
+    (110.0, &[12.0, 20.0, 4.0]),
+    (120.0, &[14.0, 22.0, 6.0]),
+    (130.0, &[14.0, 22.0, 6.0]),
+    (140.0, &[14.0, 24.0, 6.0]),
+    (150.0, &[16.0, 24.0, 6.0]),
+    (160.0, &[16.0, 28.0, 6.0]),
+    (170.0, &[16.0, 28.0, 6.0]),
+    (180.0, &[18.0, 28.0, 8.0]),
+    (190.0, &[18.0, 32.0, 8.0]),
+    (200.0, &[18.0, 32.0, 8.0]),
+];
+
+/// Crest clearance ac (ISO 2901).
+pub fn crest_clearance(p: f64) -> f64 {
+    if p <= 1.5 {
+        0.15
+    } else if p <= 5.0 {
+        0.25
+    } else if p <= 12.0 {
+        0.5
+    } else {
+        1.0
+    }
+}
+
+/// Td3 values where the published tables depart from `1.25·Td2 + |es|` rounded a half up (µm):
+/// (pitch, grade, position, value). P 1.5, 7e: 1.25·170 + 67 = 279.5, printed 279 (Tr8x1.5,
+/// Tr9x1.5, Tr10x1.5 d3 min 5.921, 6.921, 7.921), while P 2, 7e: 1.25·190 + 71 = 308.5 is printed
+/// 309 (Tr9x2 … Tr20x2 d3 min x.191, x.179).
+const TD3_TABLE: &[(f64, u8, char, f64)] = &[(1.5, 7, 'e', 279.0)];
+
+fn name(d: f64, p: f64) -> String {
+    format!("Tr{}x{}", trim(d), trim(p))
+}
+
+/// Every Tr thread of the plan.
+pub fn known_names() -> Vec<String> {
+    PLAN.iter()
+        .flat_map(|&(d, ps)| ps.iter().map(move |&p| name(d, p)))
+        .collect()
+}
+
+fn parse_class(s: &str) -> Option<Class> {
+    let b = s.trim().as_bytes();
+    if b.len() != 2 {
+        return None;
+    }
+    let grade = (b[0] as char).to_digit(10)? as u8;
+    let position = b[1] as char;
+    matches!(position, 'c' | 'e' | 'H').then_some(Class::Trapezoidal { grade, position })
+}
+
+/// `Tr20x4`, `Tr20x4-7e`, `TR 20 x 4 - 8H`, `Tr20` (the preferred pitch).
+pub fn lookup(text: &str) -> Result<StandardThread> {
+    let body = text.trim()[2..].trim();
+    let (size, class) = match body.split_once('-') {
+        Some((s, c)) => {
+            let class = parse_class(c).ok_or_else(|| {
+                bad_name(
+                    text,
+                    format!(
+                        "`{}` is not an ISO 2903 class (write 7e, 8e, 7H, 8H, 8c …)",
+                        c.trim()
+                    ),
+                )
+            })?;
+            (s, Some(class))
+        }
+        None => (body, None),
+    };
+    let size: String = size.chars().filter(|c| !c.is_whitespace()).collect();
+    let (d_text, p_text) = match size.find(['x', 'X', '×']) {
+        Some(i) => {
+            let sep = size[i..].chars().next().map_or(1, char::len_utf8);
+            (&size[..i], Some(&size[i + sep..]))
+        }
+        None => (size.as_str(), None),
+    };
+    let d = super::number(d_text)
+        .ok_or_else(|| unknown(text, "not a trapezoidal thread name", None))?;
+    let row = PLAN.iter().find(|(pd, _)| (pd - d).abs() < 1e-9);
+    let p = match p_text {
+        Some(t) => {
+            super::number(t).ok_or_else(|| unknown(text, "not a trapezoidal thread name", None))?
+        }
+        None => row.map(|r| r.1[0]).ok_or_else(|| {
+            unknown(
+                text,
+                "no ISO 2902 trapezoidal thread of that diameter",
+                Some((d, 0.0)),
+            )
+        })?,
+    };
+    if !row.is_some_and(|r| r.1.iter().any(|&q| (q - p).abs() < 1e-9)) {
+        return Err(unknown(
+            text,
+            "no ISO 2902 trapezoidal thread of that diameter and pitch",
+            Some((d, p)),
+        ));
+    }
+    let ac = crest_clearance(p);
+    let h3 = 0.5 * p + ac;
+    let mut t = StandardThread {
+        name: name(d, p),
+        family: Family::Trapezoidal,
+        series: Series::Tr,
+        units: Units::Mm,
+        pitch: p,
+        tpi: None,
+        basic: Basic {
+            major: d,
+            pitch_diameter: d - 0.5 * p,
+            minor: d - p,
+            fundamental_height: 1.866 * p,
+        },
+        external_depth: h3,
+        internal_depth: h3,
+        external: None,
+        internal: None,
+        profile: profile(p),
+        taper: None,
+    };
+    fill(&mut t, class, text)?;
+    Ok(t)
+}
+
+/// ISO 2901's design profile: crests flat (0.366·P at the basic profile), roots flat with radii
+/// up to 0.5·ac (external) and ac (internal).
+fn profile(p: f64) -> Profile {
+    let t = 15f64.to_radians().tan();
+    let ac = crest_clearance(p);
+    // Width of the thread at the basic crest: half a pitch at the pitch line (0.25·P below it).
+    let crest = 0.5 * p - 2.0 * t * 0.25 * p;
+    // The space at the root, h3 below the crest.
+    let root = 0.5 * p - 2.0 * t * (0.25 * p + ac);
+    Profile {
+        angle_deg: 30.0,
+        flank_angle_deg: 15.0,
+        fundamental_height: 1.866 * p,
+        external_crest: Edge::Flat { width: crest },
+        external_root: Edge::Flat { width: root },
+        internal_crest: Edge::Flat { width: crest },
+        internal_root: Edge::Flat { width: root },
+    }
+}
+
+/// The R40 value (ISO 3) nearest in ratio among the values as printed (…, 160, 170, 180, 190 …).
+/// ISO 2903's tables round this way: Td2(6) for 11.2 < d ≤ 22.4, P 3 is 184.1 µm, tabulated 180
+/// (Tr12x3 … Tr16x3 7e: d2 tolerance 224 = 1.25·180), nearer to the printed 180 than to 190,
+/// although nearer to the exact 10^(91/40) = 188.4 than to 10^(90/40) = 177.8; and 1.25·132 =
+/// 165 goes to 170 (Tr8x1.5 7e: 7.183/7.013), nearer to it in ratio than to 160.
+fn r40(um: f64) -> f64 {
+    let k = (40.0 * um.log10()).floor() as i32;
+    let lo = super::round_r40(10f64.powf((f64::from(k) + 0.01) / 40.0));
+    let hi = super::round_r40(10f64.powf((f64::from(k) + 1.01) / 40.0));
+    let (lo, hi) = if lo > um {
+        (
+            super::round_r40(10f64.powf((f64::from(k) - 0.99) / 40.0)),
+            lo,
+        )
+    } else if hi < um {
+        (
+            hi,
+            super::round_r40(10f64.powf((f64::from(k) + 2.01) / 40.0)),
+        )
+    } else {
+        (lo, hi)
+    };
+    if um / lo <= hi / um {
+        lo
+    } else {
+        hi
+    }
+}
+
+/// ISO 965-1's grade-6 tolerances, the base of ISO 2903's grades (µm).
+fn td2_6(d: f64, p: f64) -> Option<f64> {
+    let (lo, hi) = ISO_RANGES[iso_range(d)?];
+    Some(r40(90.0 * p.powf(0.4) * (lo * hi).sqrt().powf(0.1)))
+}
+
+fn td_6(p: f64) -> f64 {
+    ISO_TD_6_TABLE
+        .iter()
+        .find(|&&(tp, _)| (tp - p).abs() < 1e-9)
+        .map_or_else(|| r40(180.0 * p.powf(2.0 / 3.0) - 3.15 / p.sqrt()), |r| r.1)
+}
+
+fn td1_6(p: f64) -> f64 {
+    r40(230.0 * p.powf(0.7))
+}
+
+fn deviation(position: char, p: f64) -> Option<f64> {
+    match position {
+        'e' => Some(-r40(50.0 + 11.0 * p)),
+        'c' => Some(-r40(100.0 + 11.0 * p)),
+        'H' => Some(0.0),
+        _ => None,
+    }
+}
+
+pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Limits, String> {
+    let Class::Trapezoidal { grade, position } = class else {
+        return Err("a trapezoidal thread takes an ISO 2903 class such as 7e or 7H".into());
+    };
+    let (d, p) = (t.basic.major, t.pitch);
+    let es = deviation(position, p)
+        .ok_or_else(|| format!("`{position}` is not an ISO 2903 position (c, e, H)"))?;
+    let td2_6 = td2_6(d, p).ok_or("the diameter lies outside ISO 2903's ranges")?;
+    let ac = crest_clearance(p);
+    let um = |v: f64| v / 1000.0;
+    let r3 = |v: f64| round_to(v, 3);
+    let d2 = d - 0.5 * p;
+    if position == 'H' {
+        let f = grade_factor(grade, TD2_INTERNAL_GRADES)
+            .filter(|_| grade >= 7)
+            .ok_or_else(|| {
+                format!("ISO 2903 has internal pitch-diameter grades 7 and 8, not {grade}")
+            })?;
+        let td2 = r40(td2_6 * f);
+        let td1 = r40(td1_6(p) * 0.63);
+        Ok(Limits {
+            class,
+            side: Surface::Internal,
+            deviation: 0.0,
+            major: Range {
+                min: Some(r3(d + 2.0 * ac)),
+                max: None,
+            },
+            pitch: Range::both(r3(d2), r3(d2 + um(td2))),
+            minor: Range::both(r3(d - p), r3(d - p + um(td1))),
+        })
+    } else {
+        let f = grade_factor(grade, TD2_GRADES)
+            .filter(|_| grade >= 7)
+            .ok_or_else(|| {
+                format!("ISO 2903 has external pitch-diameter grades 7, 8 and 9, not {grade}")
+            })?;
+        let td2 = r40(td2_6 * f);
+        let td = r40(td_6(p) * 0.63);
+        let td3 = TD3_TABLE
+            .iter()
+            .find(|&&(tp, g, pos, _)| (tp - p).abs() < 1e-9 && g == grade && pos == position)
+            .map_or_else(|| (1.25 * td2 + es.abs() + 0.5).floor(), |r| r.3);
+        let d3 = d - 2.0 * (0.5 * p + ac);
+        let d2max = d2 + um(es);
+        Ok(Limits {
+            class,
+            side: Surface::External,
+            deviation: um(es),
+            major: Range::both(r3(d - um(td)), r3(d)),
+            pitch: Range::both(r3(d2max - um(td2)), r3(d2max)),
+            minor: Range::both(r3(d3 - um(td3)), r3(d3)),
+        })
+    }
+}
