@@ -307,6 +307,71 @@ fn acme_3g_4g() {
     close(t.external_depth / IN, 0.06, 1e-9, "h + clearance/2");
 }
 
+/// More published ASME B1.5 limits (independent verification, issue 16). Lew Merrick's "Acme
+/// Thread Data Sheets" (vi.scribd.com/doc/101020691, from ASME B1.5): external minor minimum and
+/// internal minor maximum of every class of the standard series 1/4-16 … 3/4-6; dependableacme.com
+/// ("Internal and external thread dimensions"): the whole 2G external row of 5/8-8, 3/4-6, 7/8-6
+/// and 1-5. 3/4-6 2G minor minimum 0.5371 is printed by both (the unrounded maximum 0.563333
+/// would give 0.5372): the minimum is taken from the printed maximum 0.5633.
+#[test]
+fn acme_published_minor_limits() {
+    let merrick: &[(&str, [f64; 3], f64)] = &[
+        ("1/4-16", [0.1618, 0.1702, 0.1722], 0.1925),
+        ("5/16-14", [0.2140, 0.2231, 0.2254], 0.2461),
+        ("3/8-12", [0.2632, 0.2730, 0.2755], 0.2967),
+        ("7/16-12", [0.3253, 0.3354, 0.3379], 0.3592),
+        ("1/2-10", [0.3594, 0.3704, 0.3731], 0.4050),
+        ("5/8-8", [0.4570, 0.4693, 0.4723], 0.5063),
+        ("3/4-6", [0.5371, 0.5511, 0.5546], 0.5917),
+    ];
+    for (size, minor_min, tap_max) in merrick {
+        for (g, want) in (2..=4).zip(minor_min) {
+            let name = format!("{size} ACME-{g}G");
+            let t = lookup(&name).unwrap();
+            close(
+                t.external.unwrap().minor.min.unwrap() / IN,
+                *want,
+                1e-4,
+                &name,
+            );
+            close(
+                t.internal.unwrap().minor.max.unwrap() / IN,
+                *tap_max,
+                1e-4,
+                &name,
+            );
+        }
+    }
+    let dependable: &[(&str, [f64; 6])] = &[
+        ("5/8-8", [0.6250, 0.6188, 0.5562, 0.5408, 0.4800, 0.4570]),
+        ("3/4-6", [0.7500, 0.7417, 0.6598, 0.6424, 0.5633, 0.5371]),
+        ("7/8-6", [0.8750, 0.8667, 0.7842, 0.7663, 0.6883, 0.6615]),
+        ("1-5", [1.0000, 0.9900, 0.8920, 0.8726, 0.7800, 0.7509]),
+    ];
+    for (size, w) in dependable {
+        let l = lookup(&format!("{size} ACME-2G"))
+            .unwrap()
+            .external
+            .unwrap();
+        let got = [
+            l.major.max.unwrap(),
+            l.major.min.unwrap(),
+            l.pitch.max.unwrap(),
+            l.pitch.min.unwrap(),
+            l.minor.max.unwrap(),
+            l.minor.min.unwrap(),
+        ];
+        for (i, (g, w)) in got.iter().zip(w).enumerate() {
+            close(g / IN, *w, 1e-4, &format!("{size} 2G column {i}"));
+        }
+    }
+    // ASME B1.5 designates by the decimal diameter: `1.750-4 ACME-2G` (Machinery's Handbook's
+    // example), `.500-10 ACME`.
+    assert_eq!(lookup("1.750-4 ACME-2G").unwrap().name, "1-3/4-4 ACME");
+    assert_eq!(lookup(".500-10 ACME").unwrap().name, "1/2-10 ACME");
+    assert!(lookup("0.510-10 ACME").is_err());
+}
+
 /// BS 84: basic effective and minor diameters and thread depth (engineersedge.com's BSW chart:
 /// 3/16-24 depth 0.0267, effective 0.1608, minor 0.1341), the 55° form with r = 0.137329p, and
 /// the medium-class limits from the BS 84 Annex B formulas (hand computation: 1/2-12 T =
