@@ -238,6 +238,54 @@ fn trapezoidal_basic_and_internal() {
     assert!(lookup("Tr20x4-6g").is_err());
 }
 
+/// Position c and the coarse classes (independent verification, issue 16): obliczenia.icad.pl's
+/// ISO 2903 example, Tr10x2-8c: d 9.820/10.000, d2 8.614/8.850 (es −150 µm, Td2 236), d3
+/// 7.055/7.500 (Td3 445 = 1.25·236 + 150). The formula `100 + 11P` this replaces gave es −125.
+/// 9H (ISO 2903's coarse nut class, TD2 = 2.65·Td2(6)): Tr20x4 2.65·212 = 561.8 → 560.
+/// Capital class letters read as the only position that exists (`7E` is 7e). ISO 2902's
+/// diameters above 200 and the column-2/3 diameters between 100 and 200 (F-M-S "ISO Trapezoidal
+/// screw threads Tr", scribd.com/document/415160259): Tr105 12/20/4, Tr175 16/28/8, Tr300 24/44/12.
+#[test]
+fn trapezoidal_c_and_coarse_classes() {
+    let l = lookup("Tr10x2-8c").unwrap().external.unwrap();
+    let got = [
+        l.major.min.unwrap(),
+        l.major.max.unwrap(),
+        l.pitch.min.unwrap(),
+        l.pitch.max.unwrap(),
+        l.minor.min.unwrap(),
+        l.minor.max.unwrap(),
+    ];
+    for (i, (g, w)) in got
+        .iter()
+        .zip([9.820, 10.000, 8.614, 8.850, 7.055, 7.500])
+        .enumerate()
+    {
+        close(*g, w, 1e-3, &format!("Tr10x2-8c column {i}"));
+    }
+    close(l.deviation, -0.150, 1e-9, "es(c), P 2");
+    let h9 = lookup("Tr20x4-9H").unwrap().internal.unwrap();
+    close(h9.pitch.max.unwrap(), 18.560, 1e-3, "9H D2 max");
+    assert_eq!(
+        lookup("TR20X4-7E")
+            .unwrap()
+            .external
+            .unwrap()
+            .class
+            .to_string(),
+        "7e"
+    );
+    for (name, p) in [
+        ("Tr105", 12.0),
+        ("Tr175x8", 8.0),
+        ("Tr300x44", 44.0),
+        ("Tr290", 24.0),
+    ] {
+        close(lookup(name).unwrap().pitch, p, 1e-9, name);
+    }
+    assert!(lookup("Tr175x12").is_err());
+}
+
 /// ASME B1.5 general purpose 2G, external (dependableacme.com's table): major max/min, pitch
 /// max/min, minor max/min (inch). 3/8-12 is the rounding case 1.5·0.0123 = 0.01845 → 0.0185.
 #[test]
@@ -668,7 +716,8 @@ fn odd_names_are_refused() {
         "G1/2AB",
         "Tr20x4-7",
         "Tr20x4-7G",
-        "Tr20x4-9H",
+        "Tr20x4-6H",
+        "Tr20x4-7g",
         "Trx4",
         "Tr20x",
         "Tr-7e",
