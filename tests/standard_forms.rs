@@ -86,6 +86,31 @@ fn npt_height_truncation_l1() {
     assert!(lookup("1/2-18 NPT").is_err());
 }
 
+/// NPT L4, the overall length of the external thread (ASME B1.20.1 Table 2 defines L4 = L2 + V;
+/// the values are that sum of the printed L2 and V, not re-read from a public copy of the
+/// column): 1/8 0.3924, 1/2 0.7815, 1 0.9845, 2 1.0582, 3 1.6337. 1/16-27: L2 0.2611,
+/// E0 0.27118, E1 0.28118, E2 0.28750 (the 1/16 row of the table as reproduced on scribd.com
+/// "National Pipe Tapered Thread (NPT)", Book1.xlsx, and npolanosky/threadbuddy's fixture).
+#[test]
+fn npt_overall_length_and_the_1_16_row() {
+    for (name, l4) in [
+        ("1/8 NPT", 0.3924),
+        ("1/2 NPT", 0.7815),
+        ("1 NPT", 0.9845),
+        ("2 NPT", 1.0582),
+        ("3 NPT", 1.6337),
+    ] {
+        let t = lookup(name).unwrap();
+        close(npt(&t).unwrap().l4, l4, 1e-4, name);
+        close(t.taper.unwrap().overall_length / IN, l4, 1e-4, name);
+    }
+    let d = npt(&lookup("1/16-27 NPT").unwrap()).unwrap();
+    close(d.l2, 0.2611, 1e-4, "1/16 L2");
+    close(d.e0, 0.27118, 1e-5, "1/16 E0");
+    close(d.e1, 0.28118, 1e-5, "1/16 E1");
+    close(d.e2, 0.28750, 1e-5, "1/16 E2");
+}
+
 /// NPT limits at the gauge plane: E1 ± one turn (p/16 on diameter).
 #[test]
 fn npt_limits_are_one_turn_either_way() {

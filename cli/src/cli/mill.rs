@@ -309,8 +309,9 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
         if tp.vanish_length > 0.0 {
             writeln!(
                 out,
-                "  vanish thread {:.d$}, wrench make-up {:.d$} ({un})",
+                "  vanish thread {:.d$}, overall external thread (L4) {:.d$}, wrench make-up {:.d$} ({un})",
                 v(tp.vanish_length),
+                v(tp.overall_length),
                 v(tp.wrench_makeup)
             )?;
         }
@@ -446,6 +447,7 @@ fn thread_json(t: &StandardThread) -> Value {
                 "effective_end_pitch_diameter": n(tp.effective_end_pitch_diameter),
                 "vanish_length": n(tp.vanish_length),
                 "wrench_makeup": n(tp.wrench_makeup),
+                "overall_length": n(tp.overall_length),
                 "external_position_tolerance": n(tp.external_position_tolerance),
                 "internal_position_tolerance": n(tp.internal_position_tolerance),
             })
