@@ -86,6 +86,31 @@ fn npt_height_truncation_l1() {
     assert!(lookup("1/2-18 NPT").is_err());
 }
 
+/// NPT L4, the overall length of the external thread (ASME B1.20.1 Table 2 defines L4 = L2 + V;
+/// the values are that sum of the printed L2 and V, not re-read from a public copy of the
+/// column): 1/8 0.3924, 1/2 0.7815, 1 0.9845, 2 1.0582, 3 1.6337. 1/16-27: L2 0.2611,
+/// E0 0.27118, E1 0.28118, E2 0.28750 (the 1/16 row of the table as reproduced on scribd.com
+/// "National Pipe Tapered Thread (NPT)", Book1.xlsx, and npolanosky/threadbuddy's fixture).
+#[test]
+fn npt_overall_length_and_the_1_16_row() {
+    for (name, l4) in [
+        ("1/8 NPT", 0.3924),
+        ("1/2 NPT", 0.7815),
+        ("1 NPT", 0.9845),
+        ("2 NPT", 1.0582),
+        ("3 NPT", 1.6337),
+    ] {
+        let t = lookup(name).unwrap();
+        close(npt(&t).unwrap().l4, l4, 1e-4, name);
+        close(t.taper.unwrap().overall_length / IN, l4, 1e-4, name);
+    }
+    let d = npt(&lookup("1/16-27 NPT").unwrap()).unwrap();
+    close(d.l2, 0.2611, 1e-4, "1/16 L2");
+    close(d.e0, 0.27118, 1e-5, "1/16 E0");
+    close(d.e1, 0.28118, 1e-5, "1/16 E1");
+    close(d.e2, 0.28750, 1e-5, "1/16 E2");
+}
+
 /// NPT limits at the gauge plane: E1 ± one turn (p/16 on diameter).
 #[test]
 fn npt_limits_are_one_turn_either_way() {
@@ -238,6 +263,54 @@ fn trapezoidal_basic_and_internal() {
     assert!(lookup("Tr20x4-6g").is_err());
 }
 
+/// Position c and the coarse classes (independent verification, issue 16): obliczenia.icad.pl's
+/// ISO 2903 example, Tr10x2-8c: d 9.820/10.000, d2 8.614/8.850 (es −150 µm, Td2 236), d3
+/// 7.055/7.500 (Td3 445 = 1.25·236 + 150). The formula `100 + 11P` this replaces gave es −125.
+/// 9H (ISO 2903's coarse nut class, TD2 = 2.65·Td2(6)): Tr20x4 2.65·212 = 561.8 → 560.
+/// Capital class letters read as the only position that exists (`7E` is 7e). ISO 2902's
+/// diameters above 200 and the column-2/3 diameters between 100 and 200 (F-M-S "ISO Trapezoidal
+/// screw threads Tr", scribd.com/document/415160259): Tr105 12/20/4, Tr175 16/28/8, Tr300 24/44/12.
+#[test]
+fn trapezoidal_c_and_coarse_classes() {
+    let l = lookup("Tr10x2-8c").unwrap().external.unwrap();
+    let got = [
+        l.major.min.unwrap(),
+        l.major.max.unwrap(),
+        l.pitch.min.unwrap(),
+        l.pitch.max.unwrap(),
+        l.minor.min.unwrap(),
+        l.minor.max.unwrap(),
+    ];
+    for (i, (g, w)) in got
+        .iter()
+        .zip([9.820, 10.000, 8.614, 8.850, 7.055, 7.500])
+        .enumerate()
+    {
+        close(*g, w, 1e-3, &format!("Tr10x2-8c column {i}"));
+    }
+    close(l.deviation, -0.150, 1e-9, "es(c), P 2");
+    let h9 = lookup("Tr20x4-9H").unwrap().internal.unwrap();
+    close(h9.pitch.max.unwrap(), 18.560, 1e-3, "9H D2 max");
+    assert_eq!(
+        lookup("TR20X4-7E")
+            .unwrap()
+            .external
+            .unwrap()
+            .class
+            .to_string(),
+        "7e"
+    );
+    for (name, p) in [
+        ("Tr105", 12.0),
+        ("Tr175x8", 8.0),
+        ("Tr300x44", 44.0),
+        ("Tr290", 24.0),
+    ] {
+        close(lookup(name).unwrap().pitch, p, 1e-9, name);
+    }
+    assert!(lookup("Tr175x12").is_err());
+}
+
 /// ASME B1.5 general purpose 2G, external (dependableacme.com's table): major max/min, pitch
 /// max/min, minor max/min (inch). 3/8-12 is the rounding case 1.5·0.0123 = 0.01845 → 0.0185.
 #[test]
@@ -305,6 +378,71 @@ fn acme_3g_4g() {
     let t = lookup("1/2-10 ACME").unwrap();
     assert_eq!(t.profile.angle_deg, 29.0);
     close(t.external_depth / IN, 0.06, 1e-9, "h + clearance/2");
+}
+
+/// More published ASME B1.5 limits (independent verification, issue 16). Lew Merrick's "Acme
+/// Thread Data Sheets" (vi.scribd.com/doc/101020691, from ASME B1.5): external minor minimum and
+/// internal minor maximum of every class of the standard series 1/4-16 … 3/4-6; dependableacme.com
+/// ("Internal and external thread dimensions"): the whole 2G external row of 5/8-8, 3/4-6, 7/8-6
+/// and 1-5. 3/4-6 2G minor minimum 0.5371 is printed by both (the unrounded maximum 0.563333
+/// would give 0.5372): the minimum is taken from the printed maximum 0.5633.
+#[test]
+fn acme_published_minor_limits() {
+    let merrick: &[(&str, [f64; 3], f64)] = &[
+        ("1/4-16", [0.1618, 0.1702, 0.1722], 0.1925),
+        ("5/16-14", [0.2140, 0.2231, 0.2254], 0.2461),
+        ("3/8-12", [0.2632, 0.2730, 0.2755], 0.2967),
+        ("7/16-12", [0.3253, 0.3354, 0.3379], 0.3592),
+        ("1/2-10", [0.3594, 0.3704, 0.3731], 0.4050),
+        ("5/8-8", [0.4570, 0.4693, 0.4723], 0.5063),
+        ("3/4-6", [0.5371, 0.5511, 0.5546], 0.5917),
+    ];
+    for (size, minor_min, tap_max) in merrick {
+        for (g, want) in (2..=4).zip(minor_min) {
+            let name = format!("{size} ACME-{g}G");
+            let t = lookup(&name).unwrap();
+            close(
+                t.external.unwrap().minor.min.unwrap() / IN,
+                *want,
+                1e-4,
+                &name,
+            );
+            close(
+                t.internal.unwrap().minor.max.unwrap() / IN,
+                *tap_max,
+                1e-4,
+                &name,
+            );
+        }
+    }
+    let dependable: &[(&str, [f64; 6])] = &[
+        ("5/8-8", [0.6250, 0.6188, 0.5562, 0.5408, 0.4800, 0.4570]),
+        ("3/4-6", [0.7500, 0.7417, 0.6598, 0.6424, 0.5633, 0.5371]),
+        ("7/8-6", [0.8750, 0.8667, 0.7842, 0.7663, 0.6883, 0.6615]),
+        ("1-5", [1.0000, 0.9900, 0.8920, 0.8726, 0.7800, 0.7509]),
+    ];
+    for (size, w) in dependable {
+        let l = lookup(&format!("{size} ACME-2G"))
+            .unwrap()
+            .external
+            .unwrap();
+        let got = [
+            l.major.max.unwrap(),
+            l.major.min.unwrap(),
+            l.pitch.max.unwrap(),
+            l.pitch.min.unwrap(),
+            l.minor.max.unwrap(),
+            l.minor.min.unwrap(),
+        ];
+        for (i, (g, w)) in got.iter().zip(w).enumerate() {
+            close(g / IN, *w, 1e-4, &format!("{size} 2G column {i}"));
+        }
+    }
+    // ASME B1.5 designates by the decimal diameter: `1.750-4 ACME-2G` (Machinery's Handbook's
+    // example), `.500-10 ACME`.
+    assert_eq!(lookup("1.750-4 ACME-2G").unwrap().name, "1-3/4-4 ACME");
+    assert_eq!(lookup(".500-10 ACME").unwrap().name, "1/2-10 ACME");
+    assert!(lookup("0.510-10 ACME").is_err());
 }
 
 /// BS 84: basic effective and minor diameters and thread depth (engineersedge.com's BSW chart:
@@ -603,7 +741,8 @@ fn odd_names_are_refused() {
         "G1/2AB",
         "Tr20x4-7",
         "Tr20x4-7G",
-        "Tr20x4-9H",
+        "Tr20x4-6H",
+        "Tr20x4-7g",
         "Trx4",
         "Tr20x",
         "Tr-7e",

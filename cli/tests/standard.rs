@@ -451,3 +451,34 @@ fn thread_command_prints_the_new_forms() {
     assert_eq!(code, 2);
     assert!(err.contains("parallel"), "{err}");
 }
+
+/// The JSON of the new forms prints the tabulated numbers themselves, without the mm → inch
+/// conversion noise (0.7784300000000001): a table compared digit for digit must match. NPT 1/2-14
+/// (ASME B1.20.1 Table 2): E0 0.75843, E1 0.77843, L1 0.32, L2 0.5337, E2 0.79179, V 0.2478, h
+/// 0.05714; BSW 1/2-12 (BS 84): effective 0.4466, minor 0.3933.
+#[test]
+fn json_prints_the_tabulated_numbers() {
+    let json = |name: &str| {
+        let (out, err, code) = cli(&["thread", name, "--json"]);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let v = json("1/2 NPT");
+    let tp = &v["taper"];
+    for (key, want) in [
+        ("small_end_pitch_diameter", 0.75843),
+        ("gauge_pitch_diameter", 0.77843),
+        ("gauge_length", 0.32),
+        ("effective_length", 0.5337),
+        ("effective_end_pitch_diameter", 0.79179),
+        ("vanish_length", 0.2478),
+        ("overall_length", 0.7815),
+        ("wrench_makeup", 0.2143),
+    ] {
+        assert_eq!(tp[key].as_f64(), Some(want), "{key}: {}", tp[key]);
+    }
+    assert_eq!(v["thread_height"]["external"].as_f64(), Some(0.05714));
+    let v = json("1/2-12 BSW");
+    assert_eq!(v["basic"]["pitch_diameter"].as_f64(), Some(0.4466));
+    assert_eq!(v["basic"]["minor"].as_f64(), Some(0.3933));
+}

@@ -309,8 +309,9 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
         if tp.vanish_length > 0.0 {
             writeln!(
                 out,
-                "  vanish thread {:.d$}, wrench make-up {:.d$} ({un})",
+                "  vanish thread {:.d$}, overall external thread (L4) {:.d$}, wrench make-up {:.d$} ({un})",
                 v(tp.vanish_length),
+                v(tp.overall_length),
                 v(tp.wrench_makeup)
             )?;
         }
@@ -384,7 +385,9 @@ fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
 
 fn thread_json(t: &StandardThread) -> Value {
     let u = t.units;
-    let n = |mm: f64| json!(u.from_mm(mm));
+    // Basic values and lengths (tabulated to 0.0001 in / 0.001 mm by the standards: NPT E1
+    // 0.77843, BSW minor 0.3933) without the mm → inch conversion noise (0.7784300000000001).
+    let n = |mm: f64| json!((u.from_mm(mm) * 1e10).round() / 1e10);
     // Limits are tabulated values (0.001 mm, 0.0001 in): strip the mm → inch conversion noise.
     let o = |mm: Option<f64>| mm.map_or(Value::Null, |x| json!((u.from_mm(x) * 1e6).round() / 1e6));
     let limits = |l: &Limits| {
@@ -446,6 +449,7 @@ fn thread_json(t: &StandardThread) -> Value {
                 "effective_end_pitch_diameter": n(tp.effective_end_pitch_diameter),
                 "vanish_length": n(tp.vanish_length),
                 "wrench_makeup": n(tp.wrench_makeup),
+                "overall_length": n(tp.overall_length),
                 "external_position_tolerance": n(tp.external_position_tolerance),
                 "internal_position_tolerance": n(tp.internal_position_tolerance),
             })

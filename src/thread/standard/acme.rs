@@ -9,9 +9,12 @@
 //!   `0.0028·√D + 0.014·√P` (3G), `0.002·√D + 0.010·√P` (4G), D the nominal size — each rounded
 //!   to 0.0001 before use, as the standard's tables are;
 //! * major diameter of the external thread and minor diameter of the internal one: tolerance
-//!   `0.05·P`, at least 0.005; minor diameter of the external thread: tolerance 1.5 × the pitch
-//!   diameter tolerance as computed, the limit rounded once (5/8-8 2G: 0.48 − 1.5·0.01535 =
-//!   0.456975 → 0.4570, the published value; 1.5 × the rounded 0.0154 would give 0.4569);
+//!   `0.05·P`, at least 0.005; minor diameter of the external thread: 1.5 × the pitch diameter
+//!   tolerance as computed, taken from the *printed* (0.0001) maximum minor diameter (5/8-8 2G:
+//!   0.4800 − 1.5·0.01535 = 0.456975 → 0.4570; 1.5 × the rounded 0.0154 would give 0.4569;
+//!   3/4-6 2G: 0.5633 − 1.5·0.017444 = 0.537134 → 0.5371, where the unrounded 0.563333 would give
+//!   0.5372; 7/16-12 2G 0.3442 − 0.018943 → 0.3253, not 0.3252), with two published values that
+//!   follow no single rule kept in [`MINOR_MIN_TABLE`];
 //! * limits rounded to 0.0001 inch. The internal major diameter has a minimum only here: no
 //!   published maximum was found to check one against.
 
@@ -21,6 +24,15 @@ use super::{
     StandardThread, Surface,
 };
 use crate::units::{Units, MM_PER_INCH};
+
+/// External minor minimum diameters (inch) where the published tables depart from the rule above:
+/// (size, threads per inch, class, value). Lew Merrick's "Acme Thread Data Sheets" (from ASME
+/// B1.5): 1/4-16 4G prints 0.1722 for the tie 0.17225 (every other tie goes up: 1/4-16 2G 0.16175
+/// → 0.1618, 5/8-8 internal minor maximum 0.50625 → 0.5063); 3/8-12 3G prints 0.2730, which the
+/// unrounded maximum gives (0.281667 − 0.008634 = 0.27303) and the printed one does not (0.2817 −
+/// 0.008634 = 0.27307 → 0.2731), while 7/16-12 2G/3G and 3/4-6 2G need the printed maximum.
+const MINOR_MIN_TABLE: &[(f64, f64, u8, f64)] =
+    &[(0.25, 16.0, 4, 0.1722), (0.375, 12.0, 3, 0.2730)];
 
 /// The standard series (ASME B1.5 Table 2): size, nominal diameter, threads per inch.
 const SERIES: &[(&str, f64, f64)] = &[
@@ -107,7 +119,7 @@ pub fn allowance_and_tolerance(d: f64, tpi: f64, grade: u8) -> Option<(f64, f64)
     ))
 }
 
-/// `1/2-10 ACME`, `1/2-10 ACME-2G`, `1-1/4-5 ACME 3G`.
+/// `1/2-10 ACME`, `1/2-10 ACME-2G`, `1-1/4-5 ACME 3G`, `1.750-4 ACME-2G`, `.500-10 ACME`.
 pub fn lookup(text: &str) -> Result<StandardThread> {
     let upper = text.to_ascii_uppercase();
     let at = upper.find("ACME").unwrap_or(0);
@@ -135,7 +147,13 @@ pub fn lookup(text: &str) -> Result<StandardThread> {
         _ => (head, None),
     };
     let norm = super::pipe::norm_size(size);
-    let Some(&(sname, d, n)) = SERIES.iter().find(|(s, _, _)| *s == norm) else {
+    // ASME B1.5 designates by the decimal nominal diameter (`1.750-4 ACME-2G`); the fraction
+    // (`1-3/4-4 ACME`) is read too.
+    let decimal = size.contains('.').then(|| super::number(size)).flatten();
+    let Some(&(sname, d, n)) = SERIES
+        .iter()
+        .find(|&&(s, sd, _)| s == norm || decimal.is_some_and(|v| (v - sd).abs() < 1e-9))
+    else {
         return Err(unknown(text, "no ASME B1.5 Acme size of that name", None));
     };
     if let Some(tpi) = tpi {
@@ -226,17 +244,21 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
     let r4 = |v: f64| round_half_up(v, 4);
     let pd = d - 0.5 * p;
     let l = if side == Surface::External {
-        let minor_max = d - p - cl;
-        // 1.5 × the tolerance as computed, the limit rounded once: 5/8-8 2G 0.48 − 1.5·0.01535 =
-        // 0.456975 → 0.4570 (from the rounded 0.0154 it would be 0.4569).
-        let minor_tol = 1.5 * td2_exact;
+        // The maximum minor diameter as printed (0.0001), less 1.5 × the tolerance as computed:
+        // 5/8-8 2G 0.4800 − 1.5·0.01535 = 0.456975 → 0.4570 (from the rounded 0.0154: 0.4569);
+        // 3/4-6 2G 0.5633 − 0.026165 → 0.5371 (from the unrounded 0.563333: 0.5372).
+        let minor_max = r4(d - p - cl);
+        let minor_min = MINOR_MIN_TABLE
+            .iter()
+            .find(|&&(td, tn, g, _)| (td - d).abs() < 1e-9 && (tn - n).abs() < 1e-9 && g == grade)
+            .map_or_else(|| r4(minor_max - 1.5 * td2_exact), |r| r.3);
         Limits {
             class,
             side,
             deviation: -allowance,
             major: Range::both(r4(d - crest_tol), r4(d)),
             pitch: Range::both(r4(pd - allowance - td2), r4(pd - allowance)),
-            minor: Range::both(r4(minor_max - minor_tol), r4(minor_max)),
+            minor: Range::both(minor_min, minor_max),
         }
     } else {
         Limits {

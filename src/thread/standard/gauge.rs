@@ -45,6 +45,9 @@ pub struct Taper {
     pub vanish_length: f64,
     /// Wrench make-up length beyond hand-tight engagement (NPT L3 = 3P); 0 when none is given.
     pub wrench_makeup: f64,
+    /// Overall length of the external thread, effective plus vanish thread (NPT L4 = L2 + V,
+    /// ASME B1.20.1 Table 2); 0 when the standard gives none.
+    pub overall_length: f64,
     /// The tolerance on the taper itself, in diameter per length: (below, above) the basic
     /// 1/16 (NPT: −1/16 and +1/8 inch per foot); `None` when the standard leaves it to gauging.
     pub taper_tolerance: Option<(f64, f64)>,

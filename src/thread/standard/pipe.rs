@@ -92,6 +92,9 @@ pub struct NptData {
     pub truncation_max: f64,
     pub vanish: f64,
     pub l3: f64,
+    /// Overall length of the external thread, L4 = L2 + V (to 4 decimals from the printed L2 and
+    /// V: 1/2-14 0.5337 + 0.2478 = 0.7815).
+    pub l4: f64,
 }
 
 fn npt_data(od: f64, tpi: f64, l1: f64) -> NptData {
@@ -100,6 +103,10 @@ fn npt_data(od: f64, tpi: f64, l1: f64) -> NptData {
     let l2 = (0.80 * od + 6.8) * p;
     let r5 = |v: f64| round_half_even(v, 5);
     let r4 = |v: f64| round_half_even(v, 4);
+    let vanish = NPT_VANISH
+        .iter()
+        .find(|(n, _)| (n - tpi).abs() < 1e-9)
+        .map_or(r4(3.47 * p), |&(_, v)| v);
     NptData {
         od,
         tpi,
@@ -115,11 +122,9 @@ fn npt_data(od: f64, tpi: f64, l1: f64) -> NptData {
             .iter()
             .find(|(n, _)| (n - tpi).abs() < 1e-9)
             .map_or(0.0, |&(_, f)| f),
-        vanish: NPT_VANISH
-            .iter()
-            .find(|(n, _)| (n - tpi).abs() < 1e-9)
-            .map_or(r4(3.47 * p), |&(_, v)| v),
+        vanish,
         l3: r4(3.0 * p),
+        l4: r4(r4(l2) + vanish),
     }
 }
 
@@ -185,6 +190,7 @@ pub fn lookup_npt(text: &str) -> Result<StandardThread> {
         effective_end_pitch_diameter: mm(d.e2),
         vanish_length: mm(d.vanish),
         wrench_makeup: mm(d.l3),
+        overall_length: mm(d.l4),
         // ASME B1.20.1 Table 1: taper on the pitch line 3/4 in/ft, +1/8 −1/16 in/ft.
         taper_tolerance: Some((1.0 / 16.0 / 12.0, 1.0 / 8.0 / 12.0)),
     };
@@ -413,6 +419,7 @@ pub fn lookup_iso7(text: &str) -> Result<StandardThread> {
         effective_end_pitch_diameter: d2 + (useful - gl) / 16.0,
         vanish_length: 0.0,
         wrench_makeup: 0.0,
+        overall_length: 0.0,
         taper_tolerance: None,
     });
     let mut th = StandardThread {

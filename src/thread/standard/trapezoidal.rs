@@ -5,9 +5,9 @@
 //!   0.5 (P 6–12), 1 (P 14–44); `h3 = H4 = H1 + ac`; `d2 = D2 = d − 0.5·P`, `D1 = d − P`,
 //!   `d3 = d − 2·h3`, `D4 = d + 2·ac`; root radii `R1 ≤ 0.5·ac`, `R2 ≤ ac`.
 //! * Tolerances (ISO 2903, built on ISO 965-1): pitch-diameter grades 7, 8, 9 as ISO 965-1's
-//!   `Td2(6) = 90·P^0.4·d^0.1` × 1.25, 1.6, 2 (external) or × 1.7, 2.12 (internal), each rounded to
-//!   the nearest R40 value (by difference, see [`r40`]); fundamental deviations `es(e) = −(50 + 11P)`, `es(c) = −(100 + 11P)` rounded to R40
-//!   (`H`: 0); the crest diameters in grade 4 (`Td(4) = 0.63·Td(6)`, `TD1(4) = 0.63·TD1(6)`, R40);
+//!   `Td2(6) = 90·P^0.4·d^0.1` × 1.25, 1.6, 2 (external) or × 1.7, 2.12, 2.65 (internal), each
+//!   rounded to the nearest R40 value (by difference, see [`r40`]); fundamental deviations
+//!   `es(e) = −(50 + 11P)` rounded to R40, `es(c)` from ISO 2903's table ([`C_DEVIATION`]; `H`: 0); the crest diameters in grade 4 (`Td(4) = 0.63·Td(6)`, `TD1(4) = 0.63·TD1(6)`, R40);
 //!   the external minor diameter `d3` in position h with `Td3 = 1.25·Td2 + |es|` (whole µm, a half
 //!   up); the internal major diameter `D4` has a minimum only.
 
@@ -15,12 +15,12 @@ use super::profile::{Edge, Profile};
 use super::{
     bad_name, fill, grade_factor, iso_range, round_to, trim, unknown, Basic, Class, Family, Limits,
     Range, Result, Series, StandardThread, Surface, ISO_RANGES, ISO_TD_6_TABLE, TD2_GRADES,
-    TD2_INTERNAL_GRADES,
 };
 use crate::units::Units;
 
 /// ISO 2902 general plan (d: pitches, the first the preferred one), with DIN 103's P 3 for
-/// Tr16–Tr20.
+/// Tr16–Tr20; diameters 8–300 mm, columns 1–3 (the table as reproduced in F-M-S's "ISO
+/// Trapezoidal screw threads Tr" sheet, scribd.com/document/415160259: normal, coarse, fine).
 const PLAN: &[(f64, &[f64])] = &[
     (8.0, &[1.5]),
     (9.0, &[2.0, 1.5]),
@@ -57,16 +57,36 @@ const PLAN: &[(f64, &[f64])] = &[
     (90.0, &[12.0, 18.0, 4.0]),
     (95.0, &[12.0, 18.0, 4.0]),
     (100.0, &[12.0, 20.0, 4.0]),
+    (105.0, &[12.0, 20.0, 4.0]),
     (110.0, &[12.0, 20.0, 4.0]),
+    (115.0, &[14.0, 22.0, 6.0]),
     (120.0, &[14.0, 22.0, 6.0]),
+    (125.0, &[14.0, 22.0, 6.0]),
     (130.0, &[14.0, 22.0, 6.0]),
+    (135.0, &[14.0, 24.0, 6.0]),
     (140.0, &[14.0, 24.0, 6.0]),
+    (145.0, &[14.0, 24.0, 6.0]),
     (150.0, &[16.0, 24.0, 6.0]),
+    (155.0, &[16.0, 24.0, 6.0]),
     (160.0, &[16.0, 28.0, 6.0]),
+    (165.0, &[16.0, 28.0, 6.0]),
     (170.0, &[16.0, 28.0, 6.0]),
+    (175.0, &[16.0, 28.0, 8.0]),
     (180.0, &[18.0, 28.0, 8.0]),
+    (185.0, &[18.0, 32.0, 8.0]),
     (190.0, &[18.0, 32.0, 8.0]),
+    (195.0, &[18.0, 32.0, 8.0]),
     (200.0, &[18.0, 32.0, 8.0]),
+    (210.0, &[20.0, 36.0, 8.0]),
+    (220.0, &[20.0, 36.0, 8.0]),
+    (230.0, &[20.0, 36.0, 8.0]),
+    (240.0, &[22.0, 36.0, 8.0]),
+    (250.0, &[22.0, 40.0, 12.0]),
+    (260.0, &[22.0, 40.0, 12.0]),
+    (270.0, &[24.0, 40.0, 12.0]),
+    (280.0, &[24.0, 40.0, 12.0]),
+    (290.0, &[24.0, 44.0, 12.0]),
+    (300.0, &[24.0, 44.0, 12.0]),
 ];
 
 /// Crest clearance ac (ISO 2901).
@@ -105,8 +125,14 @@ fn parse_class(s: &str) -> Option<Class> {
         return None;
     }
     let grade = (b[0] as char).to_digit(10)? as u8;
-    let position = b[1] as char;
-    matches!(position, 'c' | 'e' | 'H').then_some(Class::Trapezoidal { grade, position })
+    // ISO 2903 has no position E, C or h: `7E` (a drawing in capitals) is 7e, `7h` is 7H.
+    let position = match b[1] as char {
+        'c' | 'C' => 'c',
+        'e' | 'E' => 'e',
+        'h' | 'H' => 'H',
+        _ => return None,
+    };
+    Some(Class::Trapezoidal { grade, position })
 }
 
 /// `Tr20x4`, `Tr20x4-7e`, `TR 20 x 4 - 8H`, `Tr20` (the preferred pitch).
@@ -249,14 +275,50 @@ fn td1_6(p: f64) -> f64 {
     r40(230.0 * p.powf(0.7))
 }
 
+/// Fundamental deviation es of position c (µm) by pitch, ISO 2903 Table 1. Not the ISO 965-1
+/// style `100 + 11P` (125 µm at P 2): obliczenia.icad.pl's ISO 2903 calculator prints Tr10x2-8c
+/// es −150 µm, d2 8.850/8.614. The other pitches are the table as recalled (an R40 progression,
+/// twice position e up to P 7); no public copy of the whole table was found.
+const C_DEVIATION: &[(f64, f64)] = &[
+    (1.5, 140.0),
+    (2.0, 150.0),
+    (3.0, 170.0),
+    (4.0, 190.0),
+    (5.0, 212.0),
+    (6.0, 236.0),
+    (7.0, 250.0),
+    (8.0, 265.0),
+    (9.0, 280.0),
+    (10.0, 300.0),
+    (12.0, 335.0),
+    (14.0, 355.0),
+    (16.0, 375.0),
+    (18.0, 400.0),
+    (20.0, 425.0),
+    (22.0, 450.0),
+    (24.0, 475.0),
+    (28.0, 500.0),
+    (32.0, 530.0),
+    (36.0, 560.0),
+    (40.0, 600.0),
+    (44.0, 630.0),
+];
+
 fn deviation(position: char, p: f64) -> Option<f64> {
     match position {
         'e' => Some(-r40(50.0 + 11.0 * p)),
-        'c' => Some(-r40(100.0 + 11.0 * p)),
+        'c' => C_DEVIATION
+            .iter()
+            .find(|&&(tp, _)| (tp - p).abs() < 1e-9)
+            .map(|&(_, v)| -v),
         'H' => Some(0.0),
         _ => None,
     }
 }
+
+/// ISO 2903 internal pitch-diameter grades 7, 8, 9: `TD2 = k·Td2(6)` (ISO 965-1's 1.7 and 2.12,
+/// and 2.65 = 1.32·2 for grade 9; the coarse classes 8c/9H).
+const INTERNAL_GRADES: &[(u8, f64)] = &[(7, 1.7), (8, 2.12), (9, 2.65)];
 
 pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Limits, String> {
     let Class::Trapezoidal { grade, position } = class else {
@@ -271,11 +333,9 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
     let r3 = |v: f64| round_to(v, 3);
     let d2 = d - 0.5 * p;
     if position == 'H' {
-        let f = grade_factor(grade, TD2_INTERNAL_GRADES)
-            .filter(|_| grade >= 7)
-            .ok_or_else(|| {
-                format!("ISO 2903 has internal pitch-diameter grades 7 and 8, not {grade}")
-            })?;
+        let f = grade_factor(grade, INTERNAL_GRADES).ok_or_else(|| {
+            format!("ISO 2903 has internal pitch-diameter grades 7, 8 and 9, not {grade}")
+        })?;
         let td2 = r40(td2_6 * f);
         let td1 = r40(td1_6(p) * 0.63);
         Ok(Limits {
