@@ -779,3 +779,34 @@ proptest::proptest! {
         let _ = lookup(&format!("{prefix}{body}{suffix}"));
     }
 }
+
+/// ISO 2903's position e past P 7 and its TD1 at P 10–14 are table values, not the ISO 965-1 style
+/// formulas (docs/standard-threads.md): es(e) 132 µm at P 8 (formula 140), 140 at P 9, 160 at P 12;
+/// TD1 710 at P 10 and 900 at P 14 (rounding twice gives 750 and 950).
+#[test]
+fn trapezoidal_e_deviation_and_td1_past_p7() {
+    for (name, es, d2) in [
+        ("Tr40x7-7e", -0.125, 36.5),
+        ("Tr52x8-7e", -0.132, 48.0),
+        ("Tr60x9-7e", -0.140, 55.5),
+        ("Tr100x12-7e", -0.160, 94.0),
+    ] {
+        let l = lookup(name).unwrap().external.unwrap();
+        close(l.deviation, es, 1e-9, &format!("{name} es"));
+        close(l.pitch.max.unwrap(), d2 + es, 1e-9, &format!("{name} d2 max"));
+    }
+    for (name, d1_min, td1) in [
+        ("Tr100x12-7H", 88.0, 0.800),
+        ("Tr120x14-7H", 106.0, 0.900),
+        ("Tr70x10-7H", 60.0, 0.710),
+    ] {
+        let l = lookup(name).unwrap().internal.unwrap();
+        close(l.minor.min.unwrap(), d1_min, 1e-9, &format!("{name} D1 min"));
+        close(
+            l.minor.max.unwrap(),
+            d1_min + td1,
+            1e-9,
+            &format!("{name} D1 max"),
+        );
+    }
+}

@@ -304,13 +304,76 @@ const C_DEVIATION: &[(f64, f64)] = &[
     (44.0, 630.0),
 ];
 
+/// Fundamental deviation es of position e (µm) by pitch, ISO 2903 Table 1 as recalled (and recalled
+/// alike, independently, twice). The ISO 965-1 style `50 + 11P` rounded to R40 gives the same values
+/// up to P 7 (71 … 125 µm) and then drifts away from the table (P 8: 140 against 132; P 44: 530
+/// against 315): past P 7 the table is about half of position c's deviation.
+const E_DEVIATION: &[(f64, f64)] = &[
+    (1.5, 67.0),
+    (2.0, 71.0),
+    (3.0, 85.0),
+    (4.0, 95.0),
+    (5.0, 106.0),
+    (6.0, 118.0),
+    (7.0, 125.0),
+    (8.0, 132.0),
+    (9.0, 140.0),
+    (10.0, 150.0),
+    (12.0, 160.0),
+    (14.0, 180.0),
+    (16.0, 190.0),
+    (18.0, 200.0),
+    (20.0, 212.0),
+    (22.0, 224.0),
+    (24.0, 236.0),
+    (28.0, 250.0),
+    (32.0, 265.0),
+    (36.0, 280.0),
+    (40.0, 300.0),
+    (44.0, 315.0),
+];
+
+/// The internal minor-diameter tolerance TD1 (grade 4, µm) by pitch, ISO 2903 as recalled. It is
+/// `0.63 · 230 · P^0.7` rounded once to R40 at every pitch but P 10 and 12 (730 → 710, 828 → 800);
+/// rounding twice (grade 6 first, as `td1_6` does for ISO 965-1) gives 750 and 950 at P 10 and 14,
+/// which the table does not print.
+const TD1_TABLE: &[(f64, f64)] = &[
+    (1.5, 190.0),
+    (2.0, 236.0),
+    (3.0, 315.0),
+    (4.0, 375.0),
+    (5.0, 450.0),
+    (6.0, 500.0),
+    (7.0, 560.0),
+    (8.0, 630.0),
+    (9.0, 670.0),
+    (10.0, 710.0),
+    (12.0, 800.0),
+    (14.0, 900.0),
+    (16.0, 1000.0),
+    (18.0, 1120.0),
+    (20.0, 1180.0),
+    (22.0, 1250.0),
+    (24.0, 1320.0),
+    (28.0, 1500.0),
+    (32.0, 1600.0),
+    (36.0, 1800.0),
+    (40.0, 1900.0),
+    (44.0, 2000.0),
+];
+
+/// The value of `table` at pitch `p`.
+fn at_pitch(table: &[(f64, f64)], p: f64) -> Option<f64> {
+    table
+        .iter()
+        .find(|&&(tp, _)| (tp - p).abs() < 1e-9)
+        .map(|&(_, v)| v)
+}
+
 fn deviation(position: char, p: f64) -> Option<f64> {
     match position {
-        'e' => Some(-r40(50.0 + 11.0 * p)),
-        'c' => C_DEVIATION
-            .iter()
-            .find(|&&(tp, _)| (tp - p).abs() < 1e-9)
-            .map(|&(_, v)| -v),
+        'e' => Some(-at_pitch(E_DEVIATION, p).unwrap_or_else(|| r40(50.0 + 11.0 * p))),
+        'c' => at_pitch(C_DEVIATION, p).map(|v| -v),
         'H' => Some(0.0),
         _ => None,
     }
@@ -337,7 +400,7 @@ pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Li
             format!("ISO 2903 has internal pitch-diameter grades 7, 8 and 9, not {grade}")
         })?;
         let td2 = r40(td2_6 * f);
-        let td1 = r40(td1_6(p) * 0.63);
+        let td1 = at_pitch(TD1_TABLE, p).unwrap_or_else(|| r40(td1_6(p) * 0.63));
         Ok(Limits {
             class,
             side: Surface::Internal,
