@@ -64,15 +64,9 @@ pub fn verify(
     let mut d = dialect::open(target)?;
     d.assume_ready();
     let conv = d.conventions().clone();
-    let mut modal = Modal::new(
-        &conv,
-        job.units,
-        [
-            target.no_point_scale(Units::Mm),
-            target.no_point_scale(Units::Inch),
-        ],
-    );
-    modal.position = Some(job.start);
+    let mut modal = Modal::for_machine(&conv, target);
+    modal.units = job.units;
+    modal.position = crate::gcode::Position::at(job.start);
     let text = lines.join("\n") + "\n";
     let mut reader = Reader::new(text.as_bytes());
     let mut warnings = Vec::new();

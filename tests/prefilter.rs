@@ -9,7 +9,6 @@ use threadcut::dialect::{self, Read};
 use threadcut::gcode::{Modal, Reader};
 use threadcut::machine::Machine;
 use threadcut::program::{self, Event};
-use threadcut::units::Units;
 
 /// What happened, line by line, and how it ended.
 type Trace = (Vec<String>, String);
@@ -35,14 +34,7 @@ fn with_prefilter(src: &str, machine: &Machine) -> Trace {
 fn without_prefilter(src: &str, machine: &Machine) -> Trace {
     let mut d = dialect::open(machine).unwrap();
     let conv = d.conventions().clone();
-    let mut modal = Modal::new(
-        &conv,
-        machine.units,
-        [
-            machine.no_point_scale(Units::Mm),
-            machine.no_point_scale(Units::Inch),
-        ],
-    );
+    let mut modal = Modal::for_machine(&conv, machine);
     let mut reader = Reader::new(src.as_bytes()).with_bare_letters(d.bare_letters());
     let mut seen = vec![];
     let mut warnings = vec![];
@@ -62,7 +54,7 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
             Ok(Read::Settings) => seen.push(format!("{} settings {modal:?}", line.number)),
             Ok(Read::Cycle(job)) => {
                 cycles += 1;
-                modal.position = Some(job.end_point());
+                modal.position = threadcut::gcode::Position::at(job.end_point());
                 seen.push(format!("{} cycle {job:?} {modal:?}", line.number));
             }
         }

@@ -60,6 +60,7 @@ impl AllenBradley {
                 },
                 set_position: G92,
                 canned_cycles: &[],
+                positions: crate::gcode::modal::PositionCodes::FANUC,
             },
             machine: machine.clone(),
             params,

@@ -47,6 +47,7 @@ impl Fanuc {
                 lead_along_path: false,
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 900, 920, 940],
+                positions: crate::gcode::modal::PositionCodes::FANUC,
             },
             family: FanucFamily::new(
                 Flavour {

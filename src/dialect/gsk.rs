@@ -85,6 +85,7 @@ impl Gsk {
                 lead_along_path: false,
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
+                positions: crate::gcode::modal::PositionCodes::FANUC,
             },
             machine: machine.clone(),
             settings: Settings::from_parameters(&params),

@@ -54,6 +54,7 @@ impl LinuxCnc {
                 // G92 sets coordinate offsets: the tool does not move.
                 set_position: 920,
                 canned_cycles: &[730, 740, 810, 820, 830, 840, 850, 860, 870, 880, 890],
+                positions: crate::gcode::modal::PositionCodes::LINUXCNC,
             },
             machine: machine.clone(),
             spindles,
@@ -245,13 +246,14 @@ impl LinuxCnc {
                 .with_hint("LinuxCNC's documentation lists R below 1.0 as an error; its code silently uses 1.0"))
             }
         };
-        let a = modal.position.ok_or_else(|| {
-            err(
+        let a = modal.position.known().ok_or_else(|| {
+            super::unknown_start(
+                modal,
                 g76,
-                Code::UnknownPosition,
-                "G76 starts its drive line where the tool is, and the tool's position is not known here",
+                "G76",
+                "starts its drive line where the tool is",
+                "position the tool with G0 X.. Z.. before the cycle",
             )
-            .with_hint("position the tool with G0 X.. Z.. before the cycle")
         })?;
         let z_end = if modal.absolute {
             units.to_mm(z.value)

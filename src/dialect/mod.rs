@@ -107,22 +107,41 @@ pub(crate) fn alone_in_block(line: &Line, cycle: Span, name: &str, allowed: &[u1
     }
 }
 
-/// Where a cycle starts: the tool's position, which must be known (at power-on and after a reference
-/// return it is not). `hint` says how this controller's program positions the tool.
+/// Where a cycle starts: the tool's position, which must be known on both axes (at power-on, after
+/// a reference return the profile does not place, and after a move in machine coordinates an axis
+/// is not). `hint` says how this controller's program positions the tool.
 pub(crate) fn start_point(
     modal: &Modal,
     cycle: Span,
     name: &str,
     hint: &str,
 ) -> Result<crate::units::Pos> {
-    modal.position.ok_or_else(|| {
-        Diagnostic::error(
-            crate::diag::Code::UnknownPosition,
-            cycle,
-            format!("{name} starts where the tool is, and the tool's position is not known here"),
-        )
-        .with_hint(hint)
-    })
+    modal
+        .position
+        .known()
+        .ok_or_else(|| unknown_start(modal, cycle, name, "starts where the tool is", hint))
+}
+
+/// The error of a cycle whose start point is not known: it names the axes that are not.
+#[cold]
+pub(crate) fn unknown_start(
+    modal: &Modal,
+    cycle: Span,
+    name: &str,
+    what: &str,
+    hint: &str,
+) -> Diagnostic {
+    let axes = modal.position.unknown_axes();
+    Diagnostic::error(
+        crate::diag::Code::UnknownPosition,
+        cycle,
+        format!(
+            "{name} {what}, and the tool's {} {} not known here",
+            axes.join(" and "),
+            if axes.len() == 1 { "is" } else { "are" }
+        ),
+    )
+    .with_hint(hint)
 }
 
 /// Warns when one lead is longer than the thread's Z travel: each pass turns the spindle less than

@@ -92,6 +92,7 @@ impl OmniTurn {
                 tpi_letter: 0,
                 set_position: G92,
                 canned_cycles: &[],
+                positions: crate::gcode::modal::PositionCodes::FANUC,
             },
             machine: machine.clone(),
             params: machine.omniturn.clone().unwrap_or_else(default_parameters),
@@ -113,7 +114,7 @@ impl OmniTurn {
             return Ok(());
         };
         let expected = || {
-            modal.position.map_or(String::new(), |p| {
+            modal.position.known().map_or(String::new(), |p| {
                 format!(
                     " (the tool is at X{} Z{})",
                     post::number(modal.x_from_mm(p.x), 5, false),
@@ -133,7 +134,7 @@ impl OmniTurn {
             )
             .with_hint(format!("write G92 X.. Z..{} on the line after {name}", expected())));
         }
-        if let Some(p) = modal.position {
+        if let Some(p) = modal.position.known() {
             let target = modal.target(&self.conv, line, p)?;
             let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
             for (letter, want, got) in [(b'X', p.x, target.x), (b'Z', p.z, target.z)] {
@@ -193,7 +194,7 @@ impl OmniTurn {
                     "G36 with no coarse feed mode (G35) active",
                 )),
                 _ => {
-                    if let (Some(from), Some(at)) = (self.coarse_from, modal.position) {
+                    if let (Some(from), Some(at)) = (self.coarse_from, modal.position.known()) {
                         let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
                         if from.distance(at) > tolerance {
                             return Err(Diagnostic::error(
@@ -229,7 +230,7 @@ impl OmniTurn {
                 }
             };
             if self.coarse_from.is_none() {
-                self.coarse_from = modal.position;
+                self.coarse_from = modal.position.known();
             }
             mode
         };

@@ -6,5 +6,5 @@ pub mod modal;
 pub mod reader;
 
 pub use lexer::{lex_line, lex_line_with, LineShape, Word, WordSummary};
-pub use modal::{Conventions, Modal, MotionMode, PlainMove};
+pub use modal::{Conventions, Modal, MotionMode, PlainMove, Position, PositionCodes, Reference};
 pub use reader::{Line, Reader};
