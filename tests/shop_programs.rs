@@ -1,0 +1,267 @@
+//! Programs written the way shops write them, on every lathe dialect: positioning split over two
+//! lines, reference returns with and without a profile position, start points at the crest within
+//! the program's resolution, and LinuxCNC's own reading rules (blanks, one word per letter, words no
+//! G code of the line uses). The programs are written for these tests after studying published
+//! shop programs, student lathe programs and LinuxCNC's `nc_files`; none is copied.
+//! `docs/dialects/README.md` states each rule and its source.
+
+use threadcut::diag::{Code, Diagnostic};
+use threadcut::machine::Machine;
+use threadcut::program;
+use threadcut::thread::Job;
+use threadcut::units::Pos;
+
+fn machine(name: &str) -> Machine {
+    Machine::built_in(name).unwrap()
+}
+
+/// A built-in profile with a `[reference]` table added.
+fn with_reference(name: &str, table: &str) -> Machine {
+    let text = threadcut::machine::BUILT_IN
+        .iter()
+        .find(|(n, _)| *n == name)
+        .unwrap()
+        .1;
+    Machine::from_toml(&format!("{text}\n[reference]\n{table}\n")).unwrap()
+}
+
+#[track_caller]
+fn jobs(m: &Machine, src: &str) -> Vec<Job> {
+    program::jobs(src.as_bytes(), m).unwrap_or_else(|e| panic!("{e}\n{src}"))
+}
+
+#[track_caller]
+fn error(m: &Machine, src: &str) -> Diagnostic {
+    match program::jobs(src.as_bytes(), m) {
+        Err(program::Error::Input(d)) => d,
+        other => panic!("expected an input error, got {other:?}\n{src}"),
+    }
+}
+
+/// The error's code, line, column and a piece of its message.
+#[track_caller]
+fn assert_error(d: &Diagnostic, code: Code, line: u32, column: u32, text: &str) {
+    assert_eq!(
+        (d.code, d.span.line, d.span.column),
+        (code, line, column),
+        "{}",
+        d.message
+    );
+    assert!(
+        d.message.contains(text),
+        "{:?} does not contain {text:?}",
+        d.message
+    );
+}
+
+#[track_caller]
+fn close(got: Pos, want: Pos) {
+    assert!(
+        (got.x - want.x).abs() < 1e-9 && (got.z - want.z).abs() < 1e-9,
+        "{got:?} != {want:?}"
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Positioning on separate lines
+
+/// One program per dialect: the tool comes to the start point X first, then Z, each on its own
+/// line, after a tool change and a reference return; the cycle starts there. `(machine, program,
+/// start point in mm radius, the cycle's line and column)`.
+const SPLIT: &[(&str, &str, Pos, u32, u32)] = &[
+    (
+        "fanuc",
+        "%\nO2001 (M16X1.5 EXT)\nN10 G21 G40 G99\nN20 G28 U0. W0.\nN30 T0505\nN40 G97 S800 M03\n\
+         N50 G00 X18.\nN60 Z4.\nN70 G76 P010060 Q50 R0.02\nN80 G76 X14.16 Z-22. P920 Q250 F1.5\n\
+         N90 G00 X50.\nN100 G28 U0. W0.\nN110 M30\n%\n",
+        Pos::new(9.0, 4.0),
+        10,
+        5,
+    ),
+    (
+        "fanuc",
+        "O2002\nG28 U0 W0\nT0303\nG97 S700 M3\nG0 X26.\nZ3.\nG92 X23.2 Z-18. F1.5\nX22.8\nX22.38\n\
+         G0 X60.\nM30\n",
+        Pos::new(13.0, 3.0),
+        7,
+        1,
+    ),
+    (
+        "gsk980",
+        "O0012\nG28 U0 W0\nT0202\nM03 S500\nG00 X13.\nZ1.\nG78 P010060 Q0.08 R0.05\n\
+         G78 X10.376 Z-12 P0.812 Q0.25 F1.25\nG00 X30\nM30\n",
+        Pos::new(6.5, 1.0),
+        8,
+        1,
+    ),
+    (
+        "linuxcnc",
+        "(M12x1.75 external)\nG7 G18 G21 G90\nT2 M6\nS400 M3\nG0 X13.\nZ1.\n\
+         G76 P1.75 Z-15 I-0.5 J0.2 K2.147 Q29.5 H1 R2\nM5\nM2\n",
+        Pos::new(6.5, 1.0),
+        7,
+        1,
+    ),
+    (
+        "omniturn",
+        "(1/2-20 EXT, RADIUS MODE)\nT4F200\nX.3\nZ.2\nG33X.212Z-.5I.012K.05PC\n",
+        Pos::new(0.3 * 25.4, 0.2 * 25.4),
+        5,
+        1,
+    ),
+    (
+        "ab9",
+        "(1/2-13 UNC)\nG20\nG90 G00 X.6\nZ.2\nG78 X.4056 Z-.75 K.0472 D.01 E13 A60 P3\n",
+        Pos::new(0.3 * 25.4, 0.2 * 25.4),
+        5,
+        1,
+    ),
+];
+
+#[test]
+fn split_positioning_gives_the_start_point_on_every_dialect() {
+    for &(name, src, start, line, _) in SPLIT {
+        let jobs = jobs(&machine(name), src);
+        close(jobs[0].start, start);
+        assert_eq!(jobs[0].line, line, "{name}");
+    }
+}
+
+#[test]
+fn a_start_point_with_one_axis_never_positioned_is_refused_naming_it() {
+    for &(name, src, _, line, column) in SPLIT {
+        let m = machine(name);
+        // Without the Z line (and without the cycle's own earlier Z): Z was never given.
+        let without_z: String = src
+            .lines()
+            .filter(|l| !matches!(l.trim_start_matches(|c: char| c == 'N' || c.is_ascii_digit()).trim(), "Z4." | "Z3." | "Z1." | "Z.2"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let e = error(&m, &without_z);
+        assert_error(&e, Code::UnknownPosition, line - 1, column, "the tool's Z is not known here");
+        // Without the X line: X was never given.
+        let without_x: String = src
+            .lines()
+            .filter(|l| !["N50 G00 X18.", "G0 X26.", "G00 X13.", "G0 X13.", "X.3", "G90 G00 X.6"].contains(l))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let e = error(&m, &without_x);
+        assert_error(&e, Code::UnknownPosition, line - 1, column, "the tool's X is not known here");
+    }
+}
+
+#[test]
+fn moves_from_an_unknown_start_are_reported_with_their_unknown_axes() {
+    let src = "G7 G21\nG0 X13.\nZ1.\nG1 Z-5. F0.1\n";
+    let mut out = Vec::new();
+    program::expand_jsonl(src.as_bytes(), &mut out, &machine("linuxcnc")).unwrap();
+    let lines: Vec<serde_json::Value> = String::from_utf8(out)
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    // `G0 X13.` ends where Z is still unknown: no known end point, not reported. `Z1.` ends at a
+    // known point from a start whose Z is unknown; `G1 Z-5.` starts where `Z1.` ended.
+    assert_eq!(lines.len(), 2, "{lines:?}");
+    assert_eq!(
+        lines[0],
+        serde_json::json!({"kind":"rapid","x":6.5,"z":1.0,"pass":0,"line":3,"start_unknown":["z"]})
+    );
+    assert_eq!(
+        lines[1],
+        serde_json::json!({"kind":"feed","x":6.5,"z":-5.0,"pass":0,"line":4})
+    );
+}
+
+// ---------------------------------------------------------------------------------------------
+// Reference returns
+
+const FANUC_AFTER_G28: &str =
+    "G0 X18. Z4.\n{RETURN}\nG76 P010060 Q50 R0.02\nG76 X14.16 Z-22. P920 Q250 F1.5\n";
+
+fn fanuc_with(ret: &str) -> String {
+    FANUC_AFTER_G28.replace("{RETURN}", ret)
+}
+
+#[test]
+fn a_reference_return_leaves_the_axes_it_names_unknown() {
+    let m = machine("fanuc");
+    let e = error(&m, &fanuc_with("G28 U0. W0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X and Z are not known");
+    // Fanuc: only the axes commanded return.
+    let e = error(&m, &fanuc_with("G28 U0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X is not known");
+    let e = error(&m, &fanuc_with("G28 W0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's Z is not known");
+    // A return without axis words moves no axis on Fanuc: the start point stays.
+    close(jobs(&m, &fanuc_with("G28"))[0].start, Pos::new(9.0, 4.0));
+    // G30 (second reference point) and G53 (machine coordinates) likewise.
+    let e = error(&m, &fanuc_with("G30 U0. W0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
+    let e = error(&m, &fanuc_with("G53 G0 X0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X is not known");
+    // G29 returns to its absolute words; incremental ones count from an intermediate point.
+    let ret = "G28 U0. W0.\nG29 X18. Z4.";
+    close(jobs(&m, &fanuc_with(ret))[0].start, Pos::new(9.0, 4.0));
+    let e = error(&m, &fanuc_with("G28 U0. W0.\nG29 X18. W0."));
+    assert_error(&e, Code::UnknownPosition, 5, 1, "the tool's Z is not known");
+    // Another work coordinate system moves the program's coordinates; the one in force does not.
+    close(jobs(&m, &fanuc_with("G54"))[0].start, Pos::new(9.0, 4.0));
+    let e = error(&m, &fanuc_with("G55"));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
+}
+
+#[test]
+fn a_reference_return_ends_where_the_profile_says() {
+    // X as the program writes it (a diameter on this profile), in the profile's units.
+    let m = with_reference("fanuc", "g28 = { x = 200.0, z = 150.0 }");
+    let jobs_after = |ret: &str| jobs(&m, &fanuc_with(ret));
+    close(jobs_after("G28 U0. W0.")[0].start, Pos::new(100.0, 150.0));
+    close(jobs_after("G28 U0.")[0].start, Pos::new(100.0, 4.0));
+    // The profile states no second reference point.
+    let e = error(&m, &fanuc_with("G30 U0. W0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
+    // One axis stated, one not.
+    let m = with_reference("fanuc", "g28 = { z = 150.0 }\ng30 = { x = 120.0, z = 90.0 }");
+    let e = error(&m, &fanuc_with("G28 U0. W0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X is not known");
+    close(
+        jobs(&m, &fanuc_with("G30 U0. W0."))[0].start,
+        Pos::new(60.0, 90.0),
+    );
+}
+
+const LINUXCNC_AFTER_RETURN: &str =
+    "G7 G21 G18\nS400 M3\nG0 X13. Z1.\n{RETURN}\nG76 P1.75 Z-15 I-0.5 J0.2 K2.147\n";
+
+#[test]
+fn linuxcnc_returns_every_axis_without_axis_words() {
+    let m = machine("linuxcnc");
+    let src = |ret: &str| LINUXCNC_AFTER_RETURN.replace("{RETURN}", ret);
+    let e = error(&m, &src("G28"));
+    assert_error(&e, Code::UnknownPosition, 5, 1, "the tool's X and Z are not known");
+    // With an axis word, only that axis returns (after the intermediate point).
+    let e = error(&m, &src("G28 X20."));
+    assert_error(&e, Code::UnknownPosition, 5, 1, "the tool's X is not known");
+    // G28.1 stores where the tool is; G28 goes back there.
+    let stored = "G28.1\nG0 X40. Z40.\nG28";
+    close(jobs(&m, &src(stored))[0].start, Pos::new(6.5, 1.0));
+    // The profile's position, in the profile's X convention (radius: LinuxCNC starts in G8).
+    let m = with_reference("linuxcnc", "g28 = { x = 7.0, z = 2.0 }");
+    close(jobs(&m, &src("G28"))[0].start, Pos::new(7.0, 2.0));
+    // G92.1 drops the G92 offsets, whose size this reader does not keep.
+    let e = error(&machine("linuxcnc"), &src("G92.1"));
+    assert_error(&e, Code::UnknownPosition, 5, 1, "X and Z");
+}
+
+#[test]
+fn set_position_keeps_the_axis_it_does_not_name() {
+    // LinuxCNC's G92 Z0 sets Z only; X stays known.
+    let m = machine("linuxcnc");
+    let src = "G8 G21\nS400 M3\nG0 X6.5 Z0.9\nG92 Z0\nG76 P1.75 Z-15 I-0.5 J0.2 K1.0735\n";
+    close(jobs(&m, src)[0].start, Pos::new(6.5, 0.0));
+    // Fanuc's G50 from an unknown position: the named axes become known.
+    let m = machine("fanuc");
+    let src = "G50 X18. Z4.\nG76 P010060 Q50 R0.02\nG76 X14.16 Z-22. P920 Q250 F1.5\n";
+    close(jobs(&m, src)[0].start, Pos::new(9.0, 4.0));
+}
