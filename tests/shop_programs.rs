@@ -134,19 +134,47 @@ fn a_start_point_with_one_axis_never_positioned_is_refused_naming_it() {
         // Without the Z line (and without the cycle's own earlier Z): Z was never given.
         let without_z: String = src
             .lines()
-            .filter(|l| !matches!(l.trim_start_matches(|c: char| c == 'N' || c.is_ascii_digit()).trim(), "Z4." | "Z3." | "Z1." | "Z.2"))
+            .filter(|l| {
+                !matches!(
+                    l.trim_start_matches(|c: char| c == 'N' || c.is_ascii_digit())
+                        .trim(),
+                    "Z4." | "Z3." | "Z1." | "Z.2"
+                )
+            })
             .map(|l| format!("{l}\n"))
             .collect();
         let e = error(&m, &without_z);
-        assert_error(&e, Code::UnknownPosition, line - 1, column, "the tool's Z is not known here");
+        assert_error(
+            &e,
+            Code::UnknownPosition,
+            line - 1,
+            column,
+            "the tool's Z is not known here",
+        );
         // Without the X line: X was never given.
         let without_x: String = src
             .lines()
-            .filter(|l| !["N50 G00 X18.", "G0 X26.", "G00 X13.", "G0 X13.", "X.3", "G90 G00 X.6"].contains(l))
+            .filter(|l| {
+                ![
+                    "N50 G00 X18.",
+                    "G0 X26.",
+                    "G00 X13.",
+                    "G0 X13.",
+                    "X.3",
+                    "G90 G00 X.6",
+                ]
+                .contains(l)
+            })
             .map(|l| format!("{l}\n"))
             .collect();
         let e = error(&m, &without_x);
-        assert_error(&e, Code::UnknownPosition, line - 1, column, "the tool's X is not known here");
+        assert_error(
+            &e,
+            Code::UnknownPosition,
+            line - 1,
+            column,
+            "the tool's X is not known here",
+        );
     }
 }
 
@@ -187,7 +215,13 @@ fn fanuc_with(ret: &str) -> String {
 fn a_reference_return_leaves_the_axes_it_names_unknown() {
     let m = machine("fanuc");
     let e = error(&m, &fanuc_with("G28 U0. W0."));
-    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X and Z are not known");
+    assert_error(
+        &e,
+        Code::UnknownPosition,
+        4,
+        1,
+        "the tool's X and Z are not known",
+    );
     // Fanuc: only the axes commanded return.
     let e = error(&m, &fanuc_with("G28 U0."));
     assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X is not known");
@@ -222,7 +256,10 @@ fn a_reference_return_ends_where_the_profile_says() {
     let e = error(&m, &fanuc_with("G30 U0. W0."));
     assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
     // One axis stated, one not.
-    let m = with_reference("fanuc", "g28 = { z = 150.0 }\ng30 = { x = 120.0, z = 90.0 }");
+    let m = with_reference(
+        "fanuc",
+        "g28 = { z = 150.0 }\ng30 = { x = 120.0, z = 90.0 }",
+    );
     let e = error(&m, &fanuc_with("G28 U0. W0."));
     assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X is not known");
     close(
@@ -239,7 +276,13 @@ fn linuxcnc_returns_every_axis_without_axis_words() {
     let m = machine("linuxcnc");
     let src = |ret: &str| LINUXCNC_AFTER_RETURN.replace("{RETURN}", ret);
     let e = error(&m, &src("G28"));
-    assert_error(&e, Code::UnknownPosition, 5, 1, "the tool's X and Z are not known");
+    assert_error(
+        &e,
+        Code::UnknownPosition,
+        5,
+        1,
+        "the tool's X and Z are not known",
+    );
     // With an axis word, only that axis returns (after the intermediate point).
     let e = error(&m, &src("G28 X20."));
     assert_error(&e, Code::UnknownPosition, 5, 1, "the tool's X is not known");
@@ -264,4 +307,97 @@ fn set_position_keeps_the_axis_it_does_not_name() {
     let m = machine("fanuc");
     let src = "G50 X18. Z4.\nG76 P010060 Q50 R0.02\nG76 X14.16 Z-22. P920 Q250 F1.5\n";
     close(jobs(&m, src)[0].start, Pos::new(9.0, 4.0));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Comparisons at the program's resolution
+
+const GSK_AT_THE_CREST: &str =
+    "G00 X{X} Z5\nG78 P010060 Q0.1 R0.05\nG78 X36.933 Z-30 P1.534 Q0.3 F2.5{TAIL}\n";
+
+fn gsk_crest(x: &str, tail: &str) -> String {
+    GSK_AT_THE_CREST.replace("{X}", x).replace("{TAIL}", tail)
+}
+
+#[test]
+fn a_start_point_within_the_resolution_of_the_crest_is_on_the_crest() {
+    let m = machine("gsk980");
+    // The crest is at X36.933 + 2 × 1.534 = X40.001 (diameter, IS-B mm: one increment 0.001).
+    for x in ["40", "40.0005", "40.001", "40.5"] {
+        let jobs = jobs(&m, &gsk_crest(x, ""));
+        assert_eq!(jobs[0].start.x * 2.0, x.parse::<f64>().unwrap(), "X{x}");
+        assert!((jobs[0].geometry.crest_start.x * 2.0 - 40.001).abs() < 1e-9);
+    }
+    // Inside by more than one increment: the return along Z would cut the thread.
+    for x in ["39.999", "39.998", "39"] {
+        let e = error(&m, &gsk_crest(x, ""));
+        assert_error(
+            &e,
+            Code::Geometry,
+            3,
+            1,
+            "lies inside the thread (the crest is at X40.001)",
+        );
+    }
+    // An internal thread: the crest is below the start, at X42 − 2 × 1.534 = X38.932.
+    let internal = |x: &str| format!("G00 X{x} Z5\nG78 X42 Z-30 P1.534 Q0.3 F2.5\n");
+    jobs(&m, &internal("38.933"));
+    jobs(&m, &internal("38.9325"));
+    let e = error(&m, &internal("38.934"));
+    assert_error(&e, Code::Geometry, 2, 1, "inside the thread");
+    // Fanuc's G76: the crest at X14.16 + 2 × 0.92 = X16. (P920 in least increments).
+    let m = machine("fanuc");
+    let fanuc =
+        |x: &str| format!("G0 X{x} Z4.\nG76 P010060 Q50 R0.02\nG76 X14.16 Z-22. P920 Q250 F1.5\n");
+    jobs(&m, &fanuc("15.999"));
+    let e = error(&m, &fanuc("15.998"));
+    assert_error(&e, Code::Geometry, 3, 1, "inside the thread");
+    // Allen-Bradley, inch (one increment 0.0001 in): the top of the thread at X.4056 + 2 × .0472.
+    let m = machine("ab9");
+    let ab = |x: &str| format!("G20\nG0 X{x} Z.2\nG78 X.4056 Z-.75 K.0472 D.01 E13 A60 P3\n");
+    jobs(&m, &ab(".4999"));
+    let e = error(&m, &ab(".4998"));
+    assert_error(&e, Code::Geometry, 3, 1, "lies inside the thread");
+}
+
+#[test]
+fn lengths_and_equalities_at_the_resolution() {
+    let m = machine("gsk980");
+    // The tail-out K against the thread's 35 mm: as long, or within one increment of it, is not
+    // shorter; two increments shorter is.
+    for k in ["35", "34.999"] {
+        let e = error(&m, &gsk_crest("40", &format!(" J1 K{k}")));
+        assert_error(&e, Code::Geometry, 3, 1, "is not shorter than the thread");
+    }
+    jobs(&m, &gsk_crest("40", " J1 K34.998"));
+    // A thread end Z within one increment of the start's Z has no length.
+    let e = error(&m, "G00 X40 Z5\nG78 X36.933 Z4.999 P1.534 Q0.3 F2.5\n");
+    assert_error(&e, Code::Geometry, 2, 1, "no length");
+    // A start X within one increment of the root cannot tell external from internal.
+    let e = error(&m, "G00 X36.9335 Z5\nG78 X36.933 Z-30 P1.534 Q0.3 F2.5\n");
+    assert_error(
+        &e,
+        Code::Geometry,
+        2,
+        1,
+        "cannot tell an external from an internal",
+    );
+    // OmniTurn (IS-C inch, radius mode: one increment .00001 in): the final X within it of the
+    // start X cuts nothing.
+    let m = machine("omniturn");
+    let e = error(&m, "X.21201Z.2\nG33X.212Z-.5I.012K.05\n");
+    assert_error(&e, Code::Geometry, 2, 4, "equals the start X");
+    jobs(&m, "X.21202Z.2\nG33X.212Z-.5I.012K.05\n");
+    // LinuxCNC (IS-C mm, G8: one increment 0.0001 mm): K within it of J is not greater.
+    let m = machine("linuxcnc");
+    let lcnc = |k: &str| format!("M3 S300\nG0 X7 Z2\nG76 P1.5 Z-20 I-0.5 J0.2 K{k}\n");
+    let e = error(&m, &lcnc("0.20005"));
+    assert_error(
+        &e,
+        Code::OutOfRange,
+        3,
+        26,
+        "In G76, K must be greater than J",
+    );
+    jobs(&m, &lcnc("0.2002"));
 }

@@ -101,9 +101,10 @@ impl AllenBradley {
             return Err(missing("Z: the end of the threading pass"));
         }
         let units = modal.units;
+        let length = modal.resolution().length();
         let positive = |w: &Word, what: &str| -> Result<f64> {
             let v = modal.value(w);
-            if v <= 0.0 {
+            if !length.gt(units.to_mm(v), 0.0) {
                 return Err(Diagnostic::error(
                     Code::OutOfRange,
                     w.span,
@@ -201,14 +202,16 @@ impl AllenBradley {
     /// The validated words as a machine-neutral job.
     fn lower(&self, c: &Cycle, modal: &Modal, warnings: &mut Vec<Diagnostic>) -> Result<Job> {
         let units = modal.units;
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
         let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, c.span, msg);
         let travel_z = c.end.z - c.start.z;
-        if travel_z == 0.0 {
+        if length.is_zero(travel_z) {
             return Err(geometry_error(
                 "Z is the start point's Z: the thread has no length".into(),
             ));
         }
-        if c.taper.abs() >= travel_z.abs() {
+        if !length.lt(c.taper.abs(), travel_z.abs()) {
             return Err(geometry_error(format!(
                 "the taper I changes the radius by {} over {} of Z: G78 threads along Z",
                 units.from_mm(c.taper.abs()),
@@ -217,7 +220,7 @@ impl AllenBradley {
         }
         // "I … added to the X parameter to determine the start-point of the threading pass."
         let root_start = Pos::new(c.end.x + c.taper, c.start.z);
-        let side = Side::of_cut(c.start.x, root_start.x).ok_or_else(|| {
+        let side = Side::of_cut(c.start.x, root_start.x, x_tol).ok_or_else(|| {
             geometry_error(
                 "the start point's X is the thread's root: cannot tell an external from an internal thread"
                     .into(),
@@ -225,7 +228,8 @@ impl AllenBradley {
         })?;
         let outward = side.outward().x;
         let crest_x = root_start.x + outward * c.height;
-        if (c.start.x - crest_x) * outward < 0.0 {
+        // A start point within the resolution of the top of the thread is on it.
+        if x_tol.lt((c.start.x - crest_x) * outward, 0.0) {
             return Err(geometry_error(format!(
                 "the start point X{} lies inside the thread (its top is at X{}): the return between passes would cut through it",
                 post::number(modal.x_from_mm(c.start.x), 4, false),
@@ -235,7 +239,7 @@ impl AllenBradley {
         }
         let p = &self.params;
         let allowance = units_in(p.finish_allowance_in);
-        if allowance >= c.height {
+        if !length.lt(allowance, c.height) {
             return Err(geometry_error(format!(
                 "the AMP finishing allowance {}\" is not smaller than the thread height K",
                 p.finish_allowance_in
@@ -283,6 +287,7 @@ impl AllenBradley {
         let shift = infeed.axis(c.height);
         let crest_start = Pos::new(crest_x, c.start.z - shift);
         let crest_end = Pos::new(c.end.x + outward * c.height, c.end.z - shift);
+        let length_tol = length;
         let exit = if p.chamfer_leads > 0.0 {
             if !(p.chamfer_angle_deg > 0.0 && p.chamfer_angle_deg < 90.0) {
                 return Err(geometry_error(format!(
@@ -291,7 +296,7 @@ impl AllenBradley {
                 )));
             }
             let length = p.chamfer_leads * c.lead;
-            if length >= travel_z.abs() {
+            if !length_tol.lt(length, travel_z.abs()) {
                 return Err(geometry_error(format!(
                     "the AMP pull-out ({} leads = {}) is not shorter than the thread ({})",
                     p.chamfer_leads,
@@ -307,7 +312,7 @@ impl AllenBradley {
         } else {
             Exit::Straight
         };
-        if c.first >= c.height {
+        if !length_tol.lt(c.first, c.height) {
             warnings.push(Diagnostic::warning(
                 Code::Suspicious,
                 c.span,

@@ -18,7 +18,7 @@ use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
     Retract, ReturnPath, Side,
 };
-use crate::units::{Pos, Units};
+use crate::units::{Pos, Tolerance, Units};
 
 use super::{only_words, Read};
 
@@ -60,9 +60,9 @@ impl ThreadParameters {
     }
 
     /// The pull-out of a pass for lead `lead` (mm): `r·0.1·L` along Z at the chamfer angle.
-    fn chamfer(&self, lead: f64) -> Exit {
+    fn chamfer(&self, lead: f64, tol: Tolerance) -> Exit {
         let length = f64::from(self.chamfer_tenths) * 0.1 * lead;
-        if length <= 0.0 {
+        if !tol.gt(length, 0.0) {
             return Exit::Straight;
         }
         Exit::PullOut {
@@ -284,11 +284,13 @@ impl FanucFamily {
                 ))
             }
         };
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
         for (w, v, name) in [
             (line.word(b'P'), height, "P(k)"),
             (line.word(b'Q'), first, "Q(Δd)"),
         ] {
-            if v <= 0.0 {
+            if !length.gt(v, 0.0) {
                 return Err(Diagnostic::error(
                     Code::OutOfRange,
                     w.map_or(g76, |w| w.span),
@@ -300,7 +302,7 @@ impl FanucFamily {
         let lead = self.lead(conv, line, modal, g76, "G76")?;
         let (a, end) = self.endpoints(conv, line, modal, g76, "G76")?;
         let p = self.params;
-        if p.allowance_mm >= height {
+        if !length.lt(p.allowance_mm, height) {
             return Err(Diagnostic::error(
                 Code::Geometry,
                 g76,
@@ -313,15 +315,15 @@ impl FanucFamily {
         }
         // C: the root at the thread start (X of the end point plus the taper, Z of the start point).
         let c = Pos::new(end.x + taper, a.z);
-        let side = side_of(a, c, g76)?;
+        let side = side_of(a, c, x_tol, g76)?;
         let travel_z = end.z - a.z;
-        if travel_z == 0.0 {
+        if length.is_zero(travel_z) {
             return Err(geometry(
                 g76,
                 "the thread end Z equals the start point's Z: the thread has no length",
             ));
         }
-        if taper.abs() > travel_z.abs() {
+        if length.gt(taper.abs(), travel_z.abs()) {
             return Err(geometry(
                 g76,
                 format!(
@@ -332,7 +334,8 @@ impl FanucFamily {
             ));
         }
         let crest_c = c.plus(side.outward().scale(height));
-        if (a.x - crest_c.x) * side.outward().x < 0.0 {
+        // A start point within the resolution of the crest is on the crest.
+        if x_tol.lt((a.x - crest_c.x) * side.outward().x, 0.0) {
             return Err(geometry(
                 g76,
                 "the start point lies inside the thread (between crest and root): the return along Z would cut through it",
@@ -359,9 +362,17 @@ impl FanucFamily {
         let full_offset = infeed.axis(height);
         let crest_start = Pos::new(crest_c.x, a.z - full_offset);
         let crest_end = Pos::new(crest_c.x - taper, end.z - full_offset);
-        let exit = p.chamfer(lead);
-        check_exit(&exit, travel_z, modal.units, g76)?;
-        super::lead_warning(lead, travel_z, modal.units, g76, "check F", warnings);
+        let exit = p.chamfer(lead, length);
+        check_exit(&exit, travel_z, modal.units, length, g76)?;
+        super::lead_warning(
+            lead,
+            travel_z,
+            modal.units,
+            length,
+            g76,
+            "check F",
+            warnings,
+        );
         Ok(Job {
             line: line.number,
             span: g76,
@@ -445,8 +456,10 @@ impl FanucFamily {
             end_z: end.z,
             taper,
         });
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
         let travel_z = end.z - a.z;
-        if travel_z == 0.0 {
+        if length.is_zero(travel_z) {
             return Err(geometry(
                 span,
                 "the thread end Z equals the start point's Z: the thread has no length",
@@ -454,8 +467,8 @@ impl FanucFamily {
         }
         // The cut starts at the end X plus the taper; the pull-out rises toward the start point's X.
         let cut_start = Pos::new(end.x + taper, a.z);
-        let side = side_of(a, end, span)?;
-        if (a.x - cut_start.x) * side.outward().x <= 0.0 {
+        let side = side_of(a, end, x_tol, span)?;
+        if !x_tol.gt((a.x - cut_start.x) * side.outward().x, 0.0) {
             return Err(geometry(
                 span,
                 format!(
@@ -467,10 +480,18 @@ impl FanucFamily {
         let (exit, starts) = if self.flavour.gsk_g92_words {
             self.gsk_tail(line, modal, lead)?
         } else {
-            (self.params.chamfer(lead), 1)
+            (self.params.chamfer(lead, length), 1)
         };
-        check_exit(&exit, travel_z, modal.units, span)?;
-        super::lead_warning(lead, travel_z, modal.units, span, "check F", warnings);
+        check_exit(&exit, travel_z, modal.units, length, span)?;
+        super::lead_warning(
+            lead,
+            travel_z,
+            modal.units,
+            length,
+            span,
+            "check F",
+            warnings,
+        );
         Ok(Job {
             line: line.number,
             span,
@@ -520,11 +541,13 @@ impl FanucFamily {
                 ));
             }
         }
+        let length = modal.resolution().length();
         let exit = match (j, k) {
-            (None, None) => self.params.chamfer(lead),
-            (Some(j), None) | (Some(j), Some(0.0)) => pull_out(j, j),
-            (None, Some(k)) => pull_out(k, k),
-            (Some(j), Some(k)) => pull_out(j, k),
+            (None, None) => self.params.chamfer(lead, length),
+            (Some(j), None) => pull_out(j, j, length),
+            (Some(j), Some(k)) if length.is_zero(k) => pull_out(j, j, length),
+            (None, Some(k)) => pull_out(k, k, length),
+            (Some(j), Some(k)) => pull_out(j, k, length),
         };
         let starts = match line.word(b'L') {
             None => 1,
@@ -597,8 +620,8 @@ impl FanucFamily {
     }
 }
 
-fn pull_out(j: f64, k: f64) -> Exit {
-    if j > 0.0 && k > 0.0 {
+fn pull_out(j: f64, k: f64, length: Tolerance) -> Exit {
+    if length.gt(j, 0.0) && length.gt(k, 0.0) {
         Exit::PullOut {
             start_before: k,
             length: k,
@@ -618,23 +641,22 @@ fn start_point(modal: &Modal, span: Span, cycle: &str) -> Result<Pos> {
     )
 }
 
-/// External when the start point is above `reference` (cut toward −X), internal when below.
-fn side_of(a: Pos, reference: Pos, span: Span) -> Result<Side> {
-    if a.x > reference.x {
-        Ok(Side::External)
-    } else if a.x < reference.x {
-        Ok(Side::Internal)
-    } else {
-        Err(geometry(
+/// External when the start point is above `reference` (cut toward −X), internal when below; the
+/// same X at the program's resolution cannot tell.
+fn side_of(a: Pos, reference: Pos, x_tol: Tolerance, span: Span) -> Result<Side> {
+    match x_tol.sign(a.x - reference.x) {
+        1 => Ok(Side::External),
+        -1 => Ok(Side::Internal),
+        _ => Err(geometry(
             span,
             "the start point's X equals the thread's X: cannot tell an external from an internal thread",
-        ))
+        )),
     }
 }
 
-fn check_exit(exit: &Exit, travel_z: f64, units: Units, span: Span) -> Result<()> {
+fn check_exit(exit: &Exit, travel_z: f64, units: Units, tol: Tolerance, span: Span) -> Result<()> {
     if let Exit::PullOut { length, .. } = *exit {
-        if length >= travel_z.abs() {
+        if !tol.lt(length, travel_z.abs()) {
             return Err(geometry(
                 span,
                 format!(

@@ -184,17 +184,21 @@ impl LinuxCnc {
             units.to_mm(j.value * half),
             units.to_mm(k.value * half),
         );
-        if iv == 0.0 {
+        // At the program's resolution (LinuxCNC compares these exactly; a value within one
+        // increment of another is the same value to threadcut, docs/dialects/linuxcnc-g76.md).
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
+        if x_tol.is_zero(iv) {
             return Err(err(i.span, Code::OutOfRange, "In G76, I must not be 0"));
         }
-        if jv <= 0.0 {
+        if !x_tol.gt(jv, 0.0) {
             return Err(err(
                 j.span,
                 Code::OutOfRange,
                 "In G76, J must be greater than 0",
             ));
         }
-        if kv <= jv {
+        if !x_tol.gt(kv, jv) {
             return Err(err(
                 k.span,
                 Code::OutOfRange,
@@ -227,7 +231,7 @@ impl LinuxCnc {
             err(g76, Code::MissingWord, "All axes missing with motion code")
                 .with_hint("G76 needs Z, the end of the drive line")
         })?;
-        if p.value <= 0.0 {
+        if !length.gt(units.to_mm(p.value), 0.0) {
             return Err(err(
                 p.span,
                 Code::OutOfRange,
@@ -260,7 +264,7 @@ impl LinuxCnc {
         } else {
             a.z + units.to_mm(z.value)
         };
-        if z_end == a.z {
+        if length.eq(z_end, a.z) {
             return Err(err(
                 z.span,
                 Code::Geometry,
@@ -273,11 +277,14 @@ impl LinuxCnc {
         let q_word = line.word(b'Q').map_or(0.0, |q| q.value);
         // Z end above Z start mirrors everything (q = -q).
         let q = if dir > 0.0 { -q_word } else { q_word };
+        // E below the resolution (or negative) is no taper.
         let taper = line
             .word(b'E')
-            .map_or(0.0, |e| units.to_mm(e.value).max(0.0));
+            .map(|e| units.to_mm(e.value))
+            .filter(|&e| length.gt(e, 0.0))
+            .unwrap_or(0.0);
         let l = line.word(b'L').map_or(0, |l| l.value as u64);
-        if taper > 0.0 && l & 3 != 0 && taper > (z_end - a.z).abs() / 2.0 {
+        if taper > 0.0 && l & 3 != 0 && length.gt(taper, (z_end - a.z).abs() / 2.0) {
             let e = line.word(b'E').expect("taper > 0");
             return Err(err(
                 e.span,

@@ -150,11 +150,12 @@ pub(crate) fn lead_warning(
     lead: f64,
     travel_z: f64,
     units: crate::units::Units,
+    length: crate::units::Tolerance,
     span: Span,
     hint: &str,
     warnings: &mut Vec<Diagnostic>,
 ) {
-    if lead > travel_z.abs() {
+    if length.gt(lead, travel_z.abs()) {
         warnings.push(
             Diagnostic::warning(
                 crate::diag::Code::Suspicious,

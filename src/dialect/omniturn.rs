@@ -136,9 +136,12 @@ impl OmniTurn {
         }
         if let Some(p) = modal.position.known() {
             let target = modal.target(&self.conv, line, p)?;
-            let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
-            for (letter, want, got) in [(b'X', p.x, target.x), (b'Z', p.z, target.z)] {
-                if (want - got).abs() > tolerance {
+            let res = modal.resolution();
+            for (letter, want, got, tol) in [
+                (b'X', p.x, target.x, res.x()),
+                (b'Z', p.z, target.z, res.length()),
+            ] {
+                if !tol.eq(want, got) {
                     let w = line.word(letter).expect("checked above");
                     return Err(Diagnostic::error(
                         Code::Conflict,
@@ -195,8 +198,8 @@ impl OmniTurn {
                 )),
                 _ => {
                     if let (Some(from), Some(at)) = (self.coarse_from, modal.position.known()) {
-                        let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
-                        if from.distance(at) > tolerance {
+                        let res = modal.resolution();
+                        if !res.x().eq(from.x, at.x) || !res.length().eq(from.z, at.z) {
                             return Err(Diagnostic::error(
                                 Code::Geometry,
                                 g.span,
@@ -293,7 +296,9 @@ impl OmniTurn {
             units.to_mm(r)
         };
         let i_value = modal.value(i);
-        if i_value <= 0.0 {
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
+        if !x_tol.gt(x_amount(i_value), 0.0) {
             return Err(Diagnostic::error(
                 Code::OutOfRange,
                 i.span,
@@ -302,7 +307,7 @@ impl OmniTurn {
         }
         let step = x_amount(i_value);
         let k_in = units.to_mm(modal.value(k)) / MM_PER_INCH;
-        if k_in <= 0.0 {
+        if !length.gt(k_in * MM_PER_INCH, 0.0) {
             return Err(Diagnostic::error(
                 Code::OutOfRange,
                 k.span,
@@ -310,10 +315,13 @@ impl OmniTurn {
             ));
         }
         let max = self.params.max_lead_in[self.mode as usize];
-        if k_in > max {
-            let fits = [FeedMode::G35, FeedMode::G35F2]
-                .into_iter()
-                .find(|m| k_in <= self.params.max_lead_in[*m as usize]);
+        if length.gt(k_in * MM_PER_INCH, max * MM_PER_INCH) {
+            let fits = [FeedMode::G35, FeedMode::G35F2].into_iter().find(|m| {
+                !length.gt(
+                    k_in * MM_PER_INCH,
+                    self.params.max_lead_in[*m as usize] * MM_PER_INCH,
+                )
+            });
             let hint = match fits {
                 Some(FeedMode::G35F2) => format!(
                     "put G35F2 on a line by itself before the cycle, then G92 X.. Z.. with the current position (leads up to {}\")",
@@ -379,19 +387,19 @@ impl OmniTurn {
         let end = modal.target(&self.conv, line, start)?;
         let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, g33, msg);
         let travel_z = end.z - start.z;
-        if travel_z == 0.0 {
+        if length.is_zero(travel_z) {
             return Err(geometry_error(
                 "Z is where the tool stands: the thread has no length".into(),
             ));
         }
-        if taper.abs() >= travel_z.abs() {
+        if !length.lt(taper.abs(), travel_z.abs()) {
             return Err(geometry_error(format!(
                 "the taper A moves X {} over {} of Z: G33 threads along Z",
                 units.from_mm(taper.abs()),
                 units.from_mm(travel_z.abs())
             )));
         }
-        let side = Side::of_cut(start.x, end.x).ok_or_else(|| {
+        let side = Side::of_cut(start.x, end.x, x_tol).ok_or_else(|| {
             Diagnostic::error(
                 Code::Geometry,
                 x.span,
