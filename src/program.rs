@@ -133,7 +133,10 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
 ) -> Result<Summary, Error> {
     let conv = dialect.conventions().clone();
     let mut modal = Modal::for_machine(&conv, machine);
-    let mut reader = Reader::new(input).with_bare_letters(dialect.bare_letters());
+    let mut reader = Reader::new(input).with_syntax(crate::gcode::lexer::Syntax {
+        bare: dialect.bare_letters(),
+        ..conv.syntax
+    });
     let mut summary = Summary::default();
     let mut pending = 0usize;
     loop {

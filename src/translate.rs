@@ -68,7 +68,7 @@ pub fn verify(
     modal.units = job.units;
     modal.position = crate::gcode::Position::at(job.start);
     let text = lines.join("\n") + "\n";
-    let mut reader = Reader::new(text.as_bytes());
+    let mut reader = Reader::new(text.as_bytes()).with_syntax(conv.syntax);
     let mut warnings = Vec::new();
     let mut read_back = None;
     while let Some(line) = reader.next_line() {

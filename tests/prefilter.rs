@@ -35,7 +35,7 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
     let mut d = dialect::open(machine).unwrap();
     let conv = d.conventions().clone();
     let mut modal = Modal::for_machine(&conv, machine);
-    let mut reader = Reader::new(src.as_bytes()).with_bare_letters(d.bare_letters());
+    let mut reader = Reader::new(src.as_bytes()).with_syntax(conv.syntax);
     let mut seen = vec![];
     let mut warnings = vec![];
     let mut cycles = 0;

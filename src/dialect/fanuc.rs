@@ -48,6 +48,7 @@ impl Fanuc {
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 900, 920, 940],
                 positions: crate::gcode::modal::PositionCodes::FANUC,
+                syntax: crate::gcode::lexer::Syntax::default(),
             },
             family: FanucFamily::new(
                 Flavour {
@@ -71,10 +72,11 @@ impl Dialect for Fanuc {
         &self.conv
     }
 
-    /// Only G76/G92 blocks, and any block while a G92 is modal, are the family reader's business.
+    /// Only G76/G92 blocks, and any block while a G92 is modal, are the family reader's business;
+    /// and a block with an E word (an exponent, where E means nothing).
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        self.family.wants(line)
+        self.family.wants(line) || line.summary.has_letter(b'E')
     }
 
     fn read(
@@ -83,10 +85,17 @@ impl Dialect for Fanuc {
         modal: &mut Modal,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Read> {
-        Ok(self
-            .family
-            .read(&self.conv, line, modal, warnings)?
-            .unwrap_or(Read::Plain))
+        match self.family.read(&self.conv, line, modal, warnings)? {
+            Some(read) => Ok(read),
+            None => {
+                // E is a lead word on thread moves (its meaning depends on the series); nowhere
+                // else.
+                if !self.family.threads(&self.conv, line, modal) {
+                    super::refuse_exponent(line)?;
+                }
+                Ok(Read::Plain)
+            }
+        }
     }
 
     fn format(&self) -> Format {

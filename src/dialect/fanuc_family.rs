@@ -118,6 +118,14 @@ impl FanucFamily {
         self.g92.is_some() || line.has_g(G76) || line.has_g(G92)
     }
 
+    /// Whether `line` is a thread move (the dialect's thread-move code on it, or a block of axis
+    /// words under a modal thread move), where an E word may be a lead.
+    pub fn threads(&self, conv: &Conventions, line: &Line, modal: &Modal) -> bool {
+        line.has_g(conv.thread_move)
+            || (modal.motion == crate::gcode::MotionMode::Thread
+                && !line.words.iter().any(|w| w.letter == b'G'))
+    }
+
     /// Reads `line` if it is a G76 or G92 block (or a block repeating a modal G92); `None` otherwise.
     pub fn read(
         &mut self,

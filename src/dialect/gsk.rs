@@ -86,6 +86,7 @@ impl Gsk {
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
                 positions: crate::gcode::modal::PositionCodes::FANUC,
+                syntax: crate::gcode::lexer::Syntax::default(),
             },
             machine: machine.clone(),
             settings: Settings::from_parameters(&params),
@@ -512,7 +513,7 @@ impl Dialect for Gsk {
     /// `read` looks at nothing but a G78 word.
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        line.has_g(G78) || self.family.wants(line)
+        line.has_g(G78) || self.family.wants(line) || line.summary.has_letter(b'E')
     }
 
     fn conventions(&self) -> &Conventions {
@@ -533,6 +534,10 @@ impl Dialect for Gsk {
             .iter()
             .find(|w| w.letter == b'G' && crate::gcode::reader::g_code(w.value) == Some(G78))
         else {
+            // E is G78's lead-in; on a thread move it may be a lead; nowhere else.
+            if !self.family.threads(&self.conv, line, modal) {
+                super::refuse_exponent(line)?;
+            }
             return Ok(Read::Plain);
         };
         super::alone_in_block(line, g78.span, "G78", &[])?;

@@ -56,9 +56,10 @@ pub trait Dialect {
             self.name()
         ))
     }
-    /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
+    /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`):
+    /// those of its [`Conventions::syntax`].
     fn bare_letters(&self) -> &'static [u8] {
-        b""
+        self.conventions().syntax.bare
     }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
@@ -103,6 +104,51 @@ pub(crate) fn alone_in_block(line: &Line, cycle: Span, name: &str, allowed: &[u1
             format!("G{} shares a block with {name}", w.value),
         )
         .with_hint(format!("write {name} in a block of its own"))),
+        None => Ok(()),
+    }
+}
+
+/// Refuses a number written with an exponent (`X1e3`, `Z-2.5E-4`): G-code has none, so the text
+/// reads as the number and then an `E` word glued to it, and a block that gives E no meaning
+/// would silently move to X1. For controllers whose E is a word of some blocks only (a lead, a
+/// lead-in) and that do not otherwise check for unused words: each calls this on the blocks where
+/// E means nothing.
+pub(crate) fn refuse_exponent(line: &Line) -> Result<()> {
+    let glued = line.words.windows(2).find(|pair| {
+        let (number, e) = (&pair[0], &pair[1]);
+        e.letter == b'E'
+            && !number.is_bare()
+            && number.span.start + u64::from(number.span.len) == e.span.start
+            && number
+                .raw(line.text)
+                .last()
+                .is_some_and(|b| b.is_ascii_digit() || *b == b'.')
+    });
+    match glued {
+        Some(pair) => {
+            let (number, e) = (&pair[0], &pair[1]);
+            let text = crate::gcode::lexer::show(
+                &line.text[number.span.column as usize - 1
+                    ..e.span.column as usize - 1 + e.span.len as usize],
+            );
+            Err(Diagnostic::error(
+                crate::diag::Code::Syntax,
+                Span::new(
+                    number.span.start,
+                    number.span.len + e.span.len,
+                    number.span.line,
+                    number.span.column,
+                ),
+                format!(
+                    "`{text}`: G-code numbers have no exponent, and E means nothing on this block"
+                ),
+            )
+            .with_hint(format!(
+                "this reads as {}{} and an E word; write the number out in full",
+                number.letter as char,
+                crate::gcode::lexer::show(number.raw(line.text))
+            )))
+        }
         None => Ok(()),
     }
 }

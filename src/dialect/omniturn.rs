@@ -93,6 +93,10 @@ impl OmniTurn {
                 set_position: G92,
                 canned_cycles: &[],
                 positions: crate::gcode::modal::PositionCodes::FANUC,
+                syntax: crate::gcode::lexer::Syntax {
+                    bare: b"PCO",
+                    ..crate::gcode::lexer::Syntax::default()
+                },
             },
             machine: machine.clone(),
             params: machine.omniturn.clone().unwrap_or_else(default_parameters),
@@ -541,6 +545,7 @@ impl Dialect for OmniTurn {
         // G codes is G0–G3.
         self.pending_g92.is_some()
             || line.summary.has_letter(b'S')
+            || line.summary.has_letter(b'E')
             || (line.summary.other_g()
                 && line.words.iter().any(|w| {
                     w.letter == b'G'
@@ -550,10 +555,6 @@ impl Dialect for OmniTurn {
 
     fn conventions(&self) -> &Conventions {
         &self.conv
-    }
-
-    fn bare_letters(&self) -> &'static [u8] {
-        b"PCO"
     }
 
     fn read(
@@ -566,6 +567,8 @@ impl Dialect for OmniTurn {
             return Ok(Read::Plain);
         }
         self.check_companion(line, modal)?;
+        // OmniTurn has no E word: `X.5e-1` is a number with an exponent, which G-code has not.
+        super::refuse_exponent(line)?;
         let mut cycle = None;
         for w in line.words.iter().filter(|w| w.letter == b'G') {
             match g_code(w.value) {

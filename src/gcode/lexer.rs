@@ -163,6 +163,22 @@ pub struct LineShape {
     pub percent: bool,
 }
 
+/// How a controller's text is read where controllers differ: a dialect states it in its
+/// [`Conventions`](super::Conventions), and the reader lexes every line with it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Syntax {
+    /// Letters that may stand alone, without a number (flags such as OmniTurn's `G33 … P C O`).
+    pub bare: &'static [u8],
+    /// Blanks (spaces, tabs, carriage returns) mean nothing anywhere outside comments, inside
+    /// numbers and between a sign and its digits too: `G 7 6 P2 . 5` is `G76 P2.5` (LinuxCNC
+    /// drops them before it reads a line). Elsewhere a blank ends a number, and a number after it
+    /// is an error.
+    pub blanks_anywhere: bool,
+    /// A `(` inside a comment is an error (LinuxCNC: "Nested comment found"); elsewhere a comment
+    /// ends at the first `)`.
+    pub nested_comment_error: bool,
+}
+
 /// Lexes one line (without its line terminator) into `words`, which is cleared first and reused so
 /// that streaming a file allocates nothing per block.
 ///
@@ -173,7 +189,7 @@ pub fn lex_line(
     offset: u64,
     words: &mut Vec<Word>,
 ) -> Result<LineShape, Diagnostic> {
-    lex_line_with(line, line_no, offset, words, b"")
+    lex_line_syntax(line, line_no, offset, words, &Syntax::default())
 }
 
 /// As [`lex_line`], but the letters in `bare` may also stand alone, without a number (a flag such
@@ -184,7 +200,23 @@ pub fn lex_line_with(
     line_no: u32,
     offset: u64,
     words: &mut Vec<Word>,
-    bare: &[u8],
+    bare: &'static [u8],
+) -> Result<LineShape, Diagnostic> {
+    let syntax = Syntax {
+        bare,
+        ..Syntax::default()
+    };
+    lex_line_syntax(line, line_no, offset, words, &syntax)
+}
+
+/// As [`lex_line`], read as `syntax` says: the reference lexer, which the reader's fast path
+/// ([`lex_buffered_line`]) agrees with on every line it takes.
+pub fn lex_line_syntax(
+    line: &[u8],
+    line_no: u32,
+    offset: u64,
+    words: &mut Vec<Word>,
+    syntax: &Syntax,
 ) -> Result<LineShape, Diagnostic> {
     words.clear();
     let mut shape = LineShape::default();
@@ -198,9 +230,12 @@ pub fn lex_line_with(
                 let letter = c.to_ascii_uppercase();
                 // Fast path: a number follows the letter directly and is short enough for
                 // `fast_number`; everything else (blanks after the letter, bare flags, errors, very
-                // long numbers) goes through `word_slow`, which is the reference behaviour.
-                // A number right after the letter also means the letter is not a bare flag.
-                if let Some((value, has_dot, end)) = fast_number(line, i + 1) {
+                // long numbers, a number that may go on after a blank) goes through `word_slow`,
+                // which is the reference behaviour. A number right after the letter also means the
+                // letter is not a bare flag.
+                let fast = fast_number(line, i + 1)
+                    .filter(|&(_, _, end)| !syntax.blanks_anywhere || !continues(line, end));
+                if let Some((value, has_dot, end)) = fast {
                     words.push(Word {
                         letter,
                         value,
@@ -210,13 +245,20 @@ pub fn lex_line_with(
                     });
                     i = end;
                 } else {
-                    i = word_slow(line, i, line_no, offset, words, bare)?;
+                    i = word_slow(line, i, line_no, offset, words, syntax)?;
                 }
             }
             BLANK => i += 1,
             SEMICOLON => break,
             OPEN => match memchr::memchr(b')', &line[i + 1..]) {
-                Some(close) => i += close + 2,
+                Some(close) => {
+                    if syntax.nested_comment_error {
+                        if let Some(inner) = memchr::memchr(b'(', &line[i + 1..i + 1 + close]) {
+                            return Err(nested_comment(span_at(offset, line_no, i + 1 + inner, 1)));
+                        }
+                    }
+                    i += close + 2
+                }
                 None => return Err(unclosed_comment(span_at(offset, line_no, i, n - i))),
             },
             _ => {
@@ -300,9 +342,10 @@ pub(crate) fn lex_buffered_line(
         } else if CLASS[c as usize] == BLANK {
             i += 1;
         } else if c == b'(' {
-            // The comment must close before the line ends.
-            let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
-            if input[close] == b'\n' {
+            // The comment must close before the line ends; a `(` inside it is for the reference
+            // lexer to judge (an error where the syntax says so).
+            let close = i + 1 + memchr::memchr3(b')', b'\n', b'(', &input[i + 1..])?;
+            if input[close] != b')' {
                 return None;
             }
             i = close + 1;
@@ -377,6 +420,26 @@ static CLASS: [u8; 256] = {
     }
     t
 };
+
+/// Whether a number that ends at `end` goes on after blanks (a digit or a decimal point follows
+/// them), where blanks mean nothing ([`Syntax::blanks_anywhere`]).
+fn continues(line: &[u8], end: usize) -> bool {
+    line[end..]
+        .iter()
+        .find(|&&b| !is_blank(b))
+        .is_some_and(|b| matches!(b, b'0'..=b'9' | b'.'))
+}
+
+/// A blank to [`Syntax::blanks_anywhere`]: what LinuxCNC drops before reading a line.
+fn is_blank(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r')
+}
+
+#[cold]
+fn nested_comment(span: Span) -> Diagnostic {
+    Diagnostic::error(Code::Syntax, span, "Nested comment found")
+        .with_hint("a comment ends at the first `)`: close it before opening another")
+}
 
 #[cold]
 fn unclosed_comment(span: Span) -> Diagnostic {
@@ -541,10 +604,10 @@ fn word_slow(
     line_no: u32,
     offset: u64,
     words: &mut Vec<Word>,
-    bare: &[u8],
+    syntax: &Syntax,
 ) -> Result<usize, Diagnostic> {
     let letter = line[i].to_ascii_uppercase();
-    if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
+    if syntax.bare.contains(&letter) && !starts_number(&line[i + 1..]) {
         words.push(Word {
             letter,
             value: 0.0,
@@ -554,7 +617,12 @@ fn word_slow(
         });
         return Ok(i + 1);
     }
-    let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
+    let lexed = if syntax.blanks_anywhere {
+        lex_number_blanks(line, i + 1)
+    } else {
+        lex_number(line, i + 1)
+    };
+    let number = lexed.map_err(|(at, len, what)| {
         Diagnostic::error(
             Code::Syntax,
             span_at(offset, line_no, at, len),
@@ -678,6 +746,57 @@ fn lex_number(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static 
         start,
         end: i,
     })
+}
+
+/// [`lex_number`] where blanks mean nothing ([`Syntax::blanks_anywhere`]): the number's bytes
+/// with the blanks among them dropped, read as one number. Positions in errors and in the result
+/// are the line's.
+fn lex_number_blanks(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static str)> {
+    // The bytes of the number (signs, then digits and decimal points) and where each one lies,
+    // after a stand-in for the letter, so that `lex_number` reads them from index 1 as it reads a
+    // line after its letter.
+    let mut text = vec![b'L'];
+    let mut place = vec![at - 1];
+    let mut i = at;
+    let mut signs = true;
+    while i < line.len() {
+        let b = line[i];
+        let part = match b {
+            b'+' | b'-' => signs,
+            b'0'..=b'9' | b'.' => {
+                signs = false;
+                true
+            }
+            _ => is_blank(b),
+        };
+        if !part {
+            break;
+        }
+        if !is_blank(b) {
+            text.push(b);
+            place.push(i);
+        }
+        i += 1;
+    }
+    if text.len() == 1 {
+        // No number: the same errors as `lex_number`, at the byte that is not one.
+        return Err(match line.get(i) {
+            Some(_) => (i, 1, "a number was expected after the letter"),
+            None => (at - 1, 1, "a number was expected after the letter"),
+        });
+    }
+    // One past the number's last byte; the blanks after it belong to what follows.
+    let end = place[place.len() - 1] + 1;
+    let mapped = |k: usize| place.get(k).copied().unwrap_or(end);
+    match lex_number(&text, 1) {
+        Ok(n) => Ok(Number {
+            value: n.value,
+            has_dot: n.has_dot,
+            start: mapped(n.start),
+            end: mapped(n.end),
+        }),
+        Err((k, len, what)) => Err((mapped(k), len, what)),
+    }
 }
 
 const POW10: [f64; 23] = [
@@ -848,6 +967,88 @@ mod tests {
         // sign is still malformed.
         assert!(lex_line(line, 1, 0, &mut words).is_err());
         assert!(lex_line_with(b"G33 P-", 1, 0, &mut words, b"P").is_err());
+    }
+
+    const BLANKS: Syntax = Syntax {
+        bare: b"",
+        blanks_anywhere: true,
+        nested_comment_error: true,
+    };
+
+    /// Letter, value, decimal point, column and length of each word.
+    type Lexed = Vec<(char, f64, bool, u32, u32)>;
+
+    fn lex_blanks(s: &str) -> Result<Lexed, Diagnostic> {
+        let mut words = Vec::new();
+        lex_line_syntax(s.as_bytes(), 1, 0, &mut words, &BLANKS)?;
+        Ok(words
+            .iter()
+            .map(|w| {
+                (
+                    w.letter as char,
+                    w.value,
+                    w.has_dot,
+                    w.span.column,
+                    w.span.len,
+                )
+            })
+            .collect())
+    }
+
+    #[test]
+    fn blanks_anywhere_inside_words_and_numbers() {
+        // `G 7 6 P2 . 5` is `G76 P2.5`; the span covers the word with its blanks.
+        assert_eq!(
+            lex_blanks("G 7 6 P2 . 5 Z - 3 0").unwrap(),
+            vec![
+                ('G', 76.0, false, 1, 5),
+                ('P', 2.5, true, 7, 6),
+                ('Z', -30.0, false, 14, 7)
+            ]
+        );
+        // Tabs and carriage returns too; a number goes on after them.
+        assert_eq!(
+            lex_blanks("X1\t2 .\r5\tK1").unwrap(),
+            vec![('X', 12.5, true, 1, 8), ('K', 1.0, false, 10, 2)]
+        );
+        // The lexeme keeps what was written.
+        let line = b"P 2 . 5";
+        let mut words = Vec::new();
+        lex_line_syntax(line, 1, 0, &mut words, &BLANKS).unwrap();
+        assert_eq!(words[0].raw(line), b"2 . 5");
+        // Blanks inside a comment are the comment's; a comment ends a number.
+        assert_eq!(
+            lex_blanks("X1 ( a  b ) Z2").unwrap(),
+            vec![('X', 1.0, false, 1, 2), ('Z', 2.0, false, 13, 2)]
+        );
+        let e = lex_blanks("X1 (c) 2").unwrap_err();
+        assert_eq!((e.code, e.span.column), (Code::Syntax, 8));
+        // A sign only before the digits; a second decimal point at its own column.
+        let e = lex_blanks("X1 - 2").unwrap_err();
+        assert_eq!(e.span.column, 4);
+        let e = lex_blanks("P2 . 5 .").unwrap_err();
+        assert_eq!(e.span.column, 8);
+        assert!(e.message.contains("second decimal point"), "{}", e.message);
+        let e = lex_blanks("G0 X  ").unwrap_err();
+        assert!(e.message.contains("number was expected"), "{}", e.message);
+        // Without the rule a blank ends the number, and what follows is no word.
+        assert!(lex("G 7 6").is_err());
+        assert_eq!(
+            lex("G 76 X1").unwrap(),
+            vec![('G', 76.0, false), ('X', 1.0, false)]
+        );
+    }
+
+    #[test]
+    fn a_comment_inside_a_comment() {
+        let e = lex_blanks("G0 (outer (inner) X1").unwrap_err();
+        assert_eq!((e.code, e.span.column), (Code::Syntax, 11));
+        assert_eq!(e.message, "Nested comment found");
+        // Elsewhere the comment ends at its first `)`.
+        assert_eq!(
+            lex("G0 (outer (inner) X1").unwrap(),
+            vec![('G', 0.0, false), ('X', 1.0, false)]
+        );
     }
 
     #[test]

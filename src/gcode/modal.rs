@@ -3,7 +3,7 @@
 //! Each dialect states its conventions (which G code threads, whether U/W are incremental words,
 //! whether G90/G91 select the distance mode); the bookkeeping itself is shared.
 
-use super::lexer::{is_plain_motion, Word};
+use super::lexer::{is_plain_motion, Syntax, Word};
 use super::reader::{g_code, Line};
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::machine::{AxisPoint, Machine};
@@ -34,6 +34,8 @@ pub struct Conventions {
     /// G codes that send axes where the program's coordinates do not say (reference returns,
     /// machine coordinates, another work coordinate system).
     pub positions: PositionCodes,
+    /// How the controller's text is lexed (blanks, bare letters, comments).
+    pub syntax: Syntax,
 }
 
 /// A reference point of the machine.
@@ -796,6 +798,7 @@ mod tests {
             set_position: 500,
             canned_cycles: &[900, 920, 940, 710, 720, 730, 700, 760, 780],
             positions: PositionCodes::FANUC,
+            syntax: Syntax::default(),
         }
     }
 

@@ -3,8 +3,8 @@
 use std::io::BufRead;
 
 use super::lexer::{
-    letter_slot, lex_buffered_line, lex_line_with, BufferedLine, LineShape, Word, WordIndex,
-    WordSummary, FAST_WORDS,
+    letter_slot, lex_buffered_line, lex_line_syntax, BufferedLine, LineShape, Syntax, Word,
+    WordIndex, WordSummary, FAST_WORDS,
 };
 use crate::diag::{Code, Diagnostic, Span};
 
@@ -131,7 +131,7 @@ pub struct Reader<R> {
     line_no: u32,
     offset: u64,
     done: bool,
-    bare: &'static [u8],
+    syntax: Syntax,
 }
 
 impl<R: BufRead> Reader<R> {
@@ -149,13 +149,20 @@ impl<R: BufRead> Reader<R> {
             line_no: 0,
             offset: 0,
             done: false,
-            bare: b"",
+            syntax: Syntax::default(),
         }
     }
 
     /// Lets these letters stand without a number (see [`lex_line_with`](super::lexer::lex_line_with)).
     pub fn with_bare_letters(mut self, bare: &'static [u8]) -> Reader<R> {
-        self.bare = bare;
+        self.syntax.bare = bare;
+        self
+    }
+
+    /// Reads every line as `syntax` says (a dialect's [`Conventions::syntax`](super::Conventions)).
+    /// The fast path takes only lines that read the same whatever the syntax.
+    pub fn with_syntax(mut self, syntax: Syntax) -> Reader<R> {
+        self.syntax = syntax;
         self
     }
 
@@ -223,12 +230,12 @@ impl<R: BufRead> Reader<R> {
                 text_len -= 1;
             }
         }
-        match lex_line_with(
+        match lex_line_syntax(
             &raw[..text_len],
             line_no,
             offset,
             &mut self.words,
-            self.bare,
+            &self.syntax,
         ) {
             Ok(shape) => {
                 let summary = WordSummary::of(&self.words);
@@ -457,8 +464,8 @@ mod tests {
 
     /// What the reader gives for every line. `before` and `handed_out` must be the input right
     /// before the line and right after the last one: `input` is the whole input, to check them.
-    fn read_all(source: impl BufRead, bare: &'static [u8], input: &[u8]) -> Vec<Lexed> {
-        let mut r = Reader::new(source).with_bare_letters(bare);
+    fn read_all(source: impl BufRead, syntax: Syntax, input: &[u8]) -> Vec<Lexed> {
+        let mut r = Reader::new(source).with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -536,10 +543,10 @@ mod tests {
     /// fast path does not read is read with `next_line_by_reference`.
     fn read_plain_first(
         source: impl BufRead,
-        bare: &'static [u8],
+        syntax: Syntax,
         put_back: impl Fn(u32) -> bool,
     ) -> Vec<Lexed> {
-        let mut r = Reader::new(source).with_bare_letters(bare);
+        let mut r = Reader::new(source).with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -585,7 +592,7 @@ mod tests {
     }
 
     /// The same, line by line with the reference lexer: split at `\n`, drop the terminator.
-    fn reference(src: &[u8], bare: &[u8]) -> Vec<Lexed> {
+    fn reference(src: &[u8], syntax: Syntax) -> Vec<Lexed> {
         let mut got = vec![];
         let mut offset = 0u64;
         for (i, raw) in src.split_inclusive(|&b| b == b'\n').enumerate() {
@@ -595,19 +602,21 @@ mod tests {
             }
             let mut words = vec![];
             let n = i as u32 + 1;
-            got.push(match lex_line_with(text, n, offset, &mut words, bare) {
-                Ok(shape) => {
-                    let summary = WordSummary::of(&words);
-                    (
-                        n,
-                        offset,
-                        text.to_vec(),
-                        raw.to_vec(),
-                        Ok((words, shape, summary)),
-                    )
-                }
-                Err(e) => (n, 0, vec![], vec![], Err(e)),
-            });
+            got.push(
+                match lex_line_syntax(text, n, offset, &mut words, &syntax) {
+                    Ok(shape) => {
+                        let summary = WordSummary::of(&words);
+                        (
+                            n,
+                            offset,
+                            text.to_vec(),
+                            raw.to_vec(),
+                            Ok((words, shape, summary)),
+                        )
+                    }
+                    Err(e) => (n, 0, vec![], vec![], Err(e)),
+                },
+            );
             offset += raw.len() as u64;
         }
         got
@@ -625,17 +634,24 @@ mod tests {
             ),
             step in 1usize..40,
             flags in proptest::bool::ANY,
+            blanks in proptest::bool::ANY,
         ) {
-            let bare: &'static [u8] = if flags { b"PC" } else { b"" };
-            let want = reference(&text, bare);
-            proptest::prop_assert_eq!(read_all(&text[..], bare, &text), want.clone());
-            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, bare, &text), want.clone());
+            // Bare flags (OmniTurn) or blanks that mean nothing and nested comments refused
+            // (LinuxCNC), or neither.
+            let syntax = Syntax {
+                bare: if flags { b"PC" } else { b"" },
+                blanks_anywhere: blanks && !flags,
+                nested_comment_error: blanks && !flags,
+            };
+            let want = reference(&text, syntax);
+            proptest::prop_assert_eq!(read_all(&text[..], syntax, &text), want.clone());
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, syntax, &text), want.clone());
             let none = |_| false;
             let some = |n: u32| n % 3 == 1;
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, none), want.clone());
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, some), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], syntax, none), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], syntax, some), want.clone());
             proptest::prop_assert_eq!(
-                read_plain_first(Trickle { data: &text, step }, bare, some),
+                read_plain_first(Trickle { data: &text, step }, syntax, some),
                 want
             );
         }
@@ -645,15 +661,22 @@ mod tests {
     fn lines_across_reads_and_longer_than_the_buffer() {
         let long = format!("G1 X1 ({})\r\n", "c".repeat(3 * CHUNK));
         let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
-        let want = reference(src.as_bytes(), b"");
+        let want = reference(src.as_bytes(), Syntax::default());
         assert_eq!(want.len(), 5);
-        assert_eq!(read_all(src.as_bytes(), b"", src.as_bytes()), want);
+        assert_eq!(
+            read_all(src.as_bytes(), Syntax::default(), src.as_bytes()),
+            want
+        );
         for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
             let trickle = Trickle {
                 data: src.as_bytes(),
                 step,
             };
-            assert_eq!(read_all(trickle, b"", src.as_bytes()), want, "step {step}");
+            assert_eq!(
+                read_all(trickle, Syntax::default(), src.as_bytes()),
+                want,
+                "step {step}"
+            );
         }
     }
 
@@ -662,7 +685,7 @@ mod tests {
         // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
         // without a terminator.
         let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
-        let got = read_all(ok.as_bytes(), b"", ok.as_bytes());
+        let got = read_all(ok.as_bytes(), Syntax::default(), ok.as_bytes());
         assert_eq!(got.len(), 2);
         assert!(got.iter().all(|l| l.4.is_ok()));
         for tail in ["\r\n", ""] {
