@@ -1011,6 +1011,15 @@ mod tests {
             lex_blanks("X1\t2 .\r5\tK1").unwrap(),
             vec![('X', 12.5, true, 1, 8), ('K', 1.0, false, 10, 2)]
         );
+        // LinuxCNC's documentation: "G0X +0. 12 34Y 7" is "G0 x+0.1234 Y7".
+        assert_eq!(
+            lex_blanks("G0X +0. 12 34Y 7").unwrap(),
+            vec![
+                ('G', 0.0, false, 1, 2),
+                ('X', 0.1234, true, 3, 11),
+                ('Y', 7.0, false, 14, 3)
+            ]
+        );
         // The lexeme keeps what was written.
         let line = b"P 2 . 5";
         let mut words = Vec::new();

@@ -647,7 +647,8 @@ impl Modal {
                 conv.lead_letter as char, f.value
             ))),
             (Some(f), None) => {
-                if f.value <= 0.0 {
+                // A lead below the program's resolution is no lead.
+                if !self.resolution().length().gt(self.length_mm(f), 0.0) {
                     return Err(Diagnostic::error(
                         Code::OutOfRange,
                         f.span,
