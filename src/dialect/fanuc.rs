@@ -76,6 +76,10 @@ impl Dialect for Fanuc {
     /// and a block with an E word (an exponent, where E means nothing).
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
+        // Most lines have no G code but G0–G3 and no E word: one test of the summary.
+        if !line.summary.other_g_or_letter(b'E') {
+            return self.family.g92_modal();
+        }
         self.family.wants(line) || line.summary.has_letter(b'E')
     }
 

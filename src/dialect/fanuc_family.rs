@@ -111,6 +111,12 @@ impl FanucFamily {
         }
     }
 
+    /// Whether a G92 is modal: a block of axis words repeats it.
+    #[inline(always)]
+    pub fn g92_modal(&self) -> bool {
+        self.g92.is_some()
+    }
+
     /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, or any block while a G92
     /// is modal (a block of axis words repeats it; a motion code cancels it).
     #[inline]

@@ -513,6 +513,11 @@ impl Dialect for Gsk {
     /// `read` looks at nothing but a G78 word.
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
+        // Most lines have no G code but G0–G3 and no E word: one test of the summary, and a modal
+        // G92 is all that is left to ask about.
+        if !line.summary.other_g_or_letter(b'E') {
+            return self.family.g92_modal();
+        }
         line.has_g(G78) || self.family.wants(line) || line.summary.has_letter(b'E')
     }
 

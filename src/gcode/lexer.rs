@@ -110,6 +110,19 @@ impl WordSummary {
         self.bits & OTHER_G != 0
     }
 
+    /// Whether some `G` word is other than `G0`–`G3` ([`other_g`](WordSummary::other_g)) or some
+    /// word begins with `letter` (upper case): one test where a caller needs both answers only
+    /// when either is yes.
+    #[inline(always)]
+    pub fn other_g_or_letter(&self, letter: u8) -> bool {
+        let bit = if letter.is_ascii_uppercase() {
+            1 << (letter & 31)
+        } else {
+            0
+        };
+        self.bits & (OTHER_G | bit) != 0
+    }
+
     /// Whether the line may have a `G` word with this code (×10, as
     /// [`g_code`](super::reader::g_code) gives it). `false` is certain; `true` means "look".
     #[inline(always)]
