@@ -295,6 +295,26 @@ fn linuxcnc_returns_every_axis_without_axis_words() {
 }
 
 #[test]
+fn offsets_set_by_g10_and_g52_are_no_move() {
+    // `G10 L2 P1 X.. Z..` sets a work offset: its axis words are no move, and the program's
+    // coordinates may have moved.
+    let m = machine("linuxcnc");
+    let src =
+        "G8 G21 G18\nM3 S400\nG0 X6.5 Z1\nG10 L2 P1 X0 Z-100\nG76 P1.75 Z-15 I-0.5 J0.2 K1.0735\n";
+    let e = error(&m, src);
+    assert_error(&e, Code::UnknownPosition, 5, 1, "X and Z");
+    let mut out = Vec::new();
+    program::expand_jsonl(&src.as_bytes()[..src.find("G76").unwrap()], &mut out, &m).unwrap();
+    assert_eq!(
+        String::from_utf8(out).unwrap().lines().count(),
+        1,
+        "the G0 only"
+    );
+    let e = error(&machine("fanuc"), &fanuc_with("G52 X0. Z-50."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
+}
+
+#[test]
 fn set_position_keeps_the_axis_it_does_not_name() {
     // LinuxCNC's G92 Z0 sets Z only; X stays known.
     let m = machine("linuxcnc");

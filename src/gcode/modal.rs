@@ -68,8 +68,9 @@ pub struct PositionCodes {
     /// Work coordinate systems (`G54`…): selecting another one than the one in force moves the
     /// program's coordinates by an offset this reader does not know.
     pub work_systems: &'static [u16],
-    /// Codes that change the coordinate offsets by amounts this reader does not track (LinuxCNC's
-    /// `G92.1`, `G92.2`, `G92.3`): every axis becomes unknown.
+    /// Codes that change the coordinate offsets by amounts this reader does not track (`G10`,
+    /// `G52`, LinuxCNC's `G92.1`–`G92.3`): every axis becomes unknown, and the block's axis words
+    /// are no move.
     pub offset_changes: &'static [u16],
 }
 
@@ -78,7 +79,8 @@ const WORK_SYSTEMS: &[u16] = &[540, 550, 560, 570, 580, 590, 591, 592, 593];
 
 impl PositionCodes {
     /// Fanuc and the controls that follow it (GSK, Allen-Bradley, OmniTurn): G28, G30 (P2, its
-    /// default), G29, G53, G54–G59.
+    /// default), G29, G53, G54–G59; G10 (data setting: work offsets among them) and G52 (a local
+    /// coordinate system) change offsets by amounts not kept.
     pub const FANUC: PositionCodes = PositionCodes {
         returns: &[(280, Reference::First), (300, Reference::Second)],
         all_without_axes: false,
@@ -86,11 +88,11 @@ impl PositionCodes {
         machine_move: 530,
         from_reference: 290,
         work_systems: WORK_SYSTEMS,
-        offset_changes: &[],
+        offset_changes: &[100, 520],
     };
 
-    /// LinuxCNC: G28/G30 (every axis without axis words), G28.1/G30.1, G53, G54–G59.3,
-    /// G92.1–G92.3.
+    /// LinuxCNC: G28/G30 (every axis without axis words), G28.1/G30.1, G53, G54–G59.3; G10
+    /// (offsets and tool data), G52 and G92.1–G92.3 change offsets by amounts not kept.
     pub const LINUXCNC: PositionCodes = PositionCodes {
         returns: &[(280, Reference::First), (300, Reference::Second)],
         all_without_axes: true,
@@ -98,7 +100,7 @@ impl PositionCodes {
         machine_move: 530,
         from_reference: 0,
         work_systems: WORK_SYSTEMS,
-        offset_changes: &[921, 922, 923],
+        offset_changes: &[100, 520, 921, 922, 923],
     };
 
     /// What `code` does to the position, if anything.
