@@ -240,6 +240,13 @@ fn a_reference_return_leaves_the_axes_it_names_unknown() {
     close(jobs(&m, &fanuc_with("G54"))[0].start, Pos::new(9.0, 4.0));
     let e = error(&m, &fanuc_with("G55"));
     assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
+    // A move on the block that selects the system is in the new system's coordinates.
+    close(
+        jobs(&m, &fanuc_with("G55 G0 X18. Z4."))[0].start,
+        Pos::new(9.0, 4.0),
+    );
+    let e = error(&m, &fanuc_with("G55 G0 X18."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's Z is not known");
 }
 
 #[test]

@@ -415,6 +415,8 @@ impl Modal {
         let mut dwell = false;
         let mut set_position = false;
         let mut special = None;
+        let mut work_system = None;
+        let mut store = None;
         let mut f_word = None;
         // One pass over the words: the axis words are remembered here, so that the end point is
         // computed without a second scan (`axes` gives exactly what `target` would).
@@ -451,11 +453,12 @@ impl Modal {
                         c if c == conv.thread_move => self.motion = MotionMode::Thread,
                         c if c == conv.set_position && c != 0 => set_position = true,
                         c if conv.canned_cycles.contains(&c) => self.motion = MotionMode::Cycle,
-                        c => {
-                            if let Some(s) = conv.positions.classify(c) {
-                                special = Some(s);
-                            }
-                        }
+                        c => match conv.positions.classify(c) {
+                            Some(Special::WorkSystem(code)) => work_system = Some(code),
+                            Some(Special::Store(r)) => store = Some(r),
+                            Some(s) => special = Some(s),
+                            None => {}
+                        },
                     }
                 }
             } else if w.letter == b'F' {
@@ -467,6 +470,17 @@ impl Modal {
         }
         if let Some(f) = f_word {
             self.f_word = Some(self.value(f));
+        }
+        // A change of coordinate system and a stored reference point take effect before the
+        // block's motion (`G55 G0 X20 Z5` moves in G55's coordinates).
+        if let Some(code) = work_system {
+            if code != self.work_system {
+                self.work_system = code;
+                self.position = Position::UNKNOWN;
+            }
+        }
+        if let Some(r) = store {
+            self.references[r as usize] = self.position;
         }
         if let Some(special) = special {
             self.apply_special(conv, special, &axes)?;
@@ -551,7 +565,6 @@ impl Modal {
                     self.position.z = at.z;
                 }
             }
-            Special::Store(r) => self.references[r as usize] = self.position,
             Special::MachineMove => {
                 if named.0 {
                     self.position.x = None;
@@ -571,13 +584,9 @@ impl Modal {
                     self.position.z = end.z;
                 }
             }
-            Special::WorkSystem(code) => {
-                if code != self.work_system {
-                    self.work_system = code;
-                    self.position = Position::UNKNOWN;
-                }
-            }
             Special::OffsetChange => self.position = Position::UNKNOWN,
+            // Taken before the block's motion, in `apply_words`.
+            Special::WorkSystem(_) | Special::Store(_) => {}
         }
         Ok(())
     }
@@ -935,7 +944,8 @@ mod tests {
                 proptest::collection::vec(
                     proptest::sample::select(vec![
                         "G0", "G1", "G01", "G2", "G3", "G4", "G04", "G20", "G21", "G28", "G32",
-                        "G50", "G90", "G91", "G1.5", "G1.0", "X10", "X-2.5", "X7", "Z3", "Z-1.25",
+                        "G50", "G90", "G91", "G1.5", "G1.0", "G29", "G30", "G53", "G54", "G55",
+                        "G10", "X10", "X-2.5", "X7", "Z3", "Z-1.25",
                         "Z.5", "U-0.4", "U2", "W2", "W-0.75", "F0.2", "F1.5", "I8", "N10",
                         "T0101", "M08", "R2.5",
                     ]),
