@@ -128,6 +128,20 @@ fn split_positioning_gives_the_start_point_on_every_dialect() {
 }
 
 #[test]
+fn an_inch_program_that_returns_each_axis_on_its_own_line() {
+    // The way lathe classes write Fanuc programs: `G28 G0 U0 W0` before each tool, `G28 U0` and
+    // `G28 W0` after it, the work system and Z on one line, X on the next, inch in G20.
+    let src = "%\nO0003 (1-16 UN EXT THREAD)\nG20 G99\nG28 G0 U0 W0\nT0303 (60 DEG THREAD)\n\
+               G97 S800 M03\nG00 G54 Z.2\nG00 X1.1 M08\nG76 P010060 Q100 R.001\n\
+               G76 X.9233 Z-1. P383 Q100 F.0625\nM09\nG28 U0\nG28 W0\nM30\n%\n";
+    let jobs = jobs(&machine("fanuc"), src);
+    close(jobs[0].start, Pos::new(0.55 * 25.4, 0.2 * 25.4));
+    assert!((jobs[0].lead.lead - 0.0625 * 25.4).abs() < 1e-12);
+    // P383 and Q100 are counts of 0.0001 inch.
+    assert!((jobs[0].geometry.depth - 0.0383 * 25.4).abs() < 1e-12);
+}
+
+#[test]
 fn a_start_point_with_one_axis_never_positioned_is_refused_naming_it() {
     for &(name, src, _, line, column) in SPLIT {
         let m = machine(name);
