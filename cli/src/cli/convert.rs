@@ -365,11 +365,18 @@ fn block(
         }
     }
     for w in line.words {
+        // The number as written, without the blanks LinuxCNC allows inside it (`S 1 2 0 0`).
         let text = || {
+            let raw: Vec<u8> = w
+                .raw(line.text)
+                .iter()
+                .copied()
+                .filter(|b| !matches!(b, b' ' | b'\t' | b'\r'))
+                .collect();
             format!(
                 "{}{}",
                 w.letter as char,
-                threadcut::gcode::lexer::show(w.raw(line.text))
+                threadcut::gcode::lexer::show(&raw)
             )
         };
         match w.letter {
