@@ -223,7 +223,7 @@ pub fn lex_line_with(
 }
 
 /// As [`lex_line`], read as `syntax` says: the reference lexer, which the reader's fast path
-/// ([`lex_buffered_line`]) agrees with on every line it takes.
+/// agrees with on every line it takes.
 pub fn lex_line_syntax(
     line: &[u8],
     line_no: u32,

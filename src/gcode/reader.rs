@@ -199,7 +199,7 @@ impl<R: BufRead> Reader<R> {
         self.next_line_by_reference()
     }
 
-    /// The next line, lexed by the reference lexer ([`lex_line_with`]) whatever it holds: for a
+    /// The next line, lexed by the reference lexer ([`lex_line_syntax`]) whatever it holds: for a
     /// caller that took the lines the fast path reads with
     /// [`next_plain_line`](Self::next_plain_line) already (the two lexers give the same words).
     #[inline(never)]
