@@ -132,17 +132,8 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     mut dialect: D,
 ) -> Result<Summary, Error> {
     let conv = dialect.conventions().clone();
-    let mut modal = Modal::new(
-        &conv,
-        machine.units,
-        [
-            machine.no_point_scale(Units::Mm),
-            machine.no_point_scale(Units::Inch),
-        ],
-    );
-    let mut reader = Reader::new(input)
-        .with_bare_letters(dialect.bare_letters())
-        .with_syntax(dialect.syntax());
+    let mut modal = Modal::for_machine(&conv, machine);
+    let mut reader = Reader::new(input).with_syntax(conv.syntax);
     let mut summary = Summary::default();
     let mut pending = 0usize;
     loop {
@@ -257,7 +248,7 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
         Read::Cycle(job) => {
             summary.cycles += 1;
             // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
-            modal.position = Some(job.end_point());
+            modal.position = crate::gcode::Position::at(job.end_point());
             sink.event(
                 modal,
                 Event::Cycle {
@@ -476,7 +467,7 @@ pub fn expand_jsonl<R: BufRead>(
                     pass: 0,
                     line: line.number,
                 };
-                let text = match mv.mode {
+                let mut text = match mv.mode {
                     MotionMode::Rapid => post::motion_json(&m(MotionKind::Rapid), units),
                     MotionMode::Feed => post::motion_json(&m(MotionKind::Feed), units),
                     MotionMode::Thread => post::motion_json(
@@ -497,6 +488,23 @@ pub fn expand_jsonl<R: BufRead>(
                     ),
                     MotionMode::Cycle => return Ok(()),
                 };
+                // A move whose start is not known (the first positioning of a program, a move
+                // after a reference return) ends at a known point: it is reported, and says which
+                // axes of its start are unknown (docs/dialects/README.md, "Where the tool is").
+                let unknown = mv.from.unknown_axes();
+                if !unknown.is_empty() {
+                    text.pop();
+                    text.push_str(r#","start_unknown":["#);
+                    for (i, axis) in unknown.iter().enumerate() {
+                        if i > 0 {
+                            text.push(',');
+                        }
+                        text.push('"');
+                        text.push_str(&axis.to_ascii_lowercase());
+                        text.push('"');
+                    }
+                    text.push_str("]}");
+                }
                 writeln!(out, "{text}")?;
             }
             Event::Cycle { job, .. } => {

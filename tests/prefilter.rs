@@ -9,7 +9,6 @@ use threadcut::dialect::{self, Read};
 use threadcut::gcode::{Modal, Reader};
 use threadcut::machine::Machine;
 use threadcut::program::{self, Event};
-use threadcut::units::Units;
 
 /// What happened, line by line, and how it ended.
 type Trace = (Vec<String>, String);
@@ -35,17 +34,8 @@ fn with_prefilter(src: &str, machine: &Machine) -> Trace {
 fn without_prefilter(src: &str, machine: &Machine) -> Trace {
     let mut d = dialect::open(machine).unwrap();
     let conv = d.conventions().clone();
-    let mut modal = Modal::new(
-        &conv,
-        machine.units,
-        [
-            machine.no_point_scale(Units::Mm),
-            machine.no_point_scale(Units::Inch),
-        ],
-    );
-    let mut reader = Reader::new(src.as_bytes())
-        .with_bare_letters(d.bare_letters())
-        .with_syntax(d.syntax());
+    let mut modal = Modal::for_machine(&conv, machine);
+    let mut reader = Reader::new(src.as_bytes()).with_syntax(conv.syntax);
     let mut seen = vec![];
     let mut warnings = vec![];
     let mut cycles = 0;
@@ -65,7 +55,7 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
             Ok(Read::Settings) => seen.push(format!("{} settings {modal:?}", line.number)),
             Ok(Read::Cycle(job)) => {
                 cycles += 1;
-                modal.position = Some(job.end_point());
+                modal.position = threadcut::gcode::Position::at(job.end_point());
                 seen.push(format!("{} cycle {job:?} {modal:?}", line.number));
             }
         }
@@ -164,6 +154,25 @@ const WORDS: &[&str] = &[
     "G710",
     "G74 X1=0 Z1=0",
     "; c",
+    // Where the tool is: reference returns, machine coordinates, work offsets, offset changes
+    // (each dialect's own list), and exponents (E glued to a number).
+    "G28",
+    "G28.1",
+    "G29",
+    "G30",
+    "G53",
+    "G55",
+    "G10",
+    "G154",
+    "G500",
+    "G153",
+    "SUPA",
+    "G75 FP=2 Z1=0",
+    "X1e3",
+    // Haas and the FS15 format: the start angle Q, the chamfer switches.
+    "Q90000",
+    "M23",
+    "M24",
 ];
 
 fn program() -> impl Strategy<Value = String> {

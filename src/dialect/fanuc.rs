@@ -60,11 +60,12 @@ impl Dialect for Fanuc {
         &self.conv
     }
 
-    /// Only thread-cycle blocks, any block while the single-pass cycle is modal, and blocks with
-    /// a start angle Q are the family reader's business.
+    /// The family's blocks (cycle blocks, any block while the single-pass cycle is modal, blocks
+    /// with a start angle Q) and blocks with an E word (a lead on thread moves, an exponent to
+    /// refuse elsewhere).
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        self.family.wants(line)
+        self.family.prefilter(line, 0, |_| false)
     }
 
     fn read(
@@ -73,10 +74,17 @@ impl Dialect for Fanuc {
         modal: &mut Modal,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Read> {
-        Ok(self
-            .family
-            .read(&self.conv, line, modal, warnings)?
-            .unwrap_or(Read::Plain))
+        match self.family.read(&self.conv, line, modal, warnings)? {
+            Some(read) => Ok(read),
+            None => {
+                // E is a lead word on thread moves (its meaning depends on the series); nowhere
+                // else.
+                if !self.family.threads(&self.conv, line, modal) {
+                    super::refuse_exponent(line)?;
+                }
+                Ok(Read::Plain)
+            }
+        }
     }
 
     fn format(&self) -> Format {

@@ -7,7 +7,7 @@
 
 use crate::diag::{Code, Diagnostic, Result};
 use crate::gcode::reader::g_code;
-use crate::gcode::{Conventions, Line, Modal, MotionMode};
+use crate::gcode::{Conventions, Line, Modal, MotionMode, PositionCodes, WordSummary};
 use crate::machine::{GCodeSystem, HaasSettings, Machine};
 use crate::post::Format;
 use crate::thread::Job;
@@ -43,6 +43,32 @@ pub const FLAVOUR: Flavour = Flavour {
     allowance_name: "the thread finish allowance (Setting 86)",
 };
 
+/// Haas's lathe G codes for where the tool is: system A's (`fanuc_family::GCodes`), except that
+/// `G28` without axis words returns every axis ("returns all axes … simultaneously to the machine
+/// zero position when no axis is specified"), the work offsets are G54–G59 and G110–G129, and
+/// `G154 P1`–`P99` selects one of 99 more (each P another offset: taken as a change every time).
+pub const POSITIONS: PositionCodes = PositionCodes {
+    all_without_axes: true,
+    work_systems: &WORK_SYSTEMS,
+    offset_changes: &[100, 520, 1540],
+    ..GCodes::of(GCodeSystem::A).positions()
+};
+
+/// G54–G59 and G110–G129 (×10).
+const WORK_SYSTEMS: [u16; 26] = {
+    let mut t = [0u16; 26];
+    let mut i = 0;
+    while i < 6 {
+        t[i] = 540 + 10 * i as u16;
+        i += 1;
+    }
+    while i < 26 {
+        t[i] = 1100 + 10 * (i as u16 - 6);
+        i += 1;
+    }
+    t
+};
+
 pub struct Haas {
     conv: Conventions,
     machine: Machine,
@@ -75,7 +101,10 @@ impl Haas {
         let settings = machine.haas.clone().unwrap_or_else(default_settings);
         let codes = GCodes::of(GCodeSystem::A);
         Haas {
-            conv: codes.conventions(machine),
+            conv: Conventions {
+                positions: POSITIONS,
+                ..codes.conventions(machine)
+            },
             family: FanucFamily::new(FLAVOUR, parameters(&settings), codes, machine),
             machine: machine.clone(),
         }
@@ -124,17 +153,19 @@ impl Dialect for Haas {
         &self.conv
     }
 
-    /// The family's blocks, and blocks with M23/M24 or an E (on G32). Most M blocks (M3, M8) are
-    /// not offered: `read` would leave them as they are.
+    /// The family's blocks, and blocks with M23/M24 or an E (a lead on G76/G92, refused on G32
+    /// and as an exponent elsewhere). Most M blocks (M3, M8) are not offered: `read` would leave
+    /// them as they are.
     #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        self.family.wants(line)
-            || line.summary.has_letter(b'E')
-            || (line.summary.has_letter(b'M')
-                && line
-                    .words
-                    .iter()
-                    .any(|w| w.letter == b'M' && matches!(g_code(w.value), Some(M23 | M24))))
+        self.family
+            .prefilter(line, WordSummary::letter_mask(b"M"), |line| {
+                line.summary.has_letter(b'M')
+                    && line
+                        .words
+                        .iter()
+                        .any(|w| w.letter == b'M' && matches!(g_code(w.value), Some(M23 | M24)))
+            })
     }
 
     fn read(
@@ -145,10 +176,15 @@ impl Dialect for Haas {
     ) -> Result<Read> {
         self.chamfer_switch(line);
         self.thread_move_e(line, modal)?;
-        Ok(self
-            .family
-            .read(&self.conv, line, modal, warnings)?
-            .unwrap_or(Read::Plain))
+        match self.family.read(&self.conv, line, modal, warnings)? {
+            Some(read) => Ok(read),
+            None => {
+                // E is a lead on G76 and G92 only (and refused on G32, above): elsewhere an E
+                // glued to a number is an exponent.
+                super::refuse_exponent(line)?;
+                Ok(Read::Plain)
+            }
+        }
     }
 
     fn format(&self) -> Format {

@@ -83,15 +83,6 @@ pub trait Dialect {
     fn taper_word(&self) -> Option<TaperWord> {
         None
     }
-    /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
-    fn bare_letters(&self) -> &'static [u8] {
-        b""
-    }
-    /// How this controller's lines are written where it differs from RS274 (Sinumerik: `;`
-    /// comments only, and lines in its own syntax handed over unread).
-    fn syntax(&self) -> crate::gcode::Syntax {
-        crate::gcode::Syntax::default()
-    }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
     /// [`format`](Dialect::format).
@@ -139,22 +130,86 @@ pub(crate) fn alone_in_block(line: &Line, cycle: Span, name: &str, allowed: &[u1
     }
 }
 
-/// Where a cycle starts: the tool's position, which must be known (at power-on and after a reference
-/// return it is not). `hint` says how this controller's program positions the tool.
+/// Refuses a number written with an exponent (`X1e3`, `Z-2.5E-4`): G-code has none, so the text
+/// reads as the number and then an `E` word glued to it, and a block that gives E no meaning
+/// would silently move to X1. For controllers whose E is a word of some blocks only (a lead, a
+/// lead-in) and that do not otherwise check for unused words: each calls this on the blocks where
+/// E means nothing.
+pub(crate) fn refuse_exponent(line: &Line) -> Result<()> {
+    let glued = line.words.windows(2).find(|pair| {
+        let (number, e) = (&pair[0], &pair[1]);
+        e.letter == b'E'
+            && !number.is_bare()
+            && number.span.start + u64::from(number.span.len) == e.span.start
+            && number
+                .raw(line.text)
+                .last()
+                .is_some_and(|b| b.is_ascii_digit() || *b == b'.')
+    });
+    match glued {
+        Some(pair) => {
+            let (number, e) = (&pair[0], &pair[1]);
+            let text = crate::gcode::lexer::show(
+                &line.text[number.span.column as usize - 1
+                    ..e.span.column as usize - 1 + e.span.len as usize],
+            );
+            Err(Diagnostic::error(
+                crate::diag::Code::Syntax,
+                Span::new(
+                    number.span.start,
+                    number.span.len + e.span.len,
+                    number.span.line,
+                    number.span.column,
+                ),
+                format!(
+                    "`{text}`: G-code numbers have no exponent, and E means nothing on this block"
+                ),
+            )
+            .with_hint(format!(
+                "this reads as {}{} and an E word; write the number out in full",
+                number.letter as char,
+                crate::gcode::lexer::show(number.raw(line.text))
+            )))
+        }
+        None => Ok(()),
+    }
+}
+
+/// Where a cycle starts: the tool's position, which must be known on both axes (at power-on, after
+/// a reference return the profile does not place, and after a move in machine coordinates an axis
+/// is not). `hint` says how this controller's program positions the tool.
 pub(crate) fn start_point(
     modal: &Modal,
     cycle: Span,
     name: &str,
     hint: &str,
 ) -> Result<crate::units::Pos> {
-    modal.position.ok_or_else(|| {
-        Diagnostic::error(
-            crate::diag::Code::UnknownPosition,
-            cycle,
-            format!("{name} starts where the tool is, and the tool's position is not known here"),
-        )
-        .with_hint(hint)
-    })
+    modal
+        .position
+        .known()
+        .ok_or_else(|| unknown_start(modal, cycle, name, "starts where the tool is", hint))
+}
+
+/// The error of a cycle whose start point is not known: it names the axes that are not.
+#[cold]
+pub(crate) fn unknown_start(
+    modal: &Modal,
+    cycle: Span,
+    name: &str,
+    what: &str,
+    hint: &str,
+) -> Diagnostic {
+    let axes = modal.position.unknown_axes();
+    Diagnostic::error(
+        crate::diag::Code::UnknownPosition,
+        cycle,
+        format!(
+            "{name} {what}, and the tool's {} {} not known here",
+            axes.join(" and "),
+            if axes.len() == 1 { "is" } else { "are" }
+        ),
+    )
+    .with_hint(hint)
 }
 
 /// Warns when one lead is longer than the thread's Z travel: each pass turns the spindle less than
@@ -163,11 +218,12 @@ pub(crate) fn lead_warning(
     lead: f64,
     travel_z: f64,
     units: crate::units::Units,
+    length: crate::units::Tolerance,
     span: Span,
     hint: &str,
     warnings: &mut Vec<Diagnostic>,
 ) {
-    if lead > travel_z.abs() {
+    if length.gt(lead, travel_z.abs()) {
         warnings.push(
             Diagnostic::warning(
                 crate::diag::Code::Suspicious,

@@ -3,8 +3,8 @@
 use std::io::BufRead;
 
 use super::lexer::{
-    letter_slot, lex_buffered_line, lex_line_in, BufferedLine, LineShape, Syntax, Word, WordIndex,
-    WordSummary, FAST_WORDS,
+    letter_slot, lex_buffered_line, lex_line_syntax, BufferedLine, LineShape, Syntax, Word,
+    WordIndex, WordSummary, FAST_WORDS,
 };
 use crate::diag::{Code, Diagnostic, Span};
 
@@ -131,7 +131,6 @@ pub struct Reader<R> {
     line_no: u32,
     offset: u64,
     done: bool,
-    bare: &'static [u8],
     syntax: Syntax,
 }
 
@@ -150,18 +149,13 @@ impl<R: BufRead> Reader<R> {
             line_no: 0,
             offset: 0,
             done: false,
-            bare: b"",
             syntax: Syntax::default(),
         }
     }
 
-    /// Lets these letters stand without a number (see [`lex_line_with`](super::lexer::lex_line_with)).
-    pub fn with_bare_letters(mut self, bare: &'static [u8]) -> Reader<R> {
-        self.bare = bare;
-        self
-    }
-
-    /// Reads lines as a controller writes them (see [`Syntax`]).
+    /// Reads every line as a controller writes it: its [`Syntax`], which a dialect states in its
+    /// [`Conventions::syntax`](super::Conventions::syntax). The fast path takes only lines that
+    /// read the same whatever the syntax.
     pub fn with_syntax(mut self, syntax: Syntax) -> Reader<R> {
         self.syntax = syntax;
         self
@@ -200,7 +194,7 @@ impl<R: BufRead> Reader<R> {
         self.next_line_by_reference()
     }
 
-    /// The next line, lexed by the reference lexer ([`lex_line_in`]) whatever it holds: for a
+    /// The next line, lexed by the reference lexer ([`lex_line_syntax`]) whatever it holds: for a
     /// caller that took the lines the fast path reads with
     /// [`next_plain_line`](Self::next_plain_line) already (the two lexers give the same words).
     #[inline(never)]
@@ -231,13 +225,12 @@ impl<R: BufRead> Reader<R> {
                 text_len -= 1;
             }
         }
-        match lex_line_in(
+        match lex_line_syntax(
             &raw[..text_len],
             line_no,
             offset,
             &mut self.words,
-            self.bare,
-            self.syntax,
+            &self.syntax,
         ) {
             Ok(shape) => {
                 let summary = WordSummary::of(&self.words);
@@ -482,15 +475,8 @@ mod tests {
 
     /// What the reader gives for every line. `before` and `handed_out` must be the input right
     /// before the line and right after the last one: `input` is the whole input, to check them.
-    fn read_all(
-        source: impl BufRead,
-        bare: &'static [u8],
-        syntax: Syntax,
-        input: &[u8],
-    ) -> Vec<Lexed> {
-        let mut r = Reader::new(source)
-            .with_bare_letters(bare)
-            .with_syntax(syntax);
+    fn read_all(source: impl BufRead, syntax: Syntax, input: &[u8]) -> Vec<Lexed> {
+        let mut r = Reader::new(source).with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -568,13 +554,10 @@ mod tests {
     /// fast path does not read is read with `next_line_by_reference`.
     fn read_plain_first(
         source: impl BufRead,
-        bare: &'static [u8],
         syntax: Syntax,
         put_back: impl Fn(u32) -> bool,
     ) -> Vec<Lexed> {
-        let mut r = Reader::new(source)
-            .with_bare_letters(bare)
-            .with_syntax(syntax);
+        let mut r = Reader::new(source).with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -621,7 +604,7 @@ mod tests {
 
     /// The same, line by line with the reference lexer: split at `\n`, drop the terminator. Under
     /// `hand_over_unread`, a line the lexer refuses comes without words, marked unread.
-    fn reference(src: &[u8], bare: &[u8], syntax: Syntax) -> Vec<Lexed> {
+    fn reference(src: &[u8], syntax: Syntax) -> Vec<Lexed> {
         let mut got = vec![];
         let mut offset = 0u64;
         for (i, raw) in src.split_inclusive(|&b| b == b'\n').enumerate() {
@@ -632,7 +615,7 @@ mod tests {
             let mut words = vec![];
             let n = i as u32 + 1;
             got.push(
-                match lex_line_in(text, n, offset, &mut words, bare, syntax) {
+                match lex_line_syntax(text, n, offset, &mut words, &syntax) {
                     Ok(shape) => {
                         let summary = WordSummary::of(&words);
                         (
@@ -676,26 +659,28 @@ mod tests {
             ),
             step in 1usize..40,
             flags in proptest::bool::ANY,
+            blanks in proptest::bool::ANY,
             sinumerik in proptest::bool::ANY,
         ) {
-            let bare: &'static [u8] = if flags { b"PC" } else { b"" };
-            // Sinumerik's: parentheses are no comments, and unreadable lines are handed over.
+            // Bare flags (OmniTurn); blanks that mean nothing and nested comments refused
+            // (LinuxCNC); parentheses that are no comments and unreadable lines handed over
+            // (Sinumerik); or none of them.
             let syntax = Syntax {
-                parens_not_comments: sinumerik,
-                hand_over_unread: sinumerik,
+                bare: if flags { b"PC" } else { b"" },
+                blanks_anywhere: blanks && !flags,
+                nested_comment_error: blanks && !flags,
+                parens_not_comments: sinumerik && !flags && !blanks,
+                hand_over_unread: sinumerik && !flags && !blanks,
             };
-            let want = reference(&text, bare, syntax);
-            proptest::prop_assert_eq!(read_all(&text[..], bare, syntax, &text), want.clone());
-            proptest::prop_assert_eq!(
-                read_all(Trickle { data: &text, step }, bare, syntax, &text),
-                want.clone()
-            );
+            let want = reference(&text, syntax);
+            proptest::prop_assert_eq!(read_all(&text[..], syntax, &text), want.clone());
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, syntax, &text), want.clone());
             let none = |_| false;
             let some = |n: u32| n % 3 == 1;
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, syntax, none), want.clone());
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, syntax, some), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], syntax, none), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], syntax, some), want.clone());
             proptest::prop_assert_eq!(
-                read_plain_first(Trickle { data: &text, step }, bare, syntax, some),
+                read_plain_first(Trickle { data: &text, step }, syntax, some),
                 want
             );
         }
@@ -705,10 +690,10 @@ mod tests {
     fn lines_across_reads_and_longer_than_the_buffer() {
         let long = format!("G1 X1 ({})\r\n", "c".repeat(3 * CHUNK));
         let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
-        let want = reference(src.as_bytes(), b"", Syntax::default());
+        let want = reference(src.as_bytes(), Syntax::default());
         assert_eq!(want.len(), 5);
         assert_eq!(
-            read_all(src.as_bytes(), b"", Syntax::default(), src.as_bytes()),
+            read_all(src.as_bytes(), Syntax::default(), src.as_bytes()),
             want
         );
         for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
@@ -717,7 +702,7 @@ mod tests {
                 step,
             };
             assert_eq!(
-                read_all(trickle, b"", Syntax::default(), src.as_bytes()),
+                read_all(trickle, Syntax::default(), src.as_bytes()),
                 want,
                 "step {step}"
             );
@@ -729,7 +714,7 @@ mod tests {
         // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
         // without a terminator.
         let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
-        let got = read_all(ok.as_bytes(), b"", Syntax::default(), ok.as_bytes());
+        let got = read_all(ok.as_bytes(), Syntax::default(), ok.as_bytes());
         assert_eq!(got.len(), 2);
         assert!(got.iter().all(|l| l.4.is_ok()));
         for tail in ["\r\n", ""] {

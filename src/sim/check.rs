@@ -429,7 +429,8 @@ impl Blank {
 fn form_checks(job: &Job, machine: &Machine, g: &super::GrooveReport, out: &mut Vec<Diagnostic>) {
     let units = job.units;
     let show = |mm: f64| length(units, mm);
-    let resolution = units.to_mm(machine.resolution(units));
+    // The program's resolution: a ridge or a size error within one increment is not there.
+    let res = machine.program_resolution(units, machine.diameter_x);
     if g.depth_reached < g.depth_target - crate::thread::plan::DEPTH_TOLERANCE {
         out.push(Diagnostic::error(
             Code::DepthNotReached,
@@ -441,7 +442,7 @@ fn form_checks(job: &Job, machine: &Machine, g: &super::GrooveReport, out: &mut 
             ),
         ));
     }
-    if g.ridge > resolution {
+    if res.length().gt(g.ridge, 0.0) {
         out.push(
             Diagnostic::warning(
                 Code::Form,
@@ -456,7 +457,8 @@ fn form_checks(job: &Job, machine: &Machine, g: &super::GrooveReport, out: &mut 
         );
     }
     if let Some(e) = g.pitch_diameter_error {
-        if e.abs() > resolution {
+        // `e` is a diameter; X's tolerance is a radius.
+        if res.x().gt((e / 2.0).abs(), 0.0) {
             out.push(
                 Diagnostic::warning(
                     Code::Form,

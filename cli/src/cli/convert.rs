@@ -227,6 +227,7 @@ fn block(
     let mut words: Vec<String> = Vec::new();
     let mut thread = false;
     let mut dwell = false;
+    let mut home = false;
     for w in line.words.iter().filter(|w| w.letter == b'G') {
         let code = g_code(w.value)
             .ok_or_else(|| cannot(w.span, format!("G{} is not a G code", w.value)))?;
@@ -234,6 +235,7 @@ fn block(
             Ok(Some(c)) => {
                 thread |= c == 320 || c == 330;
                 dwell |= c == 40;
+                home |= c == 280;
                 words.push(g_text(c));
             }
             Ok(None) => {}
@@ -301,35 +303,44 @@ fn block(
                 Family::LinuxCnc => format!("P{}", post::number(s, 3, false)),
             });
         }
-    } else if x_written || z_written {
-        match modal.position {
-            Some(p) => {
-                if x_written {
-                    words.push(format!("X{}", num(tformat.x_word(p.x, units))));
-                }
-                if z_written {
-                    words.push(format!("Z{}", num(units.from_mm(p.z))));
-                }
+    } else if home {
+        // A reference return's words are its intermediate point, written as the source wrote
+        // them (the target is of the same family).
+        for w in line.words {
+            if matches!(w.letter, b'X' | b'Z' | b'U' | b'W') {
+                words.push(format!(
+                    "{}{}",
+                    w.letter as char,
+                    threadcut::gcode::lexer::show(w.raw(line.text))
+                ));
             }
-            None => {
-                // Position unknown: only absolute words can be rewritten.
-                for w in line.words {
-                    match w.letter {
-                        b'X' if modal.absolute => words.push(format!(
-                            "X{}",
-                            num(tformat.x_word(modal.x_to_mm(modal.value(w)), units))
-                        )),
-                        b'Z' if modal.absolute => {
-                            words.push(format!("Z{}", num(modal.value(w))))
-                        }
-                        b'X' | b'Z' | b'U' | b'W' => {
-                            return Err(cannot(
-                                w.span,
-                                "an incremental move from an unknown position cannot be rewritten as an absolute one".into(),
-                            ))
-                        }
-                        _ => {}
-                    }
+        }
+    } else if x_written || z_written {
+        // The position after the block, axis by axis: an axis the block names is known unless
+        // the block moved it by an increment from an unknown position.
+        for (written, known, letters) in [
+            (
+                x_written,
+                modal.position.x.map(|x| tformat.x_word(x, units)),
+                b"XU",
+            ),
+            (z_written, modal.position.z.map(|z| units.from_mm(z)), b"ZW"),
+        ] {
+            if !written {
+                continue;
+            }
+            match known {
+                Some(v) => words.push(format!("{}{}", letters[0] as char, num(v))),
+                None => {
+                    let w = line
+                        .words
+                        .iter()
+                        .find(|w| letters.contains(&w.letter))
+                        .expect("the block names the axis");
+                    return Err(cannot(
+                        w.span,
+                        "an incremental move from an unknown position cannot be rewritten as an absolute one".into(),
+                    ));
                 }
             }
         }
@@ -337,7 +348,23 @@ fn block(
     let mut lead_written = None;
     if in_thread {
         if let (Some(mv), Some(lead)) = (mv, mv.and_then(|m| m.lead)) {
-            let d = mv.to.minus(mv.from);
+            // A target whose lead runs along the path needs the path: the start on every axis
+            // the block moves.
+            if tformat.lead_along_path
+                && ((x_written && mv.from.x.is_none()) || (z_written && mv.from.z.is_none()))
+            {
+                return Err(cannot(
+                    line.span(),
+                    "a thread move from an unknown position: its lead along the path is not known"
+                        .into(),
+                ));
+            }
+            // An axis the block does not name does not move.
+            let from = threadcut::units::Pos::new(
+                mv.from.x.unwrap_or(mv.to.x),
+                mv.from.z.unwrap_or(mv.to.z),
+            );
+            let d = mv.to.minus(from);
             // `Modal::apply` already gives the lead along the longer axis.
             let model = lead;
             let written = if tformat.lead_along_path {
@@ -355,11 +382,18 @@ fn block(
         }
     }
     for w in line.words {
+        // The number as written, without the blanks LinuxCNC allows inside it (`S 1 2 0 0`).
         let text = || {
+            let raw: Vec<u8> = w
+                .raw(line.text)
+                .iter()
+                .copied()
+                .filter(|b| !matches!(b, b' ' | b'\t' | b'\r'))
+                .collect();
             format!(
                 "{}{}",
                 w.letter as char,
-                threadcut::gcode::lexer::show(w.raw(line.text))
+                threadcut::gcode::lexer::show(&raw)
             )
         };
         match w.letter {
