@@ -116,6 +116,42 @@ const SPLIT: &[(&str, &str, Pos, u32, u32)] = &[
         5,
         1,
     ),
+    (
+        // Haas: inch, X on diameter, numbers as a calculator reads them; each axis homed on its
+        // own line, as Haas's own examples write it.
+        "haas",
+        "%\nO03001 (1/2-13 UNC-2A OD)\nG20 G99\nG28 U0.\nG28 W0.\nT404\nG97 S900 M03\n\
+         G00 X.6\nZ.25\nG76 X.4056 Z-.75 K.0472 D.012 F.0769 A60 P2\nG00 X2.\nG28 U0.\nM30\n%\n",
+        Pos::new(0.3 * 25.4, 0.25 * 25.4),
+        10,
+        1,
+    ),
+    (
+        "fanuc15",
+        "%\nO1531 (M20X1.5 OD, FS15 FORMAT)\nG21 G99\nG28 U0. W0.\nT0303\nG97 S700 M03\n\
+         G00 X23.\nZ3.\nG76 X18.16 Z-20. K0.92 D0.3 F1.5 A60 P1\nG00 X100.\nM30\n%\n",
+        Pos::new(11.5, 3.0),
+        9,
+        1,
+    ),
+    (
+        // Fanuc's G-code system B: the two-block G76, G90 as the distance code.
+        "fanuc-b",
+        "O2002 (M16X1.5 OD, SYSTEM B)\nG21 G90 G95\nG28 U0. W0.\nT0505\nG97 S800 M03\n\
+         G00 X18.\nZ4.\nG76 P010060 Q50 R0.02\nG76 X14.16 Z-22. P920 Q250 F1.5\nG00 X50.\nM30\n",
+        Pos::new(9.0, 4.0),
+        9,
+        1,
+    ),
+    (
+        // System B's single-pass cycle G78, modal.
+        "fanuc-b",
+        "O2003\nG28 U0. W0.\nT0505\nG90 G00 X22.\nZ4.\nG78 X19.4 Z-25. F1.5\nX19.\nX18.7\n\
+         G00 X100.\nM30\n",
+        Pos::new(11.0, 4.0),
+        6,
+        1,
+    ),
 ];
 
 #[test]
@@ -152,7 +188,7 @@ fn a_start_point_with_one_axis_never_positioned_is_refused_naming_it() {
                 !matches!(
                     l.trim_start_matches(|c: char| c == 'N' || c.is_ascii_digit())
                         .trim(),
-                    "Z4." | "Z3." | "Z1." | "Z.2"
+                    "Z4." | "Z3." | "Z1." | "Z.2" | "Z.25"
                 )
             })
             .map(|l| format!("{l}\n"))
@@ -174,6 +210,8 @@ fn a_start_point_with_one_axis_never_positioned_is_refused_naming_it() {
                 "G00 X13." => "G00",
                 "X.3" => "",
                 "G90 G00 X.6" => "G90 G00",
+                "G00 X.6" | "G00 X23." | "G00 X18." => "G00",
+                "G90 G00 X22." => "G90 G00",
                 l => l,
             })
             .map(|l| format!("{l}\n"))
@@ -347,6 +385,185 @@ fn set_position_keeps_the_axis_it_does_not_name() {
     close(jobs(&m, src)[0].start, Pos::new(9.0, 4.0));
 }
 
+const HAAS_AFTER_RETURN: &str =
+    "G20\nG00 X.6 Z.25\n{RETURN}\nG76 X.4056 Z-.75 K.0472 D.012 F.0769 A60 P2\n";
+
+#[test]
+fn haas_returns_every_axis_without_axis_words() {
+    // Haas's G28: "returns all axes … simultaneously to the machine zero position when no axis
+    // is specified"; with axis words only those axes return.
+    let m = machine("haas");
+    let src = |ret: &str| HAAS_AFTER_RETURN.replace("{RETURN}", ret);
+    let start = Pos::new(0.3 * 25.4, 0.25 * 25.4);
+    let e = error(&m, &src("G28"));
+    assert_error(
+        &e,
+        Code::UnknownPosition,
+        4,
+        1,
+        "the tool's X and Z are not known",
+    );
+    let e = error(&m, &src("G28 U0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X is not known");
+    let e = error(&m, &src("G28 W0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's Z is not known");
+    // Work offsets: G54 is in force at power-on; G55 and G110–G129 are others; every G154 P..
+    // may be another of its 99.
+    close(jobs(&m, &src("G54"))[0].start, start);
+    for other in ["G55", "G110", "G129", "G154 P1"] {
+        let e = error(&m, &src(other));
+        assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
+    }
+    let e = error(&m, &src("G53 G00 X0."));
+    assert_error(&e, Code::UnknownPosition, 4, 1, "the tool's X is not known");
+    // The profile's machine zero, in inch and on diameter as Haas programs write X.
+    let m = with_reference("haas", "g28 = { x = 10.0, z = 8.0 }");
+    close(
+        jobs(&m, &src("G28"))[0].start,
+        Pos::new(5.0 * 25.4, 8.0 * 25.4),
+    );
+    close(
+        jobs(&m, &src("G28 W0."))[0].start,
+        Pos::new(0.3 * 25.4, 8.0 * 25.4),
+    );
+}
+
+#[test]
+fn fanuc_g_code_systems_take_their_own_position_codes() {
+    // The reference returns, G53 and G54–G59 are the same in A, B and C; the coordinate setting
+    // (G50 in A, G92 in B and C) and the workpiece coordinate preset (G50.3 in A, G92.1 in B and C)
+    // are renumbered (`fanuc_family::GCodes`).
+    let a = machine("fanuc");
+    let b = machine("fanuc-b");
+    let mut c = b.clone();
+    c.fanuc.as_mut().unwrap().gcode_system = threadcut::machine::GCodeSystem::C;
+    let cycle_a = "G76 P010060 Q50 R0.02\nG76 X14.16 Z-22. P920 Q250 F1.5\n";
+    let cycle_c = "G78 P010060 Q50 R0.02\nG78 X14.16 Z-22. P920 Q250 F1.5\n";
+    for (m, set, preset, cycle) in [
+        (&a, "G50", "G50.3", cycle_a),
+        (&b, "G92", "G92.1", cycle_a),
+        (&c, "G92", "G92.1", cycle_c),
+    ] {
+        let name = format!("system {:?}", m.fanuc.as_ref().unwrap().gcode_system);
+        // Set position, from nowhere known: the named axes.
+        let src = format!("{set} X18. Z4.\n{cycle}");
+        close(jobs(m, &src)[0].start, Pos::new(9.0, 4.0));
+        // The preset moves the coordinates by an amount the program does not state.
+        let src = format!("G0 X18. Z4.\n{preset} X0. Z0.\n{cycle}");
+        let e = error(m, &src);
+        assert_error(&e, Code::UnknownPosition, 4, 1, "X and Z");
+        // The same reference returns and work offsets in every system.
+        for (ret, text) in [
+            ("G28 U0.", "the tool's X is not known"),
+            ("G30 W0.", "the tool's Z is not known"),
+            ("G53 G0 X0.", "the tool's X is not known"),
+            ("G30.1 U0.", "the tool's X is not known"),
+            ("G56", "X and Z"),
+            ("G10 P0 X0. Z0.", "X and Z"),
+            ("G52 X0. Z-10.", "X and Z"),
+        ] {
+            let src = format!("G0 X18. Z4.\n{ret}\n{cycle}");
+            let e = error(m, &src);
+            assert_error(&e, Code::UnknownPosition, 4, 1, text);
+            assert!(e.message.contains(text), "{name}: {ret}");
+        }
+    }
+}
+
+/// The CYCLE97 of `src` on `m`: its job and the warnings of the run.
+fn cycle97(m: &Machine, src: &str) -> (Job, Vec<Diagnostic>) {
+    let mut job = None;
+    let summary = program::run(src.as_bytes(), m, |_, ev| {
+        if let program::Event::Cycle { job: j, .. } = ev {
+            job = Some(*j);
+        }
+        Ok(())
+    })
+    .unwrap_or_else(|e| panic!("{e}\n{src}"));
+    (job.expect("a cycle"), summary.warnings)
+}
+
+const SINUMERIK_SHOP: &str = "N10 G18 G90 G95 G71 DIAMON\nN20 G74 X1=0 Z1=0\n\
+    N30 T=\"THREAD_EXT_60\" D1\nN40 G97 S900 M3\nN50 G0 X30\nN60 Z6\n\
+    N70 CYCLE97(1.5,,0,-32,24,24,4,2,0.92,0.05,-29,0,7,2,3,1)\nN80 G0 X60 Z80\nN90 M30\n";
+
+#[test]
+fn sinumerik_split_positioning_and_its_position_codes() {
+    let m = machine("sinumerik");
+    // CYCLE97 starts from its own start point; where the tool was is the start of its G0 there,
+    // which it shows from its start point, with a warning, when an axis is not known.
+    let (job, warnings) = cycle97(&m, SINUMERIK_SHOP);
+    close(job.start, Pos::new(15.0, 6.0));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let unknown = |src: &str, axes: &str| {
+        let (job, warnings) = cycle97(&m, src);
+        assert_eq!(warnings.len(), 1, "{src}: {warnings:?}");
+        assert_eq!(warnings[0].code, Code::UnknownPosition);
+        assert!(
+            warnings[0]
+                .message
+                .contains(&format!("the tool's {axes} before CYCLE97")),
+            "{src}: {}",
+            warnings[0].message
+        );
+        close(job.start, Pos::new(job.retract.x, job.retract.z));
+    };
+    unknown(&SINUMERIK_SHOP.replace("N60 Z6\n", ""), "Z");
+    unknown(&SINUMERIK_SHOP.replace("N50 G0 X30\n", "N50 G0\n"), "X");
+    // G74 approaches the reference point with the machine axes it names (X1=, Z1=, or the
+    // axis's own name with `=`); the other axis stays where it was.
+    let after =
+        |codes: &str| SINUMERIK_SHOP.replace("N70 CYCLE97", &format!("{codes}\nN70 CYCLE97"));
+    unknown(&after("G74 X1=0"), "X");
+    unknown(&after("G74 Z1=0"), "Z");
+    unknown(&after("G74 X1=0 Z1=0"), "X and Z");
+    // G75 (a fixed point from the machine data), G53/G153 and SUPA (machine coordinates): the
+    // named axes become unknown, and the block is no move in the program's coordinates.
+    unknown(&after("G75 FP=2 Z1=0"), "Z");
+    unknown(&after("G75 FP=1 X=0"), "X");
+    unknown(&after("G53 G0 X100"), "X");
+    unknown(&after("G153 G0 Z100"), "Z");
+    unknown(&after("SUPA G0 Z100"), "Z");
+    // The settable work offsets: G500 is in force at power-on; G54–G57 and G505–G599 are others.
+    let (_, warnings) = cycle97(&m, &after("G500"));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    for other in ["G54", "G57", "G505", "G599"] {
+        unknown(&after(other), "X and Z");
+    }
+    let (_, warnings) = cycle97(&m, &after("G54 G0 X30 Z6\nG54"));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    // The programmable offsets change the coordinates by amounts not kept; the working-area
+    // limits G25/G26 move nothing.
+    unknown(&after("G58 Z-10"), "X and Z");
+    let (job, warnings) = cycle97(&m, &after("G25 X0 Z-200\nG26 X400 Z300"));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    close(job.start, Pos::new(15.0, 6.0));
+    // The profile's reference point (its `g28`: Sinumerik's G74), on diameter as X is written.
+    let m = with_reference("sinumerik", "g28 = { x = 300.0, z = 200.0 }");
+    let (job, warnings) = cycle97(&m, &after("G74 X1=0 Z1=0"));
+    assert!(warnings.is_empty(), "{warnings:?}");
+    close(job.start, Pos::new(150.0, 200.0));
+    // A thread move after positioning on two lines starts at the known point.
+    let mut moves = vec![];
+    program::run(
+        "G18 G90 G95 DIAMON\nG74 X1=0 Z1=0\nG0 X23\nZ5\nG33 Z-20 K1.5 SF=90\n".as_bytes(),
+        &machine("sinumerik"),
+        |_, ev| {
+            if let program::Event::Plain { mv: Some(mv), .. } = ev {
+                moves.push(mv);
+            }
+            Ok(())
+        },
+    )
+    .unwrap();
+    // `G0 X23` ends where Z is not known: no move; `Z5` ends at a known point; the thread runs
+    // from there.
+    assert_eq!(moves.len(), 2, "{moves:?}");
+    assert_eq!(moves[0].from.unknown_axes(), ["Z"]);
+    assert_eq!(moves[1].from.known(), Some(Pos::new(11.5, 5.0)));
+    assert_eq!((moves[1].lead, moves[1].phase_deg), (Some(1.5), 90.0));
+}
+
 // ---------------------------------------------------------------------------------------------
 // Comparisons at the program's resolution
 
@@ -396,6 +613,38 @@ fn a_start_point_within_the_resolution_of_the_crest_is_on_the_crest() {
     jobs(&m, &ab(".4999"));
     let e = error(&m, &ab(".4998"));
     assert_error(&e, Code::Geometry, 3, 1, "lies inside the thread");
+    // The one-block G76 of the FS15 format: the top of the thread at X27.546 + 2 × 1.227 = X30.
+    let m = machine("fanuc15");
+    let fs15 = |x: &str| format!("G0 X{x} Z5.\nG76 X27.546 Z-30. K1.227 D0.4 F2. A60 P1\n");
+    jobs(&m, &fs15("29.999"));
+    let e = error(&m, &fs15("29.998"));
+    assert_error(
+        &e,
+        Code::Geometry,
+        2,
+        1,
+        "lies inside the thread (its top is at X30.)",
+    );
+    // Haas's, in inch: X.4056 + 2 × .0472 = X.5.
+    let m = machine("haas");
+    let haas =
+        |x: &str| format!("G20\nG00 X{x} Z.25\nG76 X.4056 Z-.75 K.0472 D.012 F.0769 A60 P2\n");
+    jobs(&m, &haas(".4999"));
+    let e = error(&m, &haas(".4998"));
+    assert_error(&e, Code::Geometry, 3, 1, "lies inside the thread");
+    // Fanuc system B's single-pass G78: a start X within one increment of the cut's X cannot tell
+    // an external from an internal thread.
+    let m = machine("fanuc-b");
+    let b = |x: &str| format!("G0 X{x} Z4.\nG78 X19.4 Z-25. F1.5\n");
+    let e = error(&m, &b("19.4005"));
+    assert_error(
+        &e,
+        Code::Geometry,
+        2,
+        1,
+        "cannot tell an external from an internal",
+    );
+    jobs(&m, &b("19.402"));
 }
 
 #[test]
@@ -438,6 +687,24 @@ fn lengths_and_equalities_at_the_resolution() {
         "In G76, K must be greater than J",
     );
     jobs(&m, &lcnc("0.2002"));
+    // CYCLE97 (IS-B mm, its lengths as written): FPL within one increment of SPL has no length;
+    // FAL within one increment of TDEP is not smaller than it.
+    let m = machine("sinumerik");
+    let c97 = |spl_fpl: &str, tdep_fal: &str| {
+        format!("G0 X30 Z6\nCYCLE97(1.5,,{spl_fpl},24,24,4,2,{tdep_fal},-29,0,7,2,3,1)\n")
+    };
+    let e = error(&m, &c97("0,0.0009", "0.92,0.05"));
+    assert_error(&e, Code::Geometry, 2, 16, "FPL 0.0009 equals SPL");
+    cycle97(&m, &c97("0,-0.002", "0.92,0.05"));
+    let e = error(&m, &c97("0,-32", "0.92,0.9195"));
+    assert_error(
+        &e,
+        Code::Geometry,
+        2,
+        35,
+        "is not smaller than the thread depth",
+    );
+    cycle97(&m, &c97("0,-32", "0.92,0.918"));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -665,6 +932,26 @@ fn numbers_have_no_exponent() {
         ("gsk980", "G00 X1E3 Z5\n", (1, 5), "`X1E3`"),
         ("ab9", "G20\nG0 X.5E1 Z.1\n", (2, 4), "`X.5E1`"),
         ("omniturn", "X.3Z.2\nX.25e-1\n", (2, 1), "`X.25e-1`"),
+        ("haas", "G20\nG00 X.9E1 Z.3\n", (2, 5), "`X.9E1`"),
+        (
+            "fanuc15",
+            "G0 X20. Z5.\nG1 Z-1.5e2 F0.2\n",
+            (2, 4),
+            "`Z-1.5e2`",
+        ),
+        (
+            "fanuc-b",
+            "G0 X20. Z5.\nG01 Z-1.5E2 F0.2\n",
+            (2, 5),
+            "`Z-1.5E2`",
+        ),
+        // Sinumerik writes an exponent as `EX` (`1.5EX2`); `1.5E2` is no number there either.
+        (
+            "sinumerik",
+            "G0 X20 Z5\nG1 Z-1.5e2 F0.2\n",
+            (2, 4),
+            "`Z-1.5e2`",
+        ),
     ] {
         let e = error(&machine(name), src);
         assert_error(&e, Code::Syntax, at.0, at.1, text);
@@ -692,6 +979,12 @@ fn numbers_have_no_exponent() {
         &machine("gsk980"),
         "G00 X40 Z5\nG78 P010060 Q0.1 R0.05 E0.5\nG78 X36.933 Z-30 P1.534 Q0.3 F2.5\n",
     );
+    // Haas's E is G76's and G92's lead (F(E)), glued to the word before it or not.
+    let haas = jobs(
+        &machine("haas"),
+        "G20\nG00 X.6 Z.25\nG76 X.4056 Z-.75 K.0472 D.012E.0769 A60 P2\n",
+    );
+    assert!((haas[0].lead.lead - 0.0769 * 25.4).abs() < 1e-12);
     // An E with a blank before it is an E word as before (Fanuc's plain blocks ignore it).
     jobs(&machine("fanuc"), "G0 X20. E5\n");
 }
