@@ -94,9 +94,9 @@ pub const SYNTAX: Syntax = Syntax {
 /// is"): `G74` approaches the reference point with the axes it names (the profile's
 /// `[reference] g28`); `G75` approaches a fixed point (machine data no profile states) and
 /// `G53`/`G153` move in machine coordinates: the named axes become unknown. The settable work
-/// offsets are `G500` (none: in force at power-on), `G54`–`G57` and `G505`–`G599`; the
-/// programmable offsets `G58`/`G59` change the coordinates by amounts not kept; `G25`/`G26` with
-/// axis words set the working-area limits and move nothing.
+/// offsets are `G500` (none: in force at power-on), `G54`–`G57` and `G505`–`G599`; `G25`/`G26`
+/// with axis words set the working-area limits and move nothing. (The programmable offsets
+/// `G58`/`G59` are frames, refused as TRANS is.)
 pub const POSITIONS: PositionCodes = PositionCodes {
     returns: &[(740, Reference::First)],
     all_without_axes: false,
@@ -105,7 +105,7 @@ pub const POSITIONS: PositionCodes = PositionCodes {
     from_reference: 0,
     work_systems: &WORK_SYSTEMS,
     power_on_work_system: 5000,
-    offset_changes: &[580, 590],
+    offset_changes: &[],
     not_moves: &[250, 260],
 };
 
@@ -250,6 +250,11 @@ impl Sinumerik {
                     Some(900) => absolute = true,
                     Some(910) => absolute = false,
                     Some(G33) => thread = true,
+                    // The programmable zero offsets: frames, as TRANS and ATRANS ("G58 replaces
+                    // the absolute translation component of the programmable zero offset").
+                    Some(c @ (580 | 590)) => {
+                        return Err(frame_refused(&format!("G{}", c / 10), w.span))
+                    }
                     Some(c @ (340 | 350 | 630 | 3310 | 3320)) => {
                         return Err(Diagnostic::error(
                             Code::Unsupported,
@@ -555,14 +560,7 @@ impl Sinumerik {
                 )
                 .with_hint("unroll the program (or run it in the control's simulation) before expanding it"))
             }
-            n if FRAMES.contains(&n) => {
-                return Err(Diagnostic::error(
-                    Code::Unsupported,
-                    span,
-                    format!("{n}: threadcut does not follow frames, which move every later position"),
-                )
-                .with_hint("write the positions in the workpiece coordinates the frame gives"))
-            }
+            n if FRAMES.contains(&n) => return Err(frame_refused(n, span)),
             n => {
                 return Err(Diagnostic::error(
                     Code::Unsupported,
@@ -624,6 +622,17 @@ impl Sinumerik {
         }
         Ok(Read::Cycle(Box::new(job)))
     }
+}
+
+/// A frame (TRANS, ATRANS, G58, G59, …) is refused at its word.
+#[cold]
+fn frame_refused(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        Code::Unsupported,
+        span,
+        format!("{name}: threadcut does not follow frames, which move every later position"),
+    )
+    .with_hint("write the positions in the workpiece coordinates the frame gives")
 }
 
 /// Where each letter's last word is, as the lexer fills it for its own lines.
