@@ -535,7 +535,13 @@ fn sinumerik_split_positioning_and_its_position_codes() {
     // The programmable zero offsets are frames, refused as TRANS is; the working-area limits
     // G25/G26 move nothing.
     let e = error(&m, &after("G58 Z-10"));
-    assert_error(&e, Code::Unsupported, 7, 1, "G58: threadcut does not follow frames");
+    assert_error(
+        &e,
+        Code::Unsupported,
+        7,
+        1,
+        "G58: threadcut does not follow frames",
+    );
     let (job, warnings) = cycle97(&m, &after("G25 X0 Z-200\nG26 X400 Z300"));
     assert!(warnings.is_empty(), "{warnings:?}");
     close(job.start, Pos::new(15.0, 6.0));
