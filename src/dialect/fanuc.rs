@@ -63,7 +63,7 @@ impl Dialect for Fanuc {
     /// The family's blocks (cycle blocks, any block while the single-pass cycle is modal, blocks
     /// with a start angle Q) and blocks with an E word (a lead on thread moves, an exponent to
     /// refuse elsewhere).
-    #[inline]
+    #[inline(always)]
     fn prefilter(&self, line: &Line) -> bool {
         self.family.prefilter(line, 0, |_| false)
     }

@@ -336,6 +336,13 @@ impl FanucFamily {
         if !line.summary.other_g_or_any(self.letters | own_letters) {
             return self.in_progress();
         }
+        self.prefilter_words(line, own_block)
+    }
+
+    /// [`prefilter`](Self::prefilter) for the lines the summary's one test does not answer: kept
+    /// out of line, so that the test itself is inlined into the run loop.
+    #[inline(never)]
+    fn prefilter_words(&self, line: &Line, own_block: impl FnOnce(&Line) -> bool) -> bool {
         self.wants(line) || line.summary.has_letter(b'E') || own_block(line)
     }
 

@@ -526,7 +526,7 @@ impl Dialect for Gsk {
 
     /// G78 blocks, the family's (G76, G92) and blocks with an E word (G78's lead-in, an exponent
     /// to refuse elsewhere).
-    #[inline]
+    #[inline(always)]
     fn prefilter(&self, line: &Line) -> bool {
         self.family.prefilter(line, 0, |line| line.has_g(G78))
     }

@@ -156,7 +156,7 @@ impl Dialect for Haas {
     /// The family's blocks, and blocks with M23/M24 or an E (a lead on G76/G92, refused on G32
     /// and as an exponent elsewhere). Most M blocks (M3, M8) are not offered: `read` would leave
     /// them as they are.
-    #[inline]
+    #[inline(always)]
     fn prefilter(&self, line: &Line) -> bool {
         self.family
             .prefilter(line, WordSummary::letter_mask(b"M"), |line| {

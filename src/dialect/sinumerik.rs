@@ -653,14 +653,13 @@ impl Dialect for Sinumerik {
         &self.conv
     }
 
+    /// Lines in Sinumerik's own syntax, G codes other than G0–G3, and the letters `read` looks at
+    /// (D and T: the tool offset; L: a subprogram call; E: an exponent to refuse), in one test of
+    /// the word summary; and the line after a CYCLE97 expanded under DIAM90 and G91.
+    #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        line.shape.unread
-            || line.summary.other_g()
-            || line.summary.has_letter(b'D')
-            || line.summary.has_letter(b'T')
-            || line.summary.has_letter(b'L')
-            || line.summary.has_letter(b'E')
-            || self.restore_diameter.is_some()
+        const LETTERS: u32 = WordSummary::letter_mask(b"DTLE");
+        line.shape.unread || line.summary.other_g_or_any(LETTERS) || self.restore_diameter.is_some()
     }
 
     fn read(
