@@ -80,6 +80,8 @@ pub struct Flavour {
     pub controller: &'static str,
     /// GSK's G92 words: J/K (tail-out, short and long axis) and L (starts).
     pub gsk_g92_words: bool,
+    /// The controller's G codes (for the alarm on a block of another control's form).
+    pub vocabulary: &'static crate::gcode::modal::Vocabulary,
 }
 
 /// The modal state of G92: the values a following block without a G code repeats.
@@ -264,6 +266,26 @@ impl FanucFamily {
         } else {
             b"GNXZUWRPQFE"
         };
+        // K (thread height), D (first cut) and A (tool angle) are the one-block G76's words (Fanuc's
+        // FS15 program format, Haas): that is another control's cycle, not a mistyped word.
+        if let Some(w) = line
+            .words
+            .iter()
+            .find(|w| matches!(w.letter, b'K' | b'D' | b'A'))
+        {
+            let v = self.flavour.vocabulary;
+            return Err(super::foreign_form(
+                line,
+                g76,
+                G76,
+                v,
+                format!(
+                    "{} is a word of the one-block G76 (Fanuc FS15 program format, Haas), and {} reads G76 in two blocks",
+                    w.letter as char, v.controller
+                ),
+                "G76 P(m)(r)(a) Q(Δdmin) R(d), then G76 X(U) Z(W) R(i) P(k) Q(Δd) F(L)",
+            ));
+        }
         only_words(
             line,
             letters,

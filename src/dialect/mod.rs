@@ -10,6 +10,7 @@ pub mod linuxcnc;
 pub mod omniturn;
 
 use crate::diag::{Diagnostic, Result, Span};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::{Conventions, Line, Modal, Word};
 use crate::machine::Machine;
 use crate::post::Format;
@@ -29,6 +30,10 @@ pub enum Read {
 pub trait Dialect {
     fn name(&self) -> &'static str;
     fn conventions(&self) -> &Conventions;
+    /// The G codes this controller has, with the words of its threading codes: the modal reader
+    /// refuses any other code with the controller's alarm, and the hint of that alarm names the
+    /// built-in controllers that have it ([`others_with`]).
+    fn vocabulary(&self) -> &'static Vocabulary;
     /// A cheap look at a line before [`read`](Dialect::read): `false` promises that `read` would
     /// return `Read::Plain` without changing any state (its own or the modal state) and without a
     /// warning, so the caller may skip it. The default offers every line.
@@ -72,6 +77,127 @@ pub trait Dialect {
     ) -> Option<std::io::Result<()>> {
         None
     }
+}
+
+/// The hint of a controller's alarm for a G code it does not have: the other built-in controllers
+/// that have `code` with a block of these `letters` (or with other words), `except` the one that
+/// raised the alarm. Runs only on that error path (it opens every built-in profile).
+pub fn others_with(code: u16, letters: &[u8], except: &str) -> Option<String> {
+    let g = crate::gcode::modal::g_name(code);
+    let mut fit: Vec<String> = Vec::new();
+    let mut other: Vec<String> = Vec::new();
+    for (name, _) in crate::machine::BUILT_IN {
+        let Some(machine) = Machine::built_in(name) else {
+            continue;
+        };
+        let Ok(d) = open(&machine) else { continue };
+        if d.name() == except {
+            continue;
+        }
+        match d.vocabulary().get(code) {
+            Some(entry) if entry.takes(letters) => fit.push(name.to_string()),
+            Some(entry) => other.push(match entry.words {
+                Some(w) => format!("{name} ({g} {})", spaced(w)),
+                None => name.to_string(),
+            }),
+            None => {}
+        }
+    }
+    let written: Vec<u8> = letters
+        .iter()
+        .copied()
+        .filter(|l| !matches!(l, b'G' | b'N'))
+        .collect();
+    Some(if !fit.is_empty() {
+        format!(
+            "{} {g} with these words: check the program with --controller {}",
+            and_list(&fit, if fit.len() == 1 { "has" } else { "have" }),
+            fit[0]
+        )
+    } else if !other.is_empty() {
+        format!(
+            "{} {g}, but not with {}: no built-in controller reads this block",
+            and_list(&other, if other.len() == 1 { "has" } else { "have" }),
+            if written.is_empty() {
+                "these words".to_string()
+            } else {
+                spaced(&written)
+            }
+        )
+    } else {
+        format!("no built-in controller has {g}")
+    })
+}
+
+/// `a`, `a and b`, `a, b and c`, then the verb.
+fn and_list(items: &[String], verb: &str) -> String {
+    let list = match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    };
+    format!("{list} {verb}")
+}
+
+/// Letters as `X Z K`.
+fn spaced(letters: &[u8]) -> String {
+    letters
+        .iter()
+        .map(|&l| (l as char).to_string())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A block of `code` whose letters do not fit the form this controller reads (a one-block G76 on a
+/// control with the two-block G76): the controller's alarm at the code, naming the form it
+/// expected (`how`), with [`others_with`]'s hint.
+pub(crate) fn foreign_form(
+    line: &Line,
+    at: Span,
+    code: u16,
+    vocabulary: &Vocabulary,
+    message: String,
+    how: &str,
+) -> Diagnostic {
+    let letters: Vec<u8> = line.words.iter().map(|w| w.letter).collect();
+    let others = others_with(code, &letters, vocabulary.controller).unwrap_or_default();
+    Diagnostic::error(crate::diag::Code::UnknownCode, at, message)
+        .with_hint(format!("{others}; on {}: {how}", vocabulary.controller))
+}
+
+/// A code of a vocabulary whose words are not stated (×10).
+pub(crate) const fn g(code: u16) -> GCode {
+    GCode::plain(code)
+}
+
+/// Every whole code G0–G99 but `except`, with `threads`' entries in their places: the vocabulary
+/// of a controller whose public documentation lists only part of its codes. Only the codes that
+/// other controllers thread with are refused, so that no code the controller may have is an alarm
+/// (an excluded code's slot holds a second G0).
+pub(crate) const fn all_but(threads: &[GCode], except: &[u16]) -> [GCode; 100] {
+    let mut out = [GCode::plain(0); 100];
+    let mut i = 0;
+    while i < 100 {
+        let code = i as u16 * 10;
+        let mut entry = GCode::plain(code);
+        let mut j = 0;
+        while j < except.len() {
+            if except[j] == code {
+                entry = GCode::plain(0);
+            }
+            j += 1;
+        }
+        let mut k = 0;
+        while k < threads.len() {
+            if threads[k].code == code {
+                entry = threads[k];
+            }
+            k += 1;
+        }
+        out[i] = entry;
+        i += 1;
+    }
+    out
 }
 
 /// Refuses the first word of `line` whose letter is not in `allowed`, naming the block and its words:

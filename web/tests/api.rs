@@ -200,7 +200,7 @@ fn the_plan_carries_the_librarys_plot_and_simulated_columns() {
     assert!(svg.contains("</svg>"));
     // Same SVG as the library's `threadcut plot` path for the generated program.
     let machine = threadcut::machine::Machine::built_in("gsk980").unwrap();
-    let (want, _) = threadcut::render::program_svg(
+    let (want, _, _) = threadcut::render::program_svg(
         out["program"].as_str().unwrap().as_bytes(),
         &machine,
         threadcut::sim::Tip::Sharp,

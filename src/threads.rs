@@ -1,0 +1,831 @@
+//! Every thread a program cuts: each threading cycle, and each thread written as plain synchronised
+//! moves — hand-written G32 passes, LinuxCNC's G33 K, APT's COUPLE moves, and the passes of
+//! single-pass box cycles such as a modal G92 — so that `passes`, `check` and `plot` treat them
+//! alike.
+//!
+//! A **pass** is a chain of consecutive synchronised moves (a thread move, its pull-out, an entry
+//! ramp). Consecutive passes with the same lead, along the same axis in the same direction, whose
+//! starts and ends each lie within one lead of the first pass's, are **one thread**: the passes of
+//! a groove, shifted by flank infeed or backed-off starts. Its depths are measured from the crest
+//! when the caller knows it (the stock's diameter, a standard thread's crest), else from the first
+//! pass; its lateral offsets from the first pass's start. The moves between passes belong to the
+//! thread's toolpath: those up to the return to the thread's start point close a pass, the rest
+//! open the next one (as a cycle's box path does). The approach is the last rapid move before the
+//! first pass; after the last pass the rapid moves up to the return to the start point follow.
+//!
+//! Decisions and their tests: `docs/simulation.md`, "Threads written as plain moves".
+
+use std::io::BufRead;
+
+use crate::diag::{Diagnostic, Span};
+use crate::gcode::{Line, MotionMode, PlainMove};
+use crate::machine::Machine;
+use crate::program::{self, Error, Event, Summary};
+use crate::thread::{
+    area, DepthLaw, Entry, Exit, FinishPosition, Geometry, Infeed, Job, Lead, Pass, PassKind,
+    PassPlan, Retract, ReturnPath, Side,
+};
+use crate::toolpath::{self, Motion, MotionKind, Toolpath};
+use crate::units::{Pos, Units};
+
+/// Two leads closer than this (mm per revolution) are the same lead: leads are read from the
+/// same words, so real differences are far larger.
+pub const LEAD_TOLERANCE: f64 = 1e-6;
+/// Two points closer than this (mm) are the same point (the return to a start point).
+pub const POINT_TOLERANCE: f64 = 1e-6;
+/// The tool angle assumed for a thread written as plain moves, which does not state one: the
+/// 60° of ISO metric and Unified threads.
+pub const ASSUMED_TOOL_ANGLE: f64 = 60.0;
+/// At most this many moves between two passes of one thread: a longer stretch of other work ends
+/// the thread (memory stays bounded on long programs).
+pub const MAX_BETWEEN: usize = 24;
+
+/// Where a thread's passes come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Origin {
+    /// One threading cycle: its job, pass table and toolpath are the cycle's.
+    Cycle,
+    /// Passes written as plain synchronised moves (or as single-pass cycles, `from_cycles`).
+    Moves {
+        /// Depths are measured from the crest the caller gave; otherwise from the first pass.
+        crest_known: bool,
+        /// The passes are the single-pass cycles (a modal G92) of these lines.
+        from_cycles: bool,
+        first_line: u32,
+        last_line: u32,
+    },
+}
+
+/// One thread of a program.
+#[derive(Clone, Debug)]
+pub struct Thread {
+    /// The model: a cycle's own job, or for passes written as moves one that describes them
+    /// (radial infeed, explicit depths: use `passes`, not `job.passes()`).
+    pub job: Job,
+    pub passes: Vec<Pass>,
+    pub path: Toolpath,
+    pub origin: Origin,
+    /// Where each pass is written (its first synchronised move; a cycle's block for every pass).
+    pub pass_spans: Vec<Span>,
+    /// X as the program writes it at the thread.
+    pub diameter_x: bool,
+}
+
+impl Thread {
+    /// A cycle's thread: its pass table and toolpath.
+    pub fn from_cycle(job: Job, diameter_x: bool) -> crate::diag::Result<Thread> {
+        let passes = job.passes()?;
+        let path = toolpath::build_with(&job, &passes)?;
+        let pass_spans = vec![job.span; passes.len()];
+        Ok(Thread {
+            job,
+            passes,
+            path,
+            origin: Origin::Cycle,
+            pass_spans,
+            diameter_x,
+        })
+    }
+
+    /// Whether depths are measured from a known crest (a cycle's, or one the caller gave).
+    pub fn crest_known(&self) -> bool {
+        match self.origin {
+            Origin::Cycle => true,
+            Origin::Moves { crest_known, .. } => crest_known,
+        }
+    }
+
+    /// The span of pass `n` (1-based).
+    pub fn pass_span(&self, n: u32) -> Span {
+        let i = (n.max(1) - 1) as usize;
+        self.pass_spans
+            .get(i)
+            .or(self.pass_spans.last())
+            .copied()
+            .unwrap_or(self.job.span)
+    }
+
+    /// How the thread is named in tables and plots: `fanuc cycle`, `G32 passes (lines 8–47)`.
+    pub fn describe(&self) -> String {
+        match self.origin {
+            Origin::Cycle => format!("{} cycle", self.job.controller),
+            Origin::Moves {
+                from_cycles,
+                first_line,
+                last_line,
+                ..
+            } => format!(
+                "{} {} as one thread (lines {first_line}–{last_line})",
+                self.passes.len(),
+                match (from_cycles, self.passes.len()) {
+                    (true, 1) => "single-pass cycle",
+                    (true, _) => "single-pass cycles",
+                    (false, 1) => "synchronised pass",
+                    (false, _) => "synchronised passes",
+                }
+            ),
+        }
+    }
+}
+
+/// A move of the program, for [`Collector::motion`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    pub kind: MotionKind,
+    pub from: Pos,
+    pub to: Pos,
+    pub line: u32,
+    /// Where the move is written (its G word, or the block).
+    pub span: Span,
+}
+
+/// What the program says around a thread: its units, X mode and controller.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setting {
+    pub units: Units,
+    pub diameter_x: bool,
+    pub controller: &'static str,
+}
+
+/// The crest a thread written as moves is measured from, when the caller knows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Crest {
+    /// The stock's diameter, in the program's units at the thread.
+    Stock(f64),
+    /// A standard thread's crest diameters (mm): the major for an external thread, the minor for
+    /// an internal one.
+    Standard { external: f64, internal: f64 },
+}
+
+/// What the collector hands out: a thread with the caller's context at its first pass, or a cycle
+/// that cannot be planned (its error, at its block).
+pub enum Found<C> {
+    Thread(Box<Thread>, C),
+    Failed {
+        job: Box<Job>,
+        error: Diagnostic,
+        ctx: C,
+    },
+}
+
+/// One pass being read: its synchronised moves and the non-synchronised moves before it.
+struct PassMoves {
+    before: Vec<Move>,
+    chain: Vec<Move>,
+}
+
+/// A thread being read.
+struct Building<C> {
+    ctx: C,
+    setting: Setting,
+    approach: Option<Move>,
+    passes: Vec<PassMoves>,
+    from_cycles: bool,
+    key: Key,
+}
+
+/// What makes passes one thread.
+#[derive(Clone, Copy, Debug)]
+struct Key {
+    lead: f64,
+    face: bool,
+    /// +1 when the thread runs toward + along its long axis.
+    dir: f64,
+    start: f64,
+    end: f64,
+}
+
+impl Key {
+    fn of(chain: &[Move]) -> Key {
+        let main = main_segment(chain);
+        let d = main.to.minus(main.from);
+        let face = d.x.abs() > d.z.abs();
+        let long = |p: Pos| if face { p.x } else { p.z };
+        let lead = match main.kind {
+            MotionKind::Thread { lead, .. } => lead,
+            _ => 0.0,
+        };
+        let first = chain.first().map_or(main.from, |m| m.from);
+        let last = chain.last().map_or(main.to, |m| m.to);
+        Key {
+            lead,
+            face,
+            dir: (long(main.to) - long(main.from)).signum(),
+            start: long(first),
+            end: long(last),
+        }
+    }
+
+    fn same_thread(&self, other: &Key) -> bool {
+        (self.lead - other.lead).abs() <= LEAD_TOLERANCE
+            && self.face == other.face
+            && self.dir == other.dir
+            && (self.start - other.start).abs() < self.lead
+            && (self.end - other.end).abs() < self.lead
+    }
+}
+
+/// The longest synchronised move of a pass along the axis it mostly travels: the thread itself,
+/// not its ramp or pull-out.
+fn main_segment(chain: &[Move]) -> Move {
+    let travel = |m: &Move| {
+        let d = m.to.minus(m.from);
+        d.x.abs().max(d.z.abs())
+    };
+    chain
+        .iter()
+        .copied()
+        .max_by(|a, b| travel(a).total_cmp(&travel(b)))
+        .expect("a pass has at least one move")
+}
+
+/// Reads a program's moves and cycles, in order, into threads. `C` is the caller's context at a
+/// thread's first pass (the spindle speed, for `check`).
+pub struct Collector<C> {
+    /// The crest when the caller knows it: depths of passes written as moves are measured from it.
+    crest: Option<Crest>,
+    building: Option<Building<C>>,
+    /// The non-synchronised moves since the last pass (only while a thread is being read).
+    after: Vec<Move>,
+    /// The last non-synchronised move, if nothing synchronised came after it.
+    last: Option<Move>,
+    chain: Vec<Move>,
+    chain_start: Option<(C, Setting, bool)>,
+}
+
+impl<C: Clone> Collector<C> {
+    pub fn new(crest: Option<Crest>) -> Collector<C> {
+        Collector {
+            crest,
+            building: None,
+            after: Vec::new(),
+            last: None,
+            chain: Vec::new(),
+            chain_start: None,
+        }
+    }
+
+    /// A move of the program (or of a single-pass cycle, `from_cycle`). `ctx` gives the caller's
+    /// context, asked for when a pass begins.
+    pub fn motion(
+        &mut self,
+        m: Move,
+        setting: Setting,
+        from_cycle: bool,
+        ctx: impl FnOnce() -> C,
+        out: &mut dyn FnMut(Found<C>),
+    ) {
+        if matches!(m.kind, MotionKind::Thread { .. }) {
+            if self.chain.is_empty() {
+                self.chain_start = Some((ctx(), setting, from_cycle));
+            }
+            self.chain.push(m);
+            return;
+        }
+        self.end_chain(out);
+        self.last = Some(m);
+        if self.building.is_some() {
+            self.after.push(m);
+            if self.after.len() > MAX_BETWEEN {
+                self.close(out);
+            }
+        }
+    }
+
+    /// A threading cycle: single-pass cycles (one pass, no depth: a G92) are read as passes, so
+    /// that a modal G92's blocks make one thread; any other cycle is a thread of its own.
+    pub fn cycle(
+        &mut self,
+        job: Job,
+        diameter_x: bool,
+        ctx: impl FnOnce() -> C,
+        out: &mut dyn FnMut(Found<C>),
+    ) {
+        self.end_chain(out);
+        let single = job.geometry.depth == 0.0
+            && matches!(&job.plan.law, DepthLaw::Explicit { depths } if depths.is_empty())
+            && job.plan.finish_passes == 1
+            && job.lead.starts == 1
+            && job.lead.dlead == 0.0;
+        let planned = job
+            .passes()
+            .and_then(|p| toolpath::build_with(&job, &p).map(|path| (p, path)));
+        match planned {
+            Ok((_, path)) if single => {
+                let setting = Setting {
+                    units: job.units,
+                    diameter_x,
+                    controller: job.controller,
+                };
+                let ctx = ctx();
+                for (from, m) in path.segments() {
+                    let mv = Move {
+                        kind: m.kind,
+                        from,
+                        to: m.to,
+                        line: job.line,
+                        span: job.span,
+                    };
+                    self.motion(mv, setting, true, || ctx.clone(), out);
+                }
+                // The cycle's path ends back at its start point: its pass is complete.
+                self.end_chain(out);
+            }
+            Ok((passes, path)) => {
+                self.close(out);
+                let pass_spans = vec![job.span; passes.len()];
+                let thread = Thread {
+                    job,
+                    passes,
+                    path,
+                    origin: Origin::Cycle,
+                    pass_spans,
+                    diameter_x,
+                };
+                out(Found::Thread(Box::new(thread), ctx()));
+            }
+            Err(error) => {
+                self.close(out);
+                out(Found::Failed {
+                    job: Box::new(job),
+                    error,
+                    ctx: ctx(),
+                });
+            }
+        }
+    }
+
+    /// Something that ends a thread: a tool change, the end of the program.
+    pub fn boundary(&mut self, out: &mut dyn FnMut(Found<C>)) {
+        self.end_chain(out);
+        self.close(out);
+        self.last = None;
+    }
+
+    /// The end of the program.
+    pub fn finish(mut self, out: &mut dyn FnMut(Found<C>)) {
+        self.boundary(out);
+    }
+
+    /// The pass being read is complete: it continues the thread being read, or begins another.
+    fn end_chain(&mut self, out: &mut dyn FnMut(Found<C>)) {
+        if self.chain.is_empty() {
+            return;
+        }
+        let chain = std::mem::take(&mut self.chain);
+        let (ctx, setting, from_cycle) = self.chain_start.take().expect("set with the chain");
+        let key = Key::of(&chain);
+        let continues = self.building.as_ref().is_some_and(|b| {
+            b.key.same_thread(&key) && b.setting == setting && b.from_cycles == from_cycle
+        });
+        if continues {
+            let before = std::mem::take(&mut self.after);
+            if let Some(b) = self.building.as_mut() {
+                b.passes.push(PassMoves { before, chain });
+            }
+            return;
+        }
+        self.close(out);
+        let approach = self.last.filter(|m| {
+            m.kind == MotionKind::Rapid && m.to.distance(chain[0].from) <= POINT_TOLERANCE
+        });
+        self.building = Some(Building {
+            ctx,
+            setting,
+            approach,
+            passes: vec![PassMoves {
+                before: Vec::new(),
+                chain,
+            }],
+            from_cycles: from_cycle,
+            key,
+        });
+        self.after.clear();
+    }
+
+    /// The thread being read is complete.
+    fn close(&mut self, out: &mut dyn FnMut(Found<C>)) {
+        let Some(b) = self.building.take() else {
+            self.after.clear();
+            return;
+        };
+        let after = std::mem::take(&mut self.after);
+        let thread = build(
+            b.passes,
+            b.approach,
+            after,
+            b.setting,
+            b.key,
+            b.from_cycles,
+            self.crest,
+        );
+        out(Found::Thread(Box::new(thread), b.ctx));
+    }
+}
+
+/// A block that ends a thread being read: a tool change, the end of the program.
+pub fn ends_thread(line: &Line) -> bool {
+    line.words.iter().any(|w| {
+        w.letter == b'T'
+            || (w.letter == b'M' && matches!(crate::gcode::reader::g_code(w.value), Some(20 | 300)))
+    })
+}
+
+/// A plain move as the thread reader takes it: arcs count as feeds.
+pub fn plain_move(line: &Line, mv: &PlainMove) -> Option<Move> {
+    let kind = match mv.mode {
+        MotionMode::Rapid => MotionKind::Rapid,
+        MotionMode::Feed | MotionMode::ArcCw | MotionMode::ArcCcw => MotionKind::Feed,
+        MotionMode::Thread => MotionKind::Thread {
+            lead: mv.lead?,
+            dlead: 0.0,
+            phase_deg: 0.0,
+        },
+        MotionMode::Cycle => return None,
+    };
+    let span = line
+        .words
+        .iter()
+        .find(|w| w.letter == b'G')
+        .or(line.words.first())
+        .map_or(line.span(), |w| w.span);
+    Some(Move {
+        kind,
+        from: mv.from,
+        to: mv.to,
+        line: line.number,
+        span,
+    })
+}
+
+/// Every thread of a G-code program, in order, to `each` (depths from `crest` when given). A
+/// cycle that cannot be planned is the run's error, at its block.
+pub fn each_gcode<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    crest: Option<Crest>,
+    mut each: impl FnMut(Thread) -> Result<(), Error>,
+) -> Result<Summary, Error> {
+    let controller = crate::dialect::open(machine).map_err(Error::Setup)?.name();
+    let mut collector: Collector<()> = Collector::new(crest);
+    let mut queue: Vec<Found<()>> = Vec::new();
+    let mut drain = |queue: &mut Vec<Found<()>>| -> Result<(), Error> {
+        for f in queue.drain(..) {
+            match f {
+                Found::Thread(t, ()) => each(*t)?,
+                Found::Failed { error, .. } => return Err(Error::Input(error)),
+            }
+        }
+        Ok(())
+    };
+    let summary = program::run(input, machine, |modal, ev| {
+        let mut push = |f| queue.push(f);
+        match ev {
+            Event::Plain { line, mv } => {
+                if ends_thread(line) {
+                    collector.boundary(&mut push);
+                }
+                if let Some(m) = mv.and_then(|mv| plain_move(line, &mv)) {
+                    let setting = Setting {
+                        units: modal.units,
+                        diameter_x: modal.diameter_x,
+                        controller,
+                    };
+                    collector.motion(m, setting, false, || (), &mut push);
+                }
+            }
+            Event::Settings { .. } => {}
+            Event::Cycle { job, .. } => collector.cycle(*job, modal.diameter_x, || (), &mut push),
+        }
+        drain(&mut queue)
+    })?;
+    collector.finish(&mut |f| queue.push(f));
+    drain(&mut queue)?;
+    Ok(summary)
+}
+
+/// Every thread of an APT/CL program, in order, to `each`.
+pub fn each_apt<R: BufRead>(
+    input: R,
+    mut each: impl FnMut(Thread) -> Result<(), Error>,
+) -> Result<Summary, Error> {
+    let mut collector: Collector<()> = Collector::new(None);
+    let mut queue: Vec<Found<()>> = Vec::new();
+    let mut drain = |queue: &mut Vec<Found<()>>| -> Result<(), Error> {
+        for f in queue.drain(..) {
+            match f {
+                Found::Thread(t, ()) => each(*t)?,
+                Found::Failed { error, .. } => return Err(Error::Input(error)),
+            }
+        }
+        Ok(())
+    };
+    let mut at: Option<Pos> = None;
+    let summary = crate::apt::run(input, |interp, ev| {
+        let mut push = |f| queue.push(f);
+        match ev {
+            crate::apt::Event::Move(m) => {
+                if let Some(from) = at {
+                    let setting = Setting {
+                        units: interp.units(),
+                        diameter_x: false,
+                        controller: "apt",
+                    };
+                    let mv = Move {
+                        kind: m.kind,
+                        from,
+                        to: m.to,
+                        line: m.line,
+                        span: Span::new(0, 0, m.line, 1),
+                    };
+                    collector.motion(mv, setting, false, || (), &mut push);
+                }
+            }
+            crate::apt::Event::Cycle(job) => collector.cycle(*job, false, || (), &mut push),
+            crate::apt::Event::End => collector.boundary(&mut push),
+            _ => {}
+        }
+        at = interp.position();
+        drain(&mut queue)
+    })?;
+    collector.finish(&mut |f| queue.push(f));
+    drain(&mut queue)?;
+    Ok(summary)
+}
+
+/// One thread as `threadcut passes --json` writes it: the pass rows of
+/// [`program::passes_json`] with `source` (`cycle` or `moves`) and `depth_from` (`crest` or
+/// `first_pass`).
+pub fn passes_json(t: &Thread, section: Option<&crate::sim::Section>) -> serde_json::Value {
+    let rows = program::pass_rows(&t.job, &t.passes, t.diameter_x);
+    let mut v = program::passes_json(&t.job, &rows, section);
+    if let Some(o) = v.as_object_mut() {
+        let source = match t.origin {
+            Origin::Cycle => "cycle",
+            Origin::Moves { .. } => "moves",
+        };
+        o.insert("source".into(), source.into());
+        o.insert(
+            "depth_from".into(),
+            if t.crest_known() {
+                "crest"
+            } else {
+                "first_pass"
+            }
+            .into(),
+        );
+    }
+    v
+}
+
+/// The moves of `between` that close the pass before them: up to the return to `start`; when the
+/// tool never returns there, all but the last (the next pass's approach).
+fn closing(between: &[Move], start: Pos) -> usize {
+    match between
+        .iter()
+        .position(|m| m.to.distance(start) <= POINT_TOLERANCE)
+    {
+        Some(i) => i + 1,
+        None => between.len().saturating_sub(1),
+    }
+}
+
+/// The rapid moves after the last pass that belong to the thread: up to the return to `start`.
+fn trailing(after: &[Move], start: Pos) -> usize {
+    let mut n = 0;
+    for m in after.iter().take(4) {
+        if m.kind != MotionKind::Rapid {
+            break;
+        }
+        n += 1;
+        if m.to.distance(start) <= POINT_TOLERANCE {
+            break;
+        }
+    }
+    n
+}
+
+/// The thread that passes written as moves cut.
+fn build(
+    passes: Vec<PassMoves>,
+    approach: Option<Move>,
+    after: Vec<Move>,
+    setting: Setting,
+    key: Key,
+    from_cycles: bool,
+    crest: Option<Crest>,
+) -> Thread {
+    let face = key.face;
+    // Long and short coordinates of a point.
+    let long = |p: Pos| if face { p.x } else { p.z };
+    let short = |p: Pos| if face { p.z } else { p.x };
+    let mains: Vec<Move> = passes.iter().map(|p| main_segment(&p.chain)).collect();
+    let first = mains[0];
+    let start = approach.map_or(passes[0].chain[0].from, |m| m.from);
+    // Which way is out of the part: where the tool came from (the start point is clear of the
+    // part), else the way the first pass pulls out, else where the tool goes after it, else the
+    // way the passes go (deeper is in).
+    let outward = {
+        let from_approach = approach.map(|m| short(m.from) - short(m.to));
+        let first_chain = &passes[0].chain;
+        let pull_out = Some(short(first_chain[first_chain.len() - 1].to) - short(mains[0].to));
+        let after_first = passes
+            .get(1)
+            .and_then(|p| p.before.first())
+            .or(after.first())
+            .map(|m| short(m.to) - short(m.from));
+        let progression = (mains.len() > 1).then(|| short(mains[0].from) - short(mains[1].from));
+        [from_approach, pull_out, after_first, progression]
+            .into_iter()
+            .flatten()
+            .find(|d| d.abs() > POINT_TOLERANCE)
+            .map_or(1.0, f64::signum)
+    };
+    let side = match (face, outward > 0.0) {
+        (false, true) => Side::External,
+        (false, false) => Side::Internal,
+        // Depth grows toward −Z: the usual front face.
+        (true, true) => Side::FaceFront,
+        (true, false) => Side::FaceBack,
+    };
+    // The crest line: through the first pass's thread, or at the crest the caller gave.
+    let d = first.to.minus(first.from);
+    let slope = if face {
+        if d.x != 0.0 {
+            d.z / d.x
+        } else {
+            0.0
+        }
+    } else if d.z != 0.0 {
+        d.x / d.z
+    } else {
+        0.0
+    };
+    let crest_diameter = crest.map(|c| match c {
+        Crest::Stock(d) => setting.units.to_mm(d),
+        Crest::Standard { external, internal } => {
+            if side == Side::Internal {
+                internal
+            } else {
+                external
+            }
+        }
+    });
+    let crest_known = crest_diameter.is_some() && !face;
+    let reference = match crest_diameter {
+        Some(dia) if !face => dia / 2.0,
+        _ => short(first.from),
+    };
+    let crest_short = |l: f64| reference + slope * (l - long(first.from));
+    let mut depths = Vec::with_capacity(mains.len());
+    let mut made: Vec<Pass> = Vec::with_capacity(mains.len());
+    for (i, m) in mains.iter().enumerate() {
+        let depth = (crest_short(long(m.from)) - short(m.from)) * outward;
+        let offset = long(m.from) - long(first.from);
+        depths.push(depth);
+        made.push(Pass {
+            n: i as u32 + 1,
+            kind: PassKind::Rough,
+            depth,
+            increment: depth - if i == 0 { 0.0 } else { depths[i - 1] },
+            offset,
+            start: m.from,
+            area: 0.0,
+            share: 0.0,
+        });
+    }
+    let deepest = depths.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    // The passes at the final depth finish the thread (the first removes what is left, the rest
+    // are spring passes), as in a cycle's table.
+    for p in &mut made {
+        if p.depth >= deepest - crate::thread::plan::DEPTH_TOLERANCE {
+            p.kind = PassKind::Finish;
+        }
+    }
+    let t = crate::thread::tan_deg(ASSUMED_TOOL_ANGLE / 2.0);
+    let cuts: Vec<(f64, f64)> = made.iter().map(|p| (p.offset, p.depth.max(0.0))).collect();
+    let areas = area::chip_areas(&cuts, t);
+    let sum: f64 = areas.iter().sum();
+    for (p, a) in made.iter_mut().zip(areas) {
+        p.area = a;
+        p.share = if sum > 0.0 { a / sum } else { 0.0 };
+    }
+    // The reference pass's exit: the synchronised moves after its thread are its pull-out.
+    let last_chain = &passes[passes.len() - 1].chain;
+    let last_main = mains[mains.len() - 1];
+    let main_at = last_chain.iter().position(|m| *m == last_main).unwrap_or(0);
+    let chain_end = last_chain[last_chain.len() - 1].to;
+    let pull_long = (long(chain_end) - long(last_main.to)).abs();
+    let pull_short = (short(chain_end) - short(last_main.to)) * outward;
+    let exit = if main_at + 1 < last_chain.len() && pull_long > POINT_TOLERANCE {
+        Exit::PullOut {
+            start_before: pull_long,
+            length: pull_long,
+            outward: pull_short.max(0.0),
+        }
+    } else {
+        Exit::Straight
+    };
+    let travel_long = long(chain_end) - long(last_main.from);
+    let crest_start = if face {
+        Pos::new(long(first.from), crest_short(long(first.from)))
+    } else {
+        Pos::new(crest_short(long(first.from)), long(first.from))
+    };
+    let end_long = long(first.from) + travel_long;
+    let crest_end = if face {
+        Pos::new(end_long, crest_short(end_long))
+    } else {
+        Pos::new(crest_short(end_long), end_long)
+    };
+    let lead = match first.kind {
+        MotionKind::Thread { lead, .. } => {
+            // The model's lead is along the long axis; the move's may be along X (a steep taper).
+            let dl = (long(first.to) - long(first.from)).abs();
+            let ds = (short(first.to) - short(first.from)).abs();
+            if ds > dl && ds > 0.0 {
+                lead * dl / ds
+            } else {
+                lead
+            }
+        }
+        _ => key.lead,
+    };
+    let first_line = passes[0].chain[0].line;
+    let span = passes[0].chain[0].span;
+    // The toolpath: the approach, each pass (the moves before it that close the previous pass are
+    // the previous pass's), then the return after the last.
+    let mut motions: Vec<Motion> = Vec::new();
+    let mut push = |m: &Move, pass: u32| {
+        motions.push(Motion {
+            kind: m.kind,
+            to: m.to,
+            pass,
+            line: m.line,
+        })
+    };
+    if let Some(a) = approach {
+        push(&a, 1);
+    }
+    for (i, p) in passes.iter().enumerate() {
+        let n = i as u32 + 1;
+        let split = closing(&p.before, start);
+        for m in &p.before[..split] {
+            push(m, n.saturating_sub(1).max(1));
+        }
+        for m in &p.before[split..] {
+            push(m, n);
+        }
+        for m in &p.chain {
+            push(m, n);
+        }
+    }
+    let last_n = passes.len() as u32;
+    for m in &after[..trailing(&after, start)] {
+        push(m, last_n);
+    }
+    let last_line = motions.last().map_or(first_line, |m| m.line);
+    let pass_spans = passes.iter().map(|p| p.chain[0].span).collect();
+    let job = Job {
+        line: first_line,
+        span,
+        controller: setting.controller,
+        units: setting.units,
+        start,
+        geometry: Geometry {
+            crest_start,
+            crest_end,
+            depth: deepest.max(0.0),
+            side,
+        },
+        lead: Lead::constant(lead),
+        plan: PassPlan {
+            law: DepthLaw::Explicit { depths },
+            finish_allowance: 0.0,
+            finish_passes: 0,
+        },
+        infeed: Infeed::Radial,
+        finish_at: FinishPosition::Axis,
+        tool_angle_deg: ASSUMED_TOOL_ANGLE,
+        entry: Entry::Direct,
+        exit,
+        retract: Retract {
+            x: start.x,
+            z: start.z,
+        },
+        return_path: ReturnPath::Box,
+    };
+    Thread {
+        job,
+        passes: made,
+        path: Toolpath { start, motions },
+        origin: Origin::Moves {
+            crest_known,
+            from_cycles,
+            first_line,
+            last_line,
+        },
+        pass_spans,
+        diameter_x: setting.diameter_x,
+    }
+}
