@@ -69,6 +69,9 @@ pub struct Thread {
     pub pass_spans: Vec<Span>,
     /// X as the program writes it at the thread.
     pub diameter_x: bool,
+    /// Passes written after a cycle that continue its thread (a spring pass as a plain move, a
+    /// single-pass cycle over the same span): they follow the cycle's passes in `passes`.
+    pub extra_passes: u32,
 }
 
 impl Thread {
@@ -84,6 +87,7 @@ impl Thread {
             origin: Origin::Cycle,
             pass_spans,
             diameter_x,
+            extra_passes: 0,
         })
     }
 
@@ -108,6 +112,12 @@ impl Thread {
     /// How the thread is named in tables and plots: `fanuc cycle`, `G32 passes (lines 8–47)`.
     pub fn describe(&self) -> String {
         match self.origin {
+            Origin::Cycle if self.extra_passes > 0 => format!(
+                "{} cycle and {} more pass{} after it",
+                self.job.controller,
+                self.extra_passes,
+                if self.extra_passes == 1 { "" } else { "es" }
+            ),
             Origin::Cycle => format!("{} cycle", self.job.controller),
             Origin::Moves {
                 from_cycles,
@@ -184,6 +194,14 @@ struct Building<C> {
     key: Key,
 }
 
+/// A cycle's thread that passes written after it may still continue.
+struct Open<C> {
+    thread: Thread,
+    ctx: C,
+    key: Key,
+    units: Units,
+}
+
 /// What makes passes one thread.
 #[derive(Clone, Copy, Debug)]
 struct Key {
@@ -251,6 +269,7 @@ pub struct Collector<C> {
     last: Option<Move>,
     chain: Vec<Move>,
     chain_start: Option<(C, Setting, bool)>,
+    open: Option<Open<C>>,
 }
 
 impl<C: Clone> Collector<C> {
@@ -262,6 +281,7 @@ impl<C: Clone> Collector<C> {
             last: None,
             chain: Vec::new(),
             chain_start: None,
+            open: None,
         }
     }
 
@@ -284,7 +304,7 @@ impl<C: Clone> Collector<C> {
         }
         self.end_chain(out);
         self.last = Some(m);
-        if self.building.is_some() {
+        if self.building.is_some() || self.open.is_some() {
             self.after.push(m);
             if self.after.len() > MAX_BETWEEN {
                 self.close(out);
@@ -302,38 +322,53 @@ impl<C: Clone> Collector<C> {
         out: &mut dyn FnMut(Found<C>),
     ) {
         self.end_chain(out);
-        let single = job.geometry.depth == 0.0
+        let box_cycle = job.geometry.depth == 0.0
             && matches!(&job.plan.law, DepthLaw::Explicit { depths } if depths.is_empty())
-            && job.plan.finish_passes == 1
-            && job.lead.starts == 1
-            && job.lead.dlead == 0.0;
+            && job.plan.finish_passes == 1;
         let planned = job
             .passes()
             .and_then(|p| toolpath::build_with(&job, &p).map(|path| (p, path)));
         match planned {
-            Ok((_, path)) if single => {
-                let setting = Setting {
-                    units: job.units,
-                    diameter_x,
-                    controller: job.controller,
-                };
-                let ctx = ctx();
-                for (from, m) in path.segments() {
-                    let mv = Move {
-                        kind: m.kind,
-                        from,
-                        to: m.to,
-                        line: job.line,
-                        span: job.span,
-                    };
-                    self.motion(mv, setting, true, || ctx.clone(), out);
-                }
-                // The cycle's path ends back at its start point: its pass is complete.
-                self.end_chain(out);
-            }
             Ok((passes, path)) => {
+                // A single pass (a box cycle; a one-pass cycle that continues a thread) is read as
+                // a pass: consecutive ones make one thread, and one after a cycle over the same
+                // span continues the cycle's thread.
+                let one_pass = passes.len() == 1 && job.lead.starts == 1 && job.lead.dlead == 0.0;
+                let continues = one_pass
+                    && chain_of(&path, 1).is_some_and(|chain| {
+                        let key = Key::of(&chain);
+                        self.open.as_ref().is_some_and(|o| o.key.same_thread(&key))
+                            || self
+                                .building
+                                .as_ref()
+                                .is_some_and(|b| b.key.same_thread(&key))
+                    });
+                if one_pass && (box_cycle || continues) {
+                    let setting = Setting {
+                        units: job.units,
+                        diameter_x,
+                        controller: job.controller,
+                    };
+                    let ctx = ctx();
+                    for (from, m) in path.segments() {
+                        let mv = Move {
+                            kind: m.kind,
+                            from,
+                            to: m.to,
+                            line: job.line,
+                            span: job.span,
+                        };
+                        self.motion(mv, setting, box_cycle, || ctx.clone(), out);
+                    }
+                    // The cycle's path ends back at its start point: its pass is complete.
+                    self.end_chain(out);
+                    return;
+                }
                 self.close(out);
+                let last = passes.last().map_or(0, |p| p.n);
                 let pass_spans = vec![job.span; passes.len()];
+                let key = chain_of(&path, last).map(|chain| Key::of(&chain));
+                let units = job.units;
                 let thread = Thread {
                     job,
                     passes,
@@ -341,8 +376,21 @@ impl<C: Clone> Collector<C> {
                     origin: Origin::Cycle,
                     pass_spans,
                     diameter_x,
+                    extra_passes: 0,
                 };
-                out(Found::Thread(Box::new(thread), ctx()));
+                match key {
+                    Some(key) => {
+                        self.open = Some(Open {
+                            thread,
+                            ctx: ctx(),
+                            key,
+                            units,
+                        });
+                        self.after.clear();
+                        self.last = None;
+                    }
+                    None => out(Found::Thread(Box::new(thread), ctx())),
+                }
             }
             Err(error) => {
                 self.close(out);
@@ -375,6 +423,13 @@ impl<C: Clone> Collector<C> {
         let chain = std::mem::take(&mut self.chain);
         let (ctx, setting, from_cycle) = self.chain_start.take().expect("set with the chain");
         let key = Key::of(&chain);
+        if let Some(o) = self.open.as_mut() {
+            if o.key.same_thread(&key) && o.units == setting.units {
+                let before = std::mem::take(&mut self.after);
+                append(&mut o.thread, before, chain);
+                return;
+            }
+        }
         let continues = self.building.as_ref().is_some_and(|b| {
             b.key.same_thread(&key) && b.setting == setting && b.from_cycles == from_cycle
         });
@@ -403,8 +458,24 @@ impl<C: Clone> Collector<C> {
         self.after.clear();
     }
 
-    /// The thread being read is complete.
+    /// The thread being read (or the cycle's thread left open) is complete.
     fn close(&mut self, out: &mut dyn FnMut(Found<C>)) {
+        if let Some(mut o) = self.open.take() {
+            let after = std::mem::take(&mut self.after);
+            let start = o.thread.path.start;
+            let n = o.thread.passes.len() as u32;
+            if o.thread.extra_passes > 0 {
+                for m in &after[..trailing(&after, start)] {
+                    o.thread.path.motions.push(Motion {
+                        kind: m.kind,
+                        to: m.to,
+                        pass: n,
+                        line: m.line,
+                    });
+                }
+            }
+            out(Found::Thread(Box::new(o.thread), o.ctx));
+        }
         let Some(b) = self.building.take() else {
             self.after.clear();
             return;
@@ -578,6 +649,102 @@ pub fn passes_json(t: &Thread, section: Option<&crate::sim::Section>) -> serde_j
     v
 }
 
+/// The first chain of synchronised moves of pass `n` of a toolpath, as moves.
+fn chain_of(path: &Toolpath, n: u32) -> Option<Vec<Move>> {
+    let mut chain: Vec<Move> = Vec::new();
+    for (from, m) in path.segments() {
+        let synced = matches!(m.kind, MotionKind::Thread { .. }) && m.pass == n;
+        if synced {
+            chain.push(Move {
+                kind: m.kind,
+                from,
+                to: m.to,
+                line: m.line,
+                span: Span::default(),
+            });
+        } else if !chain.is_empty() {
+            break;
+        }
+    }
+    (!chain.is_empty()).then_some(chain)
+}
+
+/// Adds a pass written after a cycle to the cycle's thread: its depth below the cycle's crest
+/// line and its offset from the crest's start, its moves to the toolpath, the chip areas again.
+fn append(t: &mut Thread, before: Vec<Move>, chain: Vec<Move>) {
+    let g = t.job.geometry;
+    let face = g.side.is_face();
+    let long = |p: Pos| if face { p.x } else { p.z };
+    let short = |p: Pos| if face { p.z } else { p.x };
+    let outward = if face {
+        g.side.outward().z
+    } else {
+        g.side.outward().x
+    };
+    let main = main_segment(&chain);
+    let dl = long(g.crest_end) - long(g.crest_start);
+    let crest_short = |l: f64| {
+        if dl == 0.0 {
+            short(g.crest_start)
+        } else {
+            short(g.crest_start)
+                + (short(g.crest_end) - short(g.crest_start)) * (l - long(g.crest_start)) / dl
+        }
+    };
+    let depth = (crest_short(long(main.from)) - short(main.from)) * outward;
+    let previous = t.passes.last().map_or(0.0, |p| p.depth);
+    let n = t.passes.len() as u32 + 1;
+    t.passes.push(Pass {
+        n,
+        kind: PassKind::Rough,
+        depth,
+        increment: depth - previous,
+        offset: long(main.from) - long(g.crest_start),
+        start: main.from,
+        area: 0.0,
+        share: 0.0,
+    });
+    // The passes at the final depth finish the thread, as in a table of passes written as moves.
+    let deepest = t
+        .passes
+        .iter()
+        .map(|p| p.depth)
+        .fold(f64::NEG_INFINITY, f64::max);
+    for p in &mut t.passes {
+        p.kind = if p.depth >= deepest - crate::thread::plan::DEPTH_TOLERANCE {
+            PassKind::Finish
+        } else {
+            PassKind::Rough
+        };
+    }
+    t.pass_spans.push(chain[0].span);
+    t.extra_passes += 1;
+    for m in before.iter().chain(&chain) {
+        t.path.motions.push(Motion {
+            kind: m.kind,
+            to: m.to,
+            pass: n,
+            line: m.line,
+        });
+    }
+    let angle = if t.job.tool_angle_deg > 0.0 {
+        t.job.tool_angle_deg
+    } else {
+        ASSUMED_TOOL_ANGLE
+    };
+    let cuts: Vec<(f64, f64)> = t
+        .passes
+        .iter()
+        .map(|p| (p.offset, p.depth.max(0.0)))
+        .collect();
+    let areas = area::chip_areas(&cuts, crate::thread::tan_deg(angle / 2.0));
+    let sum: f64 = areas.iter().sum();
+    for (p, a) in t.passes.iter_mut().zip(areas) {
+        p.area = a;
+        p.share = if sum > 0.0 { a / sum } else { 0.0 };
+    }
+}
+
 /// The moves of `between` that close the pass before them: up to the return to `start`; when the
 /// tool never returns there, all but the last (the next pass's approach).
 fn closing(between: &[Move], start: Pos) -> usize {
@@ -622,11 +789,14 @@ fn build(
     let mains: Vec<Move> = passes.iter().map(|p| main_segment(&p.chain)).collect();
     let first = mains[0];
     let start = approach.map_or(passes[0].chain[0].from, |m| m.from);
-    // Which way is out of the part: where the tool came from (the start point is clear of the
-    // part), else the way the first pass pulls out, else where the tool goes after it, else the
-    // way the passes go (deeper is in).
+    // Which way is out of the part: deeper passes go into it, a pull-out leaves it, the move after
+    // a pass retracts out of it; the approach comes from outside (last: a LinuxCNC pass approaches
+    // its back point, outward of the groove, from the start point).
     let outward = {
-        let from_approach = approach.map(|m| short(m.from) - short(m.to));
+        let progression = mains
+            .iter()
+            .map(|m| short(mains[0].from) - short(m.from))
+            .find(|d| d.abs() > POINT_TOLERANCE);
         let first_chain = &passes[0].chain;
         let pull_out = Some(short(first_chain[first_chain.len() - 1].to) - short(mains[0].to));
         let after_first = passes
@@ -634,8 +804,8 @@ fn build(
             .and_then(|p| p.before.first())
             .or(after.first())
             .map(|m| short(m.to) - short(m.from));
-        let progression = (mains.len() > 1).then(|| short(mains[0].from) - short(mains[1].from));
-        [from_approach, pull_out, after_first, progression]
+        let from_approach = approach.map(|m| short(m.from) - short(m.to));
+        [progression, pull_out, after_first, from_approach]
             .into_iter()
             .flatten()
             .find(|d| d.abs() > POINT_TOLERANCE)
@@ -827,5 +997,6 @@ fn build(
         },
         pass_spans,
         diameter_x: setting.diameter_x,
+        extra_passes: 0,
     }
 }

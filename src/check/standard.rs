@@ -2,10 +2,10 @@
 //! form, judged against the named standard thread's class limits (docs/simulation.md, "Judging
 //! against a standard").
 //!
-//! * **Measured**: the root diameter (external: minor, the lowest point any pass reaches;
-//!   internal: major), the pitch diameter (where the groove the passes leave is half a pitch
-//!   wide, from the tool's true form), the flank angles (as `sim` measures them, between 20 % and
-//!   60 % of the depth) and the lead.
+//! * **Measured** from the final passes (those at the final depth): the root diameter (external:
+//!   minor, the lowest point reached; internal: major), the pitch diameter (where the groove they
+//!   leave is half a pitch wide, from the tool's true form), the flank angles (as `sim` measures
+//!   them, between 20 % and 60 % of the depth) and the lead.
 //! * **Facts and assumptions**: the root and the lead follow from the program alone, so they are
 //!   judged as facts (errors). The pitch diameter depends on the tool's tip: with `--nose-radius`
 //!   or `--tip-flat` it is a fact too; without, the tool is assumed to have the standard's own root
@@ -33,6 +33,9 @@ pub const FLANK_TOLERANCE_DEG: f64 = 0.5;
 /// The depths (fractions of the depth reached) between which flank angles are measured, as `sim`
 /// does.
 const FLANK_BAND: (f64, f64) = (0.2, 0.6);
+/// Passes within this depth (mm) of the deepest are the final passes: far below any control's
+/// resolution, far above rounding.
+const FINAL_DEPTH_TOLERANCE: f64 = 1e-6;
 /// Bisections stop when the interval is this narrow (mm).
 const BISECTION_WIDTH: f64 = 1e-10;
 
@@ -129,8 +132,20 @@ pub fn measure(t: &Thread, tool: &Tool, pitch: f64) -> Measured {
     let out = g.side.outward().x;
     let crest_r = g.crest_start.x;
     let form = tool.form();
-    let cuts: Vec<(f64, f64)> = t.passes.iter().map(|p| (p.offset, p.depth)).collect();
-    let depth = cuts.iter().map(|c| c.1).fold(f64::NEG_INFINITY, f64::max);
+    // The thread is what the final passes leave: the passes at the final depth (a groove's other
+    // passes lie inside their form unless they leave a ridge or an overcut, which `check`'s form
+    // findings report).
+    let depth = t
+        .passes
+        .iter()
+        .map(|p| p.depth)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let cuts: Vec<(f64, f64)> = t
+        .passes
+        .iter()
+        .filter(|p| p.depth >= depth - FINAL_DEPTH_TOLERANCE)
+        .map(|p| (p.offset, p.depth))
+        .collect();
     let width = |v: f64| groove_edges(&cuts, &form, v).map_or(0.0, |(l, r)| r - l);
     // The groove narrows with depth: bisect for width = P/2 between well above the crest and the
     // deepest point.
