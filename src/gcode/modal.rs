@@ -136,7 +136,7 @@ impl Vocabulary {
 
 /// A G code ×10 as written: `G78`, `G33.1`.
 pub fn g_name(code: u16) -> String {
-    if code % 10 == 0 {
+    if code.is_multiple_of(10) {
         format!("G{}", code / 10)
     } else {
         format!("G{}.{}", code / 10, code % 10)
