@@ -284,3 +284,48 @@ fn a_cycle_with_the_wrong_tool_angle() {
         "{out}"
     );
 }
+
+/// The LinuxCNC program whose I, J and K were written as radii in G7 (LinuxCNC reads them
+/// as diameters and halves them): K0.92 cuts 0.46 deep, the root at Ø10 − 0.92 = 9.08 > 8.128
+/// (M10x1.5-6g: d3 8.160 − 0.032). Without `--thread` nothing is assumed about the standard, so
+/// nothing is said; with it, the root is an error.
+#[test]
+fn linuxcnc_depths_written_as_radii_in_g7() {
+    let src = "G7 G21 G18\nS800 M3\nG0 X12 Z3\nG76 P1.5 Z-15 I-2.0 J0.2 K0.92 Q29.5 H1 R2\nM2\n";
+    let (code, out) = check("lc-g7", src, &["-c", "linuxcnc"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("0 errors, 0 warnings"), "{out}");
+    let (code, out) = check(
+        "lc-g7-thread",
+        src,
+        &["-c", "linuxcnc", "--thread", "M10x1.5-6g"],
+    );
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("error[E016]: minor diameter 9.08 > 8.128 max for M10x1.5-6g: the passes reach 0.46 deep from the crest (Ø10), 6g needs at least 0.936"),
+        "{out}"
+    );
+}
+
+/// The M20 program whose final X and thread height put the cycle's crest at Ø21.8: the
+/// crest is no major diameter of M20x2.5 (and not its basic Ø20), and the root 17.8 is far above
+/// d3 max 16.891.
+#[test]
+fn a_cycle_whose_crest_is_not_the_threads() {
+    let src = g76(false, "24.", "17.8", "-25.", 2000, "2.5");
+    let (code, out) = check("m20-crest", &src, &args(&["--thread", "M20x2.5-6g"]));
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("warning[W009]: the cycle's crest Ø21.8 is not a major diameter of M20x2.5-6g (19.623–19.958 mm)"),
+        "{out}"
+    );
+    assert!(out.contains("its first passes cut air"), "{out}");
+    assert!(
+        out.contains("error[E016]: minor diameter 17.8 > 16.891 max for M20x2.5-6g"),
+        "{out}"
+    );
+    // A crest at the nominal Ø20 is not flagged (programs measure from it).
+    let src = g76(false, "24.", "16.7", "-25.", 1650, "2.5");
+    let (_, out) = check("m20-crest-ok", &src, &args(&["--thread", "M20x2.5-6g"]));
+    assert!(!out.contains("the cycle's crest"), "{out}");
+}

@@ -299,6 +299,42 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
             }
         }
     }
+    // A cycle's crest outside the class's crest diameter (and not its basic value, which a program
+    // commonly measures from): the part, turned to the thread's crest, is not where the cycle
+    // measures its depths from.
+    if t.crest_known() && matches!(t.origin, crate::threads::Origin::Cycle) {
+        let (range, name, basic) = match side {
+            Surface::External => (target.limits.major, "major", target.thread.basic.major),
+            Surface::Internal => (target.limits.minor, "minor", target.thread.basic.minor),
+        };
+        let above = m.crest > range.max.unwrap_or(basic).max(basic) + tol;
+        let below = m.crest < range.min.unwrap_or(basic).min(basic) - tol;
+        if above || below {
+            let limits = match (range.min, range.max) {
+                (Some(a), Some(b)) => format!("{}–{}", show(a), show(b)),
+                (Some(a), None) => format!("at least {}", show(a)),
+                (None, Some(b)) => format!("at most {}", show(b)),
+                (None, None) => String::new(),
+            };
+            out.push(
+                Diagnostic::warning(
+                    Code::OutOfClassAssumed,
+                    span,
+                    format!(
+                        "the cycle's crest Ø{} is not a {name} diameter of {} ({limits} {unit}): on a part turned to the thread's {name} diameter the cycle's depths are measured from a crest the part does not have{}",
+                        show(m.crest),
+                        target.name,
+                        if (side == Surface::External) == above {
+                            ", and its first passes cut air"
+                        } else {
+                            ""
+                        }
+                    ),
+                )
+                .with_hint("check the cycle's thread height (P(k), K) against its final X"),
+            );
+        }
+    }
     // The pitch diameter: a fact with the tool given, else an assumption.
     let (code, make): (Code, fn(Code, Span, String) -> Diagnostic) = if j.tip.is_some() {
         (Code::OutOfClass, Diagnostic::error)
