@@ -465,7 +465,8 @@ impl<C: Clone> Collector<C> {
             let start = o.thread.path.start;
             let n = o.thread.passes.len() as u32;
             if o.thread.extra_passes > 0 {
-                for m in &after[..trailing(&after, start)] {
+                let inward = o.thread.job.geometry.side.infeed();
+                for m in &after[..trailing(&after, start, inward)] {
                     o.thread.path.motions.push(Motion {
                         kind: m.kind,
                         to: m.to,
@@ -757,11 +758,15 @@ fn closing(between: &[Move], start: Pos) -> usize {
     }
 }
 
-/// The rapid moves after the last pass that belong to the thread: up to the return to `start`.
-fn trailing(after: &[Move], start: Pos) -> usize {
+/// The rapid moves after the last pass that belong to the thread: up to the return to `start`,
+/// and none that moves back toward the part (`inward`: the direction of depth, short axis first;
+/// that is the next work's approach).
+fn trailing(after: &[Move], start: Pos, inward: crate::units::Vec2) -> usize {
     let mut n = 0;
     for m in after.iter().take(4) {
-        if m.kind != MotionKind::Rapid {
+        let d = m.to.minus(m.from);
+        let toward_part = d.x * inward.x + d.z * inward.z > POINT_TOLERANCE;
+        if m.kind != MotionKind::Rapid || toward_part {
             break;
         }
         n += 1;
@@ -951,7 +956,7 @@ fn build(
         }
     }
     let last_n = passes.len() as u32;
-    for m in &after[..trailing(&after, start)] {
+    for m in &after[..trailing(&after, start, side.infeed())] {
         push(m, last_n);
     }
     let last_line = motions.last().map_or(first_line, |m| m.line);
@@ -998,5 +1003,202 @@ fn build(
         pass_spans,
         diameter_x: setting.diameter_x,
         extra_passes: 0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const MM: Setting = Setting {
+        units: Units::Mm,
+        diameter_x: true,
+        controller: "test",
+    };
+
+    fn mv(kind: MotionKind, from: (f64, f64), to: (f64, f64), line: u32) -> Move {
+        Move {
+            kind,
+            from: Pos::new(from.0, from.1),
+            to: Pos::new(to.0, to.1),
+            line,
+            span: Span::new(0, 0, line, 1),
+        }
+    }
+
+    fn thread_move(lead: f64) -> MotionKind {
+        MotionKind::Thread {
+            lead,
+            dlead: 0.0,
+            phase_deg: 0.0,
+        }
+    }
+
+    /// Box passes (rapid in, thread, rapid out, rapid back) at these radii and start Zs.
+    fn passes(c: &mut Collector<()>, out: &mut Vec<Thread>, lead: f64, cuts: &[(f64, f64, f64)]) {
+        let mut push = |f: Found<()>| {
+            if let Found::Thread(t, ()) = f {
+                out.push(*t);
+            }
+        };
+        let mut line = 0;
+        let mut l = || {
+            line += 1;
+            line
+        };
+        for &(x, z0, z1) in cuts {
+            let at = c.last.map_or(Pos::new(20.0, z0), |m| m.to);
+            c.motion(
+                mv(MotionKind::Rapid, (at.x, at.z), (x, z0), l()),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+            c.motion(
+                mv(thread_move(lead), (x, z0), (x, z1), l()),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+            c.motion(
+                mv(MotionKind::Rapid, (x, z1), (20.0, z1), l()),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+            c.motion(
+                mv(MotionKind::Rapid, (20.0, z1), (20.0, z0), l()),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+        }
+    }
+
+    fn finish(c: Collector<()>, out: &mut Vec<Thread>) {
+        c.finish(&mut |f| {
+            if let Found::Thread(t, ()) = f {
+                out.push(*t);
+            }
+        });
+    }
+
+    #[test]
+    fn passes_with_one_lead_over_one_span_are_one_thread() {
+        let mut c = Collector::new(None);
+        let mut out = Vec::new();
+        // Backed-off starts (0.2, 0.35 further back) with the same end: one thread, depths from
+        // the first pass (radius 15): 0, 0.3, 0.55; offsets from its start.
+        passes(
+            &mut c,
+            &mut out,
+            2.0,
+            &[(15.0, 5.0, -30.0), (14.7, 5.2, -30.0), (14.45, 5.35, -30.0)],
+        );
+        // Another lead: a second thread.
+        passes(
+            &mut c,
+            &mut out,
+            1.5,
+            &[(10.0, 5.0, -10.0), (9.8, 5.0, -10.0)],
+        );
+        // The same lead over another span (more than a lead away): a third.
+        passes(&mut c, &mut out, 1.5, &[(10.0, -20.0, -35.0)]);
+        finish(c, &mut out);
+        assert_eq!(out.len(), 3);
+        let t = &out[0];
+        assert_eq!(t.job.geometry.side, Side::External);
+        let depths: Vec<f64> = t.passes.iter().map(|p| p.depth).collect();
+        let offsets: Vec<f64> = t.passes.iter().map(|p| p.offset).collect();
+        assert!(
+            (depths[1] - 0.3).abs() < 1e-12 && (depths[2] - 0.55).abs() < 1e-12,
+            "{depths:?}"
+        );
+        assert!(
+            (offsets[1] - 0.2).abs() < 1e-12 && (offsets[2] - 0.35).abs() < 1e-12,
+            "{offsets:?}"
+        );
+        assert_eq!(t.passes[2].kind, PassKind::Finish);
+        assert!(!t.crest_known());
+        // The toolpath: approach, then per pass thread, out, back, and the next approach.
+        assert_eq!(t.path.start, Pos::new(20.0, 5.0));
+        assert_eq!(t.path.motions.len(), 12);
+        assert_eq!(out[1].passes.len(), 2);
+        assert_eq!(out[2].passes.len(), 1);
+    }
+
+    #[test]
+    fn the_crest_when_known_and_internal_threads() {
+        // Internal: the passes go up in X. With the stock (the bore) at Ø20 the depths are
+        // measured from radius 10.
+        let mut c = Collector::new(Some(Crest::Stock(20.0)));
+        let mut out = Vec::new();
+        let mut push = |f: Found<()>| {
+            if let Found::Thread(t, ()) = f {
+                out.push(*t);
+            }
+        };
+        for (i, x) in [10.3, 10.6, 10.8].into_iter().enumerate() {
+            let n = 4 * i as u32;
+            c.motion(
+                mv(MotionKind::Rapid, (8.0, 3.0), (x, 3.0), n + 1),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+            c.motion(
+                mv(thread_move(1.5), (x, 3.0), (x, -20.0), n + 2),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+            c.motion(
+                mv(MotionKind::Rapid, (x, -20.0), (8.0, -20.0), n + 3),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+            c.motion(
+                mv(MotionKind::Rapid, (8.0, -20.0), (8.0, 3.0), n + 4),
+                MM,
+                false,
+                || (),
+                &mut push,
+            );
+        }
+        c.finish(&mut push);
+        let t = &out[0];
+        assert_eq!(t.job.geometry.side, Side::Internal);
+        assert!(t.crest_known());
+        let depths: Vec<f64> = t.passes.iter().map(|p| p.depth).collect();
+        assert!(
+            depths
+                .iter()
+                .zip([0.3, 0.6, 0.8])
+                .all(|(a, b)| (a - b).abs() < 1e-12),
+            "{depths:?}"
+        );
+    }
+
+    #[test]
+    fn a_tool_change_ends_a_thread() {
+        let mut c = Collector::new(None);
+        let mut out = Vec::new();
+        passes(&mut c, &mut out, 2.0, &[(15.0, 5.0, -30.0)]);
+        c.boundary(&mut |f| {
+            if let Found::Thread(t, ()) = f {
+                out.push(*t);
+            }
+        });
+        passes(&mut c, &mut out, 2.0, &[(14.7, 5.0, -30.0)]);
+        finish(c, &mut out);
+        assert_eq!(out.len(), 2);
     }
 }

@@ -173,7 +173,7 @@ pub(crate) const fn g(code: u16) -> GCode {
 /// Every whole code G0–G99 but `except`, with `threads`' entries in their places: the vocabulary
 /// of a controller whose public documentation lists only part of its codes. Only the codes that
 /// other controllers thread with are refused, so that no code the controller may have is an alarm
-/// (an excluded code's slot holds a second G0).
+/// (an excluded code's slot repeats the code before it, so that the list stays sorted).
 pub(crate) const fn all_but(threads: &[GCode], except: &[u16]) -> [GCode; 100] {
     let mut out = [GCode::plain(0); 100];
     let mut i = 0;
@@ -182,8 +182,8 @@ pub(crate) const fn all_but(threads: &[GCode], except: &[u16]) -> [GCode; 100] {
         let mut entry = GCode::plain(code);
         let mut j = 0;
         while j < except.len() {
-            if except[j] == code {
-                entry = GCode::plain(0);
+            if except[j] == code && i > 0 {
+                entry = out[i - 1];
             }
             j += 1;
         }
@@ -365,5 +365,59 @@ impl WithDialect for Boxed {
     type Output = Box<dyn Dialect>;
     fn run<D: Dialect + 'static>(self, dialect: D) -> Box<dyn Dialect> {
         Box::new(dialect)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `Vocabulary::get` searches by halving: every built-in controller's list is sorted, and
+    /// knows its own threading codes.
+    #[test]
+    fn every_vocabulary_is_sorted_and_knows_its_thread_codes() {
+        for (name, _) in crate::machine::BUILT_IN {
+            let d = open(&Machine::built_in(name).unwrap()).unwrap();
+            let v = d.vocabulary();
+            assert!(
+                v.g_codes.windows(2).all(|w| w[0].code <= w[1].code),
+                "{name}"
+            );
+            assert_eq!(v.controller, d.name());
+            assert!(v.get(0).is_some() && v.get(10).is_some(), "{name}");
+            let thread = d.conventions().thread_move;
+            assert!(v.get(thread).is_some_and(|g| g.threads), "{name}");
+        }
+        // What each refuses (the cases) and keeps (fractions by their whole number).
+        let known = |c: &str, code: u16| {
+            open(&Machine::built_in(c).unwrap())
+                .unwrap()
+                .vocabulary()
+                .get(code)
+                .is_some()
+        };
+        assert!(!known("fanuc", 780) && !known("fanuc", 330) && !known("fanuc", 910));
+        assert!(known("fanuc", 71) && known("fanuc", 1120) && known("fanuc", 503));
+        assert!(known("gsk980", 780) && known("gsk980", 62));
+        assert!(!known("linuxcnc", 320) && known("linuxcnc", 331) && known("linuxcnc", 382));
+        assert!(!known("omniturn", 760) && known("omniturn", 720) && known("omniturn", 310));
+        assert!(!known("ab9", 320) && !known("ab9", 760) && known("ab9", 780) && known("ab9", 330));
+    }
+
+    #[test]
+    fn the_hint_names_the_controllers_that_have_a_code_with_these_words() {
+        assert_eq!(
+            others_with(780, b"GXZPQF", "fanuc").unwrap(),
+            "gsk980 has G78 with these words: check the program with --controller gsk980"
+        );
+        // ab9's G78 takes K and D but no Q: with K and D only ab9 fits.
+        assert_eq!(
+            others_with(780, b"GXZKDFAP", "fanuc").unwrap(),
+            "ab9 has G78 with these words: check the program with --controller ab9"
+        );
+        assert_eq!(
+            others_with(3330, b"G", "fanuc").unwrap(),
+            "no built-in controller has G333"
+        );
     }
 }

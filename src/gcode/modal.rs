@@ -95,12 +95,16 @@ impl std::fmt::Debug for Vocabulary {
 }
 
 impl Vocabulary {
-    /// The entry of a code: the code itself, else (for `G5.1`) its whole number.
+    /// The entry of a code: the code itself, else (for `G5.1`) its whole number. The list is
+    /// sorted by code (a test keeps every dialect's so).
     pub fn get(&self, code: u16) -> Option<&GCode> {
-        self.g_codes
-            .iter()
-            .find(|g| g.code == code)
-            .or_else(|| self.g_codes.iter().find(|g| g.code == code / 10 * 10))
+        let find = |c: u16| {
+            self.g_codes
+                .binary_search_by_key(&c, |g| g.code)
+                .ok()
+                .map(|i| &self.g_codes[i])
+        };
+        find(code).or_else(|| find(code / 10 * 10))
     }
 
     /// The alarm for the G word `w` of `line`, whose code this controller does not have.
