@@ -777,6 +777,53 @@ fn trailing(after: &[Move], start: Pos, inward: crate::units::Vec2) -> usize {
     n
 }
 
+/// Long and short coordinates: along the thread (Z, or X for a face thread) and across it.
+#[derive(Clone, Copy)]
+struct Axes {
+    face: bool,
+}
+
+impl Axes {
+    fn long(self, p: Pos) -> f64 {
+        if self.face {
+            p.x
+        } else {
+            p.z
+        }
+    }
+
+    fn short(self, p: Pos) -> f64 {
+        if self.face {
+            p.z
+        } else {
+            p.x
+        }
+    }
+
+    /// The point at these coordinates.
+    fn pos(self, long: f64, short: f64) -> Pos {
+        if self.face {
+            Pos::new(long, short)
+        } else {
+            Pos::new(short, long)
+        }
+    }
+}
+
+/// The crest line: its short coordinate at a long one.
+#[derive(Clone, Copy)]
+struct CrestLine {
+    at_origin: f64,
+    origin: f64,
+    slope: f64,
+}
+
+impl CrestLine {
+    fn at(&self, long: f64) -> f64 {
+        self.at_origin + self.slope * (long - self.origin)
+    }
+}
+
 /// The thread that passes written as moves cut.
 fn build(
     passes: Vec<PassMoves>,
@@ -787,36 +834,12 @@ fn build(
     from_cycles: bool,
     crest: Option<Crest>,
 ) -> Thread {
-    let face = key.face;
-    // Long and short coordinates of a point.
-    let long = |p: Pos| if face { p.x } else { p.z };
-    let short = |p: Pos| if face { p.z } else { p.x };
+    let ax = Axes { face: key.face };
     let mains: Vec<Move> = passes.iter().map(|p| main_segment(&p.chain)).collect();
     let first = mains[0];
     let start = approach.map_or(passes[0].chain[0].from, |m| m.from);
-    // Which way is out of the part: deeper passes go into it, a pull-out leaves it, the move after
-    // a pass retracts out of it; the approach comes from outside (last: a LinuxCNC pass approaches
-    // its back point, outward of the groove, from the start point).
-    let outward = {
-        let progression = mains
-            .iter()
-            .map(|m| short(mains[0].from) - short(m.from))
-            .find(|d| d.abs() > POINT_TOLERANCE);
-        let first_chain = &passes[0].chain;
-        let pull_out = Some(short(first_chain[first_chain.len() - 1].to) - short(mains[0].to));
-        let after_first = passes
-            .get(1)
-            .and_then(|p| p.before.first())
-            .or(after.first())
-            .map(|m| short(m.to) - short(m.from));
-        let from_approach = approach.map(|m| short(m.from) - short(m.to));
-        [progression, pull_out, after_first, from_approach]
-            .into_iter()
-            .flatten()
-            .find(|d| d.abs() > POINT_TOLERANCE)
-            .map_or(1.0, f64::signum)
-    };
-    let side = match (face, outward > 0.0) {
+    let outward = outward_sign(ax, &passes, &mains, approach, &after);
+    let side = match (ax.face, outward > 0.0) {
         (false, true) => Side::External,
         (false, false) => Side::Internal,
         // Depth grows toward −Z: the usual front face.
@@ -824,18 +847,10 @@ fn build(
         (true, false) => Side::FaceBack,
     };
     // The crest line: through the first pass's thread, or at the crest the caller gave.
-    let d = first.to.minus(first.from);
-    let slope = if face {
-        if d.x != 0.0 {
-            d.z / d.x
-        } else {
-            0.0
-        }
-    } else if d.z != 0.0 {
-        d.x / d.z
-    } else {
-        0.0
-    };
+    let (dl, ds) = (
+        ax.long(first.to) - ax.long(first.from),
+        ax.short(first.to) - ax.short(first.from),
+    );
     let crest_diameter = crest.map(|c| match c {
         Crest::Stock(d) => setting.units.to_mm(d),
         Crest::Standard { external, internal } => {
@@ -846,130 +861,43 @@ fn build(
             }
         }
     });
-    let crest_known = crest_diameter.is_some() && !face;
-    let reference = match crest_diameter {
-        Some(dia) if !face => dia / 2.0,
-        _ => short(first.from),
+    let crest_known = crest_diameter.is_some() && !ax.face;
+    let line = CrestLine {
+        at_origin: match crest_diameter {
+            Some(dia) if !ax.face => dia / 2.0,
+            _ => ax.short(first.from),
+        },
+        origin: ax.long(first.from),
+        slope: if dl != 0.0 { ds / dl } else { 0.0 },
     };
-    let crest_short = |l: f64| reference + slope * (l - long(first.from));
-    let mut depths = Vec::with_capacity(mains.len());
-    let mut made: Vec<Pass> = Vec::with_capacity(mains.len());
-    for (i, m) in mains.iter().enumerate() {
-        let depth = (crest_short(long(m.from)) - short(m.from)) * outward;
-        let offset = long(m.from) - long(first.from);
-        depths.push(depth);
-        made.push(Pass {
-            n: i as u32 + 1,
-            kind: PassKind::Rough,
-            depth,
-            increment: depth - if i == 0 { 0.0 } else { depths[i - 1] },
-            offset,
-            start: m.from,
-            area: 0.0,
-            share: 0.0,
-        });
-    }
+    let (table, depths) = pass_table(ax, &mains, line, outward);
     let deepest = depths.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    // The passes at the final depth finish the thread (the first removes what is left, the rest
-    // are spring passes), as in a cycle's table.
-    for p in &mut made {
-        if p.depth >= deepest - crate::thread::plan::DEPTH_TOLERANCE {
-            p.kind = PassKind::Finish;
-        }
-    }
-    let t = crate::thread::tan_deg(ASSUMED_TOOL_ANGLE / 2.0);
-    let cuts: Vec<(f64, f64)> = made.iter().map(|p| (p.offset, p.depth.max(0.0))).collect();
-    let areas = area::chip_areas(&cuts, t);
-    let sum: f64 = areas.iter().sum();
-    for (p, a) in made.iter_mut().zip(areas) {
-        p.area = a;
-        p.share = if sum > 0.0 { a / sum } else { 0.0 };
-    }
-    // The reference pass's exit: the synchronised moves after its thread are its pull-out.
+    // The reference pass (the last) gives the exit and the thread's length.
     let last_chain = &passes[passes.len() - 1].chain;
     let last_main = mains[mains.len() - 1];
-    let main_at = last_chain.iter().position(|m| *m == last_main).unwrap_or(0);
     let chain_end = last_chain[last_chain.len() - 1].to;
-    let pull_long = (long(chain_end) - long(last_main.to)).abs();
-    let pull_short = (short(chain_end) - short(last_main.to)) * outward;
-    let exit = if main_at + 1 < last_chain.len() && pull_long > POINT_TOLERANCE {
-        Exit::PullOut {
-            start_before: pull_long,
-            length: pull_long,
-            outward: pull_short.max(0.0),
-        }
-    } else {
-        Exit::Straight
-    };
-    let travel_long = long(chain_end) - long(last_main.from);
-    let crest_start = if face {
-        Pos::new(long(first.from), crest_short(long(first.from)))
-    } else {
-        Pos::new(crest_short(long(first.from)), long(first.from))
-    };
-    let end_long = long(first.from) + travel_long;
-    let crest_end = if face {
-        Pos::new(end_long, crest_short(end_long))
-    } else {
-        Pos::new(crest_short(end_long), end_long)
-    };
+    let exit = exit_of(ax, last_chain, last_main, outward);
+    let end_long = ax.long(first.from) + ax.long(chain_end) - ax.long(last_main.from);
+    // The model's lead is along the long axis; the move's may be along X (a steep taper).
     let lead = match first.kind {
-        MotionKind::Thread { lead, .. } => {
-            // The model's lead is along the long axis; the move's may be along X (a steep taper).
-            let dl = (long(first.to) - long(first.from)).abs();
-            let ds = (short(first.to) - short(first.from)).abs();
-            if ds > dl && ds > 0.0 {
-                lead * dl / ds
-            } else {
-                lead
-            }
+        MotionKind::Thread { lead, .. } if ds.abs() > dl.abs() && ds != 0.0 => {
+            lead * dl.abs() / ds.abs()
         }
+        MotionKind::Thread { lead, .. } => lead,
         _ => key.lead,
     };
+    let motions = toolpath_of(&passes, approach, &after, start, side.infeed());
     let first_line = passes[0].chain[0].line;
-    let span = passes[0].chain[0].span;
-    // The toolpath: the approach, each pass (the moves before it that close the previous pass are
-    // the previous pass's), then the return after the last.
-    let mut motions: Vec<Motion> = Vec::new();
-    let mut push = |m: &Move, pass: u32| {
-        motions.push(Motion {
-            kind: m.kind,
-            to: m.to,
-            pass,
-            line: m.line,
-        })
-    };
-    if let Some(a) = approach {
-        push(&a, 1);
-    }
-    for (i, p) in passes.iter().enumerate() {
-        let n = i as u32 + 1;
-        let split = closing(&p.before, start);
-        for m in &p.before[..split] {
-            push(m, n.saturating_sub(1).max(1));
-        }
-        for m in &p.before[split..] {
-            push(m, n);
-        }
-        for m in &p.chain {
-            push(m, n);
-        }
-    }
-    let last_n = passes.len() as u32;
-    for m in &after[..trailing(&after, start, side.infeed())] {
-        push(m, last_n);
-    }
     let last_line = motions.last().map_or(first_line, |m| m.line);
-    let pass_spans = passes.iter().map(|p| p.chain[0].span).collect();
     let job = Job {
         line: first_line,
-        span,
+        span: passes[0].chain[0].span,
         controller: setting.controller,
         units: setting.units,
         start,
         geometry: Geometry {
-            crest_start,
-            crest_end,
+            crest_start: ax.pos(line.origin, line.at(line.origin)),
+            crest_end: ax.pos(end_long, line.at(end_long)),
             depth: deepest.max(0.0),
             side,
         },
@@ -992,7 +920,7 @@ fn build(
     };
     Thread {
         job,
-        passes: made,
+        passes: table,
         path: Toolpath { start, motions },
         origin: Origin::Moves {
             crest_known,
@@ -1000,10 +928,138 @@ fn build(
             first_line,
             last_line,
         },
-        pass_spans,
+        pass_spans: passes.iter().map(|p| p.chain[0].span).collect(),
         diameter_x: setting.diameter_x,
         extra_passes: 0,
     }
+}
+
+/// Which way is out of the part (+1: toward + along the short axis): deeper passes go into it, a
+/// pull-out leaves it, the move after a pass retracts out of it; the approach comes from outside
+/// (last: a LinuxCNC pass approaches its back point, outward of the groove, from the start point).
+fn outward_sign(
+    ax: Axes,
+    passes: &[PassMoves],
+    mains: &[Move],
+    approach: Option<Move>,
+    after: &[Move],
+) -> f64 {
+    let progression = mains
+        .iter()
+        .map(|m| ax.short(mains[0].from) - ax.short(m.from))
+        .find(|d| d.abs() > POINT_TOLERANCE);
+    let first_chain = &passes[0].chain;
+    let pull_out = Some(ax.short(first_chain[first_chain.len() - 1].to) - ax.short(mains[0].to));
+    let after_first = passes
+        .get(1)
+        .and_then(|p| p.before.first())
+        .or(after.first())
+        .map(|m| ax.short(m.to) - ax.short(m.from));
+    let from_approach = approach.map(|m| ax.short(m.from) - ax.short(m.to));
+    [progression, pull_out, after_first, from_approach]
+        .into_iter()
+        .flatten()
+        .find(|d| d.abs() > POINT_TOLERANCE)
+        .map_or(1.0, f64::signum)
+}
+
+/// The pass table of the passes whose threads are `mains`: depths below the crest line, offsets
+/// from the first pass's start, the passes at the final depth finishing the thread (the first
+/// removes what is left, the rest are spring passes, as in a cycle's table), sharp-V chip areas
+/// for the assumed tool. Also the depths alone.
+fn pass_table(ax: Axes, mains: &[Move], line: CrestLine, outward: f64) -> (Vec<Pass>, Vec<f64>) {
+    let depths: Vec<f64> = mains
+        .iter()
+        .map(|m| (line.at(ax.long(m.from)) - ax.short(m.from)) * outward)
+        .collect();
+    let deepest = depths.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mut table: Vec<Pass> = mains
+        .iter()
+        .zip(&depths)
+        .enumerate()
+        .map(|(i, (m, &depth))| Pass {
+            n: i as u32 + 1,
+            kind: if depth >= deepest - crate::thread::plan::DEPTH_TOLERANCE {
+                PassKind::Finish
+            } else {
+                PassKind::Rough
+            },
+            depth,
+            increment: depth - if i == 0 { 0.0 } else { depths[i - 1] },
+            offset: ax.long(m.from) - line.origin,
+            start: m.from,
+            area: 0.0,
+            share: 0.0,
+        })
+        .collect();
+    set_areas(&mut table, ASSUMED_TOOL_ANGLE);
+    (table, depths)
+}
+
+/// Sharp-V chip areas and shares of a pass table, for a tool of this angle.
+fn set_areas(table: &mut [Pass], angle_deg: f64) {
+    let cuts: Vec<(f64, f64)> = table.iter().map(|p| (p.offset, p.depth.max(0.0))).collect();
+    let areas = area::chip_areas(&cuts, crate::thread::tan_deg(angle_deg / 2.0));
+    let sum: f64 = areas.iter().sum();
+    for (p, a) in table.iter_mut().zip(areas) {
+        p.area = a;
+        p.share = if sum > 0.0 { a / sum } else { 0.0 };
+    }
+}
+
+/// A pass's exit: the synchronised moves after its thread (`main`) are its pull-out.
+fn exit_of(ax: Axes, chain: &[Move], main: Move, outward: f64) -> Exit {
+    let main_at = chain.iter().position(|m| *m == main).unwrap_or(0);
+    let end = chain[chain.len() - 1].to;
+    let pull_long = (ax.long(end) - ax.long(main.to)).abs();
+    let pull_short = (ax.short(end) - ax.short(main.to)) * outward;
+    if main_at + 1 < chain.len() && pull_long > POINT_TOLERANCE {
+        Exit::PullOut {
+            start_before: pull_long,
+            length: pull_long,
+            outward: pull_short.max(0.0),
+        }
+    } else {
+        Exit::Straight
+    }
+}
+
+/// The toolpath of passes written as moves: the approach, each pass (the moves before it that
+/// close the previous pass are the previous pass's), then the return after the last.
+fn toolpath_of(
+    passes: &[PassMoves],
+    approach: Option<Move>,
+    after: &[Move],
+    start: Pos,
+    inward: crate::units::Vec2,
+) -> Vec<Motion> {
+    let mut motions: Vec<Motion> = Vec::new();
+    let mut push = |m: &Move, pass: u32| {
+        motions.push(Motion {
+            kind: m.kind,
+            to: m.to,
+            pass,
+            line: m.line,
+        })
+    };
+    if let Some(a) = approach {
+        push(&a, 1);
+    }
+    for (i, p) in passes.iter().enumerate() {
+        let n = i as u32 + 1;
+        let split = closing(&p.before, start);
+        for m in &p.before[..split] {
+            push(m, n.saturating_sub(1).max(1));
+        }
+        for m in p.before[split..].iter().chain(&p.chain) {
+            push(m, n);
+        }
+    }
+    let last = passes.len() as u32;
+    for m in &after[..trailing(after, start, inward)] {
+        push(m, last);
+    }
+    motions
 }
 
 #[cfg(test)]
