@@ -28,6 +28,45 @@ pub fn check_thread(
     notes: &mut Vec<Note>,
 ) {
     let job = &t.job;
+    length_checks(t, machine, out);
+    let blank = Blank::new(
+        job,
+        t.path.start,
+        opts.stock_diameter,
+        opts.stock_start,
+        t.crest_known(),
+    );
+    if blank.face == Known::Given && blank.before_face(blank.z_end) >= 0.0 {
+        let show = |mm: f64| length(job.units, mm);
+        out.push(
+            Diagnostic::error(
+                Code::Geometry,
+                job.span,
+                format!(
+                    "the blank's face (Z{}) lies at or past the thread's end (Z{}): there is nothing to cut",
+                    show(blank.z_face),
+                    show(blank.z_end)
+                ),
+            )
+            .with_hint("--stock-start names the face on the side where the thread starts"),
+        );
+        return;
+    }
+    section_checks(t, machine, opts, &blank, out, notes);
+    rapid_checks(t, &blank, out);
+    spindle_checks(t, machine, &blank, spindle, out, notes);
+    if let Some(thread) = &opts.thread {
+        judge(t, machine, opts, thread, out, notes);
+    }
+    if let Some(what) = blank.assumptions() {
+        notes.push(Note::new(job.span, format!("blank: {what}")));
+    }
+}
+
+/// The lead against the controller's maximum, the thread against one lead, a cycle's chamfer
+/// against the thread.
+fn length_checks(t: &Thread, machine: &Machine, out: &mut Vec<Diagnostic>) {
+    let job = &t.job;
     let span = job.span;
     let units = job.units;
     let show = |mm: f64| length(units, mm);
@@ -78,36 +117,25 @@ pub fn check_thread(
             ));
         }
     }
-    let blank = Blank::new(
-        job,
-        t.path.start,
-        opts.stock_diameter,
-        opts.stock_start,
-        t.crest_known(),
-    );
-    if blank.face == Known::Given && blank.before_face(blank.z_end) >= 0.0 {
-        out.push(
-            Diagnostic::error(
-                Code::Geometry,
-                span,
-                format!(
-                    "the blank's face (Z{}) lies at or past the thread's end (Z{}): there is nothing to cut",
-                    show(blank.z_face),
-                    show(blank.z_end)
-                ),
-            )
-            .with_hint("--stock-start names the face on the side where the thread starts"),
-        );
-        return;
-    }
-    // The tool: the cycle's angle (a 0° cycle, a radial infeed, is cut with a tool of the thread's
-    // angle: the standard's, else 60°), the tip as given.
+}
+
+/// The simulated section: depth and form. The tool is the cycle's angle (a 0° cycle, a radial
+/// infeed, is cut with a tool of the thread's angle: the standard's, else 60°) with the tip given.
+fn section_checks(
+    t: &Thread,
+    machine: &Machine,
+    opts: &Options,
+    blank: &Blank,
+    out: &mut Vec<Diagnostic>,
+    notes: &mut Vec<Note>,
+) {
+    let job = &t.job;
     let angle = if job.tool_angle_deg > 0.0 {
         job.tool_angle_deg
     } else {
         let a = opts.thread.as_ref().map_or(60.0, standard::angle_of);
         notes.push(Note::new(
-            span,
+            job.span,
             format!(
                 "the cycle's tool angle is 0° (a radial infeed): the section is cut with a {}° tool",
                 super::number(a)
@@ -117,19 +145,13 @@ pub fn check_thread(
     };
     let tool = Tool {
         angle_deg: angle,
-        tip: tip_in_mm(opts.tip.unwrap_or(crate::sim::Tip::Sharp), units),
+        tip: tip_in_mm(opts.tip.unwrap_or(crate::sim::Tip::Sharp), job.units),
     };
-    let sim_job;
-    let sim_job_ref = if (job.tool_angle_deg - angle).abs() > 0.0 {
-        sim_job = crate::thread::Job {
-            tool_angle_deg: angle,
-            ..job.clone()
-        };
-        &sim_job
-    } else {
-        job
+    let with_angle = crate::thread::Job {
+        tool_angle_deg: angle,
+        ..job.clone()
     };
-    match section(sim_job_ref, &t.passes, &tool, blank.stock_above) {
+    match section(&with_angle, &t.passes, &tool, blank.stock_above) {
         Ok(sec) => form_checks(t, machine, &sec.groove, out),
         // The machine can still run the cycle; only the depth and form checks are lost.
         Err(e) => out.push(Diagnostic {
@@ -142,32 +164,37 @@ pub fn check_thread(
             ..e
         }),
     }
-    rapid_checks(t, &blank, out);
-    spindle_checks(t, machine, &blank, spindle, out, notes);
-    if let Some(thread) = &opts.thread {
-        let surface = match g.side {
-            Side::Internal => crate::thread::standard::Surface::Internal,
-            _ => crate::thread::standard::Surface::External,
-        };
-        match standard::target(thread, surface) {
-            Ok(target) => standard::judge(
-                t,
-                &Judging {
-                    target: &target,
-                    tip: opts.tip.map(|tip| tip_in_mm(tip, units)),
-                    resolution: units.to_mm(machine.resolution(units)),
-                },
-                out,
-                notes,
-            ),
-            Err(why) => out.push(
-                Diagnostic::error(Code::OutOfClass, span, why)
-                    .with_hint("name the class of the side the program cuts (6g/6H, 2A/2B)"),
-            ),
-        }
-    }
-    if let Some(what) = blank.assumptions() {
-        notes.push(Note::new(span, format!("blank: {what}")));
+}
+
+/// The thread against the standard named with `--thread`, on the side the program cuts.
+fn judge(
+    t: &Thread,
+    machine: &Machine,
+    opts: &Options,
+    thread: &crate::thread::standard::StandardThread,
+    out: &mut Vec<Diagnostic>,
+    notes: &mut Vec<Note>,
+) {
+    let units = t.job.units;
+    let surface = match t.job.geometry.side {
+        Side::Internal => crate::thread::standard::Surface::Internal,
+        _ => crate::thread::standard::Surface::External,
+    };
+    match standard::target(thread, surface) {
+        Ok(target) => standard::judge(
+            t,
+            &Judging {
+                target: &target,
+                tip: opts.tip.map(|tip| tip_in_mm(tip, units)),
+                resolution: units.to_mm(machine.resolution(units)),
+            },
+            out,
+            notes,
+        ),
+        Err(why) => out.push(
+            Diagnostic::error(Code::OutOfClass, t.job.span, why)
+                .with_hint("name the class of the side the program cuts (6g/6H, 2A/2B)"),
+        ),
     }
 }
 

@@ -214,7 +214,6 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
             return;
         }
     };
-    debug_assert_eq!(side, target.side);
     if g.taper().abs() > j.resolution {
         notes.push(Note::new(
             span,
@@ -225,10 +224,6 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
         ));
         return;
     }
-    let su = target.thread.units;
-    let show = |mm: f64| length(su, mm);
-    let unit = su.name();
-    let pitch = target.thread.pitch;
     let lead_checked = judge_lead(t, target, j.resolution, out);
     // The tool: the cycle's angle where it states one, the standard's otherwise; its tip as given,
     // or the standard's root form.
@@ -240,191 +235,37 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
         target.angle_deg
     };
     let tip = j.tip.unwrap_or(target.root_tool);
-    let tool = Tool {
-        angle_deg: angle,
-        tip,
+    let m = measure(
+        t,
+        &Tool {
+            angle_deg: angle,
+            tip,
+        },
+        target.thread.pitch,
+    );
+    let at = Cut {
+        t,
+        j,
+        side,
+        m,
+        at_crest: if t.crest_known() {
+            format!("from the crest (Ø{})", length(target.thread.units, m.crest))
+        } else {
+            "below its first pass (the crest is not known)".to_string()
+        },
     };
-    let m = measure(t, &tool, pitch);
-    let tol = j.resolution;
-    let at_crest = if t.crest_known() {
-        format!("from the crest (Ø{})", show(m.crest))
-    } else {
-        "below its first pass (the crest is not known)".to_string()
-    };
-    let tool_words = describe_tip(tip, su);
-    // The root: a fact, whatever the tool.
-    match side {
-        Surface::External => {
-            if let Some(max) = target.limits.minor.max {
-                if m.root > max + tol {
-                    out.push(
-                        Diagnostic::error(
-                            Code::OutOfClass,
-                            span,
-                            format!(
-                                "minor diameter {} > {} max for {}: the passes reach {} deep {at_crest}, {} needs at least {}",
-                                show(m.root),
-                                show(max),
-                                target.name,
-                                show(m.depth),
-                                target.limits.class,
-                                show(m.depth + (m.root - max) / 2.0)
-                            ),
-                        )
-                        .with_hint("cut deeper: the root is above the standard's largest minor diameter"),
-                    );
-                }
-            }
-        }
-        Surface::Internal => {
-            if let Some(min) = target.limits.major.min {
-                if m.root < min - tol {
-                    out.push(
-                        Diagnostic::error(
-                            Code::OutOfClass,
-                            span,
-                            format!(
-                                "major diameter {} < {} min for {}: the passes reach {} deep {at_crest}, {} needs at least {}",
-                                show(m.root),
-                                show(min),
-                                target.name,
-                                show(m.depth),
-                                target.limits.class,
-                                show(m.depth + (min - m.root) / 2.0)
-                            ),
-                        )
-                        .with_hint("cut deeper: the root is below the standard's smallest major diameter"),
-                    );
-                }
-            }
-        }
-    }
-    // A cycle's crest outside the class's crest diameter (and not its basic value, which a program
-    // commonly measures from): the part, turned to the thread's crest, is not where the cycle
-    // measures its depths from.
-    if t.crest_known() && matches!(t.origin, crate::threads::Origin::Cycle) {
-        let (range, name, basic) = match side {
-            Surface::External => (target.limits.major, "major", target.thread.basic.major),
-            Surface::Internal => (target.limits.minor, "minor", target.thread.basic.minor),
-        };
-        let above = m.crest > range.max.unwrap_or(basic).max(basic) + tol;
-        let below = m.crest < range.min.unwrap_or(basic).min(basic) - tol;
-        if above || below {
-            let limits = match (range.min, range.max) {
-                (Some(a), Some(b)) => format!("{}–{}", show(a), show(b)),
-                (Some(a), None) => format!("at least {}", show(a)),
-                (None, Some(b)) => format!("at most {}", show(b)),
-                (None, None) => String::new(),
-            };
-            out.push(
-                Diagnostic::warning(
-                    Code::OutOfClassAssumed,
-                    span,
-                    format!(
-                        "the cycle's crest Ø{} is not a {name} diameter of {} ({limits} {unit}): on a part turned to the thread's {name} diameter the cycle's depths are measured from a crest the part does not have{}",
-                        show(m.crest),
-                        target.name,
-                        if (side == Surface::External) == above {
-                            ", and its first passes cut air"
-                        } else {
-                            ""
-                        }
-                    ),
-                )
-                .with_hint("check the cycle's thread height (P(k), K) against its final X"),
-            );
-        }
-    }
-    // The pitch diameter: a fact with the tool given, else an assumption.
-    let (code, make): (Code, fn(Code, Span, String) -> Diagnostic) = if j.tip.is_some() {
-        (Code::OutOfClass, Diagnostic::error)
-    } else {
-        (Code::OutOfClassAssumed, Diagnostic::warning)
-    };
-    let assumed = if j.tip.is_some() {
-        String::new()
-    } else {
-        format!(" (with {tool_words}: assumed, the standard's root form)")
-    };
-    let (lo, hi) = (target.limits.pitch.min, target.limits.pitch.max);
-    match m.pitch_diameter {
-        Some(pd) => {
-            // Deeper moves an external thread's pitch diameter down 2 per 1, an internal one's up.
-            let sign = if side == Surface::External { 1.0 } else { -1.0 };
-            let need = |limit: f64| m.depth + sign * (pd - limit) / 2.0;
-            let range = match (lo, hi) {
-                (Some(lo), Some(hi)) => {
-                    let (a, b) = (need(hi), need(lo));
-                    format!("{}–{}", show(a.min(b)), show(a.max(b)))
-                }
-                (Some(l), None) | (None, Some(l)) => format!("about {}", show(need(l))),
-                (None, None) => String::new(),
-            };
-            let bad = match (lo, hi) {
-                (_, Some(hi)) if pd > hi + tol => Some(format!("{} > {} max", show(pd), show(hi))),
-                (Some(lo), _) if pd < lo - tol => Some(format!("{} < {} min", show(pd), show(lo))),
-                _ => None,
-            };
-            if let Some(bad) = bad {
-                out.push(
-                    make(
-                        code,
-                        span,
-                        format!(
-                            "pitch diameter {bad} for {}: the passes reach {} deep {at_crest}, {} needs {range}{assumed}",
-                            target.name,
-                            show(m.depth),
-                            target.limits.class,
-                        ),
-                    )
-                    .with_hint(if j.tip.is_some() {
-                        format!("cut to a depth of {range} {unit}")
-                    } else {
-                        "give the tool's tip (--nose-radius or --tip-flat) to judge the pitch diameter as a fact".to_string()
-                    }),
-                );
-            }
-        }
-        None => out.push(make(
-            code,
-            span,
-            format!(
-                "the groove is nowhere half a pitch ({} {unit}) wide: no pitch diameter for {}{assumed}",
-                show(pitch / 2.0),
-                target.name
-            ),
-        )),
-    }
-    // Flank angles: judged where the cycle states its tool.
-    let half = target.angle_deg / 2.0;
+    at.root(out);
+    at.crest(out);
+    at.pitch_diameter(&describe_tip(tip, target.thread.units), out);
     if stated_angle {
-        let worst = (m.flank_left_deg - half)
-            .abs()
-            .max((m.flank_right_deg - half).abs());
-        if worst > FLANK_TOLERANCE_DEG {
-            out.push(
-                Diagnostic::error(
-                    Code::OutOfClass,
-                    span,
-                    format!(
-                        "flank angles {:.1}° and {:.1}° (the cycle's {}° tool) for {}, whose flanks are {}° ± {}° ({}° thread)",
-                        m.flank_left_deg,
-                        m.flank_right_deg,
-                        super::number(angle),
-                        target.name,
-                        super::number(half),
-                        FLANK_TOLERANCE_DEG,
-                        super::number(target.angle_deg)
-                    ),
-                )
-                .with_hint("the cycle's tool angle must be the thread's angle"),
-            );
-        }
+        at.flanks(angle, out);
     }
+    let unit = target.thread.units.name();
     let mut said = vec![format!("judged against {}", target.name)];
     if j.tip.is_none() {
         said.push(format!(
-            "the pitch diameter with {tool_words} (assumed: the standard's root form; --nose-radius or --tip-flat give the real tip)"
+            "the pitch diameter with {} (assumed: the standard's root form; --nose-radius or --tip-flat give the real tip)",
+            describe_tip(tip, target.thread.units)
         ));
     }
     if !stated_angle {
@@ -439,16 +280,216 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
     if let Some(pd) = m.pitch_diameter {
         said.push(format!(
             "cut: pitch diameter {}, {} diameter {} {unit}",
-            show(pd),
+            at.show(pd),
             if side == Surface::External {
                 "minor"
             } else {
                 "major"
             },
-            show(m.root)
+            at.show(m.root)
         ));
     }
     notes.push(Note::new(span, said.join("; ")));
+}
+
+/// One thread as measured, with what judging it needs.
+struct Cut<'a> {
+    t: &'a Thread,
+    j: &'a Judging<'a>,
+    side: Surface,
+    m: Measured,
+    /// Where the depths are measured from, for messages.
+    at_crest: String,
+}
+
+impl Cut<'_> {
+    /// A diameter in the standard's units.
+    fn show(&self, mm: f64) -> String {
+        length(self.j.target.thread.units, mm)
+    }
+
+    /// The root (external: minor; internal: major) against its limit: a fact, whatever the tool.
+    fn root(&self, out: &mut Vec<Diagnostic>) {
+        let (target, m, tol) = (self.j.target, &self.m, self.j.resolution);
+        let (bad, limit, name, sign) = match self.side {
+            Surface::External => match target.limits.minor.max {
+                Some(max) if m.root > max + tol => (
+                    format!("{} > {} max", self.show(m.root), self.show(max)),
+                    max,
+                    "minor",
+                    1.0,
+                ),
+                _ => return,
+            },
+            Surface::Internal => match target.limits.major.min {
+                Some(min) if m.root < min - tol => (
+                    format!("{} < {} min", self.show(m.root), self.show(min)),
+                    min,
+                    "major",
+                    -1.0,
+                ),
+                _ => return,
+            },
+        };
+        out.push(
+            Diagnostic::error(
+                Code::OutOfClass,
+                self.t.job.span,
+                format!(
+                    "{name} diameter {bad} for {}: the passes reach {} deep {}, {} needs at least {}",
+                    target.name,
+                    self.show(m.depth),
+                    self.at_crest,
+                    target.limits.class,
+                    self.show(m.depth + sign * (m.root - limit) / 2.0)
+                ),
+            )
+            .with_hint(format!(
+                "cut deeper: the root is {} the standard's {} {name} diameter",
+                if sign > 0.0 { "above" } else { "below" },
+                if sign > 0.0 { "largest" } else { "smallest" }
+            )),
+        );
+    }
+
+    /// A cycle's crest outside the class's crest diameter (and not its basic value, which a
+    /// program commonly measures from): the part, turned to the thread's crest, is not where the
+    /// cycle measures its depths from.
+    fn crest(&self, out: &mut Vec<Diagnostic>) {
+        let (target, m, tol) = (self.j.target, &self.m, self.j.resolution);
+        if !(self.t.crest_known() && matches!(self.t.origin, crate::threads::Origin::Cycle)) {
+            return;
+        }
+        let (range, name, basic) = match self.side {
+            Surface::External => (target.limits.major, "major", target.thread.basic.major),
+            Surface::Internal => (target.limits.minor, "minor", target.thread.basic.minor),
+        };
+        let above = m.crest > range.max.unwrap_or(basic).max(basic) + tol;
+        let below = m.crest < range.min.unwrap_or(basic).min(basic) - tol;
+        if !(above || below) {
+            return;
+        }
+        let limits = match (range.min, range.max) {
+            (Some(a), Some(b)) => format!("{}–{}", self.show(a), self.show(b)),
+            (Some(a), None) => format!("at least {}", self.show(a)),
+            (None, Some(b)) => format!("at most {}", self.show(b)),
+            (None, None) => String::new(),
+        };
+        out.push(
+            Diagnostic::warning(
+                Code::OutOfClassAssumed,
+                self.t.job.span,
+                format!(
+                    "the cycle's crest Ø{} is not a {name} diameter of {} ({limits} {}): on a part turned to the thread's {name} diameter the cycle's depths are measured from a crest the part does not have{}",
+                    self.show(m.crest),
+                    target.name,
+                    target.thread.units.name(),
+                    if (self.side == Surface::External) == above {
+                        ", and its first passes cut air"
+                    } else {
+                        ""
+                    }
+                ),
+            )
+            .with_hint("check the cycle's thread height (P(k), K) against its final X"),
+        );
+    }
+
+    /// The pitch diameter against its limits: a fact with the tool given, else an assumption.
+    fn pitch_diameter(&self, tool_words: &str, out: &mut Vec<Diagnostic>) {
+        let (target, m, tol) = (self.j.target, &self.m, self.j.resolution);
+        let unit = target.thread.units.name();
+        let (code, make): (Code, fn(Code, Span, String) -> Diagnostic) = if self.j.tip.is_some() {
+            (Code::OutOfClass, Diagnostic::error)
+        } else {
+            (Code::OutOfClassAssumed, Diagnostic::warning)
+        };
+        let assumed = if self.j.tip.is_some() {
+            String::new()
+        } else {
+            format!(" (with {tool_words}: assumed, the standard's root form)")
+        };
+        let Some(pd) = m.pitch_diameter else {
+            out.push(make(
+                code,
+                self.t.job.span,
+                format!(
+                    "the groove is nowhere half a pitch ({} {unit}) wide: no pitch diameter for {}{assumed}",
+                    self.show(target.thread.pitch / 2.0),
+                    target.name
+                ),
+            ));
+            return;
+        };
+        let (lo, hi) = (target.limits.pitch.min, target.limits.pitch.max);
+        let bad = match (lo, hi) {
+            (_, Some(hi)) if pd > hi + tol => format!("{} > {} max", self.show(pd), self.show(hi)),
+            (Some(lo), _) if pd < lo - tol => format!("{} < {} min", self.show(pd), self.show(lo)),
+            _ => return,
+        };
+        // Deeper moves an external thread's pitch diameter down 2 per 1, an internal one's up.
+        let sign = if self.side == Surface::External {
+            1.0
+        } else {
+            -1.0
+        };
+        let need = |limit: f64| m.depth + sign * (pd - limit) / 2.0;
+        let range = match (lo, hi) {
+            (Some(lo), Some(hi)) => {
+                let (a, b) = (need(hi), need(lo));
+                format!("{}–{}", self.show(a.min(b)), self.show(a.max(b)))
+            }
+            (Some(l), None) | (None, Some(l)) => format!("about {}", self.show(need(l))),
+            (None, None) => String::new(),
+        };
+        out.push(
+            make(
+                code,
+                self.t.job.span,
+                format!(
+                    "pitch diameter {bad} for {}: the passes reach {} deep {}, {} needs {range}{assumed}",
+                    target.name,
+                    self.show(m.depth),
+                    self.at_crest,
+                    target.limits.class,
+                ),
+            )
+            .with_hint(if self.j.tip.is_some() {
+                format!("cut to a depth of {range} {unit}")
+            } else {
+                "give the tool's tip (--nose-radius or --tip-flat) to judge the pitch diameter as a fact".to_string()
+            }),
+        );
+    }
+
+    /// The flank angles against the thread's half angle, where the cycle states its tool.
+    fn flanks(&self, angle: f64, out: &mut Vec<Diagnostic>) {
+        let (target, m) = (self.j.target, &self.m);
+        let half = target.angle_deg / 2.0;
+        let worst = (m.flank_left_deg - half)
+            .abs()
+            .max((m.flank_right_deg - half).abs());
+        if worst <= FLANK_TOLERANCE_DEG {
+            return;
+        }
+        out.push(
+            Diagnostic::error(
+                Code::OutOfClass,
+                self.t.job.span,
+                format!(
+                    "flank angles {:.1}° and {:.1}° (the cycle's {}° tool) for {}, whose flanks are {}° ± {}° ({}° thread)",
+                    m.flank_left_deg,
+                    m.flank_right_deg,
+                    super::number(angle),
+                    target.name,
+                    super::number(half),
+                    FLANK_TOLERANCE_DEG,
+                    super::number(target.angle_deg)
+                ),
+            )
+            .with_hint("the cycle's tool angle must be the thread's angle"),
+        );
+    }
 }
 
 /// The lead against the standard's pitch: a fact. `false` when it could not be judged.
