@@ -473,3 +473,72 @@ mod tests {
         assert_eq!(passes_list(&[2, 3]), "passes 2, 3");
     }
 }
+
+#[cfg(test)]
+mod proptests {
+    use super::*;
+
+    /// Blocks of every kind the check reads: plain and thread moves, cycles of each controller,
+    /// spindle words, tool changes, words without decimal points, and errors.
+    const WORDS: &[&str] = &[
+        "G0 X40. Z5.",
+        "G0 X40 Z5",
+        "G00 X29.2",
+        "G32 Z-30. F2.",
+        "G32 Z-30 F2",
+        "G32 X33. Z-32.",
+        "G33 Z-20 K1.5",
+        "Z5.",
+        "X28.7",
+        "G1 Z-3 F0.1",
+        "G97 S800 M3",
+        "G96 S150",
+        "G50 S2000",
+        "T0303",
+        "M30",
+        "G92 X29.2 Z-30. F2.",
+        "G76 P020060 Q100 R0.05",
+        "G76 X27.546 Z-30. P1227 Q400 F2.",
+        "G76 X27.5 Z-30 K1.2 D0.4 F2 A60",
+        "G78 P020545 Q0.15 R0.5",
+        "G78 X16 Z-20 P1.2 Q0.3 F2",
+        "G78 X8.16 Z-20. K0.92 D0.35 F1.5 A60 P1",
+        "G33X.212Z-.5I.012K.05PC",
+        "G76 P2.5 Z-30 I-1.0 J0.3 K1.5335",
+        "G20",
+        "G21",
+        "G0 X1.2.3",
+        "G55.5",
+        "G04 X1000",
+    ];
+
+    proptest::proptest! {
+        /// `check` never panics, whatever the blocks, the controller and the options; its findings
+        /// have places and its JSON parses.
+        #[test]
+        fn check_never_panics(
+            lines in proptest::collection::vec(proptest::sample::select(WORDS), 0..30),
+            which in 0usize..crate::machine::BUILT_IN.len(),
+            stock in proptest::option::of(10.0f64..80.0),
+            face in proptest::option::of(-10.0f64..10.0),
+            thread in proptest::option::of(proptest::sample::select(vec!["M30x2-6g", "M24x1.5-6H", "3/4-10 UNC-2A"])),
+            nose in proptest::option::of(0.0f64..0.5),
+        ) {
+            let machine = Machine::built_in(crate::machine::BUILT_IN[which].0).unwrap();
+            let src = lines.join("\n");
+            let opts = Options {
+                stock_diameter: stock,
+                stock_start: face,
+                tip: nose.map(|radius| Tip::Radius { radius }),
+                thread: thread.map(|n| crate::thread::standard::lookup(n).unwrap()),
+            };
+            if let Ok(report) = check(src.as_bytes(), Source::Gcode(&machine), &opts) {
+                let json = serde_json::to_string(&report.findings("p.nc")).unwrap();
+                proptest::prop_assert!(serde_json::from_str::<serde_json::Value>(&json).is_ok());
+                for d in &report.diagnostics {
+                    proptest::prop_assert!(d.span.line <= lines.len() as u32 + 1, "{d:?}");
+                }
+            }
+        }
+    }
+}
