@@ -386,9 +386,39 @@ fn finish(mut report: Report, sink: Sink) -> Report {
     report
         .diagnostics
         .sort_by_key(|d| (d.span.line, d.span.column, d.severity != Severity::Error));
-    report.notes = sink.notes;
-    report.notes.dedup();
+    report.notes = merge_notes(sink.notes);
     report
+}
+
+/// One note for a message said of several threads (the same assumption for every thread of a
+/// long program), naming the other lines.
+fn merge_notes(notes: Vec<Note>) -> Vec<Note> {
+    let mut out: Vec<(Note, Vec<u32>)> = Vec::with_capacity(notes.len());
+    for n in notes {
+        match out.iter_mut().find(|(o, _)| o.message == n.message) {
+            Some((o, lines)) => {
+                if o.span.line != n.span.line && !lines.contains(&n.span.line) {
+                    lines.push(n.span.line);
+                }
+            }
+            None => out.push((n, Vec::new())),
+        }
+    }
+    out.into_iter()
+        .map(|(mut n, lines)| {
+            if !lines.is_empty() {
+                let shown: Vec<String> = lines.iter().take(8).map(u32::to_string).collect();
+                n.message.push_str(&format!(
+                    " (also for the thread{} at line{} {}{})",
+                    if lines.len() == 1 { "" } else { "s" },
+                    if lines.len() == 1 { "" } else { "s" },
+                    shown.join(", "),
+                    if lines.len() > 8 { ", …" } else { "" }
+                ));
+            }
+            n
+        })
+        .collect()
 }
 
 /// One finding for a message repeated on several blocks (a dialect's warning on each block of a
