@@ -78,6 +78,21 @@ pub enum Code {
     Form,
     /// `check`: the spindle speed is unknown or not constant.
     Spindle,
+    /// A G code the controller does not have (its alarm), e.g. G78 on a Fanuc control.
+    UnknownCode,
+    /// `check --thread`: the thread cut lies outside its class's limits (pitch diameter, root
+    /// diameter, flank angle, lead).
+    OutOfClass,
+    /// `check`: an axis, lead or feed word without a decimal point on a control that reads it as
+    /// least increments.
+    DecimalPoint,
+    /// `check`: a pull-out shorter than the run-out the synchronised feed needs to stop (δ2).
+    RunOut,
+    /// `check`: a rapid move enters the blank, which the program and the options do not give but
+    /// `check` assumed (E011's twin for an assumed blank).
+    CollisionAssumed,
+    /// `check --thread`: outside the class's limits with the tool form assumed (E016's twin).
+    OutOfClassAssumed,
 }
 
 impl Code {
@@ -102,6 +117,12 @@ impl Code {
             Code::RunUp => "W003",
             Code::Form => "W004",
             Code::Spindle => "W005",
+            Code::UnknownCode => "E015",
+            Code::OutOfClass => "E016",
+            Code::DecimalPoint => "W006",
+            Code::RunOut => "W007",
+            Code::CollisionAssumed => "W008",
+            Code::OutOfClassAssumed => "W009",
         }
     }
 }
