@@ -91,7 +91,8 @@ pub enum Code {
     /// `check`: a rapid move enters the blank, which the program and the options do not give but
     /// `check` assumed (E011's twin for an assumed blank).
     CollisionAssumed,
-    /// `check --thread`: outside the class's limits with the tool form assumed (E016's twin).
+    /// `check --thread`: outside the class's limits on an assumption — the tool's form, or a taper
+    /// thread's face — or shorter than a taper thread's effective length (E016's twin).
     OutOfClassAssumed,
 }
 

@@ -329,3 +329,135 @@ fn a_cycle_whose_crest_is_not_the_threads() {
     let (_, out) = check("m20-crest-ok", &src, &args(&["--thread", "M20x2.5-6g"]));
     assert!(!out.contains("the cycle's crest"), "{out}");
 }
+
+/// 1/2-14 NPT external (inch), judged at its gauge plane L1 = 0.320 from the pipe's end (Z0).
+/// ASME B1.20.1: p = 1/14, E0 = 0.840 − (0.05·0.840 + 1.1)/14 = 0.75843, E1 = E0 + 0.320/16 =
+/// 0.77843, ±1 turn = ±p/16 = ±0.0044643 on the pitch diameter (max 0.78289), H = 0.061859,
+/// truncation 0.0024–0.0056 (mean 0.004). The G76 runs from Z0.2 to Z−0.6 with R−0.025 (1:16 on
+/// diameter over 0.8), its root X0.7421 at Z−0.6, so at the gauge plane Z−0.32 the root is 0.7421 −
+/// 0.28/16 = 0.7246. The flank infeed's last pass is at the programmed start, so the groove is one V:
+/// * the standard's root form (a flat of 2·0.004·tan 30° = 0.0046188) cuts PD = root − 2·0.004 + H
+///   = 0.7246 + 0.053859 = 0.778459: +0.0065 turns;
+/// * a sharp tool cuts PD = root + H = 0.786459: (0.786459 − 0.77843)/0.0044643 = +1.80 turns;
+/// * R−0.035 is a taper of 2·0.035/0.8 = 0.0875, outside 1/16 −1/192 … +1/96 (0.05729–0.07292).
+#[test]
+fn npt_external_judged_at_its_gauge_plane() {
+    let npt = |r: &str| {
+        format!("G20 G99\nG97 S600 M3\nG0 X1.0 Z0.2\nG76 P010060 Q20 R0.0005\nG76 X0.7421 Z-0.6 R{r} P539 Q150 F0.0714\nG0 X2. Z2.\nM30\n")
+    };
+    let good = npt("-0.025");
+    let (code, out) = check("npt-ok", &good, &args(&["--thread", "1/2-14 NPT"]));
+    assert_eq!(code, 0, "{out}");
+    assert!(!out.contains("E016") && !out.contains("W009"), "{out}");
+    assert!(
+        out.contains("judged against 1/2-14 NPT at its gauge plane Z-0.32 (0.32 from the face at Z0, assumed): pitch diameter 0.7785 (basic 0.7784), the gauge +0.01 turns from its basic position (±1.00 allowed), taper 0.06250 on diameter"),
+        "{out}"
+    );
+    // A sharp tool and the face given: where the ring gauge stands is a fact.
+    let (code, out) = check(
+        "npt-sharp",
+        &good,
+        &args(&[
+            "--thread",
+            "1/2-14 NPT",
+            "--nose-radius",
+            "0",
+            "--stock-start",
+            "0",
+        ]),
+    );
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("error[E016]: pitch diameter 0.7865 inch at the gauge plane is above the maximum 0.7829 for 1/2-14 NPT: the gauge would stand +1.80 turns from its basic position (±1.00 allowed)"),
+        "{out}"
+    );
+    // The face assumed: the same finding rests on it, a warning that says so.
+    let (code, out) = check(
+        "npt-sharp-face",
+        &good,
+        &args(&["--thread", "1/2-14 NPT", "--nose-radius", "0"]),
+    );
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("warning[W009]: pitch diameter 0.7865 inch at the gauge plane")
+            && out.contains("(assumed: the part's face at Z0 (--stock-start gives it))"),
+        "{out}"
+    );
+    // The taper is the program's own: an error whatever was assumed.
+    let (code, out) = check(
+        "npt-taper",
+        &npt("-0.035"),
+        &args(&["--thread", "1/2-14 NPT"]),
+    );
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("error[E016]: taper 0.08750 on diameter per unit length for 1/2-14 NPT, whose taper is 0.06250 (1:16), 0.05729 to 0.07292 allowed"),
+        "{out}"
+    );
+    // A parallel thread named for a tapered one, and the other way round.
+    let (code, out) = check("npt-as-unc", &good, &args(&["--thread", "1/2-13 UNC"]));
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("the thread is tapered (0.06250 on diameter per unit length), and 1/2-13 UNC-2A is a parallel thread"),
+        "{out}"
+    );
+}
+
+/// Rc1/2 internal (mm), judged at its opening (ISO 7-1: the gauge plane at the face, ±T2/2 =
+/// ±2.3 mm, ±2.3/16 = ±0.14375 on the pitch diameter around d2 = 20.955 − 1.162 = 19.793; P =
+/// 25.4/14 = 1.8142857, 55°). The G76 runs from Z3 to Z−20 with R0.719 (1:16 would be 0.71875:
+/// the program's resolution, 2·0.001/23 on the taper, takes it as 1:16), its root X19.705 at Z−20,
+/// so at Z0 the root is 19.705 + 20·(2·0.719/23) = 20.955435. The groove is half a pitch wide
+/// P/(4·tan 27.5°) = 0.871305 above the flanks' meeting point, which a nose radius r puts
+/// r/sin 27.5° − r beyond the tool's lowest point:
+/// * the standard's root radius 0.137278·P = 0.249061 (0.290323 short of the point): PD =
+///   20.955435 − 2·(0.871305 − 0.290323) = 19.793471: at the basic size;
+/// * the root X20.005 (0.3 larger) and r = 0.249 (0.290254): PD = 21.255435 − 1.162102 = 20.093333,
+///   above 19.93675 by (20.093333 − 19.793)/(P/16) = +2.65 turns, ±2.3/P = ±1.27 allowed; with
+///   the standard's radius assumed instead, 21.255435 − 1.161964 = 20.093471.
+#[test]
+fn rc_internal_judged_at_its_opening() {
+    let rc = |x: &str| {
+        format!("G21 G99\nG97 S400 M3\nG0 X16. Z3.\nG76 P010055 Q50 R0.01\nG76 X{x} Z-20. R0.719 P1162 Q300 F1.814\nG0 X10. Z50.\nM30\n")
+    };
+    let (code, out) = check("rc-ok", &rc("19.705"), &args(&["--thread", "Rc1/2"]));
+    assert_eq!(code, 0, "{out}");
+    assert!(!out.contains("E016") && !out.contains("W00"), "{out}");
+    assert!(
+        out.contains("judged against Rc1/2 at its gauge plane Z0 (0 from the face at Z0, assumed): pitch diameter 19.7935 (basic 19.793), the gauge +0.00 turns from its basic position (±1.27 allowed), taper 0.06250 on diameter"),
+        "{out}"
+    );
+    let (code, out) = check(
+        "rc-large",
+        &rc("20.005"),
+        &args(&[
+            "--thread",
+            "Rc1/2",
+            "--nose-radius",
+            "0.249",
+            "--stock-start",
+            "0",
+        ]),
+    );
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("error[E016]: pitch diameter 20.0933 mm at the gauge plane is above the maximum 19.9367 for Rc1/2: the gauge would stand +2.65 turns from its basic position (±1.27 allowed)"),
+        "{out}"
+    );
+    // Without the tool's tip, the same finding is a warning naming the tip assumed.
+    let (code, out) = check(
+        "rc-large-tip",
+        &rc("20.005"),
+        &args(&["--thread", "Rc1/2", "--stock-start", "0"]),
+    );
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("warning[W009]: pitch diameter 20.0935 mm at the gauge plane")
+            && out.contains("the tool's tip of the standard's root form"),
+        "{out}"
+    );
+    // R names the external taper: the program cuts an internal one.
+    let (code, out) = check("rc-as-r", &rc("19.705"), &args(&["--thread", "R1/2"]));
+    assert_eq!(code, 2, "{out}");
+    assert!(out.contains("is a class of external threads"), "{out}");
+}

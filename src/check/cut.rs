@@ -56,7 +56,7 @@ pub fn check_thread(
     rapid_checks(t, &blank, out);
     spindle_checks(t, machine, &blank, spindle, out, notes);
     if let Some(thread) = &opts.thread {
-        judge(t, machine, opts, thread, out, notes);
+        judge(t, machine, opts, thread, &blank, out, notes);
     }
     if let Some(what) = blank.assumptions() {
         notes.push(Note::new(job.span, format!("blank: {what}")));
@@ -172,10 +172,22 @@ fn judge(
     machine: &Machine,
     opts: &Options,
     thread: &crate::thread::standard::StandardThread,
+    blank: &Blank,
     out: &mut Vec<Diagnostic>,
     notes: &mut Vec<Note>,
 ) {
     let units = t.job.units;
+    let face = match blank.face {
+        Known::Given => Some(standard::Face {
+            z: blank.z_face,
+            given: true,
+        }),
+        Known::Assumed => Some(standard::Face {
+            z: blank.z_face,
+            given: false,
+        }),
+        Known::Unknown => None,
+    };
     let surface = match t.job.geometry.side {
         Side::Internal => crate::thread::standard::Surface::Internal,
         _ => crate::thread::standard::Surface::External,
@@ -187,6 +199,7 @@ fn judge(
                 target: &target,
                 tip: opts.tip.map(|tip| tip_in_mm(tip, units)),
                 resolution: units.to_mm(machine.resolution(units)),
+                face,
             },
             out,
             notes,

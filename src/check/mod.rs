@@ -30,7 +30,8 @@
 //! | spindle speed unknown, or constant surface speed (G96) | warning | W005 |
 //! | an axis or lead word without a decimal point read as least increments | warning | W006 |
 //! | `--thread`: root diameter, lead, flank angles (and pitch diameter with the tool given) outside the class | error | E016 |
-//! | `--thread`: pitch diameter outside the class with the tool's tip assumed | warning | W009 |
+//! | `--thread`: a taper thread's taper outside the standard's; where its gauge stands, with face and tip given | error | E016 |
+//! | `--thread`: pitch diameter outside the class with the tool's tip (or a taper thread's face) assumed | warning | W009 |
 //!
 //! A finding that repeats on every pass is reported once per thread, naming the passes; one that
 //! repeats on several blocks (a dialect's warning on each block of a modal G92) once, naming the
@@ -41,6 +42,7 @@ pub mod cut;
 mod decimal;
 pub mod spindle;
 pub mod standard;
+mod taper;
 
 use std::io::BufRead;
 

@@ -12,10 +12,9 @@
 //!   form (external: a nose radius of H/6, the rounded root of the basic profile; internal: a flat
 //!   of P/8), which cuts the basic pitch diameter at the basic depth, and a finding is a warning
 //!   that names it. Flank angles are judged where the cycle states its tool angle.
-//! * **Other forms**: [`Target`] holds what a form contributes (its angle, its root tool, its
-//!   limits at one side); pipe, trapezoidal, ACME and Whitworth threads plug in there, and a
-//!   tapered thread is judged at its gauge plane when a form supplies one (until then a tapered
-//!   thread is not judged, and a note says so).
+//! * **Every form**: [`Target`] holds what a form contributes (its angle and root tool, from its
+//!   `Profile`; its limits on one side). A taper pipe thread (NPT, ISO 7-1 R/Rc) is judged at its
+//!   gauge plane ([`super::taper`]); a tapered cut named against a parallel standard is an error.
 
 use crate::diag::{Code, Diagnostic, Span};
 use crate::sim::{groove_edges, Tip, Tool};
@@ -53,6 +52,16 @@ pub struct Target<'a> {
     pub name: String,
 }
 
+impl Target<'_> {
+    /// The class as messages name it: `6g`, `2A`; a pipe thread's one class by the thread's name.
+    pub fn class_name(&self) -> String {
+        match self.limits.class {
+            crate::thread::standard::Class::Pipe { .. } => self.thread.name.clone(),
+            class => class.to_string(),
+        }
+    }
+}
+
 /// The target on `side`, or why the thread cannot be judged there (a class of the other side).
 pub fn target(thread: &StandardThread, side: Surface) -> Result<Target<'_>, String> {
     let (mine, other) = match side {
@@ -87,7 +96,11 @@ pub fn target(thread: &StandardThread, side: Surface) -> Result<Target<'_>, Stri
         limits,
         angle_deg,
         root_tool,
-        name: format!("{}-{}", thread.name, limits.class),
+        // A taper pipe thread has one class per side: users write its name alone.
+        name: match limits.class {
+            crate::thread::standard::Class::Pipe { .. } => thread.name.clone(),
+            class => format!("{}-{class}", thread.name),
+        },
     })
 }
 
@@ -129,6 +142,10 @@ pub struct Measured {
     /// Where the groove is half a pitch wide; `None` when it is nowhere (far too shallow, or a
     /// tool wider than half a pitch at its tip).
     pub pitch_diameter: Option<f64>,
+    /// Where along the thread (the passes' lateral coordinate, +Z of the crest line's start, mm)
+    /// the groove's centre lies at the pitch diameter: a taper thread's pitch diameter is measured
+    /// there.
+    pub pitch_centre: f64,
     pub flank_left_deg: f64,
     pub flank_right_deg: f64,
 }
@@ -170,6 +187,11 @@ pub fn measure(t: &Thread, tool: &Tool, pitch: f64) -> Measured {
     } else {
         None
     };
+    let centre_at = if pitch_diameter.is_some() { a } else { depth };
+    let pitch_centre = groove_edges(&cuts, &form, centre_at).map_or_else(
+        || cuts.iter().map(|c| c.0).sum::<f64>() / cuts.len().max(1) as f64,
+        |(l, r)| (l + r) / 2.0,
+    );
     let (va, vb) = (FLANK_BAND.0 * depth, FLANK_BAND.1 * depth);
     let (flank_left_deg, flank_right_deg) = match (
         groove_edges(&cuts, &form, va),
@@ -186,6 +208,7 @@ pub fn measure(t: &Thread, tool: &Tool, pitch: f64) -> Measured {
         depth,
         root: 2.0 * (crest_r - out * depth),
         pitch_diameter,
+        pitch_centre,
         flank_left_deg,
         flank_right_deg,
     }
@@ -198,6 +221,18 @@ pub struct Judging<'a> {
     pub tip: Option<Tip>,
     /// The program's least input increment (mm): diameters within it of a limit are at the limit.
     pub resolution: f64,
+    /// The part's face the thread enters (a taper thread's gauge plane is placed from it); `None`:
+    /// not known.
+    pub face: Option<Face>,
+}
+
+/// The part's face on the side where the thread starts.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Face {
+    /// Z (mm).
+    pub z: f64,
+    /// The user gave it (`--stock-start`); otherwise `check` assumed it.
+    pub given: bool,
 }
 
 /// Judges one thread against the target; findings at the thread's block, notes for what was
@@ -221,14 +256,20 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
             return;
         }
     };
-    if g.taper().abs() > j.resolution {
-        notes.push(Note::new(
-            span,
-            format!(
-                "the thread is tapered: it is not judged against {} (a tapered thread is judged at its gauge plane, which this form does not give)",
-                target.name
-            ),
-        ));
+    let tapered = g.taper().abs() > j.resolution;
+    if tapered && target.thread.taper.is_none() {
+        let per_length = 2.0 * g.taper().abs() / g.side.along(g.travel()).abs().max(1e-9);
+        out.push(
+            Diagnostic::error(
+                Code::OutOfClass,
+                span,
+                format!(
+                    "the thread is tapered ({per_length:.5} on diameter per unit length), and {} is a parallel thread",
+                    target.name
+                ),
+            )
+            .with_hint("a taper pipe thread is NPT, R or Rc; a parallel one is cut without a taper word"),
+        );
         return;
     }
     let lead_checked = judge_lead(t, target, j.resolution, out);
@@ -250,25 +291,66 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
         },
         target.thread.pitch,
     );
+    // A taper thread is judged at its gauge plane: its diameters move there.
+    let gauge = match &target.thread.taper {
+        Some(taper) => {
+            let Some(gauge) = super::taper::judge(t, j, taper, side, &m, out, notes) else {
+                judge_flanks(t, j, stated_angle, angle, side, m, out);
+                return;
+            };
+            Some(gauge)
+        }
+        None => None,
+    };
+    let m = match &gauge {
+        Some(gauge) => Measured {
+            crest: m.crest + gauge.shift,
+            root: m.root + gauge.shift,
+            pitch_diameter: m.pitch_diameter.map(|pd| pd + gauge.shift),
+            ..m
+        },
+        None => m,
+    };
     let at = Cut {
         t,
         j,
         side,
         m,
-        at_crest: if t.crest_known() {
-            format!("from the crest (Ø{})", length(target.thread.units, m.crest))
-        } else {
-            "below its first pass (the crest is not known)".to_string()
+        at_crest: match (&gauge, t.crest_known()) {
+            (Some(_), true) => format!(
+                "from the crest (Ø{} at the gauge plane)",
+                length(target.thread.units, m.crest)
+            ),
+            (None, true) => format!("from the crest (Ø{})", length(target.thread.units, m.crest)),
+            (_, false) => "below its first pass (the crest is not known)".to_string(),
         },
     };
-    at.root(out);
+    match &gauge {
+        // The gauge plane rests on the face: a root judged there on an assumed face is a warning.
+        Some(gauge) if !gauge.face_given => {
+            let mut root = Vec::new();
+            at.root(&mut root);
+            out.extend(root.into_iter().map(|d| Diagnostic {
+                severity: crate::diag::Severity::Warning,
+                code: Code::OutOfClassAssumed,
+                message: format!("{} (assumed: the part's face at Z0)", d.message),
+                ..d
+            }));
+        }
+        _ => at.root(out),
+    }
     at.crest(out);
-    at.pitch_diameter(&describe_tip(tip, target.thread.units), out);
+    if gauge.is_none() {
+        at.pitch_diameter(&describe_tip(tip, target.thread.units), out);
+    }
     if stated_angle {
         at.flanks(angle, out);
     }
     let unit = target.thread.units.name();
-    let mut said = vec![format!("judged against {}", target.name)];
+    let mut said = vec![match &gauge {
+        Some(gauge) => format!("judged against {} {}", target.name, gauge.summary),
+        None => format!("judged against {}", target.name),
+    }];
     if j.tip.is_none() {
         said.push(format!(
             "the pitch diameter with {} (assumed: the standard's root form; --nose-radius or --tip-flat give the real tip)",
@@ -284,7 +366,7 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
     if !lead_checked {
         said.push("the lead not judged".into());
     }
-    if let Some(pd) = m.pitch_diameter {
+    if let (Some(pd), None) = (m.pitch_diameter, &gauge) {
         said.push(format!(
             "cut: pitch diameter {}, {} diameter {} {unit}",
             at.show(pd),
@@ -297,6 +379,29 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
         ));
     }
     notes.push(Note::new(span, said.join("; ")));
+}
+
+/// The flank angles alone, where the rest cannot be judged (a taper thread whose gauge plane
+/// cannot be placed).
+fn judge_flanks(
+    t: &Thread,
+    j: &Judging,
+    stated_angle: bool,
+    angle: f64,
+    side: Surface,
+    m: Measured,
+    out: &mut Vec<Diagnostic>,
+) {
+    if stated_angle {
+        let at = Cut {
+            t,
+            j,
+            side,
+            m,
+            at_crest: String::new(),
+        };
+        at.flanks(angle, out);
+    }
 }
 
 /// One thread as measured, with what judging it needs.
@@ -347,7 +452,7 @@ impl Cut<'_> {
                     target.name,
                     self.show(m.depth),
                     self.at_crest,
-                    target.limits.class,
+                    target.class_name(),
                     self.show(m.depth + sign * (m.root - limit) / 2.0)
                 ),
             )
@@ -458,7 +563,7 @@ impl Cut<'_> {
                     target.name,
                     self.show(m.depth),
                     self.at_crest,
-                    target.limits.class,
+                    target.class_name(),
                 ),
             )
             .with_hint(if self.j.tip.is_some() {
