@@ -211,6 +211,9 @@ struct Key {
     dir: f64,
     start: f64,
     end: f64,
+    /// The spindle angle the thread starts at (degrees): passes at another angle cut another
+    /// start of a multi-start thread, a thread of its own here as a cycle's second start is.
+    phase: f64,
 }
 
 impl Key {
@@ -219,9 +222,11 @@ impl Key {
         let d = main.to.minus(main.from);
         let face = d.x.abs() > d.z.abs();
         let long = |p: Pos| if face { p.x } else { p.z };
-        let lead = match main.kind {
-            MotionKind::Thread { lead, .. } => lead,
-            _ => 0.0,
+        let (lead, phase) = match main.kind {
+            MotionKind::Thread {
+                lead, phase_deg, ..
+            } => (lead, phase_deg),
+            _ => (0.0, 0.0),
         };
         let first = chain.first().map_or(main.from, |m| m.from);
         let last = chain.last().map_or(main.to, |m| m.to);
@@ -231,6 +236,7 @@ impl Key {
             dir: (long(main.to) - long(main.from)).signum(),
             start: long(first),
             end: long(last),
+            phase,
         }
     }
 
@@ -240,6 +246,7 @@ impl Key {
             && self.dir == other.dir
             && (self.start - other.start).abs() < self.lead
             && (self.end - other.end).abs() < self.lead
+            && crate::translate::same_angle(self.phase, other.phase)
     }
 }
 
@@ -511,7 +518,8 @@ pub fn plain_move(line: &Line, mv: &PlainMove) -> Option<Move> {
         MotionMode::Thread => MotionKind::Thread {
             lead: mv.lead?,
             dlead: 0.0,
-            phase_deg: 0.0,
+            // The start angle (Fanuc/Haas Q, Sinumerik SF=): another angle is another start.
+            phase_deg: mv.phase_deg,
         },
         MotionMode::Cycle => return None,
     };
@@ -901,7 +909,10 @@ fn build(
             depth: deepest.max(0.0),
             side,
         },
-        lead: Lead::constant(lead),
+        lead: Lead {
+            phase_deg: key.phase,
+            ..Lead::constant(lead)
+        },
         plan: PassPlan {
             law: DepthLaw::Explicit { depths },
             finish_allowance: 0.0,
@@ -1092,6 +1103,17 @@ mod tests {
 
     /// Box passes (rapid in, thread, rapid out, rapid back) at these radii and start Zs.
     fn passes(c: &mut Collector<()>, out: &mut Vec<Thread>, lead: f64, cuts: &[(f64, f64, f64)]) {
+        passes_at(c, out, lead, 0.0, cuts)
+    }
+
+    /// … starting at spindle angle `phase` (degrees).
+    fn passes_at(
+        c: &mut Collector<()>,
+        out: &mut Vec<Thread>,
+        lead: f64,
+        phase: f64,
+        cuts: &[(f64, f64, f64)],
+    ) {
         let mut push = |f: Found<()>| {
             if let Found::Thread(t, ()) = f {
                 out.push(*t);
@@ -1111,13 +1133,12 @@ mod tests {
                 || (),
                 &mut push,
             );
-            c.motion(
-                mv(thread_move(lead), (x, z0), (x, z1), l()),
-                MM,
-                false,
-                || (),
-                &mut push,
-            );
+            let kind = MotionKind::Thread {
+                lead,
+                dlead: 0.0,
+                phase_deg: phase,
+            };
+            c.motion(mv(kind, (x, z0), (x, z1), l()), MM, false, || (), &mut push);
             c.motion(
                 mv(MotionKind::Rapid, (x, z1), (20.0, z1), l()),
                 MM,
@@ -1185,6 +1206,23 @@ mod tests {
         assert_eq!(t.path.motions.len(), 12);
         assert_eq!(out[1].passes.len(), 2);
         assert_eq!(out[2].passes.len(), 1);
+    }
+
+    /// The passes of a second start (Fanuc/Haas Q180000, Sinumerik SF=180) over the same span are
+    /// a thread of their own, carrying their start angle; 360° is 0°.
+    #[test]
+    fn passes_at_another_start_angle_are_another_thread() {
+        let mut c = Collector::new(None);
+        let mut out = Vec::new();
+        let cuts = [(15.0, 5.0, -30.0), (14.7, 5.0, -30.0)];
+        passes_at(&mut c, &mut out, 3.0, 0.0, &cuts);
+        passes_at(&mut c, &mut out, 3.0, 180.0, &cuts);
+        passes_at(&mut c, &mut out, 3.0, 540.0, &cuts[1..]);
+        finish(c, &mut out);
+        assert_eq!(out.len(), 2, "{:?}", out.iter().map(|t| t.passes.len()));
+        assert_eq!((out[0].passes.len(), out[1].passes.len()), (2, 3));
+        assert_eq!(out[0].job.lead.phase_deg, 0.0);
+        assert_eq!(out[1].job.lead.phase_deg, 180.0);
     }
 
     #[test]

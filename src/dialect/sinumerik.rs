@@ -51,8 +51,11 @@ const PASSIVE_KEYWORDS: &[&str] = &[
 ];
 
 /// `NAME=value` settings that change nothing threadcut follows (spindle speed limit, spindle
-/// positioning, the fixed point of a G75).
-const PASSIVE_SETTINGS: &[&str] = &["LIMS", "SPOS", "SPOSA", "SETMS", "ACC", "OVR", "FP"];
+/// positioning, the fixed point of a G75, the smoothing distances of G641, which round the
+/// corners between moves and leave the moves' end points and a G33 chain's thread as written).
+const PASSIVE_SETTINGS: &[&str] = &[
+    "LIMS", "SPOS", "SPOSA", "SETMS", "ACC", "OVR", "FP", "ADIS", "ADISPOS",
+];
 
 /// Calls that change nothing threadcut follows: messages, the simulation's blank, the master
 /// spindle.
