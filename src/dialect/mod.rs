@@ -50,6 +50,34 @@ pub struct TaperWord {
     pub radius: bool,
 }
 
+/// A cycle that takes a taper as the crest diameters at the thread's start and end points rather
+/// than as one word (Sinumerik CYCLE97: DM1 at SPL, DM2 at FPL; the run-in APP and run-out ROP lie
+/// outside them on the same cone). Diameters whatever X's mode; an internal thread's are its tap
+/// hole's (the crest).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct TaperDiameters {
+    /// The cycle and its words, as the manual writes them (`CYCLE97 DM1/DM2`).
+    pub cycles: &'static str,
+    /// The word at the thread's start point, and that point's word (`DM1`, `SPL`).
+    pub at_start: &'static str,
+    pub start_point: &'static str,
+    /// … at its end point (`DM2`, `FPL`).
+    pub at_end: &'static str,
+    pub end_point: &'static str,
+    /// The run-in before the start point (`APP`), along the same cone.
+    pub run_in: &'static str,
+}
+
+/// How a controller's threading cycle takes a taper.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "form", rename_all = "snake_case")]
+pub enum CycleTaper {
+    /// One word: the change of X over the cycle's Z travel (Fanuc's R(i), OmniTurn's A, …).
+    Word(TaperWord),
+    /// The crest diameters at the thread's two ends (Sinumerik's DM1/DM2).
+    Diameters(TaperDiameters),
+}
+
 pub trait Dialect {
     fn name(&self) -> &'static str;
     fn conventions(&self) -> &Conventions;
@@ -84,9 +112,15 @@ pub trait Dialect {
             self.name()
         ))
     }
-    /// The word that tapers this controller's threading cycle, if it has one.
+    /// The word that tapers this controller's threading cycle, if it has one (`None` as well for
+    /// a cycle that takes two diameters instead: see [`cycle_taper`](Dialect::cycle_taper)).
     fn taper_word(&self) -> Option<TaperWord> {
         None
+    }
+    /// How this controller's threading cycle takes a taper: its one taper word, or the diameters
+    /// at the thread's ends (Sinumerik's CYCLE97); `None` when its cycles cut no taper.
+    fn cycle_taper(&self) -> Option<CycleTaper> {
+        self.taper_word().map(CycleTaper::Word)
     }
     /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
     fn bare_letters(&self) -> &'static [u8] {

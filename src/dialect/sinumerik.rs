@@ -668,6 +668,20 @@ impl Dialect for Sinumerik {
         }
     }
 
+    /// CYCLE97 takes a taper as the thread's crest diameters at SPL and FPL (S2, S5: "DM1 thread
+    /// diameter at the starting point", "DM2 … at the end point"; inside, the tap hole's), the
+    /// run-in APP before SPL on the same cone (docs/dialects/sinumerik.md, "Taper threads").
+    fn cycle_taper(&self) -> Option<super::CycleTaper> {
+        Some(super::CycleTaper::Diameters(super::TaperDiameters {
+            cycles: "CYCLE97 DM1/DM2",
+            at_start: "DM1",
+            start_point: "SPL",
+            at_end: "DM2",
+            end_point: "FPL",
+            run_in: "APP",
+        }))
+    }
+
     fn format(&self) -> Format {
         Format {
             steep_lead_letter: Some('I'),
