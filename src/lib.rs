@@ -24,6 +24,7 @@
 //! ```
 
 pub mod apt;
+pub mod check;
 pub mod diag;
 pub mod dialect;
 pub mod gcode;
@@ -34,6 +35,7 @@ pub mod program;
 pub mod render;
 pub mod sim;
 pub mod thread;
+pub mod threads;
 pub mod toolpath;
 pub mod translate;
 pub mod units;

@@ -140,6 +140,8 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
             machine.no_point_scale(Units::Inch),
         ],
     );
+    // A G code the controller does not have is its alarm.
+    modal.vocabulary = Some(dialect.vocabulary());
     let mut reader = Reader::new(input)
         .with_bare_letters(dialect.bare_letters())
         .with_syntax(dialect.syntax());

@@ -43,6 +43,7 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
             machine.no_point_scale(Units::Inch),
         ],
     );
+    modal.vocabulary = Some(d.vocabulary());
     let mut reader = Reader::new(src.as_bytes())
         .with_bare_letters(d.bare_letters())
         .with_syntax(d.syntax());

@@ -8,41 +8,67 @@ pub use svg::{svg, CyclePlot};
 use std::io::BufRead;
 
 use crate::machine::Machine;
-use crate::program::{self, Error, Event, Summary};
-use crate::sim::{self, check::tip_in_mm, Tip, Tool};
-use crate::thread::{Job, Pass};
-use crate::toolpath::{self, Toolpath};
+use crate::program::{Error, Summary};
+use crate::sim::{self, tip_in_mm, Tip, Tool};
+use crate::threads::{self, Thread};
 
-/// `threadcut plot`: every cycle of a program, its pass diagram and XZ toolpath, as one SVG, with
-/// the tool's tip given in program units.
+/// `threadcut plot`: every thread of a G-code program (cycles, and threads written as plain
+/// moves), its pass diagram and XZ toolpath, as one SVG, with the tool's tip given in program
+/// units; with the run's summary and the number of threads drawn.
 pub fn program_svg<R: BufRead>(
     input: R,
     machine: &Machine,
     tip: Tip,
-) -> Result<(String, Summary), Error> {
-    let mut cycles: Vec<(Job, Vec<Pass>, sim::Section, Toolpath)> = Vec::new();
-    let summary = program::run(input, machine, |_, ev| {
-        if let Event::Cycle { job, .. } = ev {
-            let passes = job.passes()?;
-            let path = toolpath::build_with(&job, &passes)?;
-            let tool = Tool {
-                angle_deg: job.tool_angle_deg,
-                tip: tip_in_mm(tip, job.units),
-            };
-            let section = sim::section(&job, &passes, &tool, 0.0)?;
-            cycles.push((*job, passes, section, path));
-        }
+) -> Result<(String, Summary, usize), Error> {
+    let mut found = Vec::new();
+    let summary = threads::each_gcode(input, machine, None, |t| {
+        found.push(t);
         Ok(())
     })?;
-    let plots: Vec<CyclePlot> = cycles
+    Ok((threads_svg(&found, tip)?, summary, found.len()))
+}
+
+/// `threadcut plot` on an APT/CL program.
+pub fn apt_svg<R: BufRead>(input: R, tip: Tip) -> Result<(String, Summary, usize), Error> {
+    let mut found = Vec::new();
+    let summary = threads::each_apt(input, |t| {
+        found.push(t);
+        Ok(())
+    })?;
+    Ok((threads_svg(&found, tip)?, summary, found.len()))
+}
+
+/// The SVG of these threads. A cycle whose tool angle is 0° (a radial infeed) is drawn with a 60°
+/// tool, as `check` cuts its section.
+pub fn threads_svg(found: &[Thread], tip: Tip) -> Result<String, Error> {
+    let mut sections = Vec::with_capacity(found.len());
+    for t in found {
+        let angle = if t.job.tool_angle_deg > 0.0 {
+            t.job.tool_angle_deg
+        } else {
+            60.0
+        };
+        let tool = Tool {
+            angle_deg: angle,
+            tip: tip_in_mm(tip, t.job.units),
+        };
+        let job = crate::thread::Job {
+            tool_angle_deg: angle,
+            ..t.job.clone()
+        };
+        sections.push(sim::section(&job, &t.passes, &tool, 0.0)?);
+    }
+    let plots: Vec<CyclePlot> = found
         .iter()
-        .map(|(job, passes, section, path)| CyclePlot {
-            job,
-            passes,
+        .zip(&sections)
+        .map(|(t, section)| CyclePlot {
+            job: &t.job,
+            passes: &t.passes,
             section,
-            path,
-            diameter_x: machine.diameter_x,
+            path: &t.path,
+            diameter_x: t.diameter_x,
+            what: t.describe(),
         })
         .collect();
-    Ok((svg(&plots), summary))
+    Ok(svg(&plots))
 }

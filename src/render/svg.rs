@@ -20,6 +20,8 @@ pub struct CyclePlot<'a> {
     pub path: &'a Toolpath,
     /// The program writes X as a diameter (for the axis caption).
     pub diameter_x: bool,
+    /// What the thread is, for the title: `fanuc cycle`, `5 single-pass cycles as one thread …`.
+    pub what: String,
 }
 
 const WIDTH: f64 = 1100.0;
@@ -65,7 +67,7 @@ pub fn svg(cycles: &[CyclePlot]) -> String {
     if cycles.is_empty() {
         let _ = writeln!(
             s,
-            r#"<text x="20" y="40" font-size="16">no threading cycle in this program</text>"#
+            r#"<text x="20" y="40" font-size="16">no thread in this program</text>"#
         );
     }
     for (i, c) in cycles.iter().enumerate() {
@@ -136,9 +138,9 @@ fn cycle(s: &mut String, c: &CyclePlot, y0: f64) {
         .filter(|p| p.kind == crate::thread::PassKind::Rough)
         .count();
     let title = format!(
-        "line {}: {} cycle, {} rough + {} finishing passes, lead {} {}, depth {} {}",
+        "line {}: {}, {} rough + {} finishing passes, lead {} {}, depth {} {}",
         job.line,
-        job.controller,
+        c.what,
         rough,
         c.passes.len() - rough,
         num(u.from_mm(job.lead.lead), 4),

@@ -4,13 +4,14 @@
 use serde::Deserialize;
 use serde_json::{json, Map, Value};
 
+use threadcut::check::{self, Source};
 use threadcut::diag::Diagnostic;
 use threadcut::machine::{Machine, BUILT_IN};
-use threadcut::program::{self, Error, Event};
+use threadcut::program::{self, Error};
 use threadcut::render;
 use threadcut::sim::{self, Tip, Tool};
 use threadcut::thread::standard::{self, Surface};
-use threadcut::toolpath;
+use threadcut::threads;
 
 use crate::forms::{self, Placed};
 
@@ -148,9 +149,10 @@ fn diagnostic(d: &Diagnostic, placed: Option<&[Placed]>) -> Value {
     })
 }
 
-/// Everything the page shows for one program: the pass table of each cycle (the rows of
-/// `threadcut passes --json`), the expanded G-code (`threadcut expand`), the motions (`threadcut
-/// expand --format jsonl`), the plots and the diagnostics with their spans.
+/// Everything the page shows for one program: the findings of `threadcut check` (the same library
+/// function, the same options: none), the pass table of each thread (the rows of `threadcut passes
+/// --json`), the expanded G-code (`threadcut expand`), the motions (`threadcut expand --format
+/// jsonl`), the plots and the diagnostics with their spans.
 pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> Value {
     let Some(machine) = Machine::built_in(controller) else {
         let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
@@ -172,33 +174,44 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         }
     };
 
-    // The pass tables, cycle by cycle.
-    let mut cycles = Vec::new();
+    // The check: every finding of `threadcut check`, the controller's alarm among them.
+    let mut notes = Vec::new();
     let mut lines = 0;
-    let run = program::run(text.as_bytes(), &machine, |modal, ev| {
-        let Event::Cycle { job, .. } = ev else {
-            return Ok(());
-        };
-        let passes = job.passes()?;
-        // Builds the toolpath too, so that a cycle that cannot be cut fails here, at its line.
-        toolpath::build_with(&job, &passes)?;
-        // As `threadcut passes --json` with its default (sharp) tool: X as the program writes it
-        // at the cycle, the simulated columns null where the section cannot be simulated.
-        let rows = program::pass_rows(&job, &passes, modal.diameter_x);
-        let tool = Tool {
-            angle_deg: job.tool_angle_deg,
-            tip: Tip::Sharp,
-        };
-        let section = sim::section(&job, &passes, &tool, 0.0).ok();
-        cycles.push(program::passes_json(&job, &rows, section.as_ref()));
-        Ok(())
-    });
-    match run {
-        Ok(summary) => {
-            lines = summary.lines;
-            diagnostics.extend(summary.warnings.iter().map(|w| diagnostic(w, placed)));
+    match check::check(
+        text.as_bytes(),
+        Source::Gcode(&machine),
+        &check::Options::default(),
+    ) {
+        Ok(report) => {
+            lines = report.lines;
+            failed = report.stopped;
+            diagnostics.extend(report.diagnostics.iter().map(|d| diagnostic(d, placed)));
+            notes = report
+                .notes
+                .iter()
+                .map(|n| json!({"line": n.span.line, "message": n.message}))
+                .collect();
         }
         Err(e) => fail(e, &mut diagnostics, &mut failed),
+    }
+
+    // The pass tables, thread by thread.
+    let mut cycles = Vec::new();
+    if !failed {
+        let run = threads::each_gcode(text.as_bytes(), &machine, None, |t| {
+            // As `threadcut passes --json` with its default (sharp) tool: the simulated columns
+            // null where the section cannot be simulated.
+            let tool = Tool {
+                angle_deg: t.job.tool_angle_deg,
+                tip: Tip::Sharp,
+            };
+            let section = sim::section(&t.job, &t.passes, &tool, 0.0).ok();
+            cycles.push(threads::passes_json(&t, section.as_ref()));
+            Ok(())
+        });
+        if let Err(e) = run {
+            fail(e, &mut diagnostics, &mut failed);
+        }
     }
 
     // The expanded program and the motions, exactly as `threadcut expand` writes them.
@@ -233,7 +246,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
     let mut svg = None;
     if !failed {
         match render::program_svg(text.as_bytes(), &machine, Tip::Sharp) {
-            Ok((s, _)) => svg = Some(s),
+            Ok((s, _, _)) => svg = Some(s),
             Err(e) => plot_error = Some(e.to_string()),
         }
     }
@@ -250,5 +263,6 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         "svg": svg,
         "plot_error": plot_error,
         "diagnostics": diagnostics,
+        "notes": notes,
     })
 }

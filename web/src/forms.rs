@@ -115,6 +115,7 @@ pub fn form(controller: &str) -> Option<Form> {
             cycle: "G78 enhanced multiple thread-cutting cycle",
             lines: vec![
                 vec![units()],
+                vec![t("G97 S500 M03")],
                 start(),
                 [
                     vec![t("G78 ")],
@@ -152,6 +153,7 @@ pub fn form(controller: &str) -> Option<Form> {
             cycle: "G76 two-block multiple threading cycle",
             lines: vec![
                 vec![units()],
+                vec![t("G97 S500 M03")],
                 start(),
                 [
                     vec![t("G76 ")],
@@ -232,6 +234,7 @@ pub fn form(controller: &str) -> Option<Form> {
             cycle: "G78 multipass threading cycle",
             lines: vec![
                 vec![units()],
+                vec![t("G97 S500 M03")],
                 [vec![t("G90 ")], start()].concat(),
                 vec![
                     t("G78 "),

@@ -160,6 +160,15 @@ function show(r) {
     list.append(li);
   }
 
+  // What the check assumed (the blank, the tool), as `threadcut check` states it.
+  const notes = $('notes');
+  notes.innerHTML = '';
+  for (const n of r.notes || []) {
+    const li = document.createElement('li');
+    li.innerHTML = `${n.line ? `<span class="muted">line ${n.line}</span> ` : ''}${esc(n.message)}`;
+    notes.append(li);
+  }
+
   // The program with each diagnostic's span marked.
   $('listing').innerHTML = listing(r.program || '', diags);
 
@@ -175,12 +184,16 @@ function show(r) {
       `<td>${n(p.x)}</td><td>${n(p.z)}</td><td>${p.area.toFixed(d + 2)}</td><td>${(p.share * 100).toFixed(1)}%</td>` +
       (p.sim_area !== undefined ? `<td>${p.cutting_flank}</td>` : '') + '</tr>').join('');
     const flank = cycle.passes.length && cycle.passes[0].sim_area !== undefined ? '<th>cutting flank</th>' : '';
+    const what = cycle.source === 'moves'
+      ? `${cycle.passes.length} synchronised passes as one thread`
+      : `${esc(cycle.controller)} cycle, ${cycle.passes.length} passes`;
+    const from = cycle.depth_from === 'first_pass' ? '; depths from the first pass: the crest is not known' : '';
     passes.insertAdjacentHTML('beforeend',
-      `<p>Line ${cycle.line}: ${esc(cycle.controller)} cycle, ${cycle.passes.length} passes (${units}; depth radial, X as programmed)</p>` +
+      `<p>Line ${cycle.line}: ${what} (${units}; depth radial, X as programmed${from})</p>` +
       `<table><thead><tr><th>pass</th><th>kind</th><th>depth</th><th>increment</th><th>x</th><th>z</th><th>area (${units}²)</th><th>share</th>${flank}</tr></thead>` +
       `<tbody>${rows}</tbody></table>`);
   }
-  if (!(r.cycles || []).length) passes.innerHTML = '<p class="muted">No threading cycle.</p>';
+  if (!(r.cycles || []).length) passes.innerHTML = '<p class="muted">No thread: no threading cycle and no synchronised move.</p>';
 
   // Plots (the library's own SVG).
   $('plot').innerHTML = r.svg || `<p class="muted">No plot${r.plot_error ? ': ' + esc(r.plot_error) : ''}.</p>`;

@@ -5,6 +5,7 @@ use std::io::{self, Write};
 use serde_json::{json, Value};
 
 use threadcut::diag::Diagnostic;
+use threadcut::dialect::CycleTaper;
 use threadcut::mill::Side;
 use threadcut::thread::standard::{self, Limits, StandardThread};
 use threadcut::units::Units;
@@ -120,10 +121,15 @@ fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Fail
         v(cycle.depth),
         u.name()
     );
-    let word = dialect.taper_word();
+    let taper = dialect.cycle_taper();
+    let word = match taper {
+        Some(CycleTaper::Word(w)) => Some(w),
+        _ => None,
+    };
     let value = word.map(|w| cycle.word_value(&w, machine.diameter_x));
-    match (word, value) {
-        (Some(w), Some(val)) => text.push_str(&format!(
+    let mut diameters = Value::Null;
+    match (taper, value) {
+        (Some(CycleTaper::Word(w)), Some(val)) => text.push_str(&format!(
             "  taper word {} = {}{:.d$} ({}: {}, {}, over the cycle's whole Z travel)\n",
             w.cycles,
             w.letter,
@@ -140,6 +146,41 @@ fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Fail
                 "a diameter, as X is written"
             }
         )),
+        (Some(CycleTaper::Diameters(w)), _) => {
+            // The thread proper runs from the face to the end of its length; the run-up before the
+            // face is the cycle's run-in, on the same cone.
+            let (spl, fpl) = (face_z, cycle.end_z);
+            let (dm1, dm2) = (2.0 * cycle.crest_at(spl), 2.0 * cycle.crest_at(fpl));
+            let app = (cycle.start_z - face_z).abs();
+            text.push_str(&format!(
+                "  taper {} = {} {:.d$} at {} Z{:.d$}, {} {:.d$} at {} Z{:.d$}, {} {:.d$} ({}: the crest diameters at the thread's start and end points, {}; the run-in on the same cone)\n",
+                w.cycles,
+                w.at_start,
+                v(dm1),
+                w.start_point,
+                v(spl),
+                w.at_end,
+                v(dm2),
+                w.end_point,
+                v(fpl),
+                w.run_in,
+                v(app),
+                u.name(),
+                if side == Side::External {
+                    "the major diameter"
+                } else {
+                    "the tap hole's (minor) diameter"
+                }
+            ));
+            diameters = json!({
+                "cycles": w.cycles,
+                w.at_start: v(dm1),
+                w.at_end: v(dm2),
+                w.start_point: v(spl),
+                w.end_point: v(fpl),
+                w.run_in: v(app),
+            });
+        }
         _ => text.push_str(&format!(
             "  {} has no taper word in its threading cycle: cut this thread with synchronised moves (G33/G32) or a post-processed program\n",
             machine.name
@@ -154,6 +195,7 @@ fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Fail
         "root": {"start": v(2.0 * cycle.root_start_x), "end": v(2.0 * cycle.root_end_x)},
         "height": v(cycle.depth),
         "taper_word": word.map(|w| json!({"cycles": w.cycles, "letter": w.letter.to_string(), "value": value.map(v)})),
+        "taper_diameters": diameters,
     });
     Ok((text, j))
 }

@@ -18,7 +18,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 use threadcut::diag::Diagnostic;
 use threadcut::machine::{Machine, BUILT_IN};
-use threadcut::program::{self, Error, Event, Summary};
+use threadcut::program::{self, Error, Summary};
 
 #[derive(Parser)]
 #[command(
@@ -74,6 +74,14 @@ impl ToolArgs {
             (None, None) => Tip::Sharp,
         })
     }
+
+    /// The tip when one of the flags gives it.
+    fn given_tip(&self) -> Result<Option<threadcut::sim::Tip>, Failure> {
+        if self.nose_radius.is_none() && self.tip_flat.is_none() {
+            return Ok(None);
+        }
+        self.tip().map(Some)
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -112,20 +120,30 @@ enum Command {
         tool: ToolArgs,
     },
     /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
-    /// feed and lead limits, run-up, depth and form. Exit status 2 on any error.
+    /// feed and lead limits, run-up and run-out, depth and form, and with --thread the thread
+    /// against its class. Every assumption is stated. Exit status 2 on any error.
     Check {
+        /// The program: G-code, or APT/CL (`.apt`, `.cl`, or a CL statement first).
         file: PathBuf,
         #[command(flatten)]
         machine: MachineArgs,
-        /// Diameter of the blank (program units); default: the cycle's crest line.
+        /// Diameter of the blank (program units); default: the thread's crest is assumed.
         #[arg(long, value_name = "D")]
         stock_diameter: Option<f64>,
-        /// Z of the blank's face on the thread's start side (program units); default: where
-        /// the thread starts.
+        /// Z of the blank's face on the thread's start side (program units); default: Z0 is
+        /// assumed when the thread runs into the part through it.
         #[arg(long, value_name = "Z", allow_negative_numbers = true)]
         stock_start: Option<f64>,
         #[command(flatten)]
         tool: ToolArgs,
+        /// Judge the thread cut against a standard thread's class limits (`M50x2-6g`,
+        /// `"1/2-13 UNC-2A"`; any name `threadcut thread` knows).
+        #[arg(long, value_name = "NAME")]
+        thread: Option<String>,
+        /// Text (diagnostics, notes, summary) or JSON (`[{file, line, column, level, code,
+        /// message, hint}]`).
+        #[arg(long, value_enum, default_value = "text")]
+        format: check::Format,
     },
     /// Draw each cycle's pass diagram and XZ toolpath into one SVG.
     Plot {
@@ -342,7 +360,19 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             stock_diameter,
             stock_start,
             tool,
-        } => check::run(&file, &machine, stock_diameter, stock_start, &tool),
+            thread,
+            format,
+        } => check::run(
+            &file,
+            &machine,
+            &check::Args {
+                stock_diameter,
+                stock_start,
+                tool: &tool,
+                thread: thread.as_deref(),
+                format,
+            },
+        ),
         Command::Plot {
             file,
             machine,
@@ -363,10 +393,13 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             }
             let machine = load_machine(&machine)?;
             let tip = tool.tip()?;
-            let summary = output::write(&file, output.as_deref(), |out| {
+            let (summary, count) = output::write(&file, output.as_deref(), |out| {
                 passes(input, out, &machine, json, tip)
             })?;
             warn(&file, &summary);
+            if count == 0 {
+                no_thread(&file, &thread_codes(&machine));
+            }
             Ok(ExitCode::SUCCESS)
         }
     }
@@ -378,6 +411,21 @@ fn io_failure(e: io::Error) -> Failure {
     } else {
         Failure::Other(e.to_string())
     }
+}
+
+/// The codes a machine's controller threads with, as `G32, G76, G92`.
+fn thread_codes(machine: &Machine) -> String {
+    threadcut::dialect::open(machine)
+        .map(|d| d.vocabulary().thread_codes())
+        .unwrap_or_default()
+}
+
+/// A program with no thread: said on standard error, naming what the controller threads with.
+fn no_thread(file: &Path, codes: &str) {
+    eprintln!(
+        "threadcut: {}: no thread found: no threading cycle and no synchronised move (this controller threads with {codes}; is it the right --controller?)",
+        file.display()
+    );
 }
 
 fn warn(file: &Path, summary: &Summary) {
@@ -430,18 +478,14 @@ fn passes(
     machine: &Machine,
     json: bool,
     tip: threadcut::sim::Tip,
-) -> Result<Summary, Error> {
+) -> Result<(Summary, u32), Error> {
     let mut writer = passes::PassesWriter::begin(out, json, tip)?;
-    let summary = program::run(input, machine, |modal, ev| {
-        let Event::Cycle { job, .. } = ev else {
-            return Ok(());
-        };
-        // X as the program writes it at the cycle (OmniTurn's G72/G73 and LinuxCNC's G7/G8 switch
-        // it mid-program).
-        let what = format!("{} cycle", job.controller);
-        let decimals = machine.decimals(job.units) as usize + 1;
-        writer.cycle(out, &job, modal.diameter_x, decimals, &what)
+    let mut count = 0;
+    let summary = threadcut::threads::each_gcode(input, machine, None, |t| {
+        count += 1;
+        let decimals = machine.decimals(t.job.units) as usize + 1;
+        writer.thread(out, &t, decimals, "")
     })?;
     writer.end(out)?;
-    Ok(summary)
+    Ok((summary, count))
 }

@@ -4,15 +4,15 @@
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
-use threadcut::program::{Error, Summary};
+use threadcut::program::Error;
 
 use super::{failure, Failure};
 
-pub fn write(
+pub fn write<T>(
     input: &Path,
     output: Option<&Path>,
-    produce: impl FnOnce(&mut dyn Write) -> Result<Summary, Error>,
-) -> Result<Summary, Failure> {
+    produce: impl FnOnce(&mut dyn Write) -> Result<T, Error>,
+) -> Result<T, Failure> {
     let target = output.filter(|p| p.as_os_str() != "-");
     let Some(target) = target else {
         let stdout = io::stdout();

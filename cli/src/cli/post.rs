@@ -47,8 +47,11 @@ pub fn passes(
     out: Option<&Path>,
     tip: threadcut::sim::Tip,
 ) -> Result<(), Failure> {
-    let summary = output::write(file, out, |w| passes_to(input, w, json, tip))?;
+    let (summary, count) = output::write(file, out, |w| passes_to(input, w, json, tip))?;
     warn(file, &summary);
+    if count == 0 {
+        super::no_thread(file, "THREAD/ON, THREAD/TURN, COUPLE/ON");
+    }
     Ok(())
 }
 
@@ -57,25 +60,23 @@ fn passes_to(
     out: &mut dyn Write,
     json: bool,
     tip: threadcut::sim::Tip,
-) -> Result<Summary, Error> {
+) -> Result<(Summary, u32), Error> {
     let mut writer = PassesWriter::begin(out, json, tip)?;
-    let summary = apt::run(input, |_, ev| {
-        let apt::Event::Cycle(job) = ev else {
-            return Ok(());
-        };
-        let decimals = if job.units == threadcut::units::Units::Inch {
+    let mut count = 0;
+    let summary = threadcut::threads::each_apt(input, |t| {
+        count += 1;
+        let decimals = if t.job.units == threadcut::units::Units::Inch {
             5
         } else {
             4
         };
-        writer.cycle(
+        writer.thread(
             out,
-            &job,
-            false,
+            &t,
             decimals,
-            "APT THREAD/ON cycle (depth along the in-feed axis, X a radius)",
+            " (APT; depth along the in-feed axis, X a radius)",
         )
     })?;
     writer.end(out)?;
-    Ok(summary)
+    Ok((summary, count))
 }

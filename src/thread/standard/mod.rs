@@ -34,7 +34,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-pub use gauge::{judge_taper, TaperCut, TaperFinding, TaperJudgement};
+pub use gauge::{judge_taper, TaperCheck, TaperCut, TaperFinding, TaperJudgement};
 pub use profile::{Edge, Groove, Profile};
 
 use crate::diag::{Code, Diagnostic, Result, Span};
