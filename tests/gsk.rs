@@ -126,7 +126,7 @@ fn seed_example_motion_follows_the_execution_sequence() {
     let expected = "\
 G00 X80 Z10
 (threadcut: line 2 sets the cycle that follows)
-(threadcut: gsk980 cycle of line 3 as 2 rough and 2 finishing passes)
+(threadcut: gsk980 cycle of line 3 as 2 rough passes and 2 finishing passes)
 G0 X62.4 Z10.
 G32 X62.4 Z-58. F3.
 G32 X65.4 Z-60. F3.
