@@ -151,12 +151,16 @@ async function fill() {
 
 /** A thread name the standards do not have: the old plan goes, and the page says why. */
 function unknownThread(name, r) {
+  // An analysis still running for the old plan must not bring it back.
+  requested++;
+  running = 0;
+  status('');
   values = {};
   lastPlanned = '';
   $('form').innerHTML = '';
   $('cycle-name').textContent = '';
   const near = (r.hint || '').replace(/^nearest known threads: /, '');
-  $('thread-info').innerHTML = `<span class="error">No plan: “${esc(name.trim())}” is not a standard thread this planner knows (${esc(r.error)}).</span>` +
+  $('thread-info').innerHTML = `<span class="error">No plan: “${esc(name.trim())}” is not a standard thread this planner knows (${esc(r.error.replace(/: `[^`]*`$/, ''))}).</span>` +
     (near ? ` <span class="muted">Nearest: ${esc(near)}. The Thread field’s list shows every thread it knows.</span>` : '');
   show({
     ok: false,
