@@ -789,10 +789,12 @@ fn other_blocks_pass_through_byte_for_byte() {
         ),
         "{out}"
     );
+    // The expansion's own lines end as the program's do (CRLF in, CRLF out).
     assert!(
-        out.ends_with("G0 X80. Z10.\nG01 X90 F0.2\r\nM30\r\n%"),
+        out.ends_with("G0 X80. Z10.\r\nG01 X90 F0.2\r\nM30\r\n%"),
         "{out}"
     );
+    assert_eq!(out.matches('\n').count(), out.matches("\r\n").count());
 }
 
 #[test]
