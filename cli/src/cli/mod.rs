@@ -550,8 +550,13 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             let file = &input.file;
             let (mut reader, content) = input::open(file)?;
             // The converted program ends its lines as the source does (CRLF in, CRLF out).
-            let ending = threadcut::eol::LineEnding::peek(&mut reader)
-                .map_err(|e| failure(file, e.into()))?;
+            let ending = threadcut::eol::LineEnding::peek(&mut reader).map_err(|e| {
+                Failure::Usage(format!(
+                    "cannot read {}: {}",
+                    input::display(file),
+                    reason(&e)
+                ))
+            })?;
             let summary = output::write(file, output.output.as_deref(), |out| {
                 let mut out = threadcut::eol::Writer::new(out, ending);
                 let summary = convert::convert(reader, &mut out, &from, &to).map_err(lib(file))?;
