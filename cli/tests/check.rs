@@ -474,7 +474,8 @@ fn a_program_with_no_thread_says_so_on_standard_error() {
     assert_eq!(code, 0, "{out}");
     assert!(out.contains("in 0 threads"), "{out}");
     assert!(
-        err.contains("no thread found: no threading cycle and no synchronised move (this controller threads with G32, G76, G92; is it the right --controller?)"),
+        err.starts_with("warning: no thread found in ")
+            && err.contains(": no threading cycle and no synchronised move\n  = help: this controller threads with G32, G76, G92; is it the right --controller?"),
         "{err}"
     );
     // A G92 threading program read on LinuxCNC, where G92 sets offsets: no thread.

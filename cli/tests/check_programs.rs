@@ -281,7 +281,7 @@ fn hand_written_passes_get_a_pass_table() {
     let (code, out, _) = run(&["passes", f.to_str().unwrap(), "-c", "fanuc"]);
     assert_eq!(code, 0, "{out}");
     assert!(
-        out.starts_with("line 9: 10 synchronised passes as one thread (lines 9–47), 9 rough + 1 finishing passes (mm); depths from the first pass: the crest is not known"),
+        out.starts_with("line 9: 10 synchronised passes as one thread (lines 9–47), 9 rough passes and 1 finishing pass (mm); depths from the first pass: the crest is not known"),
         "{out}"
     );
     // Pass 2 at X22.7: (23.3 − 22.7)/2 = 0.3 below pass 1, its start 0.169 further back.
@@ -339,7 +339,7 @@ fn a_spring_pass_after_a_cycle_joins_its_thread() {
     let (_, out, _) = run(&["passes", f.to_str().unwrap(), "-c", "fanuc"]);
     assert!(
         out.starts_with(
-            "line 5: fanuc cycle and 1 more pass after it, 8 rough + 2 finishing passes (mm)"
+            "line 5: fanuc cycle and 1 more pass after it, 8 rough passes and 2 finishing passes (mm)"
         ),
         "{out}"
     );

@@ -12,35 +12,136 @@ use crate::program::{Error, Summary};
 use crate::sim::{self, tip_in_mm, Tip, Tool};
 use crate::threads::{self, Thread};
 
+/// Which threads of a program a picture draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Selection {
+    /// Only this thread (1-based, in program order).
+    pub only: Option<usize>,
+    /// Otherwise the first this many.
+    pub max: usize,
+}
+
+/// The threads a picture draws unless told otherwise: about 14 kB of SVG each for a usual cycle.
+pub const MAX_PLOTTED: usize = 50;
+
+impl Default for Selection {
+    fn default() -> Selection {
+        Selection {
+            only: None,
+            max: MAX_PLOTTED,
+        }
+    }
+}
+
+impl Selection {
+    fn wants(&self, number: usize, kept: usize) -> bool {
+        match self.only {
+            Some(n) => number == n,
+            None => kept < self.max,
+        }
+    }
+}
+
+/// A program's picture and what it holds.
+#[derive(Debug)]
+pub struct Plot {
+    pub svg: String,
+    pub summary: Summary,
+    /// Every thread the program has.
+    pub threads: usize,
+    /// The threads drawn: number (1-based, in program order) and the line each starts on.
+    pub drawn: Vec<(usize, u32)>,
+}
+
 /// `threadcut plot`: every thread of a G-code program (cycles, and threads written as plain
 /// moves), its pass diagram and XZ toolpath, as one SVG, with the tool's tip given in program
-/// units; with the run's summary and the number of threads drawn.
+/// units; with the run's summary and the number of threads the program has. At most
+/// [`MAX_PLOTTED`] threads are drawn ([`program_plot`] chooses).
 pub fn program_svg<R: BufRead>(
     input: R,
     machine: &Machine,
     tip: Tip,
 ) -> Result<(String, Summary, usize), Error> {
+    let p = program_plot(input, machine, tip, Selection::default())?;
+    Ok((p.svg, p.summary, p.threads))
+}
+
+/// [`program_svg`] with the threads to draw chosen: the picture says which threads it leaves out.
+/// Only the threads drawn are kept in memory.
+pub fn program_plot<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    tip: Tip,
+    selection: Selection,
+) -> Result<Plot, Error> {
     let mut found = Vec::new();
+    let mut total = 0;
     let summary = threads::each_gcode(input, machine, None, |t| {
-        found.push(t);
+        total += 1;
+        if selection.wants(total, found.len()) {
+            found.push((total, t));
+        }
         Ok(())
     })?;
-    Ok((threads_svg(&found, tip)?, summary, found.len()))
+    plot(found, total, summary, tip)
 }
 
 /// `threadcut plot` on an APT/CL program.
 pub fn apt_svg<R: BufRead>(input: R, tip: Tip) -> Result<(String, Summary, usize), Error> {
+    let p = apt_plot(input, tip, Selection::default())?;
+    Ok((p.svg, p.summary, p.threads))
+}
+
+/// [`apt_svg`] with the threads to draw chosen.
+pub fn apt_plot<R: BufRead>(input: R, tip: Tip, selection: Selection) -> Result<Plot, Error> {
     let mut found = Vec::new();
+    let mut total = 0;
     let summary = threads::each_apt(input, |t| {
-        found.push(t);
+        total += 1;
+        if selection.wants(total, found.len()) {
+            found.push((total, t));
+        }
         Ok(())
     })?;
-    Ok((threads_svg(&found, tip)?, summary, found.len()))
+    plot(found, total, summary, tip)
+}
+
+fn plot(
+    found: Vec<(usize, Thread)>,
+    total: usize,
+    summary: Summary,
+    tip: Tip,
+) -> Result<Plot, Error> {
+    let (numbers, threads): (Vec<usize>, Vec<Thread>) = found.into_iter().unzip();
+    let (svg, drawn) = threads_picture(&threads, &numbers, total, tip)?;
+    Ok(Plot {
+        svg,
+        summary,
+        threads: total,
+        drawn: numbers
+            .iter()
+            .zip(&threads)
+            .take(drawn)
+            .map(|(n, t)| (*n, t.job.line))
+            .collect(),
+    })
 }
 
 /// The SVG of these threads. A cycle whose tool angle is 0° (a radial infeed) is drawn with a 60°
 /// tool, as `check` cuts its section.
 pub fn threads_svg(found: &[Thread], tip: Tip) -> Result<String, Error> {
+    let numbers: Vec<usize> = (1..=found.len()).collect();
+    Ok(threads_picture(found, &numbers, found.len(), tip)?.0)
+}
+
+/// [`threads_svg`] of the threads numbered `numbers` of `total`, saying which are left out; with
+/// how many were drawn ([`svg::picture`]).
+fn threads_picture(
+    found: &[Thread],
+    numbers: &[usize],
+    total: usize,
+    tip: Tip,
+) -> Result<(String, usize), Error> {
     let mut sections = Vec::with_capacity(found.len());
     for t in found {
         let angle = if t.job.tool_angle_deg > 0.0 {
@@ -70,5 +171,5 @@ pub fn threads_svg(found: &[Thread], tip: Tip) -> Result<String, Error> {
             what: t.describe(),
         })
         .collect();
-    Ok(svg(&plots))
+    Ok(svg::picture(&plots, numbers, total))
 }

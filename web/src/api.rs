@@ -123,12 +123,39 @@ pub fn plan(request: &str) -> Value {
 struct AnalyseRequest {
     controller: String,
     program: String,
+    /// Whether to list the motions (`expand --format jsonl`); the page does not show them, and a
+    /// long program's list costs as much as the rest of the analysis. Default: yes.
+    #[serde(default = "yes")]
+    motions: bool,
+    /// At most this many threads get their pass table (`cycles`); `cycles_total` counts them all.
+    /// Default: every thread.
+    #[serde(default)]
+    max_cycles: Option<usize>,
+}
+
+/// What an analysis lists besides its findings.
+#[derive(Clone, Copy)]
+struct Listing {
+    motions: bool,
+    max_cycles: usize,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// A pasted program, analysed as the CLI would.
 pub fn analyse(request: &str) -> Value {
     match serde_json::from_str::<AnalyseRequest>(request) {
-        Ok(r) => analyse_text(&r.controller, &r.program, None),
+        Ok(r) => analyse_with(
+            &r.controller,
+            &r.program,
+            None,
+            Listing {
+                motions: r.motions,
+                max_cycles: r.max_cycles.unwrap_or(usize::MAX),
+            },
+        ),
         Err(e) => error(format!("bad request: {e}")),
     }
 }
@@ -154,6 +181,25 @@ fn diagnostic(d: &Diagnostic, placed: Option<&[Placed]>) -> Value {
 /// --json`), the expanded G-code (`threadcut expand`), the motions (`threadcut expand --format
 /// jsonl`), the plots and the diagnostics with their spans.
 pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> Value {
+    analyse_with(
+        controller,
+        text,
+        placed,
+        Listing {
+            motions: true,
+            max_cycles: usize::MAX,
+        },
+    )
+}
+
+/// [`analyse_text`], listing the motions or not (`motions`: `[]` and `motions_total` 0 when
+/// not), and the pass tables of the first `max_cycles` threads.
+fn analyse_with(
+    controller: &str,
+    text: &str,
+    placed: Option<&[Placed]>,
+    listing: Listing,
+) -> Value {
     let Some(machine) = Machine::built_in(controller) else {
         let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
         return error(format!(
@@ -197,8 +243,13 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
 
     // The pass tables, thread by thread.
     let mut cycles = Vec::new();
+    let mut cycles_total = 0usize;
     if !failed {
         let run = threads::each_gcode(text.as_bytes(), &machine, None, |t| {
+            cycles_total += 1;
+            if cycles.len() >= listing.max_cycles {
+                return Ok(());
+            }
             // As `threadcut passes --json` with its default (sharp) tool: the simulated columns
             // null where the section cannot be simulated.
             let tool = Tool {
@@ -225,7 +276,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
             Err(e) => fail(e, &mut diagnostics, &mut failed),
         }
     }
-    if !failed {
+    if !failed && listing.motions {
         let mut buf = Vec::new();
         match program::expand_jsonl(text.as_bytes(), &mut buf, &machine) {
             Ok(_) => {
@@ -257,6 +308,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         "program": text,
         "lines": lines,
         "cycles": cycles,
+        "cycles_total": cycles_total,
         "gcode": gcode,
         "motions": motions,
         "motions_total": motions_total,

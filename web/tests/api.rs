@@ -344,3 +344,58 @@ fn a_lead_without_a_decimal_point_is_flagged_on_its_field() {
         "{d}"
     );
 }
+
+/// 1/2-13 UNC: the lead 1/13" = 0.0769230769… in is written to each controller's lead resolution
+/// (the decimals its writer gives the lead word: 5 in inch on GSK, Fanuc and Allen-Bradley, 7 on
+/// LinuxCNC), never cut to the 4 decimals of a position (P0.0769 would cut 0.0769 in per turn,
+/// 0.03 mm off after 13 turns).
+#[test]
+fn inch_leads_are_written_to_the_controllers_resolution() {
+    for (c, want) in [
+        ("gsk980", "0.07692"),
+        ("fanuc", "0.07692"),
+        ("ab9", "0.07692"),
+        ("linuxcnc", "0.0769231"),
+    ] {
+        let v = values(c, "1/2-13 UNC");
+        assert_eq!(v["lead"], want, "{c}");
+        let out = plan(c, &v);
+        assert_eq!(out["ok"], true, "{c}: {}", out["diagnostics"]);
+        let lead = out["cycles"][0]["passes"].as_array().map(|p| p.len());
+        assert!(lead.is_some_and(|n| n >= 3), "{c}");
+    }
+    // Metric leads are unchanged: 2.5 is 2.5.
+    assert_eq!(values("linuxcnc", "M20x2.5")["lead"], "2.5");
+}
+
+/// The motions are listed unless the request says not to (the page does not show them).
+#[test]
+fn analysis_lists_motions_unless_asked_not_to() {
+    let program = "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\n";
+    let with = api::analyse(&json!({"controller": "gsk980", "program": program}).to_string());
+    let without = api::analyse(
+        &json!({"controller": "gsk980", "program": program, "motions": false}).to_string(),
+    );
+    assert!(with["motions_total"].as_u64().unwrap() > 10, "{with}");
+    assert_eq!(without["motions_total"], 0);
+    assert_eq!(without["motions"], json!([]));
+    assert_eq!(with["cycles"], without["cycles"]);
+    assert_eq!(with["gcode"], without["gcode"]);
+}
+
+/// An unknown thread name: the error and the nearest names, in words the page can show (no
+/// command-line command in them).
+#[test]
+fn unknown_threads_say_so_without_command_lines() {
+    for r in [
+        api::thread("M99"),
+        api::fill(&json!({"controller": "gsk980", "thread": "M99"}).to_string()),
+    ] {
+        assert_eq!(r["ok"], false, "{r}");
+        assert_eq!(
+            r["hint"], "nearest known threads: M68x6, M64x2, M64x3",
+            "{r}"
+        );
+        assert!(!r.to_string().contains("threadcut"), "{r}");
+    }
+}

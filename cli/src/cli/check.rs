@@ -10,18 +10,9 @@ use threadcut::check::{self, Options, Report, Source};
 use threadcut::thread::standard;
 
 use super::{
-    failure, io_failure, load_machine, mill::usage, open_input, post::is_apt, render, Failure,
-    MachineArgs, ToolArgs,
+    failure, input, load_machine, mill::usage, not_empty, output, post::is_apt, render, Failure,
+    MachineArgs, ReportFormat, ToolArgs,
 };
-
-/// How `check` writes its findings.
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub enum Format {
-    /// Compiler-style diagnostics, the notes and a summary line.
-    Text,
-    /// `[{file, line, column, level, code, message, hint}]` (level: error, warning or note).
-    Json,
-}
 
 /// `check`'s options as the command line gives them.
 pub struct Args<'a> {
@@ -29,7 +20,8 @@ pub struct Args<'a> {
     pub stock_start: Option<f64>,
     pub tool: &'a ToolArgs,
     pub thread: Option<&'a str>,
-    pub format: Format,
+    pub format: ReportFormat,
+    pub output: Option<&'a Path>,
 }
 
 pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, Failure> {
@@ -43,7 +35,7 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         tip: args.tool.given_tip()?,
         thread,
     };
-    let mut input = open_input(file)?;
+    let (mut input, content) = input::open(file)?;
     let report = if is_apt(file, &mut input) {
         let machine = match (&machine.controller, &machine.machine) {
             (None, None) => None,
@@ -55,18 +47,31 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         check::check(input, Source::Gcode(&machine), &opts)
     }
     .map_err(|e| failure(file, e))?;
+    not_empty(file, &content)?;
     if report.threads == 0 && !report.stopped {
         super::no_thread(file, &report.thread_codes);
     }
-    let mut out = std::io::stdout().lock();
-    match args.format {
-        Format::Json => {
-            let findings = report.findings(&file.display().to_string());
-            serde_json::to_writer_pretty(&mut out, &findings).map_err(|e| io_failure(e.into()))?;
-            writeln!(out).map_err(io_failure)?;
+    output::write(file, args.output, |out| {
+        match args.format {
+            ReportFormat::Json => {
+                let findings = report.findings(&file.display().to_string());
+                serde_json::to_writer_pretty(&mut *out, &findings)
+                    .map_err(|e| failure(file, std::io::Error::from(e).into()))?;
+                writeln!(out).map_err(|e| failure(file, e.into()))?;
+            }
+            ReportFormat::Jsonl => {
+                for f in report.findings(&file.display().to_string()) {
+                    serde_json::to_writer(&mut *out, &f)
+                        .map_err(|e| failure(file, std::io::Error::from(e).into()))?;
+                    writeln!(out).map_err(|e| failure(file, e.into()))?;
+                }
+            }
+            ReportFormat::Text => {
+                write_text(out, file, &report).map_err(|e| failure(file, e.into()))?
+            }
         }
-        Format::Text => write_text(&mut out, file, &report).map_err(io_failure)?,
-    }
+        Ok(())
+    })?;
     Ok(if report.errors() > 0 {
         ExitCode::from(2)
     } else {

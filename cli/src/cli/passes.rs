@@ -8,19 +8,21 @@ use threadcut::sim::{self, tip_in_mm, Tip, Tool};
 use threadcut::thread::PassKind;
 use threadcut::threads::{self, Thread};
 
+use super::ReportFormat;
+
 pub struct PassesWriter {
-    json: bool,
+    format: ReportFormat,
     tip: Tip,
     cycles: usize,
 }
 
 impl PassesWriter {
-    pub fn begin(out: &mut dyn Write, json: bool, tip: Tip) -> io::Result<PassesWriter> {
-        if json {
+    pub fn begin(out: &mut dyn Write, format: ReportFormat, tip: Tip) -> io::Result<PassesWriter> {
+        if format == ReportFormat::Json {
             out.write_all(br#"{"cycles":["#)?;
         }
         Ok(PassesWriter {
-            json,
+            format,
             tip,
             cycles: 0,
         })
@@ -48,22 +50,24 @@ impl PassesWriter {
         let section = sim::section(job, passes, &tool, 0.0).ok();
         let sim = |i: usize| section.as_ref().and_then(|s| s.passes.get(i));
         let area_scale = job.units.scale() * job.units.scale();
-        if self.json {
-            if self.cycles > 0 {
+        if self.format != ReportFormat::Text {
+            if self.cycles > 0 && self.format == ReportFormat::Json {
                 out.write_all(b",")?;
             }
             let cycle = threads::passes_json(t, section.as_ref());
             serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
+            if self.format == ReportFormat::Jsonl {
+                out.write_all(b"\n")?;
+            }
         } else {
             let d = decimals;
             let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
             writeln!(
                 out,
-                "line {}: {}{columns}, {} rough + {} finishing passes ({}){}",
+                "line {}: {}{columns}, {} ({}){}",
                 job.line,
                 t.describe(),
-                rough,
-                passes.len() - rough,
+                threadcut::text::rough_and_finishing(rough, passes.len() - rough),
                 job.units.name(),
                 if t.crest_known() {
                     ""
@@ -114,7 +118,7 @@ impl PassesWriter {
     }
 
     pub fn end(self, out: &mut dyn Write) -> io::Result<()> {
-        if self.json {
+        if self.format == ReportFormat::Json {
             out.write_all(b"]}\n")?;
         }
         Ok(())
