@@ -78,9 +78,54 @@ pub enum Code {
     Form,
     /// `check`: the spindle speed is unknown or not constant.
     Spindle,
+    /// A G code the controller does not have (its alarm), e.g. G78 on a Fanuc control.
+    UnknownCode,
+    /// `check --thread`: the thread cut lies outside its class's limits (pitch diameter, root
+    /// diameter, flank angle, lead).
+    OutOfClass,
+    /// `check`: an axis, lead or feed word without a decimal point on a control that reads it as
+    /// least increments.
+    DecimalPoint,
+    /// `check`: a pull-out shorter than the run-out the synchronised feed needs to stop (δ2).
+    RunOut,
+    /// `check`: a rapid move enters the blank, which the program and the options do not give but
+    /// `check` assumed (E011's twin for an assumed blank).
+    CollisionAssumed,
+    /// `check --thread`: outside the class's limits on an assumption — the tool's form, or a taper
+    /// thread's face — or shorter than a taper thread's effective length (E016's twin).
+    OutOfClassAssumed,
 }
 
 impl Code {
+    /// Every code, in the order of their numbers' introduction.
+    pub const ALL: [Code; 25] = [
+        Code::Syntax,
+        Code::BadNumber,
+        Code::MissingWord,
+        Code::OutOfRange,
+        Code::Conflict,
+        Code::UnknownPosition,
+        Code::Geometry,
+        Code::TooManyPasses,
+        Code::Unsupported,
+        Code::Input,
+        Code::Suspicious,
+        Code::MachineLimit,
+        Code::Collision,
+        Code::FeedLimit,
+        Code::DepthNotReached,
+        Code::LeadLimit,
+        Code::RunUp,
+        Code::Form,
+        Code::Spindle,
+        Code::UnknownCode,
+        Code::OutOfClass,
+        Code::DecimalPoint,
+        Code::RunOut,
+        Code::CollisionAssumed,
+        Code::OutOfClassAssumed,
+    ];
+
     pub fn as_str(self) -> &'static str {
         match self {
             Code::Syntax => "E001",
@@ -102,6 +147,12 @@ impl Code {
             Code::RunUp => "W003",
             Code::Form => "W004",
             Code::Spindle => "W005",
+            Code::UnknownCode => "E015",
+            Code::OutOfClass => "E016",
+            Code::DecimalPoint => "W006",
+            Code::RunOut => "W007",
+            Code::CollisionAssumed => "W008",
+            Code::OutOfClassAssumed => "W009",
         }
     }
 }
@@ -174,3 +225,56 @@ impl fmt::Display for Diagnostic {
 impl std::error::Error for Diagnostic {}
 
 pub type Result<T> = std::result::Result<T, Diagnostic>;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Codes are stable and unique: branches merged side by side must not reuse a number. `ALL`
+    /// lists every variant (the match below fails to compile when a variant is added, and the
+    /// count then fails here until `ALL` has it too).
+    #[test]
+    fn every_code_has_its_own_number() {
+        let listed = |c: Code| match c {
+            Code::Syntax
+            | Code::BadNumber
+            | Code::MissingWord
+            | Code::OutOfRange
+            | Code::Conflict
+            | Code::UnknownPosition
+            | Code::Geometry
+            | Code::TooManyPasses
+            | Code::Unsupported
+            | Code::Input
+            | Code::Suspicious
+            | Code::MachineLimit
+            | Code::Collision
+            | Code::FeedLimit
+            | Code::DepthNotReached
+            | Code::LeadLimit
+            | Code::RunUp
+            | Code::Form
+            | Code::Spindle
+            | Code::UnknownCode
+            | Code::OutOfClass
+            | Code::DecimalPoint
+            | Code::RunOut
+            | Code::CollisionAssumed
+            | Code::OutOfClassAssumed => Code::ALL.contains(&c),
+        };
+        assert!(Code::ALL.iter().all(|&c| listed(c)));
+        let mut names: Vec<&str> = Code::ALL.iter().map(|c| c.as_str()).collect();
+        names.sort_unstable();
+        let n = names.len();
+        names.dedup();
+        assert_eq!(names.len(), n, "a code number is used twice");
+        for name in names {
+            assert!(
+                (name.starts_with('E') || name.starts_with('W'))
+                    && name.len() == 4
+                    && name[1..].bytes().all(|b| b.is_ascii_digit()),
+                "{name}"
+            );
+        }
+    }
+}

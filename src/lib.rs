@@ -24,8 +24,10 @@
 //! ```
 
 pub mod apt;
+pub mod check;
 pub mod diag;
 pub mod dialect;
+pub mod eol;
 pub mod gcode;
 pub mod machine;
 pub mod mill;
@@ -33,7 +35,9 @@ pub mod post;
 pub mod program;
 pub mod render;
 pub mod sim;
+pub mod text;
 pub mod thread;
+pub mod threads;
 pub mod toolpath;
 pub mod translate;
 pub mod units;

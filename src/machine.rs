@@ -19,6 +19,107 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ("sinumerik", include_str!("../profiles/sinumerik.toml")),
 ];
 
+/// The two kinds of built-in profile: lathe controllers ([`BUILT_IN`]) and milling controllers
+/// ([`crate::mill::profile::BUILT_IN`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ProfileKind {
+    Lathe,
+    Mill,
+}
+
+impl ProfileKind {
+    /// The built-in profile names of this kind.
+    pub fn names(self) -> Vec<&'static str> {
+        let table = match self {
+            ProfileKind::Lathe => BUILT_IN,
+            ProfileKind::Mill => crate::mill::profile::BUILT_IN,
+        };
+        table.iter().map(|(n, _)| *n).collect()
+    }
+
+    fn other(self) -> ProfileKind {
+        match self {
+            ProfileKind::Lathe => ProfileKind::Mill,
+            ProfileKind::Mill => ProfileKind::Lathe,
+        }
+    }
+}
+
+/// Why a name given for a built-in profile names none of the kind wanted.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum NameError {
+    /// The name is a built-in profile of the other kind (`centroid` given to a lathe command).
+    OtherKind {
+        name: &'static str,
+        kind: ProfileKind,
+    },
+    /// No built-in profile has that name; the nearest name of the kind wanted, if one is near.
+    Unknown { suggestion: Option<&'static str> },
+}
+
+/// The built-in profile of `kind` that `name` means: names compare without regard to ASCII case
+/// (`GSK980` is `gsk980`). A name of the other kind, or none at all, is a [`NameError`].
+pub fn built_in_name(name: &str, kind: ProfileKind) -> Result<&'static str, NameError> {
+    let find = |k: ProfileKind| {
+        k.names()
+            .into_iter()
+            .find(|n| n.eq_ignore_ascii_case(name.trim()))
+    };
+    if let Some(n) = find(kind) {
+        return Ok(n);
+    }
+    if let Some(n) = find(kind.other()) {
+        return Err(NameError::OtherKind {
+            name: n,
+            kind: kind.other(),
+        });
+    }
+    Err(NameError::Unknown {
+        suggestion: nearest_name(name, &kind.names()),
+    })
+}
+
+/// The name among `names` nearest `given`: one that begins with it or that it begins with
+/// (`gsk` → `gsk980`, `fanuc0i` → `fanuc`), else the most similar by Jaro-Winkler if similar
+/// enough (`linuxnc` → `linuxcnc`); none for an unrelated word.
+fn nearest_name(given: &str, names: &[&'static str]) -> Option<&'static str> {
+    /// Below this Jaro-Winkler similarity two names are unrelated (`gsk` and `haas` score 0).
+    const SIMILAR: f64 = 0.8;
+    let key: String = given
+        .trim()
+        .chars()
+        .filter(|c| c.is_ascii_alphanumeric())
+        .map(|c| c.to_ascii_lowercase())
+        .collect();
+    if key.is_empty() {
+        return None;
+    }
+    let plain = |n: &str| -> String { n.chars().filter(|c| c.is_ascii_alphanumeric()).collect() };
+    let by_prefix = names
+        .iter()
+        .filter(|n| {
+            let p = plain(n);
+            p.starts_with(&key) || key.starts_with(&p)
+        })
+        .max_by_key(|n| {
+            // The longest common prefix wins (`fanuc15x` → `fanuc15`, not `fanuc`).
+            plain(n)
+                .bytes()
+                .zip(key.bytes())
+                .take_while(|(a, b)| a == b)
+                .count()
+        });
+    if let Some(n) = by_prefix {
+        return Some(n);
+    }
+    names
+        .iter()
+        .map(|n| (strsim::jaro_winkler(&key, &plain(n)), *n))
+        .filter(|(score, _)| *score >= SIMILAR)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .map(|(_, n)| n)
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum IncrementSystem {
@@ -303,6 +404,45 @@ mod tests {
             let m = Machine::from_toml(text).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert_eq!(&m.name, name);
         }
+    }
+
+    #[test]
+    fn built_in_names_ignore_case_and_name_the_other_kind() {
+        assert_eq!(built_in_name("GSK980", ProfileKind::Lathe), Ok("gsk980"));
+        assert_eq!(built_in_name("Fanuc-B", ProfileKind::Lathe), Ok("fanuc-b"));
+        assert_eq!(built_in_name("CENTROID", ProfileKind::Mill), Ok("centroid"));
+        assert_eq!(
+            built_in_name("centroid", ProfileKind::Lathe),
+            Err(NameError::OtherKind {
+                name: "centroid",
+                kind: ProfileKind::Mill
+            })
+        );
+        assert_eq!(
+            built_in_name("Haas", ProfileKind::Mill),
+            Err(NameError::OtherKind {
+                name: "haas",
+                kind: ProfileKind::Lathe
+            })
+        );
+        let suggestion = |n: &str, k| match built_in_name(n, k) {
+            Err(NameError::Unknown { suggestion }) => suggestion,
+            other => panic!("{n}: {other:?}"),
+        };
+        assert_eq!(suggestion("GSK", ProfileKind::Lathe), Some("gsk980"));
+        assert_eq!(suggestion("gsk-980", ProfileKind::Lathe), Some("gsk980"));
+        assert_eq!(suggestion("linuxnc", ProfileKind::Lathe), Some("linuxcnc"));
+        assert_eq!(suggestion("fanuc0i", ProfileKind::Lathe), Some("fanuc"));
+        assert_eq!(
+            suggestion("sinumerik840d", ProfileKind::Lathe),
+            Some("sinumerik")
+        );
+        assert_eq!(
+            suggestion("centroid-m", ProfileKind::Mill),
+            Some("centroid")
+        );
+        assert_eq!(suggestion("mazak", ProfileKind::Lathe), None);
+        assert_eq!(suggestion("", ProfileKind::Lathe), None);
     }
 
     #[test]

@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use crate::diag::Diagnostic;
 use crate::dialect::{self, Read};
+use crate::eol::{self, LineEnding};
 use crate::gcode::{Conventions, Line, Modal, MotionMode, PlainMove, Reader};
 use crate::machine::Machine;
 use crate::post::{self, json_num};
@@ -133,6 +134,8 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
 ) -> Result<Summary, Error> {
     let conv = dialect.conventions().clone();
     let mut modal = Modal::for_machine(&conv, machine);
+    // A G code the controller does not have is its alarm.
+    modal.vocabulary = Some(dialect.vocabulary());
     let mut reader = Reader::new(input).with_syntax(conv.syntax);
     let mut summary = Summary::default();
     let mut pending = 0usize;
@@ -314,11 +317,14 @@ pub fn jobs<R: BufRead>(input: R, machine: &Machine) -> Result<Vec<Job>, Error> 
 /// `threadcut expand`: the program with each cycle replaced by plain moves in the controller's own
 /// format. Other lines are copied byte for byte.
 pub fn expand_gcode<R: BufRead>(
-    input: R,
+    mut input: R,
     out: &mut dyn Write,
     machine: &Machine,
 ) -> Result<Summary, Error> {
     let d = dialect::open(machine).map_err(Error::Setup)?;
+    // The lines an expansion writes end as the program's first line does (CRLF in, CRLF out);
+    // copied lines keep their own bytes.
+    let ending = LineEnding::peek(&mut input)?;
     let format = d.format();
     let distance_words = d.conventions().g90_g91_distance;
     drive(
@@ -328,6 +334,7 @@ pub fn expand_gcode<R: BufRead>(
             out,
             format,
             distance_words,
+            ending,
         },
     )
 }
@@ -337,12 +344,22 @@ struct ExpandSink<'o> {
     out: &'o mut dyn Write,
     format: post::Format,
     distance_words: bool,
+    ending: LineEnding,
 }
 
 impl Sink for ExpandSink<'_> {
     const BATCH: bool = true;
     fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
-        expand_event(self.out, &self.format, self.distance_words, modal, ev)
+        match self.ending {
+            LineEnding::Lf => expand_event(self.out, &self.format, self.distance_words, modal, ev),
+            LineEnding::CrLf => expand_event(
+                &mut eol::Writer::new(&mut *self.out, LineEnding::CrLf),
+                &self.format,
+                self.distance_words,
+                modal,
+                ev,
+            ),
+        }
     }
     #[inline(always)]
     fn pass(&mut self, bytes: &[u8]) -> Result<(), Error> {
@@ -381,11 +398,10 @@ fn expand_event(
             let path = toolpath::build_with(&job, &passes)?;
             let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
             if let Some(c) = format.comment(&format!(
-                "threadcut: {} cycle of line {} as {} rough and {} finishing passes",
+                "threadcut: {} cycle of line {} as {}",
                 job.controller,
                 line.number,
-                rough,
-                passes.len() - rough
+                crate::text::rough_and_finishing(rough, passes.len() - rough)
             )) {
                 writeln!(out, "{c}")?;
             }
@@ -594,12 +610,32 @@ mod tests {
         let d = dialect::open(machine).unwrap();
         let format = d.format();
         let distance_words = d.conventions().g90_g91_distance;
-        let mut out = Vec::new();
+        let mut out = eol::Writer::new(Vec::new(), LineEnding::of(src));
         let end = run(src, machine, |modal, ev| match ev {
             Event::Plain { line, .. } => Ok(out.write_all(line.raw)?),
             ev => expand_event(&mut out, &format, distance_words, modal, ev),
         });
-        (out, format!("{end:?}"))
+        (out.into_inner(), format!("{end:?}"))
+    }
+
+    /// A CRLF program comes out CRLF: copied lines as they are, generated lines with CRLF too.
+    #[test]
+    fn generated_lines_end_as_the_program_does() {
+        let machine = Machine::built_in("gsk980").unwrap();
+        let src = "G0 X80 Z10\r\nG78 P020045 Q0.15 R0.5\r\nG78 X60 Z-60 P3 Q1.8 F3\r\nM30\r\n";
+        let (out, end) = expand_batched(src.as_bytes(), &machine);
+        assert!(end.starts_with("Ok"), "{end}");
+        let text = String::from_utf8(out).unwrap();
+        assert_eq!(text.matches("G32").count(), 4, "{text}");
+        assert_eq!(
+            text.matches('\n').count(),
+            text.matches("\r\n").count(),
+            "{text:?}"
+        );
+        assert!(!text.contains("\r\r"), "{text:?}");
+        // LF stays LF.
+        let (out, _) = expand_batched(src.replace("\r\n", "\n").as_bytes(), &machine);
+        assert!(!out.contains(&b'\r'));
     }
 
     fn expand_batched(source: impl BufRead, machine: &Machine) -> (Vec<u8>, String) {

@@ -298,7 +298,7 @@ fn a_one_block_g76_on_a_two_block_control_says_so() {
         let e = error(src, &Machine::built_in(controller).unwrap());
         assert_eq!(
             (e.code, e.span.line, e.span.column),
-            (Code::Unsupported, 3, 18),
+            (Code::UnknownCode, 3, 18),
             "{controller}: {e}"
         );
         assert!(e.message.contains("one-block G76"), "{}", e.message);
@@ -422,8 +422,24 @@ fn g_code_systems_a_b_and_c() {
     );
     // In B, G92 is not a thread cycle: with X/Z it sets the position, never cuts.
     assert!(jobs("G21\nG92 X29.2 Z-30.\n", &system_b).is_empty());
-    // In A, G78 is nothing of Fanuc's threading: the block passes to the modal reader.
-    assert!(jobs("G21\nG0 X40. Z5.\nG78 X29.2 Z-30. F2.\n", &fanuc()).is_empty());
+    // In A, G78 is no code of Fanuc's: the control's alarm, naming system B among those that have
+    // it; in B, G32 (system A's thread move) is the alarm.
+    let e = error("G21\nG0 X40. Z5.\nG78 X29.2 Z-30. F2.\n", &fanuc());
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::UnknownCode, 3, 1)
+    );
+    assert!(e.message.ends_with("G78 is not a G code of fanuc"), "{e}");
+    assert!(e.hint.unwrap().contains("--controller fanuc-b"));
+    let e = error("G21\nG0 X40. Z5.\nG32 Z-30. F2.\n", &system_b);
+    assert!(
+        e.message
+            .ends_with("G32 is not a G code of fanuc (G-code system B)"),
+        "{e}"
+    );
+    let e = error("G71\nG0 X40. Z5.\nG32 Z-30. F2.\n", &system_c);
+    assert_eq!((e.code, e.span.line), (Code::UnknownCode, 3), "{e}");
+    assert!(e.message.ends_with("fanuc (G-code system C)"), "{e}");
     // Native writing uses the system's numbers, and reads back.
     let (text, how) = threadcut::translate::job_to_string(&system_c, &ja[2]).unwrap();
     assert_eq!(how, threadcut::translate::Written::Native, "{text}");

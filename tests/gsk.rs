@@ -126,7 +126,7 @@ fn seed_example_motion_follows_the_execution_sequence() {
     let expected = "\
 G00 X80 Z10
 (threadcut: line 2 sets the cycle that follows)
-(threadcut: gsk980 cycle of line 3 as 2 rough and 2 finishing passes)
+(threadcut: gsk980 cycle of line 3 as 2 rough passes and 2 finishing passes)
 G0 X62.4 Z10.
 G32 X62.4 Z-58. F3.
 G32 X65.4 Z-60. F3.
@@ -795,10 +795,12 @@ fn other_blocks_pass_through_byte_for_byte() {
         ),
         "{out}"
     );
+    // The expansion's own lines end as the program's do (CRLF in, CRLF out).
     assert!(
-        out.ends_with("G0 X80. Z10.\nG01 X90 F0.2\r\nM30\r\n%"),
+        out.ends_with("G0 X80. Z10.\r\nG01 X90 F0.2\r\nM30\r\n%"),
         "{out}"
     );
+    assert_eq!(out.matches('\n').count(), out.matches("\r\n").count());
 }
 
 #[test]

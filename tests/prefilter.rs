@@ -35,6 +35,7 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
     let mut d = dialect::open(machine).unwrap();
     let conv = d.conventions().clone();
     let mut modal = Modal::for_machine(&conv, machine);
+    modal.vocabulary = Some(d.vocabulary());
     let mut reader = Reader::new(src.as_bytes()).with_syntax(conv.syntax);
     let mut seen = vec![];
     let mut warnings = vec![];

@@ -584,9 +584,9 @@ fn a_shop_program_expands_and_passes_everything_else_through() {
         }
     }
     assert_eq!(at, kept.len(), "{text}");
-    assert!(
-        text.contains("; threadcut: sinumerik cycle of line 16 as 8 rough and 3 finishing passes")
-    );
+    assert!(text.contains(
+        "; threadcut: sinumerik cycle of line 16 as 8 rough passes and 3 finishing passes"
+    ));
     assert!(text.contains("G33 X"), "{text}");
     assert!(text.contains(" K1.5000 SF=0.0000\n"), "{text}");
     assert!(!text.contains("CYCLE97"));

@@ -508,6 +508,7 @@ fn npt_judged_at_its_gauge_plane() {
         taper,
         length,
         pitch: IN / 14.0,
+        resolution: 0.0,
     };
     let j = judge_taper(&t, &cut(0.06, 1.0 / 16.0, 14.0)).unwrap();
     close(j.gauge_plane_z, -8.128, 1e-6, "gauge plane Z");
@@ -555,6 +556,7 @@ fn rc_judged_at_its_face() {
         taper: -1.0 / 16.0,
         length: 15.0,
         pitch: IN / 14.0,
+        resolution: 0.0,
     };
     let j = judge_taper(&t, &cut).unwrap();
     close(j.gauge_plane_z, 0.0, 1e-12, "at the face");

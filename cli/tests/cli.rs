@@ -152,7 +152,10 @@ fn usage_errors() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown controller `nosuch`"));
     let out = threadcut(&["expand", "no-such-file.nc", "-c", "gsk980"]);
     assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot open no-such-file.nc"));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "error: cannot read no-such-file.nc: No such file or directory\n"
+    );
     let out = threadcut(&[
         "expand",
         input.to_str().unwrap(),

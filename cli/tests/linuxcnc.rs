@@ -497,10 +497,17 @@ fn every_example_expands() {
         let text = std::fs::read(&path).unwrap();
         let m = Machine::built_in(controller).unwrap();
         let jobs = program::jobs(&text[..], &m).unwrap_or_else(|e| panic!("{name}: {e}"));
-        assert!(!jobs.is_empty(), "{name}");
         for j in &jobs {
             toolpath::build(j).unwrap();
         }
+        // Every example cuts a thread: a cycle, or passes written as plain moves.
+        let mut threads = 0;
+        threadcut::threads::each_gcode(&text[..], &m, None, |_| {
+            threads += 1;
+            Ok(())
+        })
+        .unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert!(threads > 0, "{name}");
         n += 1;
     }
     assert!(n >= 8);

@@ -121,7 +121,7 @@ fn the_png_is_legible() {
 #[test]
 fn a_program_without_cycles_gives_a_note() {
     let svg = plot("empty", "G00 X10 Z10\n", &[]);
-    assert!(svg.contains("no threading cycle"));
+    assert!(svg.contains("no thread in this program"));
     render("empty", &svg);
 }
 

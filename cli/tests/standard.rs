@@ -482,3 +482,56 @@ fn json_prints_the_tabulated_numbers() {
     assert_eq!(v["basic"]["pitch_diameter"].as_f64(), Some(0.4466));
     assert_eq!(v["basic"]["minor"].as_f64(), Some(0.3933));
 }
+
+/// Sinumerik's CYCLE97 takes a taper as the crest diameters DM1 at SPL and DM2 at FPL. R3/4
+/// external (ISO 7-1: gauge diameter 26.441 at 9.5 from the small end), face Z0, 16 long: DM1 =
+/// 26.441 − 9.5/16 = 25.84725 at Z0, DM2 = 26.441 + 6.5/16 = 26.84725 at Z−16, the run-in APP the
+/// default 3 pitches, 5.443. Rc3/4 internal: the tap hole (minor, 24.117) at the opening, 1 mm less
+/// 16 mm in. A CYCLE97 written with them reads back as a 1:16 cone through those diameters.
+#[test]
+fn cycle97_takes_a_taper_as_dm1_and_dm2() {
+    let (out, err, code) = cli(&[
+        "thread",
+        "R3/4",
+        "--controller",
+        "sinumerik",
+        "--length",
+        "16",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        out.contains("taper CYCLE97 DM1/DM2 = DM1 25.847 at SPL Z0.000, DM2 26.847 at FPL Z-16.000, APP 5.443 (mm: the crest diameters at the thread's start and end points, the major diameter"),
+        "{out}"
+    );
+    let (out, _, _) = cli(&[
+        "thread",
+        "Rc3/4",
+        "-c",
+        "sinumerik",
+        "--internal",
+        "--length",
+        "16",
+        "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let d = &v["cycle"]["taper_diameters"];
+    assert!((d["DM1"].as_f64().unwrap() - 24.117).abs() < 1e-9, "{d}");
+    assert!((d["DM2"].as_f64().unwrap() - 23.117).abs() < 1e-9, "{d}");
+    assert_eq!(d["FPL"], -16.0);
+    assert!(v["cycle"]["taper_word"].is_null());
+    // Read back: the crest line of the cycle those values write.
+    let src = "G18 G90 G95 G71 DIAMON\nT1 D1\nG0 X30 Z6\nCYCLE97(1.814,,0,-16,25.847,26.847,5.443,0,1.162,0.05,0,0,8,1,3,1)\n";
+    let job = threadcut::program::jobs(
+        src.as_bytes(),
+        &threadcut::machine::Machine::built_in("sinumerik").unwrap(),
+    )
+    .unwrap()
+    .remove(0);
+    let g = job.geometry;
+    let slope = 2.0 * (g.crest_end.x - g.crest_start.x) / (g.crest_start.z - g.crest_end.z);
+    assert!((slope - 1.0 / 16.0).abs() < 1e-4, "{slope}");
+    let at_z0 = g.crest_start.x
+        + (g.crest_end.x - g.crest_start.x) * (0.0 - g.crest_start.z)
+            / (g.crest_end.z - g.crest_start.z);
+    assert!((2.0 * at_z0 - 25.847).abs() < 1e-9, "{at_z0}");
+}

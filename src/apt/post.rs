@@ -20,10 +20,13 @@ use super::{run, Event};
 /// Writes the program for `target`. Numbers are written in the target profile's units (the
 /// controller's power-on units), whatever the CL units: no unit code is written.
 pub fn write<R: BufRead>(
-    input: R,
+    mut input: R,
     out: &mut dyn Write,
     target: &Machine,
 ) -> Result<Summary, Error> {
+    // The posted program ends its lines as the CL file does (CRLF in, CRLF out).
+    let ending = crate::eol::LineEnding::peek(&mut input)?;
+    let out = &mut crate::eol::Writer::new(out, ending);
     let format = dialect::open(target).map_err(Error::Setup)?.format();
     let units = target.units;
     let mut at: Option<Pos> = None;

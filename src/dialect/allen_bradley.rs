@@ -10,6 +10,7 @@
 //! the seed is a row of `docs/dialects/allen-bradley-g78.md`.
 
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, Word};
 use crate::machine::{AbParameters, EWord, Machine};
@@ -22,6 +23,24 @@ use super::{one_block, Dialect, Read};
 const G33: u16 = 330;
 const G78: u16 = 780;
 const G92: u16 = 920;
+
+/// The G codes of an Allen-Bradley 9/Series lathe. The seed's chapter (25, thread cutting) names
+/// G33, G34, G35 and G78 and the 7300-compatible G28/G29; the rest of the manual's list is not in
+/// public copies, so every whole code G0–G99 is accepted except the threading codes of other controls
+/// that this chapter does not list (G32, G76): docs/dialects/allen-bradley-g78.md, "Vocabulary".
+pub static VOCABULARY: Vocabulary = Vocabulary {
+    controller: "ab9",
+    alarm: "9/Series: invalid G code",
+    g_codes: &super::all_but(
+        &[
+            GCode::thread(G33, b"XZUWFEQ"),
+            GCode::thread(G78, b"XZUWKDFEAPI"),
+        ],
+        &[320, 760],
+    ),
+    foreign: &[],
+    others: super::others_with,
+};
 
 /// "It must be entered as an integer value from 0 to 120"; A0's chip areas assume a 60° tool.
 pub use super::one_block::{MAX_TOOL_ANGLE, PLUNGE_TOOL_ANGLE};
@@ -215,6 +234,10 @@ impl Dialect for AllenBradley {
 
     fn conventions(&self) -> &Conventions {
         &self.conv
+    }
+
+    fn vocabulary(&self) -> &'static Vocabulary {
+        &VOCABULARY
     }
 
     fn read(

@@ -5,13 +5,64 @@
 //! program format ([`super::fanuc15`]) share. Decisions: `docs/dialects/fanuc.md`.
 
 use crate::diag::{Diagnostic, Result};
+use crate::gcode::modal::Vocabulary;
 use crate::gcode::{Conventions, Line, Modal};
-use crate::machine::{FanucParameters, Machine};
+use crate::machine::{FanucParameters, GCodeSystem, Machine};
 use crate::post::Format;
 use crate::thread::Job;
 
-use super::fanuc_family::{self, FanucFamily, Flavour, G76Form, GCodes, ThreadParameters};
+use super::fanuc_family::{
+    self, FanucFamily, Flavour, G76Form, GCodes, ThreadParameters, ThreadWords,
+};
 use super::{one_block, Dialect, Read};
+
+/// The threading codes' words in Fanuc's standard program format: G32 (G33) `X Z U W F Q`, the
+/// two-block G76 (G78 in system C) `P Q R` then `X Z U W R P Q F`, G92 (G78, G21) `X Z U W R F Q`.
+const WORDS: ThreadWords = ThreadWords {
+    thread_move: b"XZUWFQ",
+    single: b"XZUWRFQ",
+    multiple: b"XZUWRPQF",
+};
+
+/// The G codes of a Fanuc 0i/30i lathe control in G-code system A, B or C (the operator's
+/// manual's G code list: `docs/dialects/fanuc.md`, "Vocabulary"; one table for the three
+/// systems, [`fanuc_family::g_codes`]). Not in system A: G33 (system A threads with G32), G78
+/// (GSK's cycle, and systems B/C's G92), G91 (U/W are the incremental words).
+pub static VOCABULARY: Vocabulary = Vocabulary {
+    controller: "fanuc",
+    alarm: ALARM,
+    g_codes: &fanuc_family::g_codes(GCodeSystem::A, &WORDS),
+    foreign: GCodes::of(GCodeSystem::A).foreign,
+    others: super::others_with,
+};
+/// … in G-code system B.
+pub static VOCABULARY_B: Vocabulary = Vocabulary {
+    controller: "fanuc (G-code system B)",
+    alarm: ALARM,
+    g_codes: &fanuc_family::g_codes(GCodeSystem::B, &WORDS),
+    foreign: GCodes::of(GCodeSystem::B).foreign,
+    others: super::others_with,
+};
+/// … in G-code system C.
+pub static VOCABULARY_C: Vocabulary = Vocabulary {
+    controller: "fanuc (G-code system C)",
+    alarm: ALARM,
+    g_codes: &fanuc_family::g_codes(GCodeSystem::C, &WORDS),
+    foreign: GCodes::of(GCodeSystem::C).foreign,
+    others: super::others_with,
+};
+
+/// A Fanuc control's alarm for a G code it does not have.
+pub const ALARM: &str = "alarm PS0010 (improper G-code)";
+
+/// The vocabulary of the standard program format in `system`.
+pub fn vocabulary(system: GCodeSystem) -> &'static Vocabulary {
+    match system {
+        GCodeSystem::A => &VOCABULARY,
+        GCodeSystem::B => &VOCABULARY_B,
+        GCodeSystem::C => &VOCABULARY_C,
+    }
+}
 
 /// A Fanuc-family control whose words are Fanuc's own: the standard program format (`fanuc`) or
 /// the FS15 format (`fanuc15`), as its [`Flavour`] says.
@@ -58,6 +109,10 @@ impl Dialect for Fanuc {
 
     fn conventions(&self) -> &Conventions {
         &self.conv
+    }
+
+    fn vocabulary(&self) -> &'static Vocabulary {
+        self.family.vocabulary
     }
 
     /// The family's blocks (cycle blocks, any block while the single-pass cycle is modal, blocks

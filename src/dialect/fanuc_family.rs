@@ -15,6 +15,7 @@
 //! decision is a row of `docs/dialects/fanuc.md` (or `haas.md`).
 
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{
     Conventions, Line, Modal, MotionMode, PositionCodes, Syntax, Word, WordSummary,
@@ -58,6 +59,9 @@ pub struct GCodes {
     /// G50.3 (A) or G92.1 (B, C). The reference returns (G28, G30, G29, G30.1), G53 and G54–G59
     /// are the same in every system.
     pub offset_changes: &'static [u16],
+    /// The other systems' fractional codes whose whole number this system has for another
+    /// function: the preset of the other systems (`Vocabulary::foreign`).
+    pub foreign: &'static [u16],
 }
 
 impl GCodes {
@@ -77,6 +81,7 @@ impl GCodes {
                     0, 10, 20, 30, 320, 330, 340, 700, 710, 720, 730, 740, 750, 760, 780, 900, 940,
                 ],
                 offset_changes: &[100, 520, 503],
+                foreign: &[921],
             },
             GCodeSystem::B => GCodes {
                 system,
@@ -91,6 +96,7 @@ impl GCodes {
                     0, 10, 20, 30, 330, 340, 700, 710, 720, 730, 740, 750, 760, 770, 790,
                 ],
                 offset_changes: &[100, 520, 921],
+                foreign: &[503],
             },
             GCodeSystem::C => GCodes {
                 system,
@@ -105,6 +111,7 @@ impl GCodes {
                     0, 10, 20, 30, 330, 340, 200, 240, 720, 730, 740, 750, 760, 770, 780,
                 ],
                 offset_changes: &[100, 520, 921],
+                foreign: &[503],
             },
         }
     }
@@ -147,6 +154,170 @@ impl GCodes {
             "G33"
         }
     }
+}
+
+/// No code in this G-code system.
+const NONE: u16 = u16::MAX;
+
+/// The G code list of a Fanuc 0i/30i lathe control: one row per function, its number (×10) in
+/// G-code systems A, B and C (the operator's manual's G code list; `docs/dialects/fanuc.md`,
+/// "Vocabulary"). A fractional code (G7.1, G12.1, G50.3, G92.1) is known by its whole number, but
+/// for the other systems' preset ([`GCodes::foreign`]).
+const G_CODE_LIST: &[[u16; 3]] = &[
+    // The same number in every system.
+    [0, 0, 0],
+    [10, 10, 10],
+    [20, 20, 20],
+    [30, 30, 30],
+    [40, 40, 40],
+    [50, 50, 50],
+    [70, 70, 70],
+    [80, 80, 80],
+    [90, 90, 90],
+    [100, 100, 100],
+    [110, 110, 110],
+    [120, 120, 120],
+    [130, 130, 130],
+    [170, 170, 170],
+    [180, 180, 180],
+    [190, 190, 190],
+    [220, 220, 220],
+    [230, 230, 230],
+    [250, 250, 250],
+    [260, 260, 260],
+    [270, 270, 270],
+    [280, 280, 280],
+    [290, 290, 290],
+    [300, 300, 300],
+    [310, 310, 310],
+    [340, 340, 340],
+    [350, 350, 350],
+    [360, 360, 360],
+    [370, 370, 370],
+    [380, 380, 380],
+    [390, 390, 390],
+    [400, 400, 400],
+    [410, 410, 410],
+    [420, 420, 420],
+    [430, 430, 430],
+    [440, 440, 440],
+    [490, 490, 490],
+    // G50.2/G51.2 polygon turning (and system A's G50, below).
+    [500, 500, 500],
+    [510, 510, 510],
+    [520, 520, 520],
+    [530, 530, 530],
+    [540, 540, 540],
+    [550, 550, 550],
+    [560, 560, 560],
+    [570, 570, 570],
+    [580, 580, 580],
+    [590, 590, 590],
+    [610, 610, 610],
+    [620, 620, 620],
+    [630, 630, 630],
+    [640, 640, 640],
+    [650, 650, 650],
+    [660, 660, 660],
+    [670, 670, 670],
+    [680, 680, 680],
+    [690, 690, 690],
+    [800, 800, 800],
+    [810, 810, 810],
+    [820, 820, 820],
+    [830, 830, 830],
+    [840, 840, 840],
+    [850, 850, 850],
+    [860, 860, 860],
+    [870, 870, 870],
+    [880, 880, 880],
+    [890, 890, 890],
+    [960, 960, 960],
+    [970, 970, 970],
+    [1070, 1070, 1070],
+    [1120, 1120, 1120],
+    [1130, 1130, 1130],
+    [2500, 2500, 2500],
+    [2510, 2510, 2510],
+    // Inch and millimetre input.
+    [200, 200, 700],
+    [210, 210, 710],
+    // The thread move.
+    [320, 330, 330],
+    // Coordinate system setting (G50.3 / G92.1: workpiece coordinate system preset).
+    [500, 920, 920],
+    // The multiple repetitive cycles: finishing, stock removal in turning and in facing, pattern
+    // repeating, end-face peck drilling, grooving, the multiple threading cycle.
+    [700, 700, 720],
+    [710, 710, 730],
+    [720, 720, 740],
+    [730, 730, 750],
+    [740, 740, 760],
+    [750, 750, 770],
+    [760, 760, 780],
+    // The single-pass cycles: turning, threading, facing.
+    [900, 770, 200],
+    [920, 780, 210],
+    [940, 790, 240],
+    // Feed per minute and per revolution.
+    [980, 940, 940],
+    [990, 950, 950],
+    // Absolute and incremental programming, canned-cycle return to the initial or the R level.
+    [NONE, 900, 900],
+    [NONE, 910, 910],
+    [NONE, 980, 980],
+    [NONE, 990, 990],
+];
+
+/// The letters the threading codes of a member of the family take (the hint of an alarm names the
+/// controllers whose code fits a block's words).
+pub struct ThreadWords {
+    pub thread_move: &'static [u8],
+    pub single: &'static [u8],
+    pub multiple: &'static [u8],
+}
+
+/// The G codes of a Fanuc-format control in `system`, sorted, the threading codes with `words`:
+/// the rows of [`G_CODE_LIST`] in that system's column, the threading codes where [`GCodes`] puts
+/// them (one table for the three systems, so that they cannot disagree).
+pub const fn g_codes(system: GCodeSystem, words: &ThreadWords) -> [GCode; G_CODE_LIST.len()] {
+    let codes = GCodes::of(system);
+    let column = match system {
+        GCodeSystem::A => 0,
+        GCodeSystem::B => 1,
+        GCodeSystem::C => 2,
+    };
+    let mut out = [GCode::plain(0); G_CODE_LIST.len()];
+    let mut i = 0;
+    while i < G_CODE_LIST.len() {
+        let code = G_CODE_LIST[i][column];
+        out[i] = if code == NONE {
+            // A row the system does not have: G0 again (the list stays sorted).
+            GCode::plain(0)
+        } else if code == codes.thread_move {
+            GCode::thread(code, words.thread_move)
+        } else if code == codes.single {
+            GCode::thread(code, words.single)
+        } else if code == codes.multiple {
+            GCode::thread(code, words.multiple)
+        } else {
+            GCode::plain(code)
+        };
+        i += 1;
+    }
+    // Sorted by code (insertion sort: a short list, at compile time).
+    let mut i = 1;
+    while i < out.len() {
+        let mut j = i;
+        while j > 0 && out[j - 1].code > out[j].code {
+            let t = out[j - 1];
+            out[j - 1] = out[j];
+            out[j] = t;
+            j -= 1;
+        }
+        i += 1;
+    }
+    out
 }
 
 /// `G76`, `G78`, `G21`: a code's name.
@@ -224,6 +395,9 @@ pub struct Flavour {
     pub chamfer_name: &'static str,
     /// … and of the finishing allowance, e.g. "the finishing allowance d".
     pub allowance_name: &'static str,
+    /// The controller's G codes in a G-code system (the modal reader's alarm for any other code,
+    /// and the alarm on a block of another control's form).
+    pub vocabulary: fn(GCodeSystem) -> &'static Vocabulary,
 }
 
 impl Flavour {
@@ -238,6 +412,7 @@ impl Flavour {
             g76: G76Form::TwoBlock,
             chamfer_name: "the chamfer (parameter 5130)",
             allowance_name: "the finishing allowance d",
+            vocabulary: super::fanuc::vocabulary,
         }
     }
 }
@@ -257,6 +432,8 @@ pub struct FanucFamily {
     pub flavour: Flavour,
     pub params: ThreadParameters,
     pub codes: GCodes,
+    /// The controller's G codes in its G-code system (the flavour's, for `codes.system`).
+    pub vocabulary: &'static Vocabulary,
     /// Haas's M23/M24: the pull-out of G76/G92 is cut (M23, the default) or not (M24).
     pub chamfer_on: bool,
     /// Least input increment in mm and in inch (for P(k), Q(Δd), Q(Δdmin)).
@@ -301,6 +478,7 @@ impl FanucFamily {
             flavour,
             params,
             codes,
+            vocabulary: (flavour.vocabulary)(codes.system),
             chamfer_on: true,
             increment: [
                 machine.resolution(Units::Mm),
@@ -477,7 +655,7 @@ impl FanucFamily {
             )?;
             return Ok(Some(Read::Cycle(Box::new(job))));
         }
-        one_block_words_on_two_block(line, self.flavour.controller, &name)?;
+        one_block_words_on_two_block(line, self.vocabulary, code, &name)?;
         if second {
             let job = self.read_g76_second(conv, line, modal, gword.span, warnings)?;
             Ok(Some(Read::Cycle(Box::new(job))))
@@ -1099,24 +1277,32 @@ pub(crate) fn start_angle(q: &Word) -> Result<f64> {
     Ok((q.value / 1000.0) % 360.0)
 }
 
-/// A one-block G76's words on a two-block control: say so, and name the controls that read it.
-fn one_block_words_on_two_block(line: &Line, controller: &str, name: &str) -> Result<()> {
+/// A one-block G76's words (K thread height, D first cut, A tool angle: Fanuc's FS15 program
+/// format, Haas) on a two-block control: the control's alarm at the word, the form it reads, and
+/// the built-in controllers whose vocabulary has the code with the block's words
+/// ([`super::others_with`]: every controller that declares a one-block G76 is named).
+fn one_block_words_on_two_block(
+    line: &Line,
+    vocabulary: &Vocabulary,
+    code: u16,
+    name: &str,
+) -> Result<()> {
     match line
         .words
         .iter()
         .find(|w| matches!(w.letter, b'K' | b'D' | b'A'))
     {
-        Some(w) => Err(Diagnostic::error(
-            Code::Unsupported,
+        Some(w) => Err(super::foreign_form(
+            line,
             w.span,
+            code,
+            vocabulary,
             format!(
-                "{} belongs to the one-block {name} (X Z K D F A P), which {controller} does not read: {controller} reads {name} in two blocks",
-                w.letter as char
+                "{} is a word of the one-block {name} (X Z I K D F A P Q: Fanuc's FS15 program format, Haas), and {} reads {name} in two blocks",
+                w.letter as char, vocabulary.controller
             ),
-        )
-        .with_hint(format!(
-            "Haas lathes and Fanuc controls in the FS15 program format take the one-block form: read this program with --controller haas or --controller fanuc15; for {controller} write {name} P(m)(r)(a) Q(Δdmin) R(d) then {name} X(U) Z(W) R(i) P(k) Q(Δd) F(L)"
-        ))),
+            &format!("{name} P(m)(r)(a) Q(Δdmin) R(d), then {name} X(U) Z(W) R(i) P(k) Q(Δd) F(L)"),
+        )),
         None => Ok(()),
     }
 }

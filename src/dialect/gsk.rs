@@ -8,6 +8,7 @@
 //! Every decision on an ambiguity of the seed is a row of `docs/dialects/gsk-g78.md`.
 
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::{Conventions, Line, Modal, Word};
 use crate::machine::{GCodeSystem, GskParameters, IncrementSystem, Machine};
 use crate::post::Format;
@@ -18,7 +19,92 @@ use crate::thread::{
 use crate::units::{Pos, Resolution, Tolerance, Units};
 
 use super::fanuc_family::{self, FanucFamily, Flavour, GCodes, ThreadParameters};
-use super::{only_words, Dialect, Read};
+use super::{g, only_words, Dialect, Read};
+
+/// The G codes of a GSK 980TDi-class lathe control (its manual's G code table: docs/dialects/gsk-g78.md,
+/// "Vocabulary"). G33 is GSK's Z-axis tapping cycle, not a thread move; G32 threads, and G76, G78 and
+/// G92 are the threading cycles. A fractional code (G6.2, G7.3, G12.1) is known by its whole number.
+pub static VOCABULARY: Vocabulary = Vocabulary {
+    controller: "gsk980",
+    alarm: "GSK alarm (illegal G code)",
+    g_codes: &[
+        g(0),
+        g(10),
+        g(20),
+        g(30),
+        g(40),
+        g(50),
+        g(60),
+        g(70),
+        g(100),
+        g(110),
+        g(120),
+        g(130),
+        g(170),
+        g(180),
+        g(190),
+        g(200),
+        g(210),
+        g(220),
+        g(230),
+        g(260),
+        g(270),
+        g(280),
+        g(290),
+        g(300),
+        g(310),
+        GCode::thread(320, b"XZUWFIJKLQ"),
+        GCode {
+            code: 330,
+            words: Some(b"ZWFIL"),
+            threads: false,
+        },
+        g(340),
+        g(360),
+        g(370),
+        g(400),
+        g(410),
+        g(420),
+        g(500),
+        g(510),
+        g(520),
+        g(530),
+        g(540),
+        g(550),
+        g(560),
+        g(570),
+        g(580),
+        g(590),
+        g(650),
+        g(660),
+        g(670),
+        g(700),
+        g(710),
+        g(720),
+        g(730),
+        g(740),
+        g(750),
+        GCode::thread(760, b"XZUWRPQFI"),
+        GCode::thread(780, b"XZUWRPQJKFIDLE"),
+        g(800),
+        g(830),
+        g(840),
+        g(850),
+        g(860),
+        g(870),
+        g(880),
+        g(890),
+        g(900),
+        GCode::thread(920, b"XZUWRFIJKL"),
+        g(940),
+        g(960),
+        g(970),
+        g(980),
+        g(990),
+    ],
+    foreign: &[],
+    others: super::others_with,
+};
 
 const G78: u16 = 780;
 
@@ -96,6 +182,7 @@ impl Gsk {
                     gsk_g92_words: true,
                     // GSK's G92 cuts further starts with L, not by a start angle.
                     start_angle: false,
+                    vocabulary: |_| &VOCABULARY,
                     ..Flavour::fanuc("gsk980")
                 },
                 ThreadParameters::fanuc(
@@ -533,6 +620,10 @@ impl Dialect for Gsk {
 
     fn conventions(&self) -> &Conventions {
         &self.conv
+    }
+
+    fn vocabulary(&self) -> &'static Vocabulary {
+        &VOCABULARY
     }
 
     fn read(

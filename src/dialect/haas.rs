@@ -6,6 +6,7 @@
 //! inference: `docs/dialects/haas.md`.
 
 use crate::diag::{Code, Diagnostic, Result};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, MotionMode, PositionCodes, WordSummary};
 use crate::machine::{GCodeSystem, HaasSettings, Machine};
@@ -41,6 +42,7 @@ pub const FLAVOUR: Flavour = Flavour {
     g76: G76Form::OneBlock(G76_WORDS),
     chamfer_name: "the thread chamfer (Setting 95)",
     allowance_name: "the thread finish allowance (Setting 86)",
+    vocabulary,
 };
 
 /// Haas's lathe G codes for where the tool is: system A's (`fanuc_family::GCodes`), except that
@@ -68,6 +70,59 @@ const WORK_SYSTEMS: [u16; 26] = {
     }
     t
 };
+
+/// Haas's lathe G codes, as ranges of whole numbers (Haas's lathe G-code list:
+/// `docs/dialects/haas.md`, "Vocabulary"). Generous where the public list may be partial: every
+/// code G0–G99 but the threading codes of other controls that Haas does not have (G33, G34, G78),
+/// and Haas's own G100–G391 (mirror image, output, look-ahead, servo bar, cylindrical mapping, work offsets
+/// G110–G129 and G154, G112/G113, G170–G172 diameter/radius override, G184–G199 tapping and
+/// spindle synchronisation, G200, G211/G212, G234, radial canned cycles G241–G249, scaling and
+/// dynamic work offsets G250–G255, G266, G268/G269, G390/G391).
+const RANGES: &[(u16, u16)] = &[
+    (0, 32),
+    (35, 77),
+    (79, 105),
+    (107, 107),
+    (110, 129),
+    (154, 154),
+    (156, 156),
+    (165, 165),
+    (167, 167),
+    (170, 172),
+    (184, 184),
+    (186, 187),
+    (195, 196),
+    (198, 200),
+    (211, 212),
+    (234, 234),
+    (241, 251),
+    (254, 255),
+    (266, 266),
+    (268, 269),
+    (390, 391),
+];
+
+/// Haas's G codes; the threading codes with their words: G32 `X Z U W F Q`, the one-block G76
+/// [`G76_WORDS`], G92 `X Z U W I F E Q`.
+pub static VOCABULARY: Vocabulary = Vocabulary {
+    controller: "haas",
+    alarm: "Haas alarm (invalid G code)",
+    g_codes: &super::ranges::<{ super::count(RANGES) }>(
+        RANGES,
+        &[
+            GCode::thread(320, b"XZUWFQ"),
+            GCode::thread(760, b"XZUWIKDFEAPQM"),
+            GCode::thread(920, b"XZUWIFEQ"),
+        ],
+    ),
+    foreign: &[],
+    others: super::others_with,
+};
+
+/// Haas has one G-code system.
+fn vocabulary(_: GCodeSystem) -> &'static Vocabulary {
+    &VOCABULARY
+}
 
 pub struct Haas {
     conv: Conventions,
@@ -151,6 +206,10 @@ impl Dialect for Haas {
 
     fn conventions(&self) -> &Conventions {
         &self.conv
+    }
+
+    fn vocabulary(&self) -> &'static Vocabulary {
+        &VOCABULARY
     }
 
     /// The family's blocks, and blocks with M23/M24 or an E (a lead on G76/G92, refused on G32

@@ -6,6 +6,7 @@
 //! deviation is a row of `docs/dialects/linuxcnc-g76.md`.
 
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal};
 use crate::machine::Machine;
@@ -16,7 +17,79 @@ use crate::thread::{
 };
 use crate::units::Pos;
 
-use super::{Dialect, Read};
+use super::{g, Dialect, Read};
+
+/// The G codes of LinuxCNC's rs274ngc interpreter (its G-code reference, 2.9/2.10: docs/dialects/linuxcnc-g76.md,
+/// "Vocabulary"); a fractional code (G33.1, G38.2, G64 P, G92.1) is known by its whole number.
+/// Any other code is LinuxCNC's "Unknown g code used".
+pub static VOCABULARY: Vocabulary = Vocabulary {
+    controller: "linuxcnc",
+    alarm: "Unknown g code used",
+    g_codes: &[
+        g(0),
+        g(10),
+        g(20),
+        g(30),
+        g(40),
+        g(50),
+        g(60),
+        g(70),
+        g(80),
+        g(100),
+        g(170),
+        g(180),
+        g(190),
+        g(200),
+        g(210),
+        g(280),
+        g(300),
+        GCode::thread(330, b"XYZABCUVWK$"),
+        g(380),
+        g(400),
+        g(410),
+        g(420),
+        g(430),
+        g(490),
+        g(520),
+        g(530),
+        g(540),
+        g(550),
+        g(560),
+        g(570),
+        g(580),
+        g(590),
+        g(610),
+        g(640),
+        g(700),
+        g(710),
+        g(720),
+        g(730),
+        g(740),
+        GCode::thread(760, b"XYZABCUVWPIJKRQHEL$"),
+        g(800),
+        g(810),
+        g(820),
+        g(830),
+        g(840),
+        g(850),
+        g(860),
+        g(870),
+        g(880),
+        g(890),
+        g(900),
+        g(910),
+        g(920),
+        g(930),
+        g(940),
+        g(950),
+        g(960),
+        g(970),
+        g(980),
+        g(990),
+    ],
+    foreign: &[],
+    others: super::others_with,
+};
 
 mod words;
 
@@ -369,6 +442,10 @@ impl Dialect for LinuxCnc {
 
     fn conventions(&self) -> &Conventions {
         &self.conv
+    }
+
+    fn vocabulary(&self) -> &'static Vocabulary {
+        &VOCABULARY
     }
 
     fn read(

@@ -14,6 +14,7 @@ pub mod one_block;
 pub mod sinumerik;
 
 use crate::diag::{Diagnostic, Result, Span};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::{Conventions, Line, Modal, Word};
 use crate::machine::Machine;
 use crate::post::Format;
@@ -49,9 +50,41 @@ pub struct TaperWord {
     pub radius: bool,
 }
 
+/// A cycle that takes a taper as the crest diameters at the thread's start and end points rather
+/// than as one word (Sinumerik CYCLE97: DM1 at SPL, DM2 at FPL; the run-in APP and run-out ROP lie
+/// outside them on the same cone). Diameters whatever X's mode; an internal thread's are its tap
+/// hole's (the crest).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct TaperDiameters {
+    /// The cycle and its words, as the manual writes them (`CYCLE97 DM1/DM2`).
+    pub cycles: &'static str,
+    /// The word at the thread's start point, and that point's word (`DM1`, `SPL`).
+    pub at_start: &'static str,
+    pub start_point: &'static str,
+    /// … at its end point (`DM2`, `FPL`).
+    pub at_end: &'static str,
+    pub end_point: &'static str,
+    /// The run-in before the start point (`APP`), along the same cone.
+    pub run_in: &'static str,
+}
+
+/// How a controller's threading cycle takes a taper.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(tag = "form", rename_all = "snake_case")]
+pub enum CycleTaper {
+    /// One word: the change of X over the cycle's Z travel (Fanuc's R(i), OmniTurn's A, …).
+    Word(TaperWord),
+    /// The crest diameters at the thread's two ends (Sinumerik's DM1/DM2).
+    Diameters(TaperDiameters),
+}
+
 pub trait Dialect {
     fn name(&self) -> &'static str;
     fn conventions(&self) -> &Conventions;
+    /// The G codes this controller has, with the words of its threading codes: the modal reader
+    /// refuses any other code with the controller's alarm, and the hint of that alarm names the
+    /// built-in controllers that have it ([`others_with`]).
+    fn vocabulary(&self) -> &'static Vocabulary;
     /// A cheap look at a line before [`read`](Dialect::read): `false` promises that `read` would
     /// return `Read::Plain` without changing any state (its own or the modal state) and without a
     /// warning, so the caller may skip it. The default offers every line.
@@ -79,9 +112,15 @@ pub trait Dialect {
             self.name()
         ))
     }
-    /// The word that tapers this controller's threading cycle, if it has one.
+    /// The word that tapers this controller's threading cycle, if it has one (`None` as well for
+    /// a cycle that takes two diameters instead: see [`cycle_taper`](Dialect::cycle_taper)).
     fn taper_word(&self) -> Option<TaperWord> {
         None
+    }
+    /// How this controller's threading cycle takes a taper: its one taper word, or the diameters
+    /// at the thread's ends (Sinumerik's CYCLE97); `None` when its cycles cut no taper.
+    fn cycle_taper(&self) -> Option<CycleTaper> {
+        self.taper_word().map(CycleTaper::Word)
     }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
@@ -95,6 +134,173 @@ pub trait Dialect {
     ) -> Option<std::io::Result<()>> {
         None
     }
+}
+
+/// The hint of a controller's alarm for a G code it does not have: the other built-in controllers
+/// that have `code` with a block of these `letters` (or with other words), but for those whose
+/// vocabulary is `except`'s (the one that raised the alarm). Runs only on that error path (it opens
+/// every built-in profile).
+pub fn others_with(code: u16, letters: &[u8], except: &Vocabulary) -> Option<String> {
+    let g = crate::gcode::modal::g_name(code);
+    let mut fit: Vec<String> = Vec::new();
+    let mut other: Vec<String> = Vec::new();
+    for (name, _) in crate::machine::BUILT_IN {
+        let Some(machine) = Machine::built_in(name) else {
+            continue;
+        };
+        let Ok(d) = open(&machine) else { continue };
+        if std::ptr::eq(d.vocabulary(), except) {
+            continue;
+        }
+        match d.vocabulary().get(code) {
+            Some(entry) if entry.takes(letters) => fit.push(name.to_string()),
+            Some(entry) => other.push(match entry.words {
+                Some(w) => format!("{name} ({g} {})", spaced(w)),
+                None => name.to_string(),
+            }),
+            None => {}
+        }
+    }
+    let written: Vec<u8> = letters
+        .iter()
+        .copied()
+        .filter(|l| !matches!(l, b'G' | b'N'))
+        .collect();
+    Some(if !fit.is_empty() {
+        format!(
+            "{} {g} with these words: check the program with {}",
+            and_list(&fit, if fit.len() == 1 { "has" } else { "have" }),
+            fit.iter()
+                .map(|c| format!("--controller {c}"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        )
+    } else if !other.is_empty() {
+        format!(
+            "{} {g}, but not with {}: no built-in controller reads this block",
+            and_list(&other, if other.len() == 1 { "has" } else { "have" }),
+            if written.is_empty() {
+                "these words".to_string()
+            } else {
+                spaced(&written)
+            }
+        )
+    } else {
+        format!("no built-in controller has {g}")
+    })
+}
+
+/// `a`, `a and b`, `a, b and c`, then the verb.
+fn and_list(items: &[String], verb: &str) -> String {
+    let list = match items {
+        [] => String::new(),
+        [one] => one.clone(),
+        [rest @ .., last] => format!("{} and {last}", rest.join(", ")),
+    };
+    format!("{list} {verb}")
+}
+
+/// Letters as `X Z K`.
+fn spaced(letters: &[u8]) -> String {
+    letters
+        .iter()
+        .map(|&l| (l as char).to_string())
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// A block of `code` whose letters do not fit the form this controller reads (a one-block G76 on a
+/// control with the two-block G76): the controller's alarm at the code, naming the form it
+/// expected (`how`), with [`others_with`]'s hint.
+pub(crate) fn foreign_form(
+    line: &Line,
+    at: Span,
+    code: u16,
+    vocabulary: &Vocabulary,
+    message: String,
+    how: &str,
+) -> Diagnostic {
+    let letters: Vec<u8> = line.words.iter().map(|w| w.letter).collect();
+    let others = others_with(code, &letters, vocabulary).unwrap_or_default();
+    Diagnostic::error(crate::diag::Code::UnknownCode, at, message)
+        .with_hint(format!("{others}; on {}: {how}", vocabulary.controller))
+}
+
+/// A code of a vocabulary whose words are not stated (×10).
+pub(crate) const fn g(code: u16) -> GCode {
+    GCode::plain(code)
+}
+
+/// Every whole code G0–G99 but `except`, with `threads`' entries in their places: the vocabulary
+/// of a controller whose public documentation lists only part of its codes. Only the codes that
+/// other controllers thread with are refused, so that no code the controller may have is an alarm
+/// (an excluded code's slot repeats the code before it, so that the list stays sorted).
+pub(crate) const fn all_but(threads: &[GCode], except: &[u16]) -> [GCode; 100] {
+    let mut out = [GCode::plain(0); 100];
+    let mut i = 0;
+    while i < 100 {
+        let code = i as u16 * 10;
+        let mut entry = GCode::plain(code);
+        let mut j = 0;
+        while j < except.len() {
+            if except[j] == code && i > 0 {
+                entry = out[i - 1];
+            }
+            j += 1;
+        }
+        let mut k = 0;
+        while k < threads.len() {
+            if threads[k].code == code {
+                entry = threads[k];
+            }
+            k += 1;
+        }
+        out[i] = entry;
+        i += 1;
+    }
+    out
+}
+
+/// How many whole codes `ranges` name (each `(first, last)`, G numbers, inclusive): the length of
+/// [`ranges`]' list.
+pub(crate) const fn count(ranges: &[(u16, u16)]) -> usize {
+    let mut n = 0;
+    let mut i = 0;
+    while i < ranges.len() {
+        n += (ranges[i].1 - ranges[i].0 + 1) as usize;
+        i += 1;
+    }
+    n
+}
+
+/// A vocabulary's list from ranges of whole G numbers (`(first, last)`, inclusive, ascending and
+/// apart), with `threads`' entries in their places: `N` is [`count`]`(ranges)` (a mismatch stops
+/// the build). For a controller whose codes run in long series (work offsets G505–G599) or whose
+/// public lists are partial, so that its list is read as the manual's ranges.
+pub(crate) const fn ranges<const N: usize>(ranges: &[(u16, u16)], threads: &[GCode]) -> [GCode; N] {
+    assert!(count(ranges) == N, "N must be count(ranges)");
+    let mut out = [GCode::plain(0); N];
+    let mut at = 0;
+    let mut i = 0;
+    while i < ranges.len() {
+        assert!(i == 0 || ranges[i].0 > ranges[i - 1].1, "ranges ascend");
+        let mut code = ranges[i].0;
+        while code <= ranges[i].1 {
+            let mut entry = GCode::plain(code * 10);
+            let mut k = 0;
+            while k < threads.len() {
+                if threads[k].code == code * 10 {
+                    entry = threads[k];
+                }
+                k += 1;
+            }
+            out[at] = entry;
+            at += 1;
+            code += 1;
+        }
+        i += 1;
+    }
+    out
 }
 
 /// Refuses the first word of `line` whose letter is not in `allowed`, naming the block and its words:
@@ -334,5 +540,153 @@ impl WithDialect for Boxed {
     type Output = Box<dyn Dialect>;
     fn run<D: Dialect + 'static>(self, dialect: D) -> Box<dyn Dialect> {
         Box::new(dialect)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `Vocabulary::get` searches by halving: every built-in controller's list is sorted, and
+    /// knows its own threading codes.
+    #[test]
+    fn every_vocabulary_is_sorted_and_knows_its_thread_codes() {
+        for (name, _) in crate::machine::BUILT_IN {
+            let d = open(&Machine::built_in(name).unwrap()).unwrap();
+            let v = d.vocabulary();
+            assert!(
+                v.g_codes.windows(2).all(|w| w[0].code <= w[1].code),
+                "{name}"
+            );
+            assert!(v.controller.starts_with(d.name()), "{name}");
+            assert!(v.get(0).is_some() && v.get(10).is_some(), "{name}");
+            let thread = d.conventions().thread_move;
+            assert!(v.get(thread).is_some_and(|g| g.threads), "{name}");
+        }
+        // What each refuses (the cases) and keeps (fractions by their whole number).
+        let known = |c: &str, code: u16| {
+            open(&Machine::built_in(c).unwrap())
+                .unwrap()
+                .vocabulary()
+                .get(code)
+                .is_some()
+        };
+        assert!(!known("fanuc", 780) && !known("fanuc", 330) && !known("fanuc", 910));
+        assert!(known("fanuc", 71) && known("fanuc", 1120) && known("fanuc", 503));
+        assert!(known("gsk980", 780) && known("gsk980", 62));
+        assert!(!known("linuxcnc", 320) && known("linuxcnc", 331) && known("linuxcnc", 382));
+        assert!(!known("omniturn", 760) && known("omniturn", 720) && known("omniturn", 310));
+        assert!(!known("ab9", 320) && !known("ab9", 760) && known("ab9", 780) && known("ab9", 330));
+        // Fanuc system B: G33 threads, G78 is the single-pass cycle, G90/G91 and G94/G95 are modes;
+        // G32 is system A's.
+        assert!(known("fanuc-b", 330) && known("fanuc-b", 780) && known("fanuc-b", 910));
+        assert!(known("fanuc-b", 950) && known("fanuc-b", 921) && !known("fanuc-b", 320));
+        // FS15: system A's list with the one-block G76.
+        assert!(known("fanuc15", 320) && !known("fanuc15", 330) && !known("fanuc15", 780));
+        // Haas: its own codes above G99, none of the other controls' threading codes.
+        assert!(known("haas", 1540) && known("haas", 1870) && known("haas", 3910));
+        assert!(!known("haas", 330) && !known("haas", 340) && !known("haas", 780));
+        assert!(known("haas", 950) && known("haas", 50) && known("haas", 1120));
+        // Sinumerik: G33 and its own codes; no ISO units, no other thread codes.
+        assert!(known("sinumerik", 7000) && known("sinumerik", 6420) && known("sinumerik", 5990));
+        assert!(known("sinumerik", 3310) && known("sinumerik", 9730) && known("sinumerik", 920));
+        assert!(!known("sinumerik", 200) && !known("sinumerik", 210) && !known("sinumerik", 320));
+        assert!(!known("sinumerik", 760) && !known("sinumerik", 780) && !known("sinumerik", 5040));
+    }
+
+    /// One table for Fanuc's three G-code systems: in each, the threading entries are exactly the
+    /// system's thread move and cycles, with the program format's words; the other codes of the
+    /// threading family follow the system (G20/G21 units in A/B, cycles in C).
+    #[test]
+    fn fanuc_vocabularies_follow_the_g_code_system() {
+        use crate::machine::GCodeSystem;
+        for system in [GCodeSystem::A, GCodeSystem::B, GCodeSystem::C] {
+            let codes = fanuc_family::GCodes::of(system);
+            for (v, single, multiple) in [
+                (fanuc::vocabulary(system), &b"XZUWRFQ"[..], &b"XZUWRPQF"[..]),
+                (
+                    fanuc15::vocabulary(system),
+                    &b"XZUWIFQ"[..],
+                    &b"XZUWIKDFEAPQ"[..],
+                ),
+            ] {
+                let threads: Vec<u16> = v
+                    .g_codes
+                    .iter()
+                    .filter(|g| g.threads)
+                    .map(|g| g.code)
+                    .collect();
+                let mut want = vec![codes.thread_move, codes.single, codes.multiple];
+                want.sort();
+                assert_eq!(threads, want, "{system:?}");
+                assert_eq!(v.get(codes.single).unwrap().words, Some(single));
+                assert_eq!(v.get(codes.multiple).unwrap().words, Some(multiple));
+                assert!(v.get(codes.set_position).is_some());
+                assert!(v.get(codes.units[0]).is_some() && v.get(codes.units[1]).is_some());
+                for c in codes.canned {
+                    assert!(v.get(*c).is_some(), "{system:?} G{}", c / 10);
+                }
+            }
+        }
+        let c = fanuc::vocabulary(GCodeSystem::C);
+        // In C: G20 turning, G21 threading, G24 facing cycles; G70/G71 units; G76 drilling.
+        assert!(c.get(200).is_some_and(|g| !g.threads) && c.get(210).is_some_and(|g| g.threads));
+        assert!(c.get(240).is_some() && c.get(760).is_some_and(|g| !g.threads));
+        assert!(c.get(320).is_none() && fanuc::VOCABULARY.get(910).is_none());
+    }
+
+    /// A code is judged once: every code a dialect's `PositionCodes` gives a meaning is a code of
+    /// its vocabulary (else the meaning could never apply), and the preset of Fanuc's other
+    /// G-code systems is no code of this one (G92.1 is B's and C's preset and G92 is A's threading
+    /// cycle: system A does not read G92.1 as G92, nor system B G50.3 as G50).
+    #[test]
+    fn position_codes_are_codes_of_the_vocabulary() {
+        for (name, _) in crate::machine::BUILT_IN {
+            let d = open(&Machine::built_in(name).unwrap()).unwrap();
+            let (v, p) = (d.vocabulary(), &d.conventions().positions);
+            let codes = p
+                .returns
+                .iter()
+                .chain(p.stores)
+                .map(|(c, _)| *c)
+                .chain(p.machine_moves.iter().copied())
+                .chain(p.work_systems.iter().copied())
+                .chain(p.offset_changes.iter().copied())
+                .chain(p.not_moves.iter().copied())
+                .chain((p.from_reference != 0).then_some(p.from_reference));
+            for c in codes {
+                assert!(v.get(c).is_some(), "{name}: G{}", f64::from(c) / 10.0);
+            }
+        }
+        use crate::machine::GCodeSystem;
+        assert!(fanuc::vocabulary(GCodeSystem::A).get(921).is_none());
+        assert!(fanuc::vocabulary(GCodeSystem::A).get(503).is_some());
+        for system in [GCodeSystem::B, GCodeSystem::C] {
+            assert!(fanuc::vocabulary(system).get(503).is_none());
+            assert!(fanuc15::vocabulary(system).get(503).is_none());
+            assert!(fanuc::vocabulary(system).get(921).is_some());
+            assert!(
+                fanuc::vocabulary(system).get(502).is_some(),
+                "G50.2 polygon turning"
+            );
+        }
+        assert!(fanuc15::vocabulary(GCodeSystem::A).get(921).is_none());
+    }
+
+    #[test]
+    fn the_hint_names_the_controllers_that_have_a_code_with_these_words() {
+        assert_eq!(
+            others_with(780, b"GXZPQF", &fanuc::VOCABULARY).unwrap(),
+            "gsk980 has G78 with these words: check the program with --controller gsk980"
+        );
+        // ab9's G78 takes K and D but no Q: with K and D only ab9 fits.
+        assert_eq!(
+            others_with(780, b"GXZKDFAP", &fanuc::VOCABULARY).unwrap(),
+            "ab9 has G78 with these words: check the program with --controller ab9"
+        );
+        assert_eq!(
+            others_with(3330, b"G", &fanuc::VOCABULARY).unwrap(),
+            "no built-in controller has G333"
+        );
     }
 }

@@ -10,6 +10,7 @@
 use std::io::{self, Write};
 
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, Word};
 use crate::machine::{Machine, OmniTurnParameters};
@@ -21,7 +22,19 @@ use crate::thread::{
 use crate::toolpath::Toolpath;
 use crate::units::{Pos, Units, MM_PER_INCH};
 
-use super::{Dialect, Read};
+use super::{all_but, Dialect, Read};
+
+/// The G codes of an OmniTurn control. The seed documents only G33, G35, G36, G72, G73, G90, G92,
+/// G94 and G95, so every whole code G0–G99 is accepted except the threading codes of other controls
+/// (G32, G34, G76, G78): those are refused with the hint naming the controllers that have them
+/// (docs/dialects/omniturn-g33.md, "Vocabulary").
+pub static VOCABULARY: Vocabulary = Vocabulary {
+    controller: "omniturn",
+    alarm: "OmniTurn: invalid G code",
+    g_codes: &all_but(&[GCode::thread(G33, b"XZIKACPO")], &[320, 340, 760, 780]),
+    foreign: &[],
+    others: super::others_with,
+};
 
 const G33: u16 = 330;
 const G72: u16 = 720;
@@ -566,6 +579,10 @@ impl Dialect for OmniTurn {
 
     fn conventions(&self) -> &Conventions {
         &self.conv
+    }
+
+    fn vocabulary(&self) -> &'static Vocabulary {
+        &VOCABULARY
     }
 
     fn read(

@@ -14,6 +14,7 @@ use std::collections::HashMap;
 
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::lexer::{letter_slot, WordIndex};
+use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{
     Conventions, Line, Modal, MotionMode, Position, PositionCodes, Reference, Syntax, Word,
@@ -53,8 +54,11 @@ const PASSIVE_KEYWORDS: &[&str] = &[
 ];
 
 /// `NAME=value` settings that change nothing threadcut follows (spindle speed limit, spindle
-/// positioning, the fixed point of a G75).
-const PASSIVE_SETTINGS: &[&str] = &["LIMS", "SPOS", "SPOSA", "SETMS", "ACC", "OVR", "FP"];
+/// positioning, the fixed point of a G75, the smoothing distances of G641, which round the
+/// corners between moves and leave the moves' end points and a G33 chain's thread as written).
+const PASSIVE_SETTINGS: &[&str] = &[
+    "LIMS", "SPOS", "SPOSA", "SETMS", "ACC", "OVR", "FP", "ADIS", "ADISPOS",
+];
 
 /// Calls that change nothing threadcut follows: messages, the simulation's blank, the master
 /// spindle.
@@ -136,6 +140,56 @@ enum Leaves {
     /// Another cycle's call: where it leaves the tool is not known.
     AllUnknown,
 }
+
+/// Sinumerik's G functions in Siemens mode, as ranges of whole numbers (the Fundamentals manual's
+/// list of G functions: `docs/dialects/sinumerik.md`, "Vocabulary"). Generous where threadcut's
+/// knowledge of the list may be partial: every code G0–G99 but the ISO/Fanuc codes a Siemens-mode
+/// program never has — G20/G21 (inch and metric are G70/G71, G700/G710), G32 (the thread move is
+/// G33), G76, G78 (the thread cycle is CYCLE97, a call, not a G code) — and the functions above G99:
+/// G110–G112, G140–G143, G147/G148, G153, G247/G248, G290/G291, G331/G332, G335/G336, G340/G341,
+/// G347/G348, G450/G451, G460–G462, G500, G505–G599, G601–G603, G621, G641–G645, G700, G710, the
+/// OEM codes G810–G829, G931, G942, G952, G961/G962, G971–G973.
+const RANGES: &[(u16, u16)] = &[
+    (0, 19),
+    (22, 31),
+    (33, 75),
+    (77, 77),
+    (79, 99),
+    (110, 112),
+    (140, 143),
+    (147, 148),
+    (153, 153),
+    (247, 248),
+    (290, 291),
+    (331, 332),
+    (335, 336),
+    (340, 341),
+    (347, 348),
+    (450, 451),
+    (460, 462),
+    (500, 500),
+    (505, 599),
+    (601, 603),
+    (621, 621),
+    (641, 645),
+    (700, 700),
+    (710, 710),
+    (810, 829),
+    (931, 931),
+    (942, 942),
+    (952, 952),
+    (961, 962),
+    (971, 973),
+];
+
+/// Sinumerik's G functions; G33 with its words `X Z I K` (SF= is a named word).
+pub static VOCABULARY: Vocabulary = Vocabulary {
+    controller: "sinumerik",
+    alarm: "alarm 12470 (G function unknown)",
+    g_codes: &super::ranges::<{ super::count(RANGES) }>(RANGES, &[GCode::thread(G33, b"XZIK")]),
+    foreign: &[],
+    others: super::others_with,
+};
 
 pub struct Sinumerik {
     conv: Conventions,
@@ -254,6 +308,15 @@ impl Sinumerik {
                     // the absolute translation component of the programmable zero offset").
                     Some(c @ (580 | 590)) => {
                         return Err(frame_refused(&format!("G{}", c / 10), w.span))
+                    }
+                    // G291 switches to the ISO dialect: the words after it are Fanuc's.
+                    Some(2910) => {
+                        return Err(Diagnostic::error(
+                            Code::Unsupported,
+                            w.span,
+                            "G291: threadcut reads Sinumerik programs in Siemens mode (G290), not in the ISO dialect",
+                        )
+                        .with_hint("a program written in the ISO dialect is a Fanuc program: read it with --controller fanuc"))
                     }
                     Some(c @ (340 | 350 | 630 | 3310 | 3320)) => {
                         return Err(Diagnostic::error(
@@ -653,6 +716,10 @@ impl Dialect for Sinumerik {
         &self.conv
     }
 
+    fn vocabulary(&self) -> &'static Vocabulary {
+        &VOCABULARY
+    }
+
     /// Lines in Sinumerik's own syntax, G codes other than G0–G3, and the letters `read` looks at
     /// (D and T: the tool offset; L: a subprogram call; E: an exponent to refuse), in one test of
     /// the word summary; and the line after a CYCLE97 expanded under DIAM90 and G91.
@@ -678,6 +745,20 @@ impl Dialect for Sinumerik {
             super::refuse_exponent(line)?;
             self.read_words(line, modal, Leaves::Known)
         }
+    }
+
+    /// CYCLE97 takes a taper as the thread's crest diameters at SPL and FPL (S2, S5: "DM1 thread
+    /// diameter at the starting point", "DM2 … at the end point"; inside, the tap hole's), the
+    /// run-in APP before SPL on the same cone (docs/dialects/sinumerik.md, "Taper threads").
+    fn cycle_taper(&self) -> Option<super::CycleTaper> {
+        Some(super::CycleTaper::Diameters(super::TaperDiameters {
+            cycles: "CYCLE97 DM1/DM2",
+            at_start: "DM1",
+            start_point: "SPL",
+            at_end: "DM2",
+            end_point: "FPL",
+            run_in: "APP",
+        }))
     }
 
     fn format(&self) -> Format {

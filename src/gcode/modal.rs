@@ -209,6 +209,134 @@ impl Position {
 /// `G20` inch, `G21` millimetre input.
 pub const G20_G21: [u16; 2] = [200, 210];
 
+/// One G code a controller has, as its vocabulary lists it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct GCode {
+    /// The code ×10 (`G33.1` is 331). A code with no fraction also stands for its fractional
+    /// variants (`G5` for `G5.1`), so that a controller's list need not name every one.
+    pub code: u16,
+    /// The letters its blocks take, where the code means different things on different
+    /// controllers (a threading cycle's words); `None`: not stated (every letter).
+    pub words: Option<&'static [u8]>,
+    /// The code cuts a thread (a synchronised move or a threading cycle).
+    pub threads: bool,
+}
+
+impl GCode {
+    /// A code whose words are not stated.
+    pub const fn plain(code: u16) -> GCode {
+        GCode {
+            code,
+            words: None,
+            threads: false,
+        }
+    }
+
+    /// A threading code with the letters its blocks take.
+    pub const fn thread(code: u16, words: &'static [u8]) -> GCode {
+        GCode {
+            code,
+            words: Some(words),
+            threads: true,
+        }
+    }
+
+    /// Whether a block of these letters (`G` and `N` aside) fits the code's words.
+    pub fn takes(&self, letters: &[u8]) -> bool {
+        self.words.is_none_or(|words| {
+            letters
+                .iter()
+                .all(|l| matches!(l, b'G' | b'N') || words.contains(l))
+        })
+    }
+}
+
+/// The G codes a controller has: its dialect states them ([`crate::dialect::Dialect::vocabulary`])
+/// and the modal reader refuses every other code with the controller's alarm.
+pub struct Vocabulary {
+    /// The controller's name, as profiles and messages write it.
+    pub controller: &'static str,
+    /// The controller's alarm for a G code it does not have (its number and wording).
+    pub alarm: &'static str,
+    pub g_codes: &'static [GCode],
+    /// Fractional codes the controller does not have although [`g_codes`](Self::g_codes) has
+    /// their whole number: the numbers its other G-code systems give a function (Fanuc's
+    /// workpiece coordinate preset is `G92.1` in systems B and C, where `G92` is system A's
+    /// threading cycle; `G50.3` in A, where `G50` is B's and C's polygon turning). Without them a
+    /// code would be a preset in one system and pass as nothing in another.
+    pub foreign: &'static [u16],
+    /// A hint naming the controllers that have a code (with a block of these letters), added to
+    /// the alarm; the dialects' module supplies it, since only it knows the other controllers.
+    pub others: fn(code: u16, letters: &[u8], except: &Vocabulary) -> Option<String>,
+}
+
+impl std::fmt::Debug for Vocabulary {
+    /// The controller's name: the list itself is static data.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Vocabulary({})", self.controller)
+    }
+}
+
+impl Vocabulary {
+    /// The entry of a code: the code itself, else (for `G5.1`) its whole number unless the code
+    /// is [`foreign`](Self::foreign). The list is
+    /// sorted by code (a test keeps every dialect's so).
+    pub fn get(&self, code: u16) -> Option<&GCode> {
+        let find = |c: u16| {
+            self.g_codes
+                .binary_search_by_key(&c, |g| g.code)
+                .ok()
+                .map(|i| &self.g_codes[i])
+        };
+        find(code).or_else(|| {
+            if self.foreign.contains(&code) {
+                None
+            } else {
+                find(code / 10 * 10)
+            }
+        })
+    }
+
+    /// The alarm for the G word `w` of `line`, whose code this controller does not have.
+    #[cold]
+    pub fn unknown(&self, w: &Word, code: u16, line: &Line) -> Diagnostic {
+        let letters: Vec<u8> = line.words.iter().map(|w| w.letter).collect();
+        let d = Diagnostic::error(
+            Code::UnknownCode,
+            w.span,
+            format!(
+                "{}: {} is not a G code of {}",
+                self.alarm,
+                g_name(code),
+                self.controller
+            ),
+        );
+        match (self.others)(code, &letters, self) {
+            Some(hint) => d.with_hint(hint),
+            None => d,
+        }
+    }
+
+    /// The codes that cut threads, as `G32, G76, G92`.
+    pub fn thread_codes(&self) -> String {
+        self.g_codes
+            .iter()
+            .filter(|g| g.threads)
+            .map(|g| g_name(g.code))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// A G code ×10 as written: `G78`, `G33.1`.
+pub fn g_name(code: u16) -> String {
+    if code.is_multiple_of(10) {
+        format!("G{}", code / 10)
+    } else {
+        format!("G{}.{}", code / 10, code % 10)
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotionMode {
     Rapid,
@@ -259,6 +387,9 @@ pub struct Modal {
     pub references: [Position; 2],
     /// The work coordinate system in force (×10; G54 at power-on).
     pub work_system: u16,
+    /// The G codes the controller has; `None`: every code is accepted (a reader that only reads
+    /// back text threadcut wrote).
+    pub vocabulary: Option<&'static Vocabulary>,
 }
 
 impl Modal {
@@ -279,6 +410,7 @@ impl Modal {
             increment: [0.001, 0.0001],
             references: [Position::UNKNOWN; 2],
             work_system: conv.positions.power_on_work_system,
+            vocabulary: None,
         }
     }
 
@@ -490,12 +622,19 @@ impl Modal {
                         c if c == conv.thread_move => self.motion = MotionMode::Thread,
                         c if c == conv.set_position && c != 0 => set_position = true,
                         c if conv.canned_cycles.contains(&c) => self.motion = MotionMode::Cycle,
-                        c => match conv.positions.classify(c) {
-                            Some(Special::WorkSystem(code)) => work_system = Some(code),
-                            Some(Special::Store(r)) => store = Some(r),
-                            Some(s) => special = Some(s),
-                            None => {}
-                        },
+                        c => {
+                            if let Some(v) = self.vocabulary {
+                                if v.get(c).is_none() {
+                                    return Err(v.unknown(w, c, line));
+                                }
+                            }
+                            match conv.positions.classify(c) {
+                                Some(Special::WorkSystem(code)) => work_system = Some(code),
+                                Some(Special::Store(r)) => store = Some(r),
+                                Some(s) => special = Some(s),
+                                None => {}
+                            }
+                        }
                     }
                 }
             } else if w.letter == b'F' {

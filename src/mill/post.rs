@@ -11,6 +11,7 @@ use super::Side;
 use super::{CompSide, MoveKind, Plan};
 use crate::machine::CommentStyle;
 use crate::post::{json_num, number};
+use crate::text::count;
 use crate::units::Units;
 
 /// Output choices that are not in the profile.
@@ -62,21 +63,27 @@ pub fn summary(plan: &Plan, units: Units) -> Vec<String> {
             if plan.cw { "G2" } else { "G3" }
         ),
         format!(
-            "from the {} diameter {:.d$} to the {} diameter {:.d$} {un}, {} radial pass(es), tool diameter {:.d$}, {} tooth/teeth",
+            "from the {} diameter {:.d$} to the {} diameter {:.d$} {un}, {}, tool diameter {:.d$}, {}",
             if plan.side == Side::Internal { "bore" } else { "stock" },
             2.0 * u(plan.crest_radius),
             if plan.side == Side::Internal { "major" } else { "minor" },
             2.0 * u(plan.final_radius),
-            plan.pass_radii.len(),
+            count(plan.pass_radii.len(), "radial pass", "radial passes"),
             2.0 * u(plan.tool_radius),
-            plan.teeth
+            count(plan.teeth as usize, "tooth", "teeth")
         ),
         format!(
-            "pitch {:.6} {un}, {} start(s), lead {:.6} {un}, {} full turns per pass and start; length x threads per inch = {:.4}",
+            "pitch {:.6} {un}, {}, lead {:.6} {un}, {} per pass and start; {} = {:.4}",
             u(plan.pitch),
-            plan.starts,
+            count(plan.starts as usize, "start", "starts"),
             u(plan.lead),
-            plan.turns,
+            count(plan.turns as usize, "full turn", "full turns"),
+            // TB029 step 6 counts turns as length × threads per inch; a metric thread has a pitch.
+            if plan.tpi.is_some() {
+                "length × threads per inch"
+            } else {
+                "length / pitch"
+            },
             plan.seed_count
         ),
         format!(

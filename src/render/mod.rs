@@ -8,41 +8,168 @@ pub use svg::{svg, CyclePlot};
 use std::io::BufRead;
 
 use crate::machine::Machine;
-use crate::program::{self, Error, Event, Summary};
-use crate::sim::{self, check::tip_in_mm, Tip, Tool};
-use crate::thread::{Job, Pass};
-use crate::toolpath::{self, Toolpath};
+use crate::program::{Error, Summary};
+use crate::sim::{self, tip_in_mm, Tip, Tool};
+use crate::threads::{self, Thread};
 
-/// `threadcut plot`: every cycle of a program, its pass diagram and XZ toolpath, as one SVG, with
-/// the tool's tip given in program units.
+/// Which threads of a program a picture draws.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Selection {
+    /// Only this thread (1-based, in program order).
+    pub only: Option<usize>,
+    /// Otherwise the first this many.
+    pub max: usize,
+}
+
+/// The threads a picture draws unless told otherwise: about 14 kB of SVG each for a usual cycle.
+pub const MAX_PLOTTED: usize = 50;
+
+impl Default for Selection {
+    fn default() -> Selection {
+        Selection {
+            only: None,
+            max: MAX_PLOTTED,
+        }
+    }
+}
+
+impl Selection {
+    fn wants(&self, number: usize, kept: usize) -> bool {
+        match self.only {
+            Some(n) => number == n,
+            None => kept < self.max,
+        }
+    }
+}
+
+/// A program's picture and what it holds.
+#[derive(Debug)]
+pub struct Plot {
+    pub svg: String,
+    pub summary: Summary,
+    /// Every thread the program has.
+    pub threads: usize,
+    /// The threads drawn: number (1-based, in program order) and the line each starts on.
+    pub drawn: Vec<(usize, u32)>,
+}
+
+/// `threadcut plot`: every thread of a G-code program (cycles, and threads written as plain
+/// moves), its pass diagram and XZ toolpath, as one SVG, with the tool's tip given in program
+/// units; with the run's summary and the number of threads the program has. At most
+/// [`MAX_PLOTTED`] threads are drawn ([`program_plot`] chooses).
 pub fn program_svg<R: BufRead>(
     input: R,
     machine: &Machine,
     tip: Tip,
-) -> Result<(String, Summary), Error> {
-    let mut cycles: Vec<(Job, Vec<Pass>, sim::Section, Toolpath)> = Vec::new();
-    let summary = program::run(input, machine, |_, ev| {
-        if let Event::Cycle { job, .. } = ev {
-            let passes = job.passes()?;
-            let path = toolpath::build_with(&job, &passes)?;
-            let tool = Tool {
-                angle_deg: job.tool_angle_deg,
-                tip: tip_in_mm(tip, job.units),
-            };
-            let section = sim::section(&job, &passes, &tool, 0.0)?;
-            cycles.push((*job, passes, section, path));
+) -> Result<(String, Summary, usize), Error> {
+    let p = program_plot(input, machine, tip, Selection::default())?;
+    Ok((p.svg, p.summary, p.threads))
+}
+
+/// [`program_svg`] with the threads to draw chosen: the picture says which threads it leaves out.
+/// Only the threads drawn are kept in memory.
+pub fn program_plot<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    tip: Tip,
+    selection: Selection,
+) -> Result<Plot, Error> {
+    let mut found = Vec::new();
+    let mut total = 0;
+    let summary = threads::each_gcode(input, machine, None, |t| {
+        total += 1;
+        if selection.wants(total, found.len()) {
+            found.push((total, t));
         }
         Ok(())
     })?;
-    let plots: Vec<CyclePlot> = cycles
+    plot(found, total, summary, tip)
+}
+
+/// `threadcut plot` on an APT/CL program.
+pub fn apt_svg<R: BufRead>(input: R, tip: Tip) -> Result<(String, Summary, usize), Error> {
+    let p = apt_plot(input, tip, Selection::default())?;
+    Ok((p.svg, p.summary, p.threads))
+}
+
+/// [`apt_svg`] with the threads to draw chosen.
+pub fn apt_plot<R: BufRead>(input: R, tip: Tip, selection: Selection) -> Result<Plot, Error> {
+    let mut found = Vec::new();
+    let mut total = 0;
+    let summary = threads::each_apt(input, |t| {
+        total += 1;
+        if selection.wants(total, found.len()) {
+            found.push((total, t));
+        }
+        Ok(())
+    })?;
+    plot(found, total, summary, tip)
+}
+
+fn plot(
+    found: Vec<(usize, Thread)>,
+    total: usize,
+    summary: Summary,
+    tip: Tip,
+) -> Result<Plot, Error> {
+    let (numbers, threads): (Vec<usize>, Vec<Thread>) = found.into_iter().unzip();
+    let (svg, drawn) = threads_picture(&threads, &numbers, total, tip)?;
+    Ok(Plot {
+        svg,
+        summary,
+        threads: total,
+        drawn: numbers
+            .iter()
+            .zip(&threads)
+            .take(drawn)
+            .map(|(n, t)| (*n, t.job.line))
+            .collect(),
+    })
+}
+
+/// The SVG of these threads. A cycle whose tool angle is 0° (a radial infeed) is drawn with a 60°
+/// tool, as `check` cuts its section.
+pub fn threads_svg(found: &[Thread], tip: Tip) -> Result<String, Error> {
+    let numbers: Vec<usize> = (1..=found.len()).collect();
+    Ok(threads_picture(found, &numbers, found.len(), tip)?.0)
+}
+
+/// [`threads_svg`] of the threads numbered `numbers` of `total`, saying which are left out; with
+/// how many were drawn ([`svg::picture`]).
+fn threads_picture(
+    found: &[Thread],
+    numbers: &[usize],
+    total: usize,
+    tip: Tip,
+) -> Result<(String, usize), Error> {
+    let mut sections = Vec::with_capacity(found.len());
+    for t in found {
+        let angle = if t.job.tool_angle_deg > 0.0 {
+            t.job.tool_angle_deg
+        } else {
+            60.0
+        };
+        let tool = Tool {
+            angle_deg: angle,
+            tip: tip_in_mm(tip, t.job.units),
+        };
+        let job = crate::thread::Job {
+            tool_angle_deg: angle,
+            ..t.job.clone()
+        };
+        sections.push(sim::section(&job, &t.passes, &tool, 0.0)?);
+    }
+    let plots: Vec<CyclePlot> = found
         .iter()
-        .map(|(job, passes, section, path)| CyclePlot {
-            job,
-            passes,
+        .zip(&sections)
+        .map(|(t, section)| CyclePlot {
+            job: &t.job,
+            passes: &t.passes,
             section,
-            path,
-            diameter_x: machine.diameter_x,
+            path: &t.path,
+            diameter_x: t.diameter_x,
+            what: t.describe(),
         })
         .collect();
-    Ok((svg(&plots), summary))
+    Ok(svg::picture(&plots, numbers, total))
 }

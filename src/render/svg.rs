@@ -20,6 +20,8 @@ pub struct CyclePlot<'a> {
     pub path: &'a Toolpath,
     /// The program writes X as a diameter (for the axis caption).
     pub diameter_x: bool,
+    /// What the thread is, for the title: `fanuc cycle`, `5 single-pass cycles as one thread …`.
+    pub what: String,
 }
 
 const WIDTH: f64 = 1100.0;
@@ -48,11 +50,41 @@ fn colour(pass: u32) -> &'static str {
     PALETTE[(pass.max(1) as usize - 1) % PALETTE.len()]
 }
 
+/// A picture larger than this (bytes) gets no further thread: the threads after the one that
+/// would pass it are left out, and the picture says so. One thread alone stays well below it: see
+/// [`MAX_PATH_PASSES`].
+pub const MAX_SVG_BYTES: usize = 4_000_000;
+
+/// A thread with more passes than this has the toolpath and the tool outline of one pass in `k`
+/// drawn (its finishing passes always), so that one thread's picture stays under about 2 MB even
+/// at the planner's 10,000 passes; every chip is still filled in.
+pub const MAX_PATH_PASSES: usize = 400;
+
 /// The whole picture.
 pub fn svg(cycles: &[CyclePlot]) -> String {
-    let rows = cycles.len().max(1) as f64;
-    let height = ROW * rows + 10.0;
-    let mut s = String::with_capacity(16_384 * cycles.len().max(1));
+    let numbers: Vec<usize> = (1..=cycles.len()).collect();
+    picture(cycles, &numbers, cycles.len()).0
+}
+
+/// The picture of `cycles`, which are the threads numbered `numbers` (1-based, in program order)
+/// of the `total` the program has; with how many of `cycles` were drawn (all, unless the picture
+/// reached [`MAX_SVG_BYTES`]). Threads left out are stated at the bottom of the picture.
+pub fn picture(cycles: &[CyclePlot], numbers: &[usize], total: usize) -> (String, usize) {
+    let mut body = String::new();
+    let mut drawn = 0;
+    for (i, c) in cycles.iter().enumerate() {
+        let mut one = String::with_capacity(16_384);
+        cycle(&mut one, c, ROW * i as f64);
+        if drawn > 0 && body.len() + one.len() > MAX_SVG_BYTES {
+            break;
+        }
+        body.push_str(&one);
+        drawn += 1;
+    }
+    let note = (drawn < total).then(|| left_out(&numbers[..drawn], total));
+    let rows = drawn.max(1) as f64;
+    let height = ROW * rows + 10.0 + if note.is_some() { 30.0 } else { 0.0 };
+    let mut s = String::with_capacity(body.len() + 1024);
     // Writing into a String cannot fail.
     let _ = writeln!(
         s,
@@ -62,18 +94,38 @@ pub fn svg(cycles: &[CyclePlot]) -> String {
         s,
         r#"<rect x="0" y="0" width="{WIDTH:.0}" height="{height:.0}" fill="white"/>"#
     );
-    if cycles.is_empty() {
+    if total == 0 {
         let _ = writeln!(
             s,
-            r#"<text x="20" y="40" font-size="16">no threading cycle in this program</text>"#
+            r#"<text x="20" y="40" font-size="16">no thread in this program</text>"#
         );
     }
-    for (i, c) in cycles.iter().enumerate() {
-        let y0 = ROW * i as f64;
-        cycle(&mut s, c, y0);
+    s.push_str(&body);
+    if let Some(note) = note {
+        let _ = writeln!(
+            s,
+            r##"<text x="20" y="{:.2}" font-size="15" fill="#b00">{}</text>"##,
+            ROW * rows + 20.0,
+            text(&note)
+        );
     }
     s.push_str("</svg>\n");
-    s
+    (s, drawn)
+}
+
+/// What a picture of the threads numbered `drawn` (ascending) of `total` leaves out:
+/// `threads 1–50 of 20000 drawn, 19950 left out`.
+pub fn left_out(drawn: &[usize], total: usize) -> String {
+    let which = match (drawn.first(), drawn.last()) {
+        (Some(a), Some(b)) if a == b => format!("thread {a} of {total}"),
+        (Some(a), Some(b)) if b - a + 1 == drawn.len() => format!("threads {a}–{b} of {total}"),
+        (Some(_), Some(_)) => format!("{} of {total} threads", drawn.len()),
+        _ => format!("none of {total} threads"),
+    };
+    format!(
+        "{which} drawn, {} left out",
+        total.saturating_sub(drawn.len())
+    )
 }
 
 /// A linear map from model coordinates to the page.
@@ -126,6 +178,22 @@ fn text(t: &str) -> String {
         .replace('>', "&gt;")
 }
 
+/// One pass in this many has its toolpath and tool outline drawn ([`MAX_PATH_PASSES`]).
+fn stride(c: &CyclePlot) -> usize {
+    c.passes.len().div_ceil(MAX_PATH_PASSES).max(1)
+}
+
+/// Whether pass `n` (0: moves outside any pass) has its toolpath and tool outline drawn.
+fn shown(c: &CyclePlot, n: u32) -> bool {
+    let k = stride(c);
+    k == 1
+        || n == 0
+        || (n as usize - 1).is_multiple_of(k)
+        || c.passes
+            .get(n as usize - 1)
+            .is_none_or(|p| p.kind == crate::thread::PassKind::Finish)
+}
+
 fn cycle(s: &mut String, c: &CyclePlot, y0: f64) {
     let job = c.job;
     let u = job.units;
@@ -136,16 +204,18 @@ fn cycle(s: &mut String, c: &CyclePlot, y0: f64) {
         .filter(|p| p.kind == crate::thread::PassKind::Rough)
         .count();
     let title = format!(
-        "line {}: {} cycle, {} rough + {} finishing passes, lead {} {}, depth {} {}",
+        "line {}: {}, {}, lead {} {}, depth {} {}",
         job.line,
-        job.controller,
-        rough,
-        c.passes.len() - rough,
+        c.what,
+        crate::text::rough_and_finishing(rough, c.passes.len() - rough),
         num(u.from_mm(job.lead.lead), 4),
         u.name(),
         num(u.from_mm(job.geometry.depth), 4),
         u.name()
-    );
+    ) + &match stride(c) {
+        1 => String::new(),
+        k => format!("; toolpath and tool of 1 pass in {k} drawn"),
+    };
     let _ = writeln!(
         s,
         r#"<text x="{SECTION_X:.0}" y="{:.2}" font-size="15" font-weight="bold">{}</text>"#,
@@ -229,7 +299,7 @@ fn section_panel(s: &mut String, c: &CyclePlot, y: f64) {
         r##"<line x1="{x1:.2}" y1="{yc:.2}" x2="{x2:.2}" y2="{yc:.2}" stroke="#555" stroke-dasharray="2 3"/>"##
     );
     // Each pass's tool outline (flanks and tip, below the blank's top).
-    for p in &sec.passes {
+    for p in sec.passes.iter().filter(|p| shown(c, p.n)) {
         let outline = tool.outline(p.offset, p.depth, top);
         let _ = writeln!(
             s,
@@ -247,7 +317,7 @@ fn section_panel(s: &mut String, c: &CyclePlot, y: f64) {
     );
     // Pass numbers at the tips, skipping ones that would overlap.
     let mut last: Option<(f64, f64)> = None;
-    for p in &sec.passes {
+    for p in sec.passes.iter().filter(|p| shown(c, p.n)) {
         let (x, yy) = map.at(p.offset, p.depth);
         if last.is_some_and(|(lx, ly)| (lx - x).hypot(ly - yy) < LABEL_GAP) {
             continue;
@@ -340,10 +410,10 @@ fn legend(s: &mut String, sec: &Section, y: f64, units: crate::units::Units) {
     if sec.passes.len() > LEGEND_ROWS {
         let _ = writeln!(
             s,
-            r#"<text x="{:.2}" y="{:.2}" font-size="11">… {} more passes</text>"#,
+            r#"<text x="{:.2}" y="{:.2}" font-size="11">… {} more</text>"#,
             LEGEND_X + 14.0,
             y + 32.0 + 13.5 * LEGEND_ROWS as f64,
-            sec.passes.len() - LEGEND_ROWS
+            crate::text::count(sec.passes.len() - LEGEND_ROWS, "pass", "passes")
         );
     }
 }
@@ -425,7 +495,7 @@ fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
     );
     let mut last_label: Option<(f64, f64)> = None;
     let mut labelled_pass = 0;
-    for (from, m) in path.segments() {
+    for (from, m) in path.segments().filter(|(_, m)| shown(c, m.pass)) {
         let (a, b) = (at(from), at(m.to));
         let colour = colour(m.pass);
         let style = match m.kind {

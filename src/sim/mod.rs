@@ -11,7 +11,6 @@
 //! The section is the same for every controller: it reads only the [`Job`] and its pass table, and
 //! it is the same for every start of a multi-start thread (each start cuts its own groove).
 
-pub mod check;
 pub mod tool;
 
 use i_overlay::core::extract::BooleanExtractionBuffer;
@@ -25,6 +24,30 @@ use crate::diag::{Code, Diagnostic, Result};
 use crate::thread::{Job, Pass, Side};
 
 pub use tool::{Tip, Tool};
+
+/// A tip whose sizes are in program units, in millimetres.
+pub fn tip_in_mm(tip: Tip, units: crate::units::Units) -> Tip {
+    match tip {
+        Tip::Sharp => Tip::Sharp,
+        Tip::Radius { radius } => Tip::Radius {
+            radius: units.to_mm(radius),
+        },
+        Tip::Flat { width } => Tip::Flat {
+            width: units.to_mm(width),
+        },
+    }
+}
+
+/// The groove's edges at depth `v` after `cuts` (offset, depth) with a tool of this form: the
+/// outermost tool edges that reach `v`, or `None` if none does.
+pub fn groove_edges(cuts: &[(f64, f64)], form: &tool::Form, v: f64) -> Option<(f64, f64)> {
+    cuts.iter()
+        .filter_map(|&(u0, d)| form.span_at(u0, d, v))
+        .fold(None, |acc: Option<(f64, f64)>, (l, r)| match acc {
+            None => Some((l, r)),
+            Some((a, b)) => Some((a.min(l), b.max(r))),
+        })
+}
 
 /// The grid (mm) on which the boolean operations run: 1 nm.
 pub const GRID: f64 = 1e-6;
@@ -564,14 +587,7 @@ fn groove_report(
             .fold(f64::NEG_INFINITY, f64::max)
     };
     // The groove's edges at depth v: the outermost tool edges that reach it.
-    let edges = |v: f64| {
-        cuts.iter()
-            .filter_map(|&(u0, d)| form.span_at(u0, d, v))
-            .fold(None, |acc: Option<(f64, f64)>, (l, r)| match acc {
-                None => Some((l, r)),
-                Some((a, b)) => Some((a.min(l), b.max(r))),
-            })
-    };
+    let edges = |v: f64| groove_edges(&cuts, &form, v);
     let (va, vb) = (0.2 * depth_reached, 0.6 * depth_reached);
     let (flank_angle_left_deg, flank_angle_right_deg) = match (edges(va), edges(vb)) {
         (Some((la, ra)), Some((lb, rb))) if vb > va => (

@@ -1,12 +1,15 @@
 // End-to-end test of the thread planner page: serves web/www on 127.0.0.1, drives it in headless
 // Debian Chromium (playwright-core, no downloaded browser), plans an M20x2.5 thread on GSK G78,
-// edits a word into an alarm, pastes a bad program, and saves screenshots next to this file.
+// copies and downloads its program, edits a word into an alarm, pastes a bad program, plans an
+// inch thread, asks for a thread that does not exist, pastes a 30,000-line program and times its
+// analysis (docs/performance.md), and saves screenshots next to this file.
 //
 //   web/build.sh && (cd web/e2e && npm ci && node test.mjs)
 //
 // CHROMIUM=/path/to/chromium overrides /usr/bin/chromium.
 import { createServer } from 'node:http';
 import { readFile } from 'node:fs/promises';
+import { readFileSync } from 'node:fs';
 import { existsSync } from 'node:fs';
 import { join, extname, normalize, dirname } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -46,7 +49,15 @@ const browser = await chromium.launch({
 const problems = [];
 let failed = false;
 try {
-  const page = await browser.newPage({ viewport: { width: 1400, height: 1000 } });
+  const context = await browser.newContext({ viewport: { width: 1400, height: 1000 }, acceptDownloads: true });
+  await context.grantPermissions(['clipboard-read', 'clipboard-write'], { origin: url });
+  const page = await context.newPage();
+  // Runs `action` and waits until the page has shown the analysis it started.
+  const analysed = async (action) => {
+    const before = await page.evaluate(() => document.body.dataset.analysed || '0');
+    await action();
+    await page.waitForFunction((b) => (document.body.dataset.analysed || '0') !== b, before, { timeout: 20000 });
+  };
   page.on('pageerror', (e) => problems.push(`page error: ${e.message}`));
   page.on('console', (m) => { if (m.type() === 'error') problems.push(`console: ${m.text()}`); });
   // No request may leave 127.0.0.1.
@@ -58,7 +69,7 @@ try {
   // 1. Plan M20x2.5 external on GSK G78.
   await page.selectOption('#controller', 'gsk980');
   await page.fill('#thread', 'M20x2.5');
-  await page.click('#fill');
+  await analysed(() => page.click('#fill'));
   await page.waitForSelector('#passes tbody tr');
   const rows = await page.$$eval('#passes tbody tr', (trs) => trs.map((tr) => [...tr.cells].map((c) => c.textContent)));
   // Hand-computed in web/tests/api.rs: ten rough passes (first 0.470 deep, X 19.060) and two
@@ -80,6 +91,14 @@ try {
   assert.ok(plot.shapes > 10 && plot.w > 100 && plot.h > 100, `plot: ${JSON.stringify(plot)}`);
   assert.match(await page.textContent('#diagnostics'), /No errors or warnings/);
   await page.screenshot({ path: join(here, 'screenshot.png'), fullPage: true });
+
+  // Copy puts the whole expanded program on the clipboard; Download saves the same bytes.
+  await page.click('#copy');
+  await page.waitForFunction(() => document.getElementById('copied').textContent === 'copied');
+  assert.equal(await page.evaluate(() => navigator.clipboard.readText()), gcode);
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click('#download')]);
+  assert.equal(download.suggestedFilename(), 'threadcut-gsk980.nc');
+  assert.equal(readFileSync(await download.path(), 'utf8'), gcode);
 
   // 2. A live edit: the infeed mode digit r = 5 is out of range; that field is highlighted.
   await page.fill('#form input[data-field="r"]', '5');
@@ -108,10 +127,8 @@ try {
   // 4. Every controller with a cycle form plans M20x2.5 cleanly; OmniTurn (no form) says so.
   await page.click('#tab-plan');
   for (const [c, cycle] of [['fanuc', 'G76'], ['linuxcnc', 'G76'], ['ab9', 'G78']]) {
-    await page.selectOption('#controller', c);
+    await analysed(() => page.selectOption('#controller', c));
     assert.match(await page.textContent('#listing'), new RegExp(cycle), c);
-    await page.waitForFunction((c) => document.querySelector('#listing').textContent.length > 0 &&
-      document.querySelector('#passes tbody tr') !== null, c);
     assert.match(await page.textContent('#diagnostics'), /No errors or warnings/, c);
     assert.doesNotMatch(await page.textContent('#gcode'), new RegExp(cycle), c);
     const n = await page.$$eval('#passes tbody tr', (trs) => trs.length);
@@ -120,7 +137,91 @@ try {
     if (c === 'linuxcnc') await page.screenshot({ path: join(here, 'screenshot-linuxcnc.png'), fullPage: true });
   }
   await page.selectOption('#controller', 'omniturn');
-  assert.match(await page.textContent('#form'), /No cycle form/);
+  await page.waitForFunction(() => /No cycle form/.test(document.getElementById('form').textContent));
+
+  // 5. An inch thread: pitch in TPI and inches, the lead to the control's resolution
+  // (1/13" = 0.0769230769 in: F0.07692 on GSK, P0.0769231 on LinuxCNC; never P0.0769).
+  await analysed(() => page.selectOption('#controller', 'gsk980'));
+  await page.fill('#thread', '1/2-13 UNC');
+  await analysed(() => page.click('#fill'));
+  const info = await page.textContent('#thread-info');
+  assert.match(info, /13 TPI \(pitch 0\.07692 in\)/, info);
+  assert.match(info, /major 0\.5 in/, info);
+  assert.doesNotMatch(info, / mm/, info);
+  assert.equal(await page.inputValue('#form input[data-field="lead"]'), '0.07692');
+  assert.match(await page.textContent('#listing'), /F0\.07692/);
+  await analysed(() => page.selectOption('#controller', 'linuxcnc'));
+  assert.equal(await page.inputValue('#form input[data-field="lead"]'), '0.0769231');
+  assert.match(await page.textContent('#listing'), /P0\.0769231/);
+  assert.match(await page.textContent('#diagnostics'), /No errors or warnings/);
+  await page.screenshot({ path: join(here, 'screenshot-inch.png'), fullPage: true });
+
+  // 6. A thread that does not exist: the old plan goes, and the page says why in its own words.
+  await page.fill('#thread', 'M99');
+  await analysed(() => page.press('#thread', 'Enter'));
+  const why = await page.textContent('#thread-info');
+  assert.match(why, /No plan: “M99” is not a standard thread/, why);
+  assert.match(why, /Nearest: M68x6, M64x2, M64x3/, why);
+  assert.equal(await page.$$eval('#passes tbody tr', (trs) => trs.length), 0);
+  assert.equal(await page.$$eval('#form input', (els) => els.length), 0);
+  assert.equal(await page.textContent('#listing'), '');
+  assert.match(await page.textContent('#gcode'), /no output/);
+  assert.ok(!(await page.$('#plot svg')), 'the old plot is gone');
+  assert.match(await page.textContent('#diagnostics li.error'), /No standard thread “M99”/);
+  const body = await page.textContent('body');
+  assert.doesNotMatch(body, /threadcut thread (--|NAME)|--list|--controller/, 'no command-line advice on the page');
+  await page.screenshot({ path: join(here, 'screenshot-unknown.png'), fullPage: true });
+
+  // 7. A 30,000-line program pasted, then three keystrokes at its end: the analysis runs in the
+  // worker once typing pauses, and is on screen within a second of the last keystroke; the page
+  // never blocks for long meanwhile (long tasks, measured from the paste's input event on; the
+  // paste itself, Chromium inserting 650 KB into a textarea, is the browser's own work).
+  await analysed(() => page.selectOption('#controller', 'gsk980'));
+  await page.click('#tab-paste');
+  let big = 'G0 X80 Z10\n';
+  for (let i = 0; i < 30000; i++) big += `G1 X${20 + (i % 50)}.5 Z-${i % 40}.25 F0.2\n`;
+  big += 'G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\n';
+  await page.evaluate((text) => navigator.clipboard.writeText(text), big);
+  await page.evaluate(() => {
+    window.longTasks = [];
+    new PerformanceObserver((list) => {
+      for (const e of list.getEntries()) window.longTasks.push({ start: e.startTime, ms: e.duration });
+    }).observe({ type: 'longtask' });
+  });
+  await page.focus('#source');
+  await page.keyboard.press('Control+A');
+  const before = await page.evaluate(() => document.body.dataset.analysed || '0');
+  await page.keyboard.press('Control+V');
+  const pastedAt = await page.evaluate(() => performance.now());
+  await page.keyboard.type('M30', { delay: 60 });
+  await page.waitForFunction((b) => (document.body.dataset.analysed || '0') !== b &&
+    document.getElementById('source').value.endsWith('M30'), before, { timeout: 30000 });
+  await page.waitForTimeout(300);
+  const timing = await page.evaluate((from) => {
+    const edits = performance.getEntriesByType('mark').filter((m) => m.name === 'threadcut:edit');
+    const shown = performance.getEntriesByType('mark').filter((m) => m.name === 'threadcut:shown');
+    const lastEdit = edits[edits.length - 1].startTime;
+    const after = window.longTasks.filter((t) => t.start + t.ms > from);
+    return {
+      lastEditToShown: shown[shown.length - 1].startTime - lastEdit,
+      page: Number(document.body.dataset.analysedMs),
+      engine: Number(document.body.dataset.engineMs),
+      show: Number(document.body.dataset.showMs),
+      longestTask: Math.max(0, ...after.map((t) => t.ms)),
+      status: document.getElementById('status').textContent,
+      length: document.getElementById('source').value.length,
+      diagnostics: document.getElementById('diagnostics').textContent.slice(0, 300),
+    };
+  }, pastedAt);
+  console.log(`big paste: ${timing.status}; shown ${Math.round(timing.lastEditToShown)} ms after the last keystroke ` +
+    `(engine ${timing.engine} ms in the worker, drawing ${timing.show} ms); longest main-thread task after the paste ${Math.round(timing.longestTask)} ms`);
+  assert.ok(timing.lastEditToShown < 1000, JSON.stringify(timing));
+  assert.ok(timing.longestTask < 400, JSON.stringify(timing));
+  assert.match(timing.status, /analysed 30,00\d lines/, JSON.stringify(timing));
+  assert.equal(await page.$$eval('#passes tbody tr', (trs) => trs.length), 4);
+  assert.match(await page.textContent('#listing'), /… 2\d,\d{3} (more )?lines/);
+  assert.match(await page.textContent('#gcode'), /more lines \(Copy and Download give the whole program\)/);
+  await page.screenshot({ path: join(here, 'screenshot-big.png') });
 
   assert.deepEqual(problems, []);
   console.log(`e2e: ok (${url}; screenshots in web/e2e/)`);

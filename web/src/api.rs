@@ -4,13 +4,14 @@
 use serde::Deserialize;
 use serde_json::{json, Map, Value};
 
+use threadcut::check::{self, Source};
 use threadcut::diag::Diagnostic;
 use threadcut::machine::{Machine, BUILT_IN};
-use threadcut::program::{self, Error, Event};
+use threadcut::program::{self, Error};
 use threadcut::render;
 use threadcut::sim::{self, Tip, Tool};
 use threadcut::thread::standard::{self, Surface};
-use threadcut::toolpath;
+use threadcut::threads;
 
 use crate::forms::{self, Placed};
 
@@ -122,12 +123,39 @@ pub fn plan(request: &str) -> Value {
 struct AnalyseRequest {
     controller: String,
     program: String,
+    /// Whether to list the motions (`expand --format jsonl`); the page does not show them, and a
+    /// long program's list costs as much as the rest of the analysis. Default: yes.
+    #[serde(default = "yes")]
+    motions: bool,
+    /// At most this many threads get their pass table (`cycles`); `cycles_total` counts them all.
+    /// Default: every thread.
+    #[serde(default)]
+    max_cycles: Option<usize>,
+}
+
+/// What an analysis lists besides its findings.
+#[derive(Clone, Copy)]
+struct Listing {
+    motions: bool,
+    max_cycles: usize,
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// A pasted program, analysed as the CLI would.
 pub fn analyse(request: &str) -> Value {
     match serde_json::from_str::<AnalyseRequest>(request) {
-        Ok(r) => analyse_text(&r.controller, &r.program, None),
+        Ok(r) => analyse_with(
+            &r.controller,
+            &r.program,
+            None,
+            Listing {
+                motions: r.motions,
+                max_cycles: r.max_cycles.unwrap_or(usize::MAX),
+            },
+        ),
         Err(e) => error(format!("bad request: {e}")),
     }
 }
@@ -148,10 +176,30 @@ fn diagnostic(d: &Diagnostic, placed: Option<&[Placed]>) -> Value {
     })
 }
 
-/// Everything the page shows for one program: the pass table of each cycle (the rows of
-/// `threadcut passes --json`), the expanded G-code (`threadcut expand`), the motions (`threadcut
-/// expand --format jsonl`), the plots and the diagnostics with their spans.
+/// Everything the page shows for one program: the findings of `threadcut check` (the same library
+/// function, the same options: none), the pass table of each thread (the rows of `threadcut passes
+/// --json`), the expanded G-code (`threadcut expand`), the motions (`threadcut expand --format
+/// jsonl`), the plots and the diagnostics with their spans.
 pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> Value {
+    analyse_with(
+        controller,
+        text,
+        placed,
+        Listing {
+            motions: true,
+            max_cycles: usize::MAX,
+        },
+    )
+}
+
+/// [`analyse_text`], listing the motions or not (`motions`: `[]` and `motions_total` 0 when
+/// not), and the pass tables of the first `max_cycles` threads.
+fn analyse_with(
+    controller: &str,
+    text: &str,
+    placed: Option<&[Placed]>,
+    listing: Listing,
+) -> Value {
     let Some(machine) = Machine::built_in(controller) else {
         let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
         return error(format!(
@@ -172,33 +220,49 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         }
     };
 
-    // The pass tables, cycle by cycle.
-    let mut cycles = Vec::new();
+    // The check: every finding of `threadcut check`, the controller's alarm among them.
+    let mut notes = Vec::new();
     let mut lines = 0;
-    let run = program::run(text.as_bytes(), &machine, |modal, ev| {
-        let Event::Cycle { job, .. } = ev else {
-            return Ok(());
-        };
-        let passes = job.passes()?;
-        // Builds the toolpath too, so that a cycle that cannot be cut fails here, at its line.
-        toolpath::build_with(&job, &passes)?;
-        // As `threadcut passes --json` with its default (sharp) tool: X as the program writes it
-        // at the cycle, the simulated columns null where the section cannot be simulated.
-        let rows = program::pass_rows(&job, &passes, modal.diameter_x);
-        let tool = Tool {
-            angle_deg: job.tool_angle_deg,
-            tip: Tip::Sharp,
-        };
-        let section = sim::section(&job, &passes, &tool, 0.0).ok();
-        cycles.push(program::passes_json(&job, &rows, section.as_ref()));
-        Ok(())
-    });
-    match run {
-        Ok(summary) => {
-            lines = summary.lines;
-            diagnostics.extend(summary.warnings.iter().map(|w| diagnostic(w, placed)));
+    match check::check(
+        text.as_bytes(),
+        Source::Gcode(&machine),
+        &check::Options::default(),
+    ) {
+        Ok(report) => {
+            lines = report.lines;
+            failed = report.stopped;
+            diagnostics.extend(report.diagnostics.iter().map(|d| diagnostic(d, placed)));
+            notes = report
+                .notes
+                .iter()
+                .map(|n| json!({"line": n.span.line, "message": n.message}))
+                .collect();
         }
         Err(e) => fail(e, &mut diagnostics, &mut failed),
+    }
+
+    // The pass tables, thread by thread.
+    let mut cycles = Vec::new();
+    let mut cycles_total = 0usize;
+    if !failed {
+        let run = threads::each_gcode(text.as_bytes(), &machine, None, |t| {
+            cycles_total += 1;
+            if cycles.len() >= listing.max_cycles {
+                return Ok(());
+            }
+            // As `threadcut passes --json` with its default (sharp) tool: the simulated columns
+            // null where the section cannot be simulated.
+            let tool = Tool {
+                angle_deg: t.job.tool_angle_deg,
+                tip: Tip::Sharp,
+            };
+            let section = sim::section(&t.job, &t.passes, &tool, 0.0).ok();
+            cycles.push(threads::passes_json(&t, section.as_ref()));
+            Ok(())
+        });
+        if let Err(e) = run {
+            fail(e, &mut diagnostics, &mut failed);
+        }
     }
 
     // The expanded program and the motions, exactly as `threadcut expand` writes them.
@@ -212,7 +276,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
             Err(e) => fail(e, &mut diagnostics, &mut failed),
         }
     }
-    if !failed {
+    if !failed && listing.motions {
         let mut buf = Vec::new();
         match program::expand_jsonl(text.as_bytes(), &mut buf, &machine) {
             Ok(_) => {
@@ -233,7 +297,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
     let mut svg = None;
     if !failed {
         match render::program_svg(text.as_bytes(), &machine, Tip::Sharp) {
-            Ok((s, _)) => svg = Some(s),
+            Ok((s, _, _)) => svg = Some(s),
             Err(e) => plot_error = Some(e.to_string()),
         }
     }
@@ -244,11 +308,13 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         "program": text,
         "lines": lines,
         "cycles": cycles,
+        "cycles_total": cycles_total,
         "gcode": gcode,
         "motions": motions,
         "motions_total": motions_total,
         "svg": svg,
         "plot_error": plot_error,
         "diagnostics": diagnostics,
+        "notes": notes,
     })
 }

@@ -115,6 +115,7 @@ pub fn form(controller: &str) -> Option<Form> {
             cycle: "G78 enhanced multiple thread-cutting cycle",
             lines: vec![
                 vec![units()],
+                vec![t("G97 S500 M03")],
                 start(),
                 [
                     vec![t("G78 ")],
@@ -152,6 +153,7 @@ pub fn form(controller: &str) -> Option<Form> {
             cycle: "G76 two-block multiple threading cycle",
             lines: vec![
                 vec![units()],
+                vec![t("G97 S500 M03")],
                 start(),
                 [
                     vec![t("G76 ")],
@@ -232,6 +234,7 @@ pub fn form(controller: &str) -> Option<Form> {
             cycle: "G78 multipass threading cycle",
             lines: vec![
                 vec![units()],
+                vec![t("G97 S500 M03")],
                 [vec![t("G90 ")], start()].concat(),
                 vec![
                     t("G78 "),
@@ -358,6 +361,14 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
         .ok()
     });
     let n = |v: f64| number(v, d as usize);
+    // The lead to the controller's own lead resolution (the decimals its lead word is written
+    // with: 1/13" is F0.07692 on GSK and Fanuc, P0.0769231 on LinuxCNC), not the position's.
+    let lead_decimals = threadcut::machine::Machine::built_in(controller)
+        .and_then(|m| threadcut::dialect::open(&m).ok())
+        .map_or(d as usize, |dialect| {
+            dialect.format().lead_decimals[(u == Units::Inch) as usize] as usize
+        });
+    let lead_text = number(lead, lead_decimals);
     let incr = |v: f64| format!("{}", (v * 10f64.powi(d)).round() as i64);
     let mut v = vec![
         ("units", units.to_string()),
@@ -375,7 +386,7 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
             ("x", n(root)),
             ("k", n(k)),
             ("dd", n(dd)),
-            ("lead", n(lead)),
+            ("lead", lead_text.clone()),
             ("j", String::new()),
             ("kk", String::new()),
             ("starts", String::new()),
@@ -389,12 +400,12 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
             ("x", n(root)),
             ("k", incr(k)),
             ("dd", incr(dd)),
-            ("lead", n(lead)),
+            ("lead", lead_text.clone()),
         ]),
         // The form is in G7 (X on diameter), where LinuxCNC reads I, J and K as diameters too
         // (docs/dialects/linuxcnc-g76.md): each is twice its radial value.
         "linuxcnc" => v.extend([
-            ("lead", n(lead)),
+            ("lead", lead_text.clone()),
             // The drive line is the start X; I is the crest's offset from it.
             ("i", n(crest - sx)),
             ("dd", n(2.0 * dd)),
@@ -412,7 +423,7 @@ pub fn fill(controller: &str, t: &StandardThread, side: Surface) -> Vec<(&'stati
             ),
             ("k", n(k)),
             ("dd", n(dd)),
-            ("lead", n(lead)),
+            ("lead", lead_text.clone()),
             ("a", angle),
             ("p", "1".into()),
             (

@@ -104,7 +104,7 @@ fn a_bad_packed_digit_points_at_its_own_field() {
     let d = &out["diagnostics"][0];
     assert_eq!(d["code"], "E004", "{d}");
     assert_eq!(d["field"], "r", "{d}");
-    assert_eq!(d["line"], 3);
+    assert_eq!(d["line"], 4);
     // `G78 P02` then the r digits at column 8.
     assert_eq!(d["column"], 8);
     assert!(out["cycles"].as_array().unwrap().is_empty());
@@ -133,6 +133,10 @@ fn every_form_plans_a_standard_thread_without_diagnostics() {
                 .filter(|d| d["severity"] == "error")
                 .collect();
             assert!(errors.is_empty(), "{c} {thread}: {errors:?}");
+            // The page's end-to-end test reads "No errors or warnings" for M20x2.5.
+            if thread == "M20x2.5" {
+                assert_eq!(out["diagnostics"], json!([]), "{c} {thread}");
+            }
             let rows = out["cycles"][0]["passes"].as_array().unwrap();
             assert!(rows.len() >= 3, "{c} {thread}");
         }
@@ -200,7 +204,7 @@ fn the_plan_carries_the_librarys_plot_and_simulated_columns() {
     assert!(svg.contains("</svg>"));
     // Same SVG as the library's `threadcut plot` path for the generated program.
     let machine = threadcut::machine::Machine::built_in("gsk980").unwrap();
-    let (want, _) = threadcut::render::program_svg(
+    let (want, _, _) = threadcut::render::program_svg(
         out["program"].as_str().unwrap().as_bytes(),
         &machine,
         threadcut::sim::Tip::Sharp,
@@ -276,4 +280,122 @@ fn standard_forms_fill_the_forms() {
     let t = api::thread("1/2-14 NPT");
     assert_eq!(t["thread"]["profile"]["angle_deg"], 60.0);
     assert!(t["thread"]["taper"]["gauge_length"].as_f64().unwrap() > 8.0);
+}
+
+/// The page runs the library's one check: the same findings, in the same order, as `threadcut
+/// check` (which calls the same function with the same, default, options).
+#[test]
+fn the_page_shows_the_checks_findings() {
+    let program =
+        "G21 G99\nG97 S2000 M3\nG0 X40. Z2.\nG92 X29.2 Z-30. F2.\nX28.7\nX28.3\nG0 X100. Z100.\n";
+    let out = api::analyse(&json!({"controller": "fanuc", "program": program}).to_string());
+    let machine = threadcut::machine::Machine::built_in("fanuc").unwrap();
+    let report = threadcut::check::check(
+        program.as_bytes(),
+        threadcut::check::Source::Gcode(&machine),
+        &threadcut::check::Options::default(),
+    )
+    .unwrap();
+    let page: Vec<(String, String)> = out["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| {
+            (
+                d["code"].as_str().unwrap().to_string(),
+                d["message"].as_str().unwrap().to_string(),
+            )
+        })
+        .collect();
+    let cli: Vec<(String, String)> = report
+        .diagnostics
+        .iter()
+        .map(|d| (d.code.as_str().to_string(), d.message.clone()))
+        .collect();
+    assert_eq!(page, cli);
+    assert!(page.iter().any(|(c, _)| c == "W003"), "{page:?}");
+    assert_eq!(out["notes"].as_array().unwrap().len(), report.notes.len());
+    // The three G92 blocks are one thread of three passes.
+    assert_eq!(out["cycles"].as_array().unwrap().len(), 1);
+    assert_eq!(out["cycles"][0]["source"], "moves");
+    assert_eq!(out["cycles"][0]["passes"].as_array().unwrap().len(), 3);
+}
+
+/// A lead typed without a decimal point on a Fanuc form (`F25`: 0.025 mm) is flagged on its
+/// field.
+#[test]
+fn a_lead_without_a_decimal_point_is_flagged_on_its_field() {
+    let mut v = values("fanuc", "M20x2.5");
+    v["lead"] = json!("25");
+    let out = plan("fanuc", &v);
+    let d = out["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|d| d["code"] == "W006")
+        .unwrap_or_else(|| panic!("{}", out["diagnostics"]))
+        .clone();
+    assert_eq!(d["field"], "lead", "{d}");
+    assert!(
+        d["message"]
+            .as_str()
+            .unwrap()
+            .starts_with("F25 has no decimal point: this control reads it as a lead of 0.025 mm"),
+        "{d}"
+    );
+}
+
+/// 1/2-13 UNC: the lead 1/13" = 0.0769230769… in is written to each controller's lead resolution
+/// (the decimals its writer gives the lead word: 5 in inch on GSK, Fanuc and Allen-Bradley, 7 on
+/// LinuxCNC), never cut to the 4 decimals of a position (P0.0769 would cut 0.0769 in per turn,
+/// 0.03 mm off after 13 turns).
+#[test]
+fn inch_leads_are_written_to_the_controllers_resolution() {
+    for (c, want) in [
+        ("gsk980", "0.07692"),
+        ("fanuc", "0.07692"),
+        ("ab9", "0.07692"),
+        ("linuxcnc", "0.0769231"),
+    ] {
+        let v = values(c, "1/2-13 UNC");
+        assert_eq!(v["lead"], want, "{c}");
+        let out = plan(c, &v);
+        assert_eq!(out["ok"], true, "{c}: {}", out["diagnostics"]);
+        let lead = out["cycles"][0]["passes"].as_array().map(|p| p.len());
+        assert!(lead.is_some_and(|n| n >= 3), "{c}");
+    }
+    // Metric leads are unchanged: 2.5 is 2.5.
+    assert_eq!(values("linuxcnc", "M20x2.5")["lead"], "2.5");
+}
+
+/// The motions are listed unless the request says not to (the page does not show them).
+#[test]
+fn analysis_lists_motions_unless_asked_not_to() {
+    let program = "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\n";
+    let with = api::analyse(&json!({"controller": "gsk980", "program": program}).to_string());
+    let without = api::analyse(
+        &json!({"controller": "gsk980", "program": program, "motions": false}).to_string(),
+    );
+    assert!(with["motions_total"].as_u64().unwrap() > 10, "{with}");
+    assert_eq!(without["motions_total"], 0);
+    assert_eq!(without["motions"], json!([]));
+    assert_eq!(with["cycles"], without["cycles"]);
+    assert_eq!(with["gcode"], without["gcode"]);
+}
+
+/// An unknown thread name: the error and the nearest names, in words the page can show (no
+/// command-line command in them).
+#[test]
+fn unknown_threads_say_so_without_command_lines() {
+    for r in [
+        api::thread("M99"),
+        api::fill(&json!({"controller": "gsk980", "thread": "M99"}).to_string()),
+    ] {
+        assert_eq!(r["ok"], false, "{r}");
+        assert_eq!(
+            r["hint"], "nearest known threads: M68x6, M64x2, M64x3",
+            "{r}"
+        );
+        assert!(!r.to_string().contains("threadcut"), "{r}");
+    }
 }

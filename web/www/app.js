@@ -1,15 +1,70 @@
 // threadcut thread planner: the page around the wasm module. No framework, no network: every
-// result comes from the threadcut library compiled to WebAssembly (pkg/, built by web/build.sh).
-import init, * as tc from './pkg/threadcut_web.js';
+// result comes from the threadcut library compiled to WebAssembly (pkg/, built by web/build.sh),
+// which runs in a Web Worker (worker.js): the page stays responsive while a long program is
+// analysed, and an analysis starts once typing pauses.
 
 const $ = (id) => document.getElementById(id);
-const call = (f, arg) => JSON.parse(arg === undefined ? f() : f(typeof arg === 'string' ? arg : JSON.stringify(arg)));
+
+// How long typing must pause before an analysis starts (ms): a pasted program is analysed at once
+// after the paste; a program being typed, after the last keystroke.
+const PAUSE_MS = 150;
+
+/** The worker and its calls: each call a promise of the function's parsed JSON. */
+class Engine {
+  constructor() {
+    this.next = 0;
+    this.spawn();
+  }
+
+  spawn() {
+    this.worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+    this.waiting = new Map();
+    this.worker.onmessage = (e) => {
+      const w = this.waiting.get(e.data.id);
+      if (!w) return;
+      this.waiting.delete(e.data.id);
+      this.lastMs = e.data.ms;
+      performance.mark('threadcut:result');
+      w.resolve(JSON.parse(e.data.result));
+    };
+    this.worker.onerror = (e) => {
+      for (const w of this.waiting.values()) w.resolve({ ok: false, error: `the threadcut module failed: ${e.message}` });
+      this.waiting.clear();
+    };
+  }
+
+  call(fn, arg) {
+    const id = ++this.next;
+    const text = arg === undefined || typeof arg === 'string' ? arg : JSON.stringify(arg);
+    return new Promise((resolve) => {
+      this.waiting.set(id, { fn, text, resolve });
+      this.worker.postMessage({ id, fn, arg: text });
+    });
+  }
+
+  /** Stops an analysis that a newer one replaces: a new worker, the other calls sent again. */
+  restart() {
+    const waiting = this.waiting;
+    this.worker.terminate();
+    this.spawn();
+    for (const w of waiting.values()) {
+      if (w.fn === 'plan' || w.fn === 'analyse') w.resolve(null);
+      else this.call(w.fn, w.text).then(w.resolve);
+    }
+  }
+}
+
+const engine = new Engine();
 
 let controllers = [];
 let mode = 'plan';
 let values = {};
 let lastGcode = '';
 let lastPlanned = '';
+// The analysis being run (a number; 0: none) and the time of the edit it answers.
+let running = 0;
+let requested = 0;
+let editedAt = 0;
 
 function esc(s) {
   return String(s).replace(/[&<>"]/g, (c) => ({ '&': '&amp;', '<': '&lt;', '>': '&gt;', '"': '&quot;' }[c]));
@@ -79,57 +134,120 @@ function size(input, f) {
   input.style.width = `calc(${Math.max(f.kind === 'digits2' ? 2 : 3, input.value.length)}ch + 0.6rem)`;
 }
 
-function fill() {
+async function fill() {
   const c = current();
   if (!c.form) return;
-  const r = call(tc.fill, { controller: c.name, thread: $('thread').value, internal: $('internal').checked });
+  const name = $('thread').value;
+  const r = await engine.call('fill', { controller: c.name, thread: name, internal: $('internal').checked });
   if (!r.ok) {
-    $('thread-info').innerHTML = `<span class="error">${esc(r.error)}</span>` + (r.hint ? ` <span class="muted">${esc(r.hint)}</span>` : '');
+    unknownThread(name, r);
     return;
   }
   values = r.values;
-  describeThread(r.thread);
+  await describeThread(r.thread);
   renderForm();
   plan();
 }
 
-function describeThread(name) {
-  const t = call(tc.thread, name);
+/** A thread name the standards do not have: the old plan goes, and the page says why. */
+function unknownThread(name, r) {
+  // An analysis still running for the old plan must not bring it back.
+  requested++;
+  running = 0;
+  status('');
+  values = {};
+  lastPlanned = '';
+  $('form').innerHTML = '';
+  $('cycle-name').textContent = '';
+  const near = (r.hint || '').replace(/^nearest known threads: /, '');
+  $('thread-info').innerHTML = `<span class="error">No plan: “${esc(name.trim())}” is not a standard thread this planner knows (${esc(r.error.replace(/: `[^`]*`$/, ''))}).</span>` +
+    (near ? ` <span class="muted">Nearest: ${esc(near)}. The Thread field’s list shows every thread it knows.</span>` : '');
+  show({
+    ok: false,
+    error: `No standard thread “${name.trim()}”: pick one from the Thread field’s list${near ? ` (nearest: ${near})` : ''}.`,
+    program: '',
+    cycles: [],
+    diagnostics: [],
+  });
+}
+
+/** A number with at most `d` decimals, no trailing zeros. */
+function fmt(v, d) {
+  return String(Math.round(v * 10 ** d) / 10 ** d);
+}
+
+async function describeThread(name) {
+  const t = await engine.call('thread', name);
   if (!t.ok) return;
   const th = t.thread;
-  const mm = (v) => (Math.round(v * 1000) / 1000).toString();
   const side = $('internal').checked ? t.internal : t.external;
+  const height = $('internal').checked ? th.internal_depth : th.external_depth;
+  // Inch threads in inches and threads per inch, as their standards give them; metric in mm.
+  const inch = th.tpi != null;
+  const len = inch ? (mm) => `${fmt(mm / 25.4, 4)} in` : (mm) => `${fmt(mm, 3)} mm`;
+  const pitch = inch ? `${fmt(th.tpi, 3)} TPI (pitch ${fmt(th.pitch / 25.4, 5)} in)` : `pitch ${fmt(th.pitch, 3)} mm`;
   const taper = th.taper
-    ? ` Taper 1:16: diameters at the gauge plane, ${mm(th.taper.gauge_length)} mm from the small end; ` +
-      'a form without a taper word cuts it parallel (threadcut thread NAME --controller C gives the word).'
+    ? ` Taper 1:16: diameters at the gauge plane, ${len(th.taper.gauge_length)} from the small end; ` +
+      'a cycle with a taper word (Allen-Bradley’s I) cuts the taper, the others cut it parallel.'
     : '';
   $('thread-info').textContent =
-    `${th.name}: ${th.profile.angle_deg}° form, pitch ${mm(th.pitch)} mm, major ${mm(th.basic.major)} mm, minor ${mm(th.basic.minor)} mm, ` +
-    `thread height ${mm($('internal').checked ? th.internal_depth : th.external_depth)} mm (${side.class}).` + taper;
+    `${th.name}: ${th.profile.angle_deg}° form, ${pitch}, major ${len(th.basic.major)}, minor ${len(th.basic.minor)}, ` +
+    `thread height ${len(height)} (${side.class}).` + taper;
 }
 
 function plan() {
   const c = current();
   if (!c.form) return;
-  const r = call(tc.plan, { controller: c.name, values });
-  lastPlanned = r.program || '';
-  show(r);
+  run('plan', { controller: c.name, values }, (r) => { lastPlanned = r.program || ''; });
 }
 
 function analyse() {
-  show(call(tc.analyse, { controller: current().name, program: $('source').value }));
+  // The page shows no motion list: the engine need not write one.
+  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES });
+}
+
+/** Runs an analysis in the worker and shows it, unless a newer one has been asked for since. */
+async function run(fn, request, then) {
+  const id = ++requested;
+  if (running) engine.restart();
+  running = id;
+  const asked = editedAt || performance.now();
+  status('analysing…');
+  const r = await engine.call(fn, request);
+  if (r === null || id !== requested) return;
+  running = 0;
+  if (then) then(r);
+  const shown = performance.now();
+  show(r);
+  performance.mark('threadcut:shown');
+  const ms = performance.now() - asked;
+  document.body.dataset.engineMs = String(Math.round(engine.lastMs));
+  document.body.dataset.showMs = String(Math.round(performance.now() - shown));
+  const lines = r.lines ? `${r.lines.toLocaleString('en')} lines ` : '';
+  status(`analysed ${lines}in ${Math.round(ms)} ms`);
+  document.body.dataset.analysedMs = String(Math.round(ms));
+}
+
+function status(text) {
+  $('status').textContent = text;
 }
 
 let timer = null;
+/** Runs `f` once typing has paused for PAUSE_MS. */
 function schedule(f) {
+  editedAt = performance.now();
+  performance.mark('threadcut:edit');
   clearTimeout(timer);
-  timer = setTimeout(f, 120);
+  timer = setTimeout(f, PAUSE_MS);
 }
 
 // ---- results ----
 
+let shownCount = 0;
+
 function show(r) {
   document.body.dataset.state = r.ok ? 'ok' : 'error';
+  document.body.dataset.analysed = String(++shownCount);
   const diags = r.diagnostics || [];
   if (r.error) diags.unshift({ severity: 'error', code: null, message: r.error, line: 0, column: 0, len: 0 });
 
@@ -141,7 +259,7 @@ function show(r) {
   const list = $('diagnostics');
   list.innerHTML = '';
   if (diags.length === 0) list.innerHTML = '<li class="ok">No errors or warnings.</li>';
-  for (const d of diags) {
+  for (const d of diags.slice(0, SHOWN_FINDINGS)) {
     const li = document.createElement('li');
     li.className = d.severity;
     const where = d.line ? `line ${d.line}, column ${d.column}` : '';
@@ -159,9 +277,21 @@ function show(r) {
     }
     list.append(li);
   }
+  if (diags.length > SHOWN_FINDINGS) {
+    list.insertAdjacentHTML('beforeend', `<li class="more">… ${(diags.length - SHOWN_FINDINGS).toLocaleString('en')} more findings (the first ${SHOWN_FINDINGS} are listed and marked)</li>`);
+  }
+
+  // What the check assumed (the blank, the tool), as `threadcut check` states it.
+  const notes = $('notes');
+  notes.innerHTML = '';
+  for (const n of r.notes || []) {
+    const li = document.createElement('li');
+    li.innerHTML = `${n.line ? `<span class="muted">line ${n.line}</span> ` : ''}${esc(n.message)}`;
+    notes.append(li);
+  }
 
   // The program with each diagnostic's span marked.
-  $('listing').innerHTML = listing(r.program || '', diags);
+  $('listing').innerHTML = listing(r.program || '', diags.slice(0, SHOWN_FINDINGS));
 
   // Pass tables.
   const passes = $('passes');
@@ -175,45 +305,94 @@ function show(r) {
       `<td>${n(p.x)}</td><td>${n(p.z)}</td><td>${p.area.toFixed(d + 2)}</td><td>${(p.share * 100).toFixed(1)}%</td>` +
       (p.sim_area !== undefined ? `<td>${p.cutting_flank}</td>` : '') + '</tr>').join('');
     const flank = cycle.passes.length && cycle.passes[0].sim_area !== undefined ? '<th>cutting flank</th>' : '';
+    const what = cycle.source === 'moves'
+      ? `${cycle.passes.length} synchronised passes as one thread`
+      : `${esc(cycle.controller)} cycle, ${cycle.passes.length} passes`;
+    const from = cycle.depth_from === 'first_pass' ? '; depths from the first pass: the crest is not known' : '';
     passes.insertAdjacentHTML('beforeend',
-      `<p>Line ${cycle.line}: ${esc(cycle.controller)} cycle, ${cycle.passes.length} passes (${units}; depth radial, X as programmed)</p>` +
+      `<p>Line ${cycle.line}: ${what} (${units}; depth radial, X as programmed${from})</p>` +
       `<table><thead><tr><th>pass</th><th>kind</th><th>depth</th><th>increment</th><th>x</th><th>z</th><th>area (${units}²)</th><th>share</th>${flank}</tr></thead>` +
       `<tbody>${rows}</tbody></table>`);
   }
-  if (!(r.cycles || []).length) passes.innerHTML = '<p class="muted">No threading cycle.</p>';
+  if (!(r.cycles || []).length) passes.innerHTML = '<p class="muted">No thread: no threading cycle and no synchronised move.</p>';
+  else if (r.cycles_total > r.cycles.length) {
+    passes.insertAdjacentHTML('beforeend', `<p class="muted">… ${(r.cycles_total - r.cycles.length).toLocaleString('en')} more threads: the pass tables of the first ${r.cycles.length} are shown.</p>`);
+  }
 
   // Plots (the library's own SVG).
   $('plot').innerHTML = r.svg || `<p class="muted">No plot${r.plot_error ? ': ' + esc(r.plot_error) : ''}.</p>`;
 
   // Expanded G-code.
   lastGcode = r.gcode || '';
-  $('gcode').textContent = lastGcode || '(no output: the program has errors)';
+  $('gcode').textContent = lastGcode ? head(lastGcode, SHOWN_LINES, 'Copy and Download give the whole program') : '(no output: the program has errors)';
   $('copy').disabled = $('download').disabled = !lastGcode;
+}
+
+// A long program is shown in part: the page would spend seconds laying out 30,000 lines. The
+// listing shows its first SHOWN_LINES lines and every line with a finding (with a line around it).
+const SHOWN_LINES = 1000;
+// At most this many findings are listed and marked, and this many threads get a pass table.
+const SHOWN_FINDINGS = 200;
+const SHOWN_CYCLES = 20;
+
+/** The first `n` lines of `text`, and a line saying how many more there are. */
+function head(text, n, rest) {
+  let end = 0;
+  for (let i = 0; i < n; i++) {
+    end = text.indexOf('\n', end) + 1;
+    if (end === 0) return text;
+  }
+  if (end >= text.length) return text;
+  let more = 0;
+  for (let i = end; i < text.length; i++) if (text.charCodeAt(i) === 10) more++;
+  if (!text.endsWith('\n')) more++;
+  return `${text.slice(0, end)}… ${more.toLocaleString('en')} more lines (${rest})\n`;
 }
 
 function listing(text, diags) {
   const lines = text.split('\n');
   if (lines.length && lines[lines.length - 1] === '') lines.pop();
   const width = String(lines.length).length;
-  return lines.map((line, i) => {
-    const marks = diags.filter((d) => d.line === i + 1);
-    let html;
-    const d = marks.find((m) => m.column > 0);
-    if (d) {
-      // Columns count bytes; programs are ASCII in practice, and a UTF-8 line is mapped by bytes.
-      const bytes = new TextEncoder().encode(line);
-      const dec = new TextDecoder();
-      const a = Math.min(d.column - 1, bytes.length);
-      const b = Math.min(a + Math.max(d.len, 1), bytes.length);
-      html = esc(dec.decode(bytes.slice(0, a))) +
-        `<mark class="${d.severity === 'error' ? 'err' : 'warn'}" title="${esc(d.message)}">${esc(dec.decode(bytes.slice(a, b))) || ' '}</mark>` +
-        esc(dec.decode(bytes.slice(b)));
-    } else {
-      html = esc(line);
-    }
-    const cls = marks.length ? ` class="${marks.some((m) => m.severity === 'error') ? 'err' : 'warn'}"` : '';
-    return `<span${cls}><span class="ln">${String(i + 1).padStart(width)}</span> ${html}</span>`;
-  }).join('\n');
+  const marked = new Map();
+  for (const d of diags) {
+    if (!d.line) continue;
+    if (!marked.has(d.line)) marked.set(d.line, []);
+    marked.get(d.line).push(d);
+  }
+  // The lines shown: the first SHOWN_LINES, and each marked line with one line either side.
+  const shown = new Set();
+  for (let i = 1; i <= Math.min(lines.length, SHOWN_LINES); i++) shown.add(i);
+  for (const l of marked.keys()) for (const k of [l - 1, l, l + 1]) if (k >= 1 && k <= lines.length) shown.add(k);
+  const numbers = [...shown].sort((a, b) => a - b);
+  const out = [];
+  let last = 0;
+  for (const n of numbers) {
+    if (n > last + 1) out.push(`<span class="gap">${' '.repeat(width)} … ${(n - last - 1).toLocaleString('en')} lines</span>`);
+    out.push(listed(lines[n - 1], n, width, marked.get(n) || []));
+    last = n;
+  }
+  if (last < lines.length) out.push(`<span class="gap">${' '.repeat(width)} … ${(lines.length - last).toLocaleString('en')} more lines</span>`);
+  return out.join('\n');
+}
+
+/** One line of the listing, with the span of its first finding that has a column marked. */
+function listed(line, number, width, marks) {
+  let html;
+  const d = marks.find((m) => m.column > 0);
+  if (d) {
+    // Columns count bytes; programs are ASCII in practice, and a UTF-8 line is mapped by bytes.
+    const bytes = new TextEncoder().encode(line);
+    const dec = new TextDecoder();
+    const a = Math.min(d.column - 1, bytes.length);
+    const b = Math.min(a + Math.max(d.len, 1), bytes.length);
+    html = esc(dec.decode(bytes.slice(0, a))) +
+      `<mark class="${d.severity === 'error' ? 'err' : 'warn'}" title="${esc(d.message)}">${esc(dec.decode(bytes.slice(a, b))) || ' '}</mark>` +
+      esc(dec.decode(bytes.slice(b)));
+  } else {
+    html = esc(line);
+  }
+  const cls = marks.length ? ` class="${marks.some((m) => m.severity === 'error') ? 'err' : 'warn'}"` : '';
+  return `<span${cls}><span class="ln">${String(number).padStart(width)}</span> ${html}</span>`;
 }
 
 // ---- wiring ----
@@ -234,20 +413,20 @@ function setMode(m) {
   }
 }
 
-function controllerChanged() {
+async function controllerChanged() {
   const c = current();
   $('controller-info').textContent = `${c.description} (${c.units}, X on ${c.diameter_x ? 'diameter' : 'radius'} at power-on)`;
   if (mode === 'plan') {
     values = {};
     renderForm();
-    fill();
+    await fill();
     if (!c.form) show({ ok: true, program: '', cycles: [], diagnostics: [] });
   } else analyse();
 }
 
 async function main() {
-  await init();
-  const r = call(tc.controllers);
+  const r = await engine.call('controllers');
+  if (!r.ok) throw new Error(r.error);
   controllers = r.controllers;
   for (const c of controllers) {
     const o = document.createElement('option');
@@ -268,7 +447,7 @@ async function main() {
   $('internal').addEventListener('change', fill);
   $('tab-plan').addEventListener('click', () => setMode('plan'));
   $('tab-paste').addEventListener('click', () => setMode('paste'));
-  $('analyse').addEventListener('click', analyse);
+  $('analyse').addEventListener('click', () => { editedAt = 0; analyse(); });
   $('source').addEventListener('input', () => schedule(analyse));
   $('copy').addEventListener('click', async () => {
     try {
@@ -288,9 +467,9 @@ async function main() {
     a.href = URL.createObjectURL(blob);
     a.download = `threadcut-${current().name}.nc`;
     a.click();
-    URL.revokeObjectURL(a.href);
+    setTimeout(() => URL.revokeObjectURL(a.href), 0);
   });
-  controllerChanged();
+  await controllerChanged();
   document.body.dataset.ready = 'true';
 }
 

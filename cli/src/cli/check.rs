@@ -1,56 +1,113 @@
-//! `threadcut check FILE`: the program's errors and warnings, compiler style, with line:column.
-//! Exit status 2 when there is an error, 0 otherwise.
+//! `threadcut check FILE`: the program's errors and warnings, compiler style, with line:column, and
+//! what was assumed; or `--format json`. Exit status 2 when there is an error, 0 otherwise.
+//! G-code and APT/CL alike: both go through the library's one check function.
 
 use std::io::Write;
 use std::path::Path;
 use std::process::ExitCode;
 
-use threadcut::sim::check::{self, CheckOptions};
+use threadcut::check::{self, Options, Report, Source};
+use threadcut::thread::standard;
 
 use super::{
-    failure, io_failure, load_machine, open_input, render, Failure, MachineArgs, ToolArgs,
+    failure, input, load_machine, mill::usage, not_empty, output, post::is_apt, render, Failure,
+    MachineArgs, ReportFormat, ToolArgs,
 };
 
-pub fn run(
-    file: &Path,
-    machine: &MachineArgs,
-    stock_diameter: Option<f64>,
-    stock_start: Option<f64>,
-    tool: &ToolArgs,
-) -> Result<ExitCode, Failure> {
-    let machine = load_machine(machine)?;
-    let input = open_input(file)?;
-    let opts = CheckOptions {
-        stock_diameter,
-        stock_start,
-        tip: tool.tip()?,
+/// `check`'s options as the command line gives them.
+pub struct Args<'a> {
+    pub stock_diameter: Option<f64>,
+    pub stock_start: Option<f64>,
+    pub tool: &'a ToolArgs,
+    pub thread: Option<&'a str>,
+    pub format: ReportFormat,
+    pub output: Option<&'a Path>,
+}
+
+pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, Failure> {
+    let thread = match args.thread {
+        Some(name) => Some(standard::lookup(name).map_err(usage)?),
+        None => None,
     };
-    let report = check::check(input, &machine, &opts).map_err(|e| failure(file, e))?;
-    let mut out = std::io::stdout().lock();
+    let opts = Options {
+        stock_diameter: args.stock_diameter,
+        stock_start: args.stock_start,
+        tip: args.tool.given_tip()?,
+        thread,
+    };
+    let (mut input, content) = input::open(file)?;
+    let report = if is_apt(file, &mut input) {
+        let machine = match (&machine.controller, &machine.machine) {
+            (None, None) => None,
+            _ => Some(load_machine(machine)?),
+        };
+        check::check(input, Source::Apt(machine.as_ref()), &opts)
+    } else {
+        let machine = load_machine(machine)?;
+        check::check(input, Source::Gcode(&machine), &opts)
+    }
+    .map_err(|e| failure(file, e))?;
+    not_empty(file, &content)?;
+    if report.threads == 0 && !report.stopped {
+        super::no_thread(file, &report.thread_codes);
+    }
+    output::write(file, args.output, |out| {
+        match args.format {
+            ReportFormat::Json => {
+                let findings = report.findings(&file.display().to_string());
+                serde_json::to_writer_pretty(&mut *out, &findings)
+                    .map_err(|e| failure(file, std::io::Error::from(e).into()))?;
+                writeln!(out).map_err(|e| failure(file, e.into()))?;
+            }
+            ReportFormat::Jsonl => {
+                for f in report.findings(&file.display().to_string()) {
+                    serde_json::to_writer(&mut *out, &f)
+                        .map_err(|e| failure(file, std::io::Error::from(e).into()))?;
+                    writeln!(out).map_err(|e| failure(file, e.into()))?;
+                }
+            }
+            ReportFormat::Text => {
+                write_text(out, file, &report).map_err(|e| failure(file, e.into()))?
+            }
+        }
+        Ok(())
+    })?;
+    Ok(if report.errors() > 0 {
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn write_text(out: &mut dyn Write, file: &Path, report: &Report) -> std::io::Result<()> {
     for d in &report.diagnostics {
-        write!(out, "{}", render::diagnostic(file, d)).map_err(io_failure)?;
+        write!(out, "{}", render::diagnostic(file, d))?;
+    }
+    for n in &report.notes {
+        writeln!(
+            out,
+            "note: {}:{}: {}",
+            file.display(),
+            n.span.line,
+            n.message
+        )?;
     }
     let (errors, warnings) = (report.errors(), report.warnings());
+    let plural = |n: usize| if n == 1 { "" } else { "s" };
     writeln!(
         out,
-        "{}: {} error{}, {} warning{} in {} cycle{}{}",
+        "{}: {} error{}, {} warning{} in {} thread{}{}",
         file.display(),
         errors,
-        if errors == 1 { "" } else { "s" },
+        plural(errors),
         warnings,
-        if warnings == 1 { "" } else { "s" },
-        report.cycles,
-        if report.cycles == 1 { "" } else { "s" },
+        plural(warnings),
+        report.threads,
+        plural(report.threads as usize),
         if report.stopped {
             " (checking stopped at the controller's alarm)"
         } else {
             ""
         }
     )
-    .map_err(io_failure)?;
-    Ok(if errors > 0 {
-        ExitCode::from(2)
-    } else {
-        ExitCode::SUCCESS
-    })
 }

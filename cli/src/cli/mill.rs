@@ -5,11 +5,12 @@ use std::io::{self, Write};
 use serde_json::{json, Value};
 
 use threadcut::diag::Diagnostic;
+use threadcut::dialect::CycleTaper;
 use threadcut::mill::Side;
 use threadcut::thread::standard::{self, Limits, StandardThread};
 use threadcut::units::Units;
 
-use super::{io_failure, Failure};
+use super::{output, render, Failure, MachineArgs};
 
 /// A lookup or planning error as a usage failure: the message and the hint.
 pub fn usage(d: Diagnostic) -> Failure {
@@ -21,7 +22,7 @@ pub fn usage(d: Diagnostic) -> Failure {
 
 /// `thread --controller`: where a taper thread is cut (the thread's units).
 pub struct CycleArgs {
-    pub controller: String,
+    pub machine: MachineArgs,
     pub internal: bool,
     pub face_z: Option<f64>,
     pub start_z: Option<f64>,
@@ -34,13 +35,16 @@ pub fn thread(
     json: bool,
     list: bool,
     cycle: Option<CycleArgs>,
+    out: Option<&std::path::Path>,
 ) -> Result<(), Failure> {
-    let mut out = io::stdout().lock();
+    let stdin = std::path::Path::new("-");
     if list {
-        for n in standard::known_names() {
-            writeln!(out, "{n}").map_err(io_failure)?;
-        }
-        return Ok(());
+        return output::write(stdin, out, |w| {
+            for n in standard::known_names() {
+                writeln!(w, "{n}").map_err(write_failure)?;
+            }
+            Ok(())
+        });
     }
     let Some(name) = name else {
         return Err(Failure::Usage(
@@ -48,34 +52,50 @@ pub fn thread(
                 .into(),
         ));
     };
-    let t = standard::lookup(name).map_err(usage)?;
+    let t = standard::lookup(name).map_err(thread_usage)?;
     let taper = match cycle {
         Some(c) => Some(taper_word(&t, &c)?),
         None => None,
     };
-    if json {
-        let mut v = thread_json(&t);
-        if let Some((_, j)) = &taper {
-            v["cycle"] = j.clone();
+    output::write(stdin, out, |w| {
+        if json {
+            let mut v = thread_json(&t);
+            if let Some((_, j)) = &taper {
+                v["cycle"] = j.clone();
+            }
+            serde_json::to_writer_pretty(&mut *w, &v)
+                .map_err(|e| write_failure(io::Error::from(e)))?;
+            writeln!(w).map_err(write_failure)?;
+        } else {
+            write_thread(w, &t).map_err(write_failure)?;
+            if let Some((text, _)) = &taper {
+                w.write_all(text.as_bytes()).map_err(write_failure)?;
+            }
         }
-        serde_json::to_writer_pretty(&mut out, &v).map_err(|e| io_failure(e.into()))?;
-        writeln!(out).map_err(io_failure)?;
-    } else {
-        write_thread(&mut out, &t).map_err(io_failure)?;
-        if let Some((text, _)) = &taper {
-            out.write_all(text.as_bytes()).map_err(io_failure)?;
-        }
+        Ok(())
+    })
+}
+
+fn write_failure(e: io::Error) -> Failure {
+    super::failure(std::path::Path::new("-"), e.into())
+}
+
+/// A thread name that names no thread: the library's message and nearest names, and where the
+/// whole list is.
+pub fn thread_usage(d: Diagnostic) -> Failure {
+    match d.hint {
+        Some(h) => Failure::Usage(format!(
+            "{}\n  = help: {h} (`threadcut thread --list` lists them all)",
+            d.message
+        )),
+        None => Failure::Usage(d.message),
     }
-    Ok(())
 }
 
 /// The taper word of a controller's cycle for a taper thread: the text lines and their JSON.
 fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Failure> {
     use threadcut::thread::standard::lathe::{taper_cycle, Placement};
-    let machine = super::load_machine(&super::MachineArgs {
-        controller: Some(c.controller.clone()),
-        machine: None,
-    })?;
+    let machine = super::load_machine(&c.machine)?;
     let dialect = threadcut::dialect::open(&machine).map_err(Failure::Usage)?;
     let u = t.units;
     let tp = t.taper.ok_or_else(|| {
@@ -120,10 +140,15 @@ fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Fail
         v(cycle.depth),
         u.name()
     );
-    let word = dialect.taper_word();
+    let taper = dialect.cycle_taper();
+    let word = match taper {
+        Some(CycleTaper::Word(w)) => Some(w),
+        _ => None,
+    };
     let value = word.map(|w| cycle.word_value(&w, machine.diameter_x));
-    match (word, value) {
-        (Some(w), Some(val)) => text.push_str(&format!(
+    let mut diameters = Value::Null;
+    match (taper, value) {
+        (Some(CycleTaper::Word(w)), Some(val)) => text.push_str(&format!(
             "  taper word {} = {}{:.d$} ({}: {}, {}, over the cycle's whole Z travel)\n",
             w.cycles,
             w.letter,
@@ -140,6 +165,41 @@ fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Fail
                 "a diameter, as X is written"
             }
         )),
+        (Some(CycleTaper::Diameters(w)), _) => {
+            // The thread proper runs from the face to the end of its length; the run-up before the
+            // face is the cycle's run-in, on the same cone.
+            let (spl, fpl) = (face_z, cycle.end_z);
+            let (dm1, dm2) = (2.0 * cycle.crest_at(spl), 2.0 * cycle.crest_at(fpl));
+            let app = (cycle.start_z - face_z).abs();
+            text.push_str(&format!(
+                "  taper {} = {} {:.d$} at {} Z{:.d$}, {} {:.d$} at {} Z{:.d$}, {} {:.d$} ({}: the crest diameters at the thread's start and end points, {}; the run-in on the same cone)\n",
+                w.cycles,
+                w.at_start,
+                v(dm1),
+                w.start_point,
+                v(spl),
+                w.at_end,
+                v(dm2),
+                w.end_point,
+                v(fpl),
+                w.run_in,
+                v(app),
+                u.name(),
+                if side == Side::External {
+                    "the major diameter"
+                } else {
+                    "the tap hole's (minor) diameter"
+                }
+            ));
+            diameters = json!({
+                "cycles": w.cycles,
+                w.at_start: v(dm1),
+                w.at_end: v(dm2),
+                w.start_point: v(spl),
+                w.end_point: v(fpl),
+                w.run_in: v(app),
+            });
+        }
         _ => text.push_str(&format!(
             "  {} has no taper word in its threading cycle: cut this thread with synchronised moves (G33/G32) or a post-processed program\n",
             machine.name
@@ -154,6 +214,7 @@ fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Fail
         "root": {"start": v(2.0 * cycle.root_start_x), "end": v(2.0 * cycle.root_end_x)},
         "height": v(cycle.depth),
         "taper_word": word.map(|w| json!({"cycles": w.cycles, "letter": w.letter.to_string(), "value": value.map(v)})),
+        "taper_diameters": diameters,
     });
     Ok((text, j))
 }
@@ -546,14 +607,50 @@ pub struct MillArgs {
     /// Offset register for G41/G42 (the D word).
     #[arg(long)]
     d_register: Option<u32>,
-    /// Milling controller profile: centroid, fanuc-mill, linuxcnc-mill.
-    #[arg(long, short = 'c')]
-    controller: String,
+    /// Milling controller profile, any case: centroid, fanuc-mill, linuxcnc-mill.
+    #[arg(
+        long,
+        short = 'c',
+        value_name = "NAME",
+        required_unless_present = "machine"
+    )]
+    controller: Option<String>,
+    /// Milling profile (a TOML file like profiles/centroid.toml); used instead of --controller.
+    #[arg(long, value_name = "FILE.toml")]
+    machine: Option<std::path::PathBuf>,
+    /// The program (gcode), or one JSON object per move (jsonl).
     #[arg(long, value_enum, default_value = "gcode")]
     format: MillFormat,
-    /// Output file (`-` or absent: standard output). Written whole or not at all.
-    #[arg(long, short = 'o')]
+    /// Write to this file instead of standard output (`-` or absent: standard output). A file is
+    /// written whole or not at all (a temporary file beside it, renamed at the end).
+    #[arg(long, short = 'o', value_name = "OUT")]
     output: Option<std::path::PathBuf>,
+}
+
+/// The milling profile `mill` is given: a profile file, or a built-in one by name.
+fn mill_profile(a: &MillArgs) -> Result<threadcut::mill::profile::MillProfile, Failure> {
+    use threadcut::machine::{built_in_name, ProfileKind};
+    use threadcut::mill::profile::MillProfile;
+    if let Some(path) = &a.machine {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Failure::Usage(format!(
+                "cannot read {}: {}",
+                path.display(),
+                super::reason(&e)
+            ))
+        })?;
+        return MillProfile::from_toml(&text).map_err(|e| {
+            Failure::Usage(format!(
+                "{} is not a milling profile: {}",
+                path.display(),
+                e.message().trim_end()
+            ))
+        });
+    }
+    let name = a.controller.as_deref().unwrap_or_default();
+    built_in_name(name, ProfileKind::Mill)
+        .map(|n| MillProfile::built_in(n).expect("built-in profiles parse"))
+        .map_err(|e| Failure::Usage(super::name_error(name, e, ProfileKind::Mill)))
 }
 
 fn parse_center(text: &str, units: Units) -> Result<(f64, f64), Failure> {
@@ -570,15 +667,9 @@ fn parse_center(text: &str, units: Units) -> Result<(f64, f64), Failure> {
 
 /// `threadcut mill …`
 pub fn mill(a: MillArgs) -> Result<(), Failure> {
-    use threadcut::mill::{self, profile::MillProfile, Comp, Direction, Hand, LeadIn, MillSpec};
+    use threadcut::mill::{self, Comp, Direction, Hand, LeadIn, MillSpec};
 
-    let profile = MillProfile::built_in(&a.controller).ok_or_else(|| {
-        Failure::Usage(format!(
-            "--controller: `{}` is not a milling controller (built in: {})",
-            a.controller,
-            MillProfile::names().join(", ")
-        ))
-    })?;
+    let profile = mill_profile(&a)?;
     let side = match (a.internal, a.external) {
         (true, false) => Side::Internal,
         (false, true) => Side::External,
@@ -588,7 +679,7 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
             ))
         }
     };
-    let thread = standard::lookup(&a.thread).map_err(usage)?;
+    let thread = standard::lookup(&a.thread).map_err(thread_usage)?;
     let (given_ext, given_int) = (thread.external.is_some(), thread.internal.is_some());
     if given_ext != given_int && given_ext != (side == Side::External) {
         let class = thread
@@ -618,9 +709,12 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
     };
     if comp == Comp::Controller && profile.comp_needs_d && a.d_register.is_none() {
         // Legal on the control (G41/G42 keep the D in force), but worth a word before it runs.
-        eprintln!(
-            "threadcut: warning: no --d-register: {} writes G41/G42 without D, so the tool-radius offset in force is used (name it with --d-register N, or use --comp none)",
-            profile.name
+        eprint!(
+            "{}",
+            render::warning(&format!(
+                "no --d-register: {} writes G41/G42 without D, so the tool-radius offset in force is used\n  = help: name it with --d-register N, or use --comp none",
+                profile.name
+            ))
         );
     }
     let spec = MillSpec {
@@ -651,7 +745,7 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
     let plan = mill::plan(&spec).map_err(usage)?;
     mill::profile_checks(&plan, &profile).map_err(usage)?;
     for w in plan.warnings(units) {
-        eprintln!("threadcut: warning: {w}");
+        eprint!("{}", render::warning(&w));
     }
     let opts = mill::post::Options {
         units,
@@ -662,16 +756,16 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
         },
     };
     super::output::write(std::path::Path::new("-"), a.output.as_deref(), |out| {
-        match a.format {
-            MillFormat::Gcode => mill::post::write_gcode(out, &plan, &profile, opts)?,
+        let written = match a.format {
+            MillFormat::Gcode => mill::post::write_gcode(out, &plan, &profile, opts),
             MillFormat::Jsonl => {
                 serde_json::to_writer(&mut *out, &mill::post::plan_json(&plan, units))
-                    .map_err(io::Error::other)?;
-                writeln!(out)?;
-                mill::post::write_jsonl(out, &plan, units)?;
+                    .map_err(io::Error::other)
+                    .and_then(|()| writeln!(out))
+                    .and_then(|()| mill::post::write_jsonl(out, &plan, units))
             }
-        }
-        Ok(threadcut::program::Summary::default())
+        };
+        written.map_err(write_failure)
     })?;
     Ok(())
 }

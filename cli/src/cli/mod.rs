@@ -1,7 +1,14 @@
 //! Command-line interface: argument parsing, input and output files, rendering of diagnostics.
+//!
+//! Every message has one form (docs/cli.md): `error[E…]: message` and ` --> file:line:column`
+//! with the source line where the program has a place for it, `error: message` where it has not
+//! (usage, files, profiles), `warning: …` likewise, each followed by `  = help: …` lines; clap's
+//! own errors are rewritten into it. Exit status: 0 done, 1 the output could not be written,
+//! 2 bad input or usage (an empty program included).
 
 mod check;
 mod convert;
+mod input;
 mod mill;
 mod output;
 mod passes;
@@ -9,35 +16,55 @@ mod plot;
 mod post;
 mod render;
 
-use std::fs::File;
-use std::io::{self, BufRead, BufReader, Write};
+use std::io::{self, BufRead, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::OnceLock;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
 use threadcut::diag::Diagnostic;
-use threadcut::machine::{Machine, BUILT_IN};
-use threadcut::program::{self, Error, Event, Summary};
+use threadcut::machine::{built_in_name, Machine, NameError, ProfileKind, BUILT_IN};
+use threadcut::program::{self, Error, Summary};
 
 #[derive(Parser)]
 #[command(
     name = "threadcut",
     version,
-    about = "Exact pass-by-pass motion for CNC thread-cutting cycles"
+    about = "Exact pass-by-pass motion for CNC thread-cutting cycles",
+    after_help = "Exit status: 0 done, 1 the output could not be written, 2 bad input or usage (an empty program included)."
 )]
 struct Cli {
     #[command(subcommand)]
     command: Command,
 }
 
+/// The program a command reads.
+#[derive(clap::Args)]
+struct InputArg {
+    /// The program: G-code, or APT/CL (`.apt`, `.cl`, or a CL statement first); `-` reads
+    /// standard input. Its line ending (LF or CRLF) is the output's.
+    #[arg(value_name = "FILE")]
+    file: PathBuf,
+}
+
+/// Where a command writes.
+#[derive(clap::Args)]
+struct OutputArg {
+    /// Write to this file instead of standard output (`-` or absent: standard output). A file is
+    /// written whole or not at all (a temporary file beside it, renamed at the end).
+    #[arg(long, short = 'o', value_name = "OUT")]
+    output: Option<PathBuf>,
+}
+
 #[derive(clap::Args)]
 struct MachineArgs {
-    /// Built-in controller profile (see `threadcut controllers`).
-    #[arg(long, short = 'c')]
+    /// Built-in controller profile, any case: gsk980, omniturn, ab9, fanuc, fanuc15, fanuc-b,
+    /// haas, linuxcnc, sinumerik (`threadcut controllers` describes them).
+    #[arg(long, short = 'c', value_name = "NAME")]
     controller: Option<String>,
-    /// Machine profile (TOML); overrides --controller.
-    #[arg(long)]
+    /// Machine profile (a TOML file like those in profiles/); used instead of --controller.
+    #[arg(long, value_name = "FILE.toml")]
     machine: Option<PathBuf>,
 }
 
@@ -74,138 +101,252 @@ impl ToolArgs {
             (None, None) => Tip::Sharp,
         })
     }
+
+    /// The tip when one of the flags gives it.
+    fn given_tip(&self) -> Result<Option<threadcut::sim::Tip>, Failure> {
+        if self.nose_radius.is_none() && self.tip_flat.is_none() {
+            return Ok(None);
+        }
+        self.tip().map(Some)
+    }
 }
 
-#[derive(Clone, Copy, ValueEnum)]
-enum ExpandFormat {
+/// `expand` and `post`: a program, or its motions.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum ProgramFormat {
     /// The program with each cycle replaced by plain moves in the controller's format.
     Gcode,
     /// One JSON object per motion, program units, X as a radius.
     Jsonl,
 }
 
+/// `passes` and `check`: a report for people or for programs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ReportFormat {
+    /// Text for people.
+    Text,
+    /// One JSON document.
+    Json,
+    /// JSON lines: one object per line (a cycle for `passes`, a finding for `check`).
+    Jsonl,
+}
+
+/// `thread` and `controllers`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum TextJson {
+    /// Text for people.
+    Text,
+    /// One JSON document.
+    Json,
+}
+
+/// `plot`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SvgFormat {
+    /// One SVG picture.
+    Svg,
+}
+
+/// `convert`.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum GcodeFormat {
+    /// The program for the target controller.
+    Gcode,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Replace each threading cycle by plain moves (G0/G32 …); other blocks pass through unchanged.
     Expand {
-        /// The program (`-` for standard input).
-        file: PathBuf,
+        #[command(flatten)]
+        input: InputArg,
         #[command(flatten)]
         machine: MachineArgs,
-        /// Output file (`-` or absent: standard output). Written whole or not at all.
-        #[arg(long, short = 'o')]
-        output: Option<PathBuf>,
+        #[command(flatten)]
+        output: OutputArg,
+        /// The program (gcode), or one JSON object per motion (jsonl).
         #[arg(long, value_enum, default_value = "gcode")]
-        format: ExpandFormat,
+        format: ProgramFormat,
     },
     /// Print each cycle's pass table: depth, increment, infeed point, chip area.
     Passes {
-        file: PathBuf,
+        #[command(flatten)]
+        input: InputArg,
         #[command(flatten)]
         machine: MachineArgs,
-        /// JSON instead of a table.
-        #[arg(long)]
+        /// A table (text), `{"cycles":[…]}` (json) or one cycle object per line (jsonl).
+        #[arg(long, value_enum, default_value = "text")]
+        format: ReportFormat,
+        /// The same as --format json.
+        #[arg(long, conflicts_with = "format")]
         json: bool,
-        #[arg(long, short = 'o')]
-        output: Option<PathBuf>,
+        #[command(flatten)]
+        output: OutputArg,
         #[command(flatten)]
         tool: ToolArgs,
     },
     /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
-    /// feed and lead limits, run-up, depth and form. Exit status 2 on any error.
+    /// feed and lead limits, run-up and run-out, depth and form, and with --thread the thread
+    /// against its class. Every assumption is stated. Exit status 2 on any error.
     Check {
-        file: PathBuf,
+        #[command(flatten)]
+        input: InputArg,
         #[command(flatten)]
         machine: MachineArgs,
-        /// Diameter of the blank (program units); default: the cycle's crest line.
+        /// Diameter of the blank (program units); default: the thread's crest is assumed.
         #[arg(long, value_name = "D")]
         stock_diameter: Option<f64>,
-        /// Z of the blank's face on the thread's start side (program units); default: where
-        /// the thread starts.
+        /// Z of the blank's face on the thread's start side (program units); default: Z0 is
+        /// assumed when the thread runs into the part through it.
         #[arg(long, value_name = "Z", allow_negative_numbers = true)]
         stock_start: Option<f64>,
         #[command(flatten)]
         tool: ToolArgs,
+        /// Judge the thread cut against a standard thread's class limits (`M50x2-6g`,
+        /// `"1/2-13 UNC-2A"`; any name `threadcut thread` knows).
+        #[arg(long, value_name = "NAME")]
+        thread: Option<String>,
+        /// Text (diagnostics, notes, summary), JSON (`[{file, line, column, level, code,
+        /// message, hint}]`) or JSON lines (one finding per line).
+        #[arg(long, value_enum, default_value = "text")]
+        format: ReportFormat,
+        #[command(flatten)]
+        output: OutputArg,
     },
-    /// Draw each cycle's pass diagram and XZ toolpath into one SVG.
+    /// Draw each thread's pass diagram and XZ toolpath into one SVG: the first 50 threads, or the
+    /// one --cycle names; the picture and standard error say what was left out.
     Plot {
-        file: PathBuf,
+        #[command(flatten)]
+        input: InputArg,
         #[command(flatten)]
         machine: MachineArgs,
-        /// The SVG file to write (`-`: standard output).
-        #[arg(long, short = 'o')]
-        output: PathBuf,
+        #[command(flatten)]
+        output: OutputArg,
+        /// Draw only this thread (1 = the program's first; `threadcut passes` lists them in order).
+        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+        cycle: Option<u32>,
+        /// The picture's format.
+        #[arg(long, value_enum, default_value = "svg")]
+        format: SvgFormat,
         #[command(flatten)]
         tool: ToolArgs,
     },
     /// Post an APT/CL file (THREAD, COUPLE, GOTO …) to a controller: native threading cycles where
     /// they reproduce the toolpath exactly, plain moves otherwise.
     Post {
-        /// The CL file (`-` for standard input).
+        /// The CL file (`-` reads standard input). Its line ending (LF or CRLF) is the output's.
+        #[arg(value_name = "FILE")]
         file: PathBuf,
         #[command(flatten)]
         machine: MachineArgs,
-        /// Output file (`-` or absent: standard output). Written whole or not at all.
-        #[arg(long, short = 'o')]
-        output: Option<PathBuf>,
+        #[command(flatten)]
+        output: OutputArg,
+        /// The posted program (gcode), or one JSON object per motion (jsonl).
+        #[arg(long, value_enum, default_value = "gcode")]
+        format: ProgramFormat,
     },
     /// Rewrite a program for another controller: each threading cycle as the target's native cycle
     /// when reading it back gives the same motion, otherwise as plain moves with a comment saying why.
     Convert {
-        file: PathBuf,
-        /// The controller the program is written for (a built-in profile name).
-        #[arg(long)]
-        from: String,
-        /// The controller to write for (a built-in profile name).
-        #[arg(long)]
-        to: String,
-        #[arg(long, short = 'o')]
-        output: Option<PathBuf>,
+        #[command(flatten)]
+        input: InputArg,
+        /// The controller the program is written for (a built-in profile name, any case).
+        #[arg(long, value_name = "NAME", required_unless_present = "from_machine")]
+        from: Option<String>,
+        /// The machine profile (TOML) the program is written for; used instead of --from.
+        #[arg(long, value_name = "FILE.toml")]
+        from_machine: Option<PathBuf>,
+        /// The controller to write for (a built-in profile name, any case).
+        #[arg(long, value_name = "NAME", required_unless_present = "to_machine")]
+        to: Option<String>,
+        /// The machine profile (TOML) to write for; used instead of --to.
+        #[arg(long, value_name = "FILE.toml")]
+        to_machine: Option<PathBuf>,
+        #[command(flatten)]
+        output: OutputArg,
+        /// The converted program.
+        #[arg(long, value_enum, default_value = "gcode")]
+        format: GcodeFormat,
     },
-    /// List the built-in controller profiles.
-    Controllers,
+    /// List the built-in controller profiles (lathe, then milling).
+    Controllers {
+        /// A list (text) or `[{name, kind, description}]` (json).
+        #[arg(long, value_enum, default_value = "text")]
+        format: TextJson,
+        #[command(flatten)]
+        output: OutputArg,
+    },
     /// Print a standard thread's diameters (min/max), thread height and turning infeed depth:
     /// ISO metric (`M10`, `M10x1.25-6g`, `M8-4g6g`, `M12-6H`) or Unified (`"1/2-13 UNC-2A"`,
     /// `"#10-32 UNF"`). Without a class both sides are given (6g/6H, 2A/2B).
     Thread {
-        /// The thread's name.
+        /// The thread's name (`threadcut thread --list` lists every one).
         name: Option<String>,
-        /// JSON (values in the standard's units) instead of a table.
-        #[arg(long)]
+        /// A table (text) or JSON (values in the standard's units).
+        #[arg(long, value_enum, default_value = "text")]
+        format: TextJson,
+        /// The same as --format json.
+        #[arg(long, conflicts_with = "format")]
         json: bool,
         /// List every thread threadcut knows.
         #[arg(long, conflicts_with = "name")]
         list: bool,
         /// For a taper thread: the taper word of this lathe controller's threading cycle, for
-        /// the thread placed by --face-z, --start-z and --length.
-        #[arg(long, short = 'c')]
+        /// the thread placed by --face-z, --start-z and --length (any case).
+        #[arg(long, short = 'c', value_name = "NAME")]
         controller: Option<String>,
+        /// A machine profile (TOML) instead of --controller.
+        #[arg(long, value_name = "FILE.toml")]
+        machine: Option<PathBuf>,
         /// The internal thread (with --controller; default: the external one).
-        #[arg(long, requires = "controller")]
+        #[arg(long)]
         internal: bool,
         /// Z of the part's face: the small end of an external taper thread, the opening of an
         /// internal one (the thread's units; default 0).
-        #[arg(long, allow_negative_numbers = true, requires = "controller")]
+        #[arg(long, allow_negative_numbers = true)]
         face_z: Option<f64>,
         /// Z where the cycle starts (default: 3 pitches outside the face).
-        #[arg(long, allow_negative_numbers = true, requires = "controller")]
+        #[arg(long, allow_negative_numbers = true)]
         start_z: Option<f64>,
         /// Thread length from the face (default: the standard's effective/useful thread).
-        #[arg(long, requires = "controller")]
+        #[arg(long)]
         length: Option<f64>,
+        #[command(flatten)]
+        output: OutputArg,
     },
     /// Mill a standard thread by helical interpolation (Centroid TB029): a complete block of G2/G3
     /// full circles with absolute Z per turn, cutter compensation and lead-in/out.
     Mill(mill::MillArgs),
 }
 
+/// The command being run, for messages that point to another one.
+static COMMAND: OnceLock<&'static str> = OnceLock::new();
+
+fn command_name() -> &'static str {
+    COMMAND.get().copied().unwrap_or("threadcut")
+}
+
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => return clap_failure(e),
+    };
+    let _ = COMMAND.set(match &cli.command {
+        Command::Expand { .. } => "expand",
+        Command::Passes { .. } => "passes",
+        Command::Check { .. } => "check",
+        Command::Plot { .. } => "plot",
+        Command::Post { .. } => "post",
+        Command::Convert { .. } => "convert",
+        Command::Controllers { .. } => "controllers",
+        Command::Thread { .. } => "thread",
+        Command::Mill(_) => "mill",
+    });
     match run(cli) {
         Ok(code) => code,
         Err(Failure::Quiet) => ExitCode::SUCCESS,
         Err(Failure::Usage(msg)) => {
-            eprintln!("threadcut: {msg}");
+            eprint!("{}", render::error(&msg));
             ExitCode::from(2)
         }
         Err(Failure::Input { file, diagnostic }) => {
@@ -213,21 +354,48 @@ pub fn main() -> ExitCode {
             ExitCode::from(2)
         }
         Err(Failure::Other(msg)) => {
-            eprintln!("threadcut: {msg}");
+            eprint!("{}", render::error(&msg));
             ExitCode::from(1)
         }
     }
 }
 
+/// clap's own errors in the one message form: `error: …` and `  = help:`/`  = note:` lines
+/// (help and version are printed as clap prints them).
+fn clap_failure(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        let _ = e.print();
+        return ExitCode::from(e.exit_code().clamp(0, 255) as u8);
+    }
+    eprint!("{}", render::clap_error(&e.render().to_string()));
+    ExitCode::from(2)
+}
+
 enum Failure {
     /// The reader of our output went away (`| head`): stop without a word.
     Quiet,
+    /// Bad usage or input without a place in the program (exit status 2): the message, and
+    /// `\n  = help: …` lines if any.
     Usage(String),
     Input {
         file: PathBuf,
         diagnostic: Box<Diagnostic>,
     },
+    /// The output could not be written (exit status 1).
     Other(String),
+}
+
+/// An error writing the output (named by [`output::write`]).
+impl From<io::Error> for Failure {
+    fn from(e: io::Error) -> Failure {
+        io_failure(e)
+    }
 }
 
 fn failure(file: &Path, e: Error) -> Failure {
@@ -237,9 +405,32 @@ fn failure(file: &Path, e: Error) -> Failure {
             diagnostic: Box::new(d),
         },
         Error::Io(e) if e.kind() == io::ErrorKind::BrokenPipe => Failure::Quiet,
-        Error::Io(e) => Failure::Other(format!("cannot write the output: {e}")),
+        Error::Io(e) => Failure::Other(format!("cannot write the output: {}", reason(&e))),
         Error::Setup(msg) => Failure::Usage(msg),
     }
+}
+
+/// The system's reason for an I/O error, without Rust's ` (os error N)` and without the paths
+/// of temporary files that crates add: the innermost I/O error's text.
+fn reason(e: &io::Error) -> String {
+    let mut inner: &io::Error = e;
+    let mut source = e.get_ref().map(|s| s as &(dyn std::error::Error + 'static));
+    while let Some(s) = source {
+        if let Some(io) = s.downcast_ref::<io::Error>() {
+            inner = io;
+        }
+        source = s.source();
+    }
+    let text = inner.to_string();
+    let text = match inner.raw_os_error() {
+        Some(code) => text
+            .strip_suffix(&format!(" (os error {code})"))
+            .map(str::to_string)
+            .unwrap_or(text),
+        None if inner.get_ref().is_some() => inner.kind().to_string(),
+        None => text,
+    };
+    text
 }
 
 fn run(cli: Cli) -> Result<ExitCode, Failure> {
@@ -250,134 +441,277 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
         }
         Command::Thread {
             name,
+            format,
             json,
             list,
             controller,
+            machine,
             internal,
             face_z,
             start_z,
             length,
+            output,
         } => {
-            let cycle = controller.map(|c| mill::CycleArgs {
-                controller: c,
-                internal,
-                face_z,
-                start_z,
-                length,
-            });
-            mill::thread(name.as_deref(), json, list, cycle)?;
+            let placed = internal || face_z.is_some() || start_z.is_some() || length.is_some();
+            let cycle = match (controller, machine) {
+                (None, None) if placed => {
+                    return Err(Failure::Usage(
+                        "--internal, --face-z, --start-z and --length place a taper thread on a lathe cycle: name the controller with --controller (or --machine)".into(),
+                    ))
+                }
+                (None, None) => None,
+                (controller, machine) => Some(mill::CycleArgs {
+                    machine: MachineArgs {
+                        controller,
+                        machine,
+                    },
+                    internal,
+                    face_z,
+                    start_z,
+                    length,
+                }),
+            };
+            let json = json || format == TextJson::Json;
+            mill::thread(name.as_deref(), json, list, cycle, output.output.as_deref())?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Controllers => {
-            let mut out = io::stdout().lock();
-            for (name, _) in BUILT_IN {
-                let m = Machine::built_in(name).expect("built-in profiles parse");
-                writeln!(out, "{name:<12} {}", m.description).map_err(io_failure)?;
-            }
-            for (name, _) in threadcut::mill::profile::BUILT_IN {
-                let m = threadcut::mill::profile::MillProfile::built_in(name)
-                    .expect("built-in profiles parse");
-                writeln!(out, "{name:<14} (mill) {}", m.description).map_err(io_failure)?;
-            }
+        Command::Controllers { format, output } => {
+            controllers(format, output.output.as_deref())?;
             Ok(ExitCode::SUCCESS)
         }
         Command::Expand {
-            file,
+            input,
             machine,
             output,
             format,
         } => {
-            let mut input = open_input(&file)?;
-            if post::is_apt(&file, &mut input) {
+            let file = &input.file;
+            let (mut reader, content) = input::open(file)?;
+            if post::is_apt(file, &mut reader) {
                 match format {
-                    ExpandFormat::Jsonl => post::expand_jsonl(&file, input, output.as_deref())?,
-                    ExpandFormat::Gcode => {
+                    ProgramFormat::Jsonl => {
+                        post::expand_jsonl(file, reader, &content, output.output.as_deref())?
+                    }
+                    ProgramFormat::Gcode => {
                         let machine = load_machine(&machine)?;
-                        post::post(&file, input, &machine, output.as_deref())?
+                        post::post(file, reader, &content, &machine, output.output.as_deref())?
                     }
                 }
                 return Ok(ExitCode::SUCCESS);
             }
             let machine = load_machine(&machine)?;
-            let summary = output::write(&file, output.as_deref(), |out| match format {
-                ExpandFormat::Gcode => program::expand_gcode(input, out, &machine),
-                ExpandFormat::Jsonl => program::expand_jsonl(input, out, &machine),
+            let summary = output::write(file, output.output.as_deref(), |out| {
+                let summary = match format {
+                    ProgramFormat::Gcode => program::expand_gcode(reader, out, &machine),
+                    ProgramFormat::Jsonl => program::expand_jsonl(reader, out, &machine),
+                }
+                .map_err(lib(file))?;
+                not_empty(file, &content)?;
+                Ok(summary)
             })?;
-            warn(&file, &summary);
+            warn(file, &summary);
             Ok(ExitCode::SUCCESS)
         }
         Command::Post {
             file,
             machine,
             output,
+            format,
         } => {
-            let machine = load_machine(&machine)?;
-            let input = open_input(&file)?;
-            post::post(&file, input, &machine, output.as_deref())?;
+            let (reader, content) = input::open(&file)?;
+            match format {
+                ProgramFormat::Gcode => {
+                    let machine = load_machine(&machine)?;
+                    post::post(&file, reader, &content, &machine, output.output.as_deref())?;
+                }
+                ProgramFormat::Jsonl => {
+                    post::expand_jsonl(&file, reader, &content, output.output.as_deref())?
+                }
+            }
             Ok(ExitCode::SUCCESS)
         }
         Command::Convert {
-            file,
+            input,
             from,
+            from_machine,
             to,
+            to_machine,
             output,
+            format: GcodeFormat::Gcode,
         } => {
-            let load = |name: &str| {
-                load_machine(&MachineArgs {
-                    controller: Some(name.to_string()),
-                    machine: None,
-                })
-            };
-            let (from, to) = (load(&from)?, load(&to)?);
-            let input = open_input(&file)?;
-            let summary = output::write(&file, output.as_deref(), |out| {
-                convert::convert(input, out, &from, &to)
+            let from = load_machine(&MachineArgs {
+                controller: from,
+                machine: from_machine,
             })?;
-            warn(&file, &summary);
+            let to = load_machine(&MachineArgs {
+                controller: to,
+                machine: to_machine,
+            })?;
+            let file = &input.file;
+            let (mut reader, content) = input::open(file)?;
+            // The converted program ends its lines as the source does (CRLF in, CRLF out).
+            let ending = threadcut::eol::LineEnding::peek(&mut reader).map_err(|e| {
+                Failure::Usage(format!(
+                    "cannot read {}: {}",
+                    input::display(file),
+                    reason(&e)
+                ))
+            })?;
+            let summary = output::write(file, output.output.as_deref(), |out| {
+                let mut out = threadcut::eol::Writer::new(out, ending);
+                let summary = convert::convert(reader, &mut out, &from, &to).map_err(lib(file))?;
+                not_empty(file, &content)?;
+                Ok(summary)
+            })?;
+            warn(file, &summary);
             Ok(ExitCode::SUCCESS)
         }
         Command::Check {
-            file,
+            input,
             machine,
             stock_diameter,
             stock_start,
             tool,
-        } => check::run(&file, &machine, stock_diameter, stock_start, &tool),
+            thread,
+            format,
+            output,
+        } => check::run(
+            &input.file,
+            &machine,
+            &check::Args {
+                stock_diameter,
+                stock_start,
+                tool: &tool,
+                thread: thread.as_deref(),
+                format,
+                output: output.output.as_deref(),
+            },
+        ),
         Command::Plot {
-            file,
+            input,
             machine,
             output,
+            cycle,
+            format: SvgFormat::Svg,
             tool,
-        } => plot::run(&file, &machine, &output, &tool),
+        } => plot::run(
+            &input.file,
+            &machine,
+            output.output.as_deref(),
+            cycle.map(|n| n as usize),
+            &tool,
+        ),
         Command::Passes {
-            file,
+            input,
             machine,
+            format,
             json,
             output,
             tool,
         } => {
-            let mut input = open_input(&file)?;
-            if post::is_apt(&file, &mut input) {
-                post::passes(&file, input, json, output.as_deref(), tool.tip()?)?;
+            let format = if json { ReportFormat::Json } else { format };
+            let file = &input.file;
+            let (mut reader, content) = input::open(file)?;
+            if post::is_apt(file, &mut reader) {
+                post::passes(
+                    file,
+                    reader,
+                    &content,
+                    format,
+                    output.output.as_deref(),
+                    tool.tip()?,
+                )?;
                 return Ok(ExitCode::SUCCESS);
             }
             let machine = load_machine(&machine)?;
             let tip = tool.tip()?;
-            let summary = output::write(&file, output.as_deref(), |out| {
-                passes(input, out, &machine, json, tip)
+            let (summary, count) = output::write(file, output.output.as_deref(), |out| {
+                let done = passes(reader, out, &machine, format, tip).map_err(lib(file))?;
+                not_empty(file, &content)?;
+                Ok(done)
             })?;
-            warn(&file, &summary);
+            warn(file, &summary);
+            if count == 0 {
+                no_thread(file, &thread_codes(&machine));
+            }
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// An empty program (nothing but blanks) is an error: the run stops before its output is kept.
+fn not_empty(file: &Path, content: &input::Content) -> Result<(), Failure> {
+    if content.empty() {
+        return Err(input::Content::failure(file));
+    }
+    Ok(())
+}
+
+/// A library error of a run on `file`.
+fn lib(file: &Path) -> impl Fn(Error) -> Failure + '_ {
+    move |e| failure(file, e)
 }
 
 fn io_failure(e: io::Error) -> Failure {
     if e.kind() == io::ErrorKind::BrokenPipe {
         Failure::Quiet
     } else {
-        Failure::Other(e.to_string())
+        Failure::Other(format!("cannot write the output: {}", reason(&e)))
     }
+}
+
+/// `threadcut controllers`.
+fn controllers(format: TextJson, out: Option<&Path>) -> Result<(), Failure> {
+    use threadcut::mill::profile::MillProfile;
+    let mut list = Vec::new();
+    for (name, _) in BUILT_IN {
+        let m = Machine::built_in(name).expect("built-in profiles parse");
+        list.push((*name, "lathe", m.description));
+    }
+    for (name, _) in threadcut::mill::profile::BUILT_IN {
+        let m = MillProfile::built_in(name).expect("built-in profiles parse");
+        list.push((*name, "mill", m.description));
+    }
+    output::write(Path::new("-"), out, |w| {
+        match format {
+            TextJson::Text => {
+                for (name, kind, description) in &list {
+                    let kind = if *kind == "mill" { "(mill) " } else { "" };
+                    writeln!(w, "{name:<14} {kind}{description}")?;
+                }
+            }
+            TextJson::Json => {
+                let v: Vec<serde_json::Value> = list
+                    .iter()
+                    .map(|(name, kind, description)| {
+                        serde_json::json!({"name": name, "kind": kind, "description": description})
+                    })
+                    .collect();
+                serde_json::to_writer_pretty(&mut *w, &v).map_err(io::Error::from)?;
+                writeln!(w)?;
+            }
+        }
+        Ok(())
+    })
+}
+
+/// The codes a machine's controller threads with, as `G32, G76, G92`.
+fn thread_codes(machine: &Machine) -> String {
+    threadcut::dialect::open(machine)
+        .map(|d| d.vocabulary().thread_codes())
+        .unwrap_or_default()
+}
+
+/// A program with no thread: said on standard error, naming what the controller threads with.
+/// Not an error (exit status 0): the program was read, and there is nothing in it to show.
+fn no_thread(file: &Path, codes: &str) {
+    eprint!(
+        "{}",
+        render::warning(&format!(
+            "no thread found in {}: no threading cycle and no synchronised move\n  = help: this controller threads with {codes}; is it the right --controller?",
+            input::display(file)
+        ))
+    );
 }
 
 fn warn(file: &Path, summary: &Summary) {
@@ -386,41 +720,66 @@ fn warn(file: &Path, summary: &Summary) {
     }
 }
 
+/// The lathe machine a command is given: a profile file, or a built-in profile by name.
 fn load_machine(args: &MachineArgs) -> Result<Machine, Failure> {
     if let Some(path) = &args.machine {
-        let text = std::fs::read_to_string(path)
-            .map_err(|e| Failure::Usage(format!("cannot read {}: {e}", path.display())))?;
-        return Machine::from_toml(&text)
-            .map_err(|e| Failure::Usage(format!("{}: {e}", path.display())));
-    }
-    let names = || {
-        BUILT_IN
-            .iter()
-            .map(|(n, _)| *n)
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    match &args.controller {
-        Some(name) => Machine::built_in(name).ok_or_else(|| {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Failure::Usage(format!("cannot read {}: {}", path.display(), reason(&e)))
+        })?;
+        return Machine::from_toml(&text).map_err(|e| {
+            // The place in the profile, as a diagnostic's ` --> file:line:column`.
+            let place = e.span().map_or(String::new(), |span| {
+                let before = &text[..span.start.min(text.len())];
+                let line = before.matches('\n').count() + 1;
+                let column = before.len() - before.rfind('\n').map_or(0, |i| i + 1) + 1;
+                format!("\n --> {}:{line}:{column}", path.display())
+            });
             Failure::Usage(format!(
-                "unknown controller `{name}` (built in: {})",
-                names()
+                "{} is not a machine profile: {}{place}",
+                path.display(),
+                e.message().trim_end()
             ))
-        }),
+        });
+    }
+    match &args.controller {
+        Some(name) => built_in_name(name, ProfileKind::Lathe)
+            .map(|n| Machine::built_in(n).expect("built-in profiles parse"))
+            .map_err(|e| Failure::Usage(name_error(name, e, ProfileKind::Lathe))),
         None => Err(Failure::Usage(format!(
             "name the controller with --controller (built in: {}) or a profile with --machine",
-            names()
+            ProfileKind::Lathe.names().join(", ")
         ))),
     }
 }
 
-fn open_input(file: &Path) -> Result<Box<dyn BufRead>, Failure> {
-    if file.as_os_str() == "-" {
-        return Ok(Box::new(BufReader::with_capacity(1 << 16, io::stdin())));
+/// What a name that is no built-in profile of the kind wanted means, for this command.
+fn name_error(name: &str, e: NameError, wanted: ProfileKind) -> String {
+    let command = command_name();
+    match e {
+        NameError::OtherKind {
+            name: other,
+            kind: ProfileKind::Mill,
+        } => format!(
+            "`{name}` is a milling profile, and `threadcut {command}` reads lathe programs\n  = help: write a thread-milling program for it with `threadcut mill --controller {other} …`; lathe controllers: {}",
+            ProfileKind::Lathe.names().join(", ")
+        ),
+        NameError::OtherKind {
+            name: other,
+            kind: ProfileKind::Lathe,
+        } => format!(
+            "`{name}` is a lathe controller, and `threadcut mill` writes thread-milling programs\n  = help: for a lathe use `threadcut expand`, `passes`, `check` or `plot` with --controller {other}; milling profiles: {}",
+            ProfileKind::Mill.names().join(", ")
+        ),
+        NameError::Unknown { suggestion } => {
+            let known = wanted.names().join(", ");
+            match suggestion {
+                Some(s) => format!(
+                    "unknown controller `{name}`\n  = help: did you mean `{s}`? (built in: {known})"
+                ),
+                None => format!("unknown controller `{name}`\n  = help: built in: {known}"),
+            }
+        }
     }
-    let f = File::open(file)
-        .map_err(|e| Failure::Usage(format!("cannot open {}: {e}", file.display())))?;
-    Ok(Box::new(BufReader::with_capacity(1 << 16, f)))
 }
 
 /// `threadcut passes` on G-code.
@@ -428,20 +787,16 @@ fn passes(
     input: Box<dyn BufRead>,
     out: &mut dyn Write,
     machine: &Machine,
-    json: bool,
+    format: ReportFormat,
     tip: threadcut::sim::Tip,
-) -> Result<Summary, Error> {
-    let mut writer = passes::PassesWriter::begin(out, json, tip)?;
-    let summary = program::run(input, machine, |modal, ev| {
-        let Event::Cycle { job, .. } = ev else {
-            return Ok(());
-        };
-        // X as the program writes it at the cycle (OmniTurn's G72/G73 and LinuxCNC's G7/G8 switch
-        // it mid-program).
-        let what = format!("{} cycle", job.controller);
-        let decimals = machine.decimals(job.units) as usize + 1;
-        writer.cycle(out, &job, modal.diameter_x, decimals, &what)
+) -> Result<(Summary, u32), Error> {
+    let mut writer = passes::PassesWriter::begin(out, format, tip)?;
+    let mut count = 0;
+    let summary = threadcut::threads::each_gcode(input, machine, None, |t| {
+        count += 1;
+        let decimals = machine.decimals(t.job.units) as usize + 1;
+        writer.thread(out, &t, decimals, "")
     })?;
     writer.end(out)?;
-    Ok(summary)
+    Ok((summary, count))
 }

@@ -1,24 +1,25 @@
 //! Output that is written whole or not at all: a temporary file beside the target, flushed, synced
-//! and renamed over it only when everything succeeded.
+//! and renamed over it only when everything succeeded. Errors name the file asked for and the
+//! system's reason, never the temporary file.
 
 use std::io::{self, BufWriter, Write};
 use std::path::Path;
 
-use threadcut::program::{Error, Summary};
+use super::{reason, Failure};
 
-use super::{failure, Failure};
-
-pub fn write(
+/// Runs `produce` into standard output (`output` absent or `-`) or into the file `output`.
+/// `input` is the program read (to refuse writing over it).
+pub fn write<T>(
     input: &Path,
     output: Option<&Path>,
-    produce: impl FnOnce(&mut dyn Write) -> Result<Summary, Error>,
-) -> Result<Summary, Failure> {
+    produce: impl FnOnce(&mut dyn Write) -> Result<T, Failure>,
+) -> Result<T, Failure> {
     let target = output.filter(|p| p.as_os_str() != "-");
     let Some(target) = target else {
         let stdout = io::stdout();
         let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
-        let summary = produce(&mut out).map_err(|e| failure(input, e))?;
-        out.flush().map_err(|e| failure(input, Error::Io(e)))?;
+        let summary = produce(&mut out).map_err(|f| named(f, None))?;
+        out.flush().map_err(|e| cannot_write(None, &e))?;
         return Ok(summary);
     };
     if same_file(input, target) {
@@ -27,30 +28,49 @@ pub fn write(
             target.display()
         )));
     }
+    let cannot = |e: &io::Error| cannot_write(Some(target), e);
     // A device, a FIFO or a socket (`-o /dev/null`, a pipe) is written in place: renaming a file
     // over it would replace the device itself.
     if let Ok(meta) = std::fs::metadata(target) {
+        if meta.is_dir() {
+            return Err(cannot(&io::Error::from(io::ErrorKind::IsADirectory)));
+        }
         if !meta.is_file() {
             let file = std::fs::OpenOptions::new()
                 .write(true)
                 .open(target)
-                .map_err(|e| Failure::Other(format!("cannot write {}: {e}", target.display())))?;
+                .map_err(|e| cannot(&e))?;
             let mut out = BufWriter::with_capacity(1 << 16, file);
-            let summary = produce(&mut out).map_err(|e| failure(input, e))?;
-            out.flush().map_err(|e| failure(input, Error::Io(e)))?;
+            let summary = produce(&mut out).map_err(|f| named(f, Some(target)))?;
+            out.flush().map_err(|e| cannot(&e))?;
             return Ok(summary);
         }
     }
     // A symbolic link keeps pointing where it did: the file it names is replaced, not the link.
     let resolved = target.canonicalize().ok();
-    let target = resolved.as_deref().unwrap_or(target);
-    let dir = match target.parent() {
+    let file = resolved.as_deref().unwrap_or(target);
+    let dir = match file.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
+    // The folder must exist: said with its own reason (no such file or directory, not a
+    // directory), before any temporary file is tried.
+    let folder = |e: &io::Error| {
+        Failure::Other(format!(
+            "cannot write {}: {}: {}",
+            target.display(),
+            dir.display(),
+            reason(e)
+        ))
+    };
+    match std::fs::metadata(dir) {
+        Ok(m) if m.is_dir() => {}
+        Ok(_) => return Err(folder(&io::Error::from(io::ErrorKind::NotADirectory))),
+        Err(e) => return Err(folder(&e)),
+    }
     // The output gets the mode an ordinary new file would (0666 less the umask, applied by the
     // kernel at creation), or keeps the mode of the file it replaces; not tempfile's private 0600.
-    let mode = std::fs::metadata(target).map_or_else(
+    let mode = std::fs::metadata(file).map_or_else(
         |_| std::os::unix::fs::PermissionsExt::from_mode(0o666),
         |m| m.permissions(),
     );
@@ -59,19 +79,38 @@ pub fn write(
         .suffix(".tmp")
         .permissions(mode)
         .tempfile_in(dir)
-        .map_err(|e| Failure::Other(format!("cannot create a file in {}: {e}", dir.display())))?;
+        .map_err(|e| cannot(&e))?;
     let mut out = BufWriter::with_capacity(1 << 16, temp);
     // On any error the temporary file is dropped, which deletes it: nothing is left behind.
-    let summary = produce(&mut out).map_err(|e| failure(input, e))?;
-    let temp = out
-        .into_inner()
-        .map_err(|e| Failure::Other(format!("cannot write {}: {}", target.display(), e.error())))?;
-    temp.as_file()
-        .sync_all()
-        .map_err(|e| Failure::Other(format!("cannot write {}: {e}", target.display())))?;
-    temp.persist(target)
-        .map_err(|e| Failure::Other(format!("cannot write {}: {}", target.display(), e.error)))?;
+    let summary = produce(&mut out).map_err(|f| named(f, Some(target)))?;
+    let temp = out.into_inner().map_err(|e| cannot(e.error()))?;
+    temp.as_file().sync_all().map_err(|e| cannot(&e))?;
+    temp.persist(file).map_err(|e| cannot(&e.error))?;
     Ok(summary)
+}
+
+/// `cannot write OUT: reason` (exit status 1); a reader that went away ends quietly.
+fn cannot_write(target: Option<&Path>, e: &io::Error) -> Failure {
+    if e.kind() == io::ErrorKind::BrokenPipe {
+        return Failure::Quiet;
+    }
+    let what = target.map_or("to standard output".to_string(), |t| {
+        t.display().to_string()
+    });
+    Failure::Other(format!("cannot write {what}: {}", reason(e)))
+}
+
+/// A failure to write while producing names the output.
+fn named(f: Failure, target: Option<&Path>) -> Failure {
+    match f {
+        Failure::Other(msg) if msg.starts_with("cannot write the output: ") => {
+            let what = target.map_or("to standard output".to_string(), |t| {
+                t.display().to_string()
+            });
+            Failure::Other(msg.replacen("the output", &what, 1))
+        }
+        f => f,
+    }
 }
 
 fn same_file(a: &Path, b: &Path) -> bool {

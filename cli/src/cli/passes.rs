@@ -4,39 +4,42 @@
 use std::io::{self, Write};
 
 use threadcut::program::{self, Error};
-use threadcut::sim::{self, check::tip_in_mm, Tip, Tool};
-use threadcut::thread::{Job, PassKind};
+use threadcut::sim::{self, tip_in_mm, Tip, Tool};
+use threadcut::thread::PassKind;
+use threadcut::threads::{self, Thread};
+
+use super::ReportFormat;
 
 pub struct PassesWriter {
-    json: bool,
+    format: ReportFormat,
     tip: Tip,
     cycles: usize,
 }
 
 impl PassesWriter {
-    pub fn begin(out: &mut dyn Write, json: bool, tip: Tip) -> io::Result<PassesWriter> {
-        if json {
+    pub fn begin(out: &mut dyn Write, format: ReportFormat, tip: Tip) -> io::Result<PassesWriter> {
+        if format == ReportFormat::Json {
             out.write_all(br#"{"cycles":["#)?;
         }
         Ok(PassesWriter {
-            json,
+            format,
             tip,
             cycles: 0,
         })
     }
 
-    /// One cycle. `diameter_x`: X as the program writes it at the cycle; `decimals`: of depths and
-    /// positions in the table; `what`: the title's description of the cycle and its columns.
-    pub fn cycle(
+    /// One thread. `decimals`: of depths and positions in the table; `columns`: what the title says
+    /// of the columns (X a radius, for APT), if anything.
+    pub fn thread(
         &mut self,
         out: &mut dyn Write,
-        job: &Job,
-        diameter_x: bool,
+        t: &Thread,
         decimals: usize,
-        what: &str,
+        columns: &str,
     ) -> Result<(), Error> {
-        let passes = job.passes()?;
-        let rows = program::pass_rows(job, &passes, diameter_x);
+        let job = &t.job;
+        let passes = &t.passes;
+        let rows = program::pass_rows(job, passes, t.diameter_x);
         // The simulated columns: chip area with the tool's real tip, share, cutting flank. A tool
         // the section cannot draw (a 0° angle, an absurd size) leaves them empty rather than
         // failing the table the controller accepted.
@@ -44,25 +47,33 @@ impl PassesWriter {
             angle_deg: job.tool_angle_deg,
             tip: tip_in_mm(self.tip, job.units),
         };
-        let section = sim::section(job, &passes, &tool, 0.0).ok();
+        let section = sim::section(job, passes, &tool, 0.0).ok();
         let sim = |i: usize| section.as_ref().and_then(|s| s.passes.get(i));
         let area_scale = job.units.scale() * job.units.scale();
-        if self.json {
-            if self.cycles > 0 {
+        if self.format != ReportFormat::Text {
+            if self.cycles > 0 && self.format == ReportFormat::Json {
                 out.write_all(b",")?;
             }
-            let cycle = program::passes_json(job, &rows, section.as_ref());
+            let cycle = threads::passes_json(t, section.as_ref());
             serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
+            if self.format == ReportFormat::Jsonl {
+                out.write_all(b"\n")?;
+            }
         } else {
             let d = decimals;
             let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
             writeln!(
                 out,
-                "line {}: {what}, {} rough + {} finishing passes ({})",
+                "line {}: {}{columns}, {} ({}){}",
                 job.line,
-                rough,
-                passes.len() - rough,
-                job.units.name()
+                t.describe(),
+                threadcut::text::rough_and_finishing(rough, passes.len() - rough),
+                job.units.name(),
+                if t.crest_known() {
+                    ""
+                } else {
+                    "; depths from the first pass: the crest is not known"
+                }
             )?;
             writeln!(
                 out,
@@ -107,7 +118,7 @@ impl PassesWriter {
     }
 
     pub fn end(self, out: &mut dyn Write) -> io::Result<()> {
-        if self.json {
+        if self.format == ReportFormat::Json {
             out.write_all(b"]}\n")?;
         }
         Ok(())

@@ -7,8 +7,9 @@ use threadcut::apt;
 use threadcut::machine::Machine;
 use threadcut::program::{Error, Summary};
 
+use super::input::Content;
 use super::passes::PassesWriter;
-use super::{output, warn, Failure};
+use super::{lib, not_empty, output, warn, Failure, ReportFormat};
 
 /// Whether `input` (not yet consumed) holds APT/CL source.
 pub fn is_apt(file: &Path, input: &mut dyn BufRead) -> bool {
@@ -20,10 +21,15 @@ pub fn is_apt(file: &Path, input: &mut dyn BufRead) -> bool {
 pub fn post(
     file: &Path,
     input: Box<dyn BufRead>,
+    content: &Content,
     machine: &Machine,
     out: Option<&Path>,
 ) -> Result<(), Failure> {
-    let summary = output::write(file, out, |w| apt::post::write(input, w, machine))?;
+    let summary = output::write(file, out, |w| {
+        let summary = apt::post::write(input, w, machine).map_err(lib(file))?;
+        not_empty(file, content)?;
+        Ok(summary)
+    })?;
     warn(file, &summary);
     Ok(())
 }
@@ -32,9 +38,14 @@ pub fn post(
 pub fn expand_jsonl(
     file: &Path,
     input: Box<dyn BufRead>,
+    content: &Content,
     out: Option<&Path>,
 ) -> Result<(), Failure> {
-    let summary = output::write(file, out, |w| apt::expand_jsonl(input, w))?;
+    let summary = output::write(file, out, |w| {
+        let summary = apt::expand_jsonl(input, w).map_err(lib(file))?;
+        not_empty(file, content)?;
+        Ok(summary)
+    })?;
     warn(file, &summary);
     Ok(())
 }
@@ -43,39 +54,45 @@ pub fn expand_jsonl(
 pub fn passes(
     file: &Path,
     input: Box<dyn BufRead>,
-    json: bool,
+    content: &Content,
+    format: ReportFormat,
     out: Option<&Path>,
     tip: threadcut::sim::Tip,
 ) -> Result<(), Failure> {
-    let summary = output::write(file, out, |w| passes_to(input, w, json, tip))?;
+    let (summary, count) = output::write(file, out, |w| {
+        let done = passes_to(input, w, format, tip).map_err(lib(file))?;
+        not_empty(file, content)?;
+        Ok(done)
+    })?;
     warn(file, &summary);
+    if count == 0 {
+        super::no_thread(file, "THREAD/ON, THREAD/TURN, COUPLE/ON");
+    }
     Ok(())
 }
 
 fn passes_to(
     input: Box<dyn BufRead>,
     out: &mut dyn Write,
-    json: bool,
+    format: ReportFormat,
     tip: threadcut::sim::Tip,
-) -> Result<Summary, Error> {
-    let mut writer = PassesWriter::begin(out, json, tip)?;
-    let summary = apt::run(input, |_, ev| {
-        let apt::Event::Cycle(job) = ev else {
-            return Ok(());
-        };
-        let decimals = if job.units == threadcut::units::Units::Inch {
+) -> Result<(Summary, u32), Error> {
+    let mut writer = PassesWriter::begin(out, format, tip)?;
+    let mut count = 0;
+    let summary = threadcut::threads::each_apt(input, |t| {
+        count += 1;
+        let decimals = if t.job.units == threadcut::units::Units::Inch {
             5
         } else {
             4
         };
-        writer.cycle(
+        writer.thread(
             out,
-            &job,
-            false,
+            &t,
             decimals,
-            "APT THREAD/ON cycle (depth along the in-feed axis, X a radius)",
+            " (APT; depth along the in-feed axis, X a radius)",
         )
     })?;
     writer.end(out)?;
-    Ok(summary)
+    Ok((summary, count))
 }

@@ -16,7 +16,16 @@ pub fn diagnostic(file: &Path, d: &Diagnostic) -> String {
         Severity::Error => Level::ERROR,
         Severity::Warning => Level::WARNING,
     };
-    let origin = format!("{}:{}:{}", file.display(), d.span.line, d.span.column);
+    let origin = format!(
+        "{}:{}:{}",
+        if file.as_os_str() == "-" {
+            "<stdin>".into()
+        } else {
+            file.display().to_string()
+        },
+        d.span.line,
+        d.span.column
+    );
     let title = level.primary_title(d.message.as_str()).id(d.code.as_str());
     let source = source_line(file, d.span.line);
     let mut out = match &source {
@@ -33,7 +42,11 @@ pub fn diagnostic(file: &Path, d: &Diagnostic) -> String {
             Renderer::plain().render(&[group])
         }
         _ => {
-            let mut text = format!("{origin}: {}[{}]: {}", level_name(d), d.code, d.message);
+            // No source line to show (standard input): the same head and place, then the hint.
+            let mut text = format!("{}[{}]: {}", level_name(d), d.code, d.message);
+            if d.span.line > 0 {
+                text.push_str(&format!("\n --> {origin}"));
+            }
             if let Some(hint) = &d.hint {
                 text.push_str(&format!("\n  = help: {hint}"));
             }
@@ -97,4 +110,92 @@ fn window(line: &[u8], column: usize, len: usize) -> (String, usize, usize) {
         text.push('…');
     }
     (text, a, b)
+}
+
+/// A message without a place in the program: `error: message`, and its `  = help:` lines.
+pub fn error(message: &str) -> String {
+    format!("error: {}\n", message.trim_end())
+}
+
+/// A warning without a place in the program: `warning: message`, and its `  = help:` lines.
+pub fn warning(message: &str) -> String {
+    format!("warning: {}\n", message.trim_end())
+}
+
+/// clap's error text in the one form: its first line `error: …` (a list of missing arguments
+/// joined onto it), then each tip, the usage and the pointer to `--help` as `  = help:` and
+/// `  = note:` lines.
+pub fn clap_error(rendered: &str) -> String {
+    let mut lines = rendered.lines().map(str::trim_end).peekable();
+    let mut head = lines.next().unwrap_or("error: bad usage").to_string();
+    if !head.starts_with("error:") {
+        head = format!("error: {}", head.trim());
+    }
+    // `the following required arguments were not provided:` and the indented list after it.
+    if head.ends_with(':') {
+        let mut items = Vec::new();
+        while let Some(l) = lines.next_if(|l| l.starts_with("  ") && !l.trim().is_empty()) {
+            items.push(l.trim().to_string());
+        }
+        if !items.is_empty() {
+            head = format!("{} {}", head, items.join(", "));
+        }
+    }
+    let mut out = head;
+    out.push('\n');
+    for l in lines {
+        let t = l.trim();
+        if t.is_empty() {
+            continue;
+        }
+        let line = if let Some(tip) = t.strip_prefix("tip: ") {
+            format!("  = help: {tip}")
+        } else if let Some(values) = t
+            .strip_prefix("[possible values: ")
+            .and_then(|v| v.strip_suffix(']'))
+        {
+            format!("  = help: possible values: {values}")
+        } else if let Some(usage) = t.strip_prefix("Usage: ") {
+            format!("  = note: usage: {usage}")
+        } else if t.starts_with("For more information, try") {
+            let rest = t.trim_start_matches("For more information, try ");
+            format!(
+                "  = help: for more information, try {}",
+                rest.trim_end_matches('.')
+            )
+        } else if l.starts_with(' ') {
+            // A further usage line.
+            format!("  = note: usage: {t}")
+        } else {
+            format!("  = note: {t}")
+        };
+        out.push_str(&line);
+        out.push('\n');
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clap_errors_take_the_one_form() {
+        let clap = "error: unexpected argument '--frmat' found\n\n  tip: a similar argument exists: '--format'\n\nUsage: threadcut passes [OPTIONS] <FILE>\n\nFor more information, try '--help'.\n";
+        assert_eq!(
+            clap_error(clap),
+            "error: unexpected argument '--frmat' found\n  = help: a similar argument exists: '--format'\n  = note: usage: threadcut passes [OPTIONS] <FILE>\n  = help: for more information, try '--help'\n"
+        );
+        let clap = "error: the following required arguments were not provided:\n  --length <LENGTH>\n  --feed <FEED>\n\nUsage: threadcut mill --length <LENGTH>\n";
+        assert_eq!(
+            clap_error(clap),
+            "error: the following required arguments were not provided: --length <LENGTH>, --feed <FEED>\n  = note: usage: threadcut mill --length <LENGTH>\n"
+        );
+        let clap =
+            "error: invalid value 'xml' for '--format <FORMAT>'\n  [possible values: text, json]\n";
+        assert_eq!(
+            clap_error(clap),
+            "error: invalid value 'xml' for '--format <FORMAT>'\n  = help: possible values: text, json\n"
+        );
+    }
 }

@@ -230,7 +230,17 @@ pub(super) fn read<'l>(line: &Line<'l>) -> Result<Block<'l>> {
                     .with_hint("LinuxCNC reads N only as the first word of a line"))
             }
             b'G' => {
-                let group = g_code(w.value).and_then(|c| g_group(c).map(|g| (c, g)));
+                // A code LinuxCNC does not have is its "Unknown g code used" where it is written
+                // (the first error in the line wins); the modal groups are LinuxCNC's list of
+                // codes, and the vocabulary the alarm and its hint (a test keeps the two alike).
+                // A value that is no code at all is the modal reader's error.
+                let group = match g_code(w.value) {
+                    Some(c) => match g_group(c) {
+                        Some(g) => Some((c, g)),
+                        None => return Err(super::VOCABULARY.unknown(w, c, line)),
+                    },
+                    None => None,
+                };
                 if let Some((code, group)) = group {
                     if block.g[group].is_some() {
                         return Err(error(
@@ -526,4 +536,33 @@ pub(super) fn check_other_codes(block: &Block, line: &Line, motion: Option<u16>)
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The modal groups are LinuxCNC's list of G codes; the vocabulary (the alarm, the hint of
+    /// other controllers' alarms) must know every one of them, and name no whole code that no
+    /// group has in some form (`G38` stands for `G38.2`–`G38.5`).
+    #[test]
+    fn the_modal_groups_and_the_vocabulary_name_the_same_codes() {
+        for code in 0..10_000u16 {
+            if g_group(code).is_some() {
+                assert!(
+                    super::super::VOCABULARY.get(code).is_some(),
+                    "G{} has a modal group but is not in the vocabulary",
+                    f64::from(code) / 10.0
+                );
+            }
+        }
+        for entry in super::super::VOCABULARY.g_codes {
+            let whole = entry.code / 10 * 10;
+            assert!(
+                (whole..whole + 10).any(|c| g_group(c).is_some()),
+                "G{} is in the vocabulary but in no modal group",
+                entry.code / 10
+            );
+        }
+    }
 }

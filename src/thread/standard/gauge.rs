@@ -106,12 +106,30 @@ pub struct TaperCut {
     pub length: f64,
     /// The cut thread's pitch (lead of one start).
     pub pitch: f64,
+    /// The program's least increment on a diameter (mm): a pitch diameter within it of a limit is
+    /// at the limit (0: judged exactly).
+    pub resolution: f64,
+}
+
+/// What a finding of [`judge_taper`] is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TaperCheck {
+    /// The pitch diameter at the gauge plane (where the gauge stands).
+    PitchDiameter,
+    /// The taper itself.
+    Taper,
+    /// The pitch.
+    Pitch,
+    /// The thread's length against the gauge plane and the effective thread.
+    Length,
 }
 
 /// One finding of [`judge_taper`]; `error` when the thread is outside the standard.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TaperFinding {
     pub error: bool,
+    pub check: TaperCheck,
     pub message: String,
 }
 
@@ -185,9 +203,10 @@ pub fn judge_taper(t: &StandardThread, cut: &TaperCut) -> Result<TaperJudgement>
     let allowed_turns = taper.position_tolerance(side) / t.pitch;
     let mut findings = Vec::new();
     let mm = |v: f64| format!("{v:.4}");
-    if (pd - basic).abs() > tol + 1e-9 {
+    if (pd - basic).abs() > tol + cut.resolution.max(0.0) + 1e-9 {
         findings.push(TaperFinding {
             error: true,
+            check: TaperCheck::PitchDiameter,
             message: format!(
                 "pitch diameter {} at the gauge plane (Z{}) is {} the {} {} for {}: the gauge would stand {:+.2} turns from its basic position (±{:.2} allowed)",
                 mm(pd),
@@ -214,6 +233,7 @@ pub fn judge_taper(t: &StandardThread, cut: &TaperCut) -> Result<TaperJudgement>
             if m < lo - 1e-12 || m > hi + 1e-12 {
                 findings.push(TaperFinding {
                     error: true,
+                    check: TaperCheck::Taper,
                     message: format!(
                         "taper {:.5} on diameter per unit length is outside {:.5} to {:.5} for {}",
                         m, lo, hi, t.name
@@ -225,6 +245,7 @@ pub fn judge_taper(t: &StandardThread, cut: &TaperCut) -> Result<TaperJudgement>
             if (measured - nominal).abs() > 1e-6 {
                 findings.push(TaperFinding {
                     error: true,
+                    check: TaperCheck::Taper,
                     message: format!(
                         "taper {:.5} on diameter per unit length is not the standard's {:.5} for {}",
                         sign * measured,
@@ -238,6 +259,7 @@ pub fn judge_taper(t: &StandardThread, cut: &TaperCut) -> Result<TaperJudgement>
     if (cut.pitch - t.pitch).abs() > 1e-6 {
         findings.push(TaperFinding {
             error: true,
+            check: TaperCheck::Pitch,
             message: format!(
                 "pitch {} is not the standard's {} for {}",
                 mm(cut.pitch),
@@ -249,6 +271,7 @@ pub fn judge_taper(t: &StandardThread, cut: &TaperCut) -> Result<TaperJudgement>
     if cut.length + 1e-9 < at {
         findings.push(TaperFinding {
             error: true,
+            check: TaperCheck::Length,
             message: format!(
                 "the thread is {} long and ends before its gauge plane ({} from the face)",
                 mm(cut.length),
@@ -258,6 +281,7 @@ pub fn judge_taper(t: &StandardThread, cut: &TaperCut) -> Result<TaperJudgement>
     } else if side == Surface::External && cut.length + 1e-9 < taper.effective_length {
         findings.push(TaperFinding {
             error: false,
+            check: TaperCheck::Length,
             message: format!(
                 "the full-form thread is {} long, shorter than the standard's {} for {}",
                 mm(cut.length),

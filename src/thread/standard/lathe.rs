@@ -37,6 +37,15 @@ pub struct TaperCycle {
 }
 
 impl TaperCycle {
+    /// The crest's radius at `z` (mm), on the cone through the cycle's ends.
+    pub fn crest_at(&self, z: f64) -> f64 {
+        let dz = self.end_z - self.start_z;
+        if dz == 0.0 {
+            return self.crest_start_x;
+        }
+        self.crest_start_x + (self.crest_end_x - self.crest_start_x) * (z - self.start_z) / dz
+    }
+
     /// The value of a controller's taper word (mm; `diameter_x`: the lathe writes X as a
     /// diameter, which words written "as X is" follow).
     pub fn word_value(&self, word: &TaperWord, diameter_x: bool) -> f64 {

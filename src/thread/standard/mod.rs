@@ -34,7 +34,7 @@ use std::fmt;
 
 use serde::Serialize;
 
-pub use gauge::{judge_taper, TaperCut, TaperFinding, TaperJudgement};
+pub use gauge::{judge_taper, TaperCheck, TaperCut, TaperFinding, TaperJudgement};
 pub use profile::{Edge, Groove, Profile};
 
 use crate::diag::{Code, Diagnostic, Result, Span};
@@ -1022,7 +1022,21 @@ pub fn lookup(name: &str) -> Result<StandardThread> {
     if text.is_empty() {
         return Err(unknown(name, "an empty thread name", None));
     }
-    let upper = text.to_ascii_uppercase();
+    match family_of(text) {
+        Family::Trapezoidal => trapezoidal::lookup(text),
+        Family::Npt => pipe::lookup_npt(text),
+        Family::Bspt => pipe::lookup_iso7(text),
+        Family::Bspp => pipe::lookup_iso228(text),
+        Family::Acme => acme::lookup(text),
+        Family::Whitworth => whitworth::lookup(text),
+        Family::Metric => lookup_metric(text),
+        Family::Unified => lookup_unified(text),
+    }
+}
+
+/// The family a thread name is read as (what [`lookup`] tries), from its letters alone.
+fn family_of(text: &str) -> Family {
+    let upper = text.trim().to_ascii_uppercase();
     let starts_size = |prefix: &str| {
         upper.starts_with(prefix)
             && upper[prefix.len()..]
@@ -1030,21 +1044,21 @@ pub fn lookup(name: &str) -> Result<StandardThread> {
                 .starts_with(|c: char| c.is_ascii_digit())
     };
     if upper.starts_with("TR") {
-        trapezoidal::lookup(text)
+        Family::Trapezoidal
     } else if upper.contains("NPT") {
-        pipe::lookup_npt(text)
+        Family::Npt
     } else if starts_size("RC") || starts_size("RP") || starts_size("R") {
-        pipe::lookup_iso7(text)
+        Family::Bspt
     } else if starts_size("G") {
-        pipe::lookup_iso228(text)
+        Family::Bspp
     } else if upper.contains("ACME") {
-        acme::lookup(text)
+        Family::Acme
     } else if upper.contains("BSW") || upper.contains("BSF") {
-        whitworth::lookup(text)
+        Family::Whitworth
     } else if upper.starts_with('M') {
-        lookup_metric(text)
+        Family::Metric
     } else {
-        lookup_unified(text)
+        Family::Unified
     }
 }
 
@@ -1062,7 +1076,7 @@ fn unknown(name: &str, what: &str, target: Option<(f64, f64)>) -> Diagnostic {
         format!("{what}: `{name}`"),
     )
     .with_hint(format!(
-        "nearest known threads: {} (`threadcut thread --list` lists them all)",
+        "nearest known threads: {}",
         nearest(name, target).join(", ")
     ))
 }
@@ -1334,8 +1348,21 @@ fn lookup_unified(text: &str) -> Result<StandardThread> {
 /// The three known names nearest to `name`: by diameter and pitch when they could be read, else
 /// by edit distance.
 pub fn nearest(name: &str, target: Option<(f64, f64)>) -> Vec<String> {
-    let names = known_names();
+    let all = known_names();
+    // Threads of the family the name is read as (`M99`: ISO metric, `Tr41x7`: trapezoidal), or
+    // every thread when the family has none of its own to offer.
+    let family = family_of(name);
+    let same: Vec<String> = all
+        .iter()
+        .filter(|n| family_of(n) == family)
+        .cloned()
+        .collect();
+    let names = if same.is_empty() { all } else { same };
+    let key = simplify(name);
+    // Name similarity (Jaro-Winkler on the lower-case name without blanks), 0 = the same name.
+    let unlike = |n: &str| 1.0 - strsim::jaro_winkler(&key, &simplify(n));
     let mut scored: Vec<(f64, String)> = match target {
+        // A size that was read: the nearest sizes (diameter first, then pitch), names breaking ties.
         Some((d, p)) if d > 0.0 => names
             .into_iter()
             .filter_map(|n| {
@@ -1346,18 +1373,12 @@ pub fn nearest(name: &str, target: Option<(f64, f64)>) -> Vec<String> {
                 } else {
                     0.0
                 };
-                Some((dd * 4.0 + dp, n))
+                Some((dd * 4.0 + dp + 0.01 * unlike(&n), n))
             })
             .collect(),
-        _ => {
-            let key = simplify(name);
-            names
-                .into_iter()
-                .map(|n| (levenshtein(&key, &simplify(&n)) as f64, n))
-                .collect()
-        }
+        _ => names.into_iter().map(|n| (unlike(&n), n)).collect(),
     };
-    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0).then_with(|| a.1.cmp(&b.1)));
     scored.into_iter().take(3).map(|(_, n)| n).collect()
 }
 
@@ -1370,21 +1391,6 @@ fn simplify(s: &str) -> String {
         .filter(|c| !c.is_whitespace())
         .flat_map(char::to_lowercase)
         .collect()
-}
-
-fn levenshtein(a: &str, b: &str) -> usize {
-    let b: Vec<char> = b.chars().collect();
-    let mut row: Vec<usize> = (0..=b.len()).collect();
-    for (i, ca) in a.chars().enumerate() {
-        let mut prev = row[0];
-        row[0] = i + 1;
-        for (j, cb) in b.iter().enumerate() {
-            let cur = row[j + 1];
-            row[j + 1] = (prev + usize::from(ca != *cb)).min(row[j] + 1).min(cur + 1);
-            prev = cur;
-        }
-    }
-    row[b.len()]
 }
 
 #[cfg(test)]
@@ -1417,9 +1423,22 @@ mod tests {
         }
     }
 
+    /// Suggestions come from the family the name is read as, nearest in size, then in name.
     #[test]
-    fn levenshtein_counts_edits() {
-        assert_eq!(levenshtein("m10x1.4", "m10x1.5"), 1);
-        assert_eq!(levenshtein("", "abc"), 3);
+    fn suggestions_are_threads_like_the_name() {
+        let hint = |name: &str| lookup(name).unwrap_err().hint.unwrap();
+        // M99: ISO metric threads of the nearest diameters, no inch or trapezoidal thread.
+        let h = hint("M99");
+        assert_eq!(h, "nearest known threads: M68x6, M64x2, M64x3");
+        assert!(!h.contains("UN") && !h.contains("Tr"), "{h}");
+        let h = hint("M10x7");
+        assert!(h.starts_with("nearest known threads: M10x"), "{h}");
+        assert!(!h.contains("Tr"), "{h}");
+        let h = hint("Tr41x7");
+        assert!(h.contains("Tr40x7"), "{h}");
+        let h = hint("1/2-14 UNC");
+        assert!(h.contains("1/2-13 UNC"), "{h}");
+        // The library's hint names no command: the CLI and the page each say where the list is.
+        assert!(!h.contains("threadcut"), "{h}");
     }
 }

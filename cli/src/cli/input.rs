@@ -1,0 +1,173 @@
+//! The program a command reads: a file or standard input, watched on its way through the library
+//! for two things only the command line cares about: whether it holds anything but blanks (an
+//! empty program is an error, not an empty result) and how far the reading has come (a progress
+//! bar on standard error, on a terminal, for a run that lasts).
+//!
+//! The watch costs nothing per line: it sees the input in the reader's chunks (64 KiB), and it
+//! stops looking at the bytes once the first one that is not a blank has passed.
+
+use std::cell::Cell;
+use std::fs::File;
+use std::io::{self, BufRead, BufReader, IsTerminal, Read};
+use std::path::Path;
+use std::rc::Rc;
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+
+use super::{reason, Failure};
+
+/// A run shorter than this shows no progress bar (it would only flicker).
+const QUIET_FOR: Duration = Duration::from_millis(400);
+
+/// Whether the program held anything but blanks, known once it has been read.
+#[derive(Clone)]
+pub struct Content(Rc<Cell<bool>>);
+
+impl Content {
+    /// Nothing but blanks (spaces, tabs, line ends) has been read.
+    pub fn empty(&self) -> bool {
+        !self.0.get()
+    }
+
+    /// The error an empty program is: exit status 2, nothing written.
+    pub fn failure(file: &Path) -> Failure {
+        Failure::Usage(format!(
+            "{} is empty: there is no program to read\n  = help: give the program's file, or `-` and the program on standard input",
+            display(file)
+        ))
+    }
+}
+
+/// How a file is named in messages: `-` is standard input.
+pub fn display(file: &Path) -> String {
+    if file.as_os_str() == "-" {
+        "standard input".into()
+    } else {
+        file.display().to_string()
+    }
+}
+
+/// Opens the program: `-` is standard input. A directory or a file that cannot be opened is an
+/// error naming the file and the system's reason.
+pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
+    let seen = Rc::new(Cell::new(false));
+    let content = Content(seen.clone());
+    let cannot =
+        |e: &io::Error| Failure::Usage(format!("cannot read {}: {}", file.display(), reason(e)));
+    if file.as_os_str() == "-" {
+        let stdin = io::stdin();
+        let bar = Bar::new(None, stdin.is_terminal());
+        let reader = BufReader::with_capacity(1 << 16, stdin);
+        return Ok((Box::new(Watch::new(reader, seen, bar)), content));
+    }
+    let f = File::open(file).map_err(|e| cannot(&e))?;
+    let meta = f.metadata().map_err(|e| cannot(&e))?;
+    if meta.is_dir() {
+        return Err(cannot(&io::Error::from(io::ErrorKind::IsADirectory)));
+    }
+    let len = meta.is_file().then_some(meta.len());
+    let bar = Bar::new(len, false);
+    let reader = BufReader::with_capacity(1 << 16, f);
+    Ok((Box::new(Watch::new(reader, seen, bar)), content))
+}
+
+/// The input on its way through: what it holds and how far it has been read.
+struct Watch<R> {
+    inner: R,
+    seen: Rc<Cell<bool>>,
+    bar: Option<Bar>,
+}
+
+impl<R> Watch<R> {
+    fn new(inner: R, seen: Rc<Cell<bool>>, bar: Option<Bar>) -> Watch<R> {
+        Watch { inner, seen, bar }
+    }
+
+    fn look(&self, bytes: &[u8]) {
+        if !self.seen.get() && bytes.iter().any(|b| !b.is_ascii_whitespace()) {
+            self.seen.set(true);
+        }
+    }
+
+    fn advance(&mut self, n: usize) {
+        if let Some(bar) = &mut self.bar {
+            bar.advance(n);
+        }
+    }
+}
+
+impl<R: Read> Read for Watch<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        let n = self.inner.read(buf)?;
+        self.look(&buf[..n]);
+        self.advance(n);
+        Ok(n)
+    }
+}
+
+impl<R: BufRead> BufRead for Watch<R> {
+    fn fill_buf(&mut self) -> io::Result<&[u8]> {
+        let buf = self.inner.fill_buf()?;
+        if !self.seen.get() && buf.iter().any(|b| !b.is_ascii_whitespace()) {
+            self.seen.set(true);
+        }
+        Ok(buf)
+    }
+
+    fn consume(&mut self, n: usize) {
+        self.inner.consume(n);
+        self.advance(n);
+    }
+}
+
+/// A progress bar on standard error, drawn only on a terminal and only once the run has lasted
+/// [`QUIET_FOR`]; cleared when the input is dropped (the library has read it all, or stopped at an
+/// error, before anything else is printed).
+struct Bar {
+    bar: ProgressBar,
+    started: Instant,
+    shown: bool,
+}
+
+impl Bar {
+    /// `len`: the file's size (a bar), or `None` (a spinner counting bytes). No bar when standard
+    /// error is not a terminal, or when standard input is the terminal itself (`typing`).
+    fn new(len: Option<u64>, typing: bool) -> Option<Bar> {
+        if !io::stderr().is_terminal() || typing {
+            return None;
+        }
+        let bar = match len {
+            Some(len) => ProgressBar::with_draw_target(Some(len), ProgressDrawTarget::hidden())
+                .with_style(
+                ProgressStyle::with_template(
+                    "{spinner} reading {bytes}/{total_bytes} [{wide_bar}] {percent}% {eta} left",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            ),
+            None => ProgressBar::with_draw_target(None, ProgressDrawTarget::hidden()).with_style(
+                ProgressStyle::with_template("{spinner} reading {bytes} ({bytes_per_sec})")
+                    .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+            ),
+        };
+        Some(Bar {
+            bar,
+            started: Instant::now(),
+            shown: false,
+        })
+    }
+
+    fn advance(&mut self, n: usize) {
+        self.bar.inc(n as u64);
+        if !self.shown && self.started.elapsed() >= QUIET_FOR {
+            self.shown = true;
+            self.bar.set_draw_target(ProgressDrawTarget::stderr());
+        }
+    }
+}
+
+impl Drop for Bar {
+    fn drop(&mut self) {
+        self.bar.finish_and_clear();
+    }
+}

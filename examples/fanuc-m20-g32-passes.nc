@@ -1,0 +1,42 @@
+%
+O1021 (M20X2.5 EXTERNAL WITH HAND-WRITTEN G32 PASSES, RADIAL INFEED)
+(threadcut reads the passes as one thread: passes, check and plot treat it like a cycle)
+G21 G40 G99
+T0303
+G97 S800 M03
+G00 X24. Z5.
+X19.2
+G32 Z-29. F2.5
+G00 X24.
+Z5.
+X18.6
+G32 Z-29.
+G00 X24.
+Z5.
+X18.1
+G32 Z-29.
+G00 X24.
+Z5.
+X17.7
+G32 Z-29.
+G00 X24.
+Z5.
+X17.35
+G32 Z-29.
+G00 X24.
+Z5.
+X17.1
+G32 Z-29.
+G00 X24.
+Z5.
+X16.933
+G32 Z-29.
+G00 X24.
+Z5.
+X16.933
+G32 Z-29.
+G00 X24.
+Z5.
+G00 X100. Z100.
+M30
+%

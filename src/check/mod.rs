@@ -1,0 +1,575 @@
+//! `threadcut check`: what a program will do wrong, before the spindle turns. One function,
+//! [`check`], serves the command line, the browser page and every later binding, so that they
+//! report the same findings for the same program and options.
+//!
+//! The program streams through its dialect exactly as `expand` does (or through the APT reader), so
+//! the controller's own alarms become check errors at their line and column. Every thread the
+//! program cuts ([`crate::threads`]: each cycle, and each thread written as plain synchronised
+//! moves) is then checked against the blank and the machine ([`cut`]), and, with a standard
+//! thread named, against its class limits ([`standard`]).
+//!
+//! **Facts are errors, assumptions are not.** Where the program and the options do not say where
+//! the blank is, `check` infers what it honestly can (Z0 as the part's face, the crest as the
+//! stock: [`blank`]) and states each assumption as a [`Note`]; a finding that rests on one is a
+//! warning that names it. Errors are for facts: the controller's alarms, a depth not reached, a
+//! limit of the machine exceeded, a collision with a blank the user gave, a thread outside its
+//! class where nothing was assumed.
+//!
+//! | check | severity | code |
+//! | --- | --- | --- |
+//! | the controller's alarm, a G code it does not have | error | its code, E015 |
+//! | the groove does not reach the cycle's depth | error | E013 |
+//! | a rapid move enters the blank the user gave | error | E011 |
+//! | a rapid move enters the blank check assumed | warning | W008 |
+//! | lead × spindle speed above the axis limit | error | E012 |
+//! | lead above the controller's maximum | error | E014 |
+//! | chamfer/tail-out longer than the thread; thread shorter than one lead | error | E007 |
+//! | run-up before the blank too short for the feed to settle (δ1) | warning | W003 |
+//! | pull-out shorter than the run-out the feed needs to stop (δ2) | warning | W007 |
+//! | ridge or pitch-diameter error in the simulated groove, or no section | warning | W004 |
+//! | spindle speed unknown, or constant surface speed (G96) | warning | W005 |
+//! | an axis or lead word without a decimal point read as least increments | warning | W006 |
+//! | `--thread`: root diameter, lead, flank angles (and pitch diameter with the tool given) outside the class | error | E016 |
+//! | `--thread`: a taper thread's taper outside the standard's; where its gauge stands, with face and tip given | error | E016 |
+//! | `--thread`: pitch diameter outside the class with the tool's tip (or a taper thread's face) assumed | warning | W009 |
+//!
+//! A finding that repeats on every pass is reported once per thread, naming the passes; one that
+//! repeats on several blocks (a dialect's warning on each block of a modal G92) once, naming the
+//! lines.
+
+pub mod blank;
+pub mod cut;
+mod decimal;
+pub mod spindle;
+pub mod standard;
+mod taper;
+
+use std::io::BufRead;
+
+use serde::Serialize;
+
+use crate::diag::{Diagnostic, Severity, Span};
+use crate::gcode::MotionMode;
+use crate::machine::Machine;
+use crate::program::{self, Error, Event};
+use crate::sim::Tip;
+use crate::thread::standard::StandardThread;
+use crate::threads::{Collector, Crest, Found, Move, Setting};
+use crate::units::{Pos, Units};
+
+pub use blank::{Blank, Known};
+pub use cut::{check_thread, DEFAULT_LEAD_ERROR, DEFAULT_SERVO_TIME_CONSTANT};
+pub use spindle::{Rpm, Spindle, SpindleSpeed};
+
+/// What the check is told about the part, the tool and the thread.
+#[derive(Clone, Debug, Default)]
+pub struct Options {
+    /// The blank's diameter, in the program's units at each thread; `None`: the thread's crest is
+    /// assumed.
+    pub stock_diameter: Option<f64>,
+    /// Z of the blank's face on the thread's start side, in the program's units; `None`: Z0 is
+    /// assumed when the thread runs into the part through it.
+    pub stock_start: Option<f64>,
+    /// The tool's tip, its sizes in the program's units at each thread; its angle is the cycle's.
+    /// `None`: not given (the section is cut with a sharp tool; judging against a standard assumes
+    /// the standard's root form).
+    pub tip: Option<Tip>,
+    /// The standard thread to judge against (`--thread`).
+    pub thread: Option<StandardThread>,
+}
+
+/// What the program is written in.
+#[derive(Clone, Copy, Debug)]
+pub enum Source<'m> {
+    /// G-code for this machine's controller.
+    Gcode(&'m Machine),
+    /// APT/CL; a machine's limits apply when one is named.
+    Apt(Option<&'m Machine>),
+}
+
+/// Something `check` assumed or could not check, at the thread it concerns.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Note {
+    #[serde(skip)]
+    pub span: Span,
+    pub message: String,
+}
+
+impl Note {
+    pub fn new(span: Span, message: impl Into<String>) -> Note {
+        Note {
+            span,
+            message: message.into(),
+        }
+    }
+}
+
+/// Everything the check found.
+#[derive(Debug, Default)]
+pub struct Report {
+    pub diagnostics: Vec<Diagnostic>,
+    /// What was assumed, and what could not be checked.
+    pub notes: Vec<Note>,
+    /// Threads checked: cycles, and threads written as plain moves.
+    pub threads: u32,
+    pub lines: u32,
+    /// The program stopped being read at a controller alarm (the last error).
+    pub stopped: bool,
+    /// The codes the controller threads with (`G32, G76, G92`), for a program with no thread.
+    pub thread_codes: String,
+}
+
+impl Report {
+    pub fn errors(&self) -> usize {
+        self.diagnostics.iter().filter(|d| d.is_error()).count()
+    }
+
+    pub fn warnings(&self) -> usize {
+        self.diagnostics.len() - self.errors()
+    }
+
+    /// The findings as `check --format json` writes them: errors and warnings, then the notes.
+    pub fn findings(&self, file: &str) -> Vec<Finding> {
+        let mut out: Vec<Finding> = self
+            .diagnostics
+            .iter()
+            .map(|d| Finding {
+                file: file.to_string(),
+                line: d.span.line,
+                column: d.span.column,
+                level: match d.severity {
+                    Severity::Error => "error",
+                    Severity::Warning => "warning",
+                },
+                code: Some(d.code.as_str()),
+                message: d.message.clone(),
+                hint: d.hint.clone(),
+            })
+            .collect();
+        out.extend(self.notes.iter().map(|n| Finding {
+            file: file.to_string(),
+            line: n.span.line,
+            column: n.span.column,
+            level: "note",
+            code: None,
+            message: n.message.clone(),
+            hint: None,
+        }));
+        out
+    }
+}
+
+/// One finding of `check --format json`: `{file, line, column, level, code, message, hint}`;
+/// `level` is `error`, `warning` or `note` (an assumption), `code` is null for a note.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Finding {
+    pub file: String,
+    pub line: u32,
+    pub column: u32,
+    pub level: &'static str,
+    pub code: Option<&'static str>,
+    pub message: String,
+    pub hint: Option<String>,
+}
+
+/// Checks a whole program.
+pub fn check<R: BufRead>(input: R, source: Source<'_>, opts: &Options) -> Result<Report, Error> {
+    match source {
+        Source::Gcode(machine) => check_gcode(input, machine, opts),
+        Source::Apt(machine) => check_apt(input, machine, opts),
+    }
+}
+
+/// The crest a thread written as moves is measured from: the stock's diameter, else the named
+/// standard thread's basic crest.
+fn crest(opts: &Options) -> Option<Crest> {
+    match (opts.stock_diameter, &opts.thread) {
+        (Some(d), _) => Some(Crest::Stock(d)),
+        (None, Some(t)) => Some(Crest::Standard {
+            external: t.basic.major,
+            internal: t.basic.minor,
+        }),
+        (None, None) => None,
+    }
+}
+
+/// Where findings about a thread go while the program is read.
+struct Sink<'a> {
+    machine: &'a Machine,
+    opts: &'a Options,
+    found: Vec<Diagnostic>,
+    notes: Vec<Note>,
+    threads: u32,
+}
+
+impl Sink<'_> {
+    fn take(&mut self, f: Found<Spindle>) {
+        match f {
+            Found::Thread(t, spindle) => {
+                self.threads += 1;
+                check_thread(
+                    &t,
+                    self.machine,
+                    self.opts,
+                    &spindle,
+                    &mut self.found,
+                    &mut self.notes,
+                );
+            }
+            Found::Failed { error, .. } => {
+                self.threads += 1;
+                self.found.push(error);
+            }
+        }
+    }
+}
+
+fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Result<Report, Error> {
+    let d = crate::dialect::open(machine).map_err(Error::Setup)?;
+    let set_position = d.conventions().set_position;
+    let controller = d.name();
+    let mut report = Report {
+        thread_codes: d.vocabulary().thread_codes(),
+        ..Report::default()
+    };
+    let mut sink = Sink {
+        machine,
+        opts,
+        found: Vec::new(),
+        notes: Vec::new(),
+        threads: 0,
+    };
+    let mut spindle = Spindle::default();
+    let mut decimals = decimal::DecimalWords::new(machine);
+    let mut collector: Collector<Spindle> = Collector::new(crest(opts));
+    let mut unknown_starts = Vec::new();
+    let result = program::run(input, machine, |modal, ev| {
+        let setting = Setting {
+            units: modal.units,
+            diameter_x: modal.diameter_x,
+            controller,
+        };
+        let mut take = |f| sink.take(f);
+        match ev {
+            Event::Plain { line, mv } => {
+                spindle.read(line, set_position);
+                if let Some(dw) = decimals.as_mut() {
+                    dw.line(line, modal.units, modal.motion == MotionMode::Thread);
+                }
+                let now = spindle;
+                if let Some(w) = collector.plain(line, mv, setting, || now, &mut take) {
+                    unknown_starts.push(w);
+                }
+            }
+            Event::Settings { line } => {
+                spindle.read(line, set_position);
+                if let Some(dw) = decimals.as_mut() {
+                    dw.line(line, modal.units, true);
+                }
+            }
+            Event::Cycle { line, job, .. } => {
+                spindle.read(line, set_position);
+                if let Some(dw) = decimals.as_mut() {
+                    dw.line(line, modal.units, true);
+                }
+                let now = spindle;
+                collector.cycle(*job, modal.diameter_x, || now, &mut take);
+            }
+        }
+        Ok(())
+    });
+    collector.finish(&mut |f| sink.take(f));
+    match result {
+        Ok(summary) => {
+            report.lines = summary.lines;
+            report.diagnostics = summary.warnings;
+        }
+        Err(Error::Input(alarm)) => {
+            report.stopped = true;
+            report.diagnostics.push(alarm);
+        }
+        Err(e) => return Err(e),
+    }
+    report.diagnostics.extend(unknown_starts);
+    if let Some(w) = decimals.and_then(decimal::DecimalWords::finding) {
+        report.diagnostics.push(w);
+    }
+    Ok(finish(report, sink))
+}
+
+fn check_apt<R: BufRead>(
+    input: R,
+    machine: Option<&Machine>,
+    opts: &Options,
+) -> Result<Report, Error> {
+    // Without a machine: no limits, the usual 0.001 mm / 0.0001 inch resolution.
+    let neutral;
+    let machine = match machine {
+        Some(m) => m,
+        None => {
+            let mut m = Machine::built_in("fanuc")
+                .ok_or_else(|| Error::Setup("the built-in profiles are missing".to_string()))?;
+            m.name = "apt".into();
+            m.limits = Default::default();
+            neutral = m;
+            &neutral
+        }
+    };
+    let mut report = Report {
+        thread_codes: "THREAD/ON, THREAD/TURN, COUPLE/ON".into(),
+        ..Report::default()
+    };
+    let mut sink = Sink {
+        machine,
+        opts,
+        found: Vec::new(),
+        notes: Vec::new(),
+        threads: 0,
+    };
+    let mut spindle = Spindle::default();
+    let mut collector: Collector<Spindle> = Collector::new(crest(opts));
+    let mut at: Option<Pos> = None;
+    let result = crate::apt::run(input, |interp, ev| {
+        let mut take = |f| sink.take(f);
+        match ev {
+            crate::apt::Event::Spindle(s) => {
+                spindle.s = s.map(|(rpm, _)| rpm);
+                spindle.css = false;
+            }
+            crate::apt::Event::Move(m) => {
+                if let Some(from) = at {
+                    let setting = Setting {
+                        units: interp.units(),
+                        diameter_x: false,
+                        controller: "apt",
+                    };
+                    let mv = Move {
+                        kind: m.kind,
+                        from,
+                        to: m.to,
+                        line: m.line,
+                        span: Span::new(0, 0, m.line, 1),
+                    };
+                    let now = spindle;
+                    collector.motion(mv, setting, false, || now, &mut take);
+                }
+            }
+            crate::apt::Event::Cycle(job) => {
+                let now = spindle;
+                collector.cycle(*job, false, || now, &mut take);
+            }
+            crate::apt::Event::End => collector.boundary(&mut take),
+            _ => {}
+        }
+        at = interp.position();
+        Ok(())
+    });
+    collector.finish(&mut |f| sink.take(f));
+    match result {
+        Ok(summary) => {
+            report.lines = summary.lines;
+            report.diagnostics = summary.warnings;
+        }
+        Err(Error::Input(alarm)) => {
+            report.stopped = true;
+            report.diagnostics.push(alarm);
+        }
+        Err(e) => return Err(e),
+    }
+    Ok(finish(report, sink))
+}
+
+/// The report with the threads' findings, repeats merged, in line order.
+fn finish(mut report: Report, sink: Sink) -> Report {
+    report.threads = sink.threads;
+    report.diagnostics.extend(sink.found);
+    report.diagnostics = merge_repeats(std::mem::take(&mut report.diagnostics));
+    report
+        .diagnostics
+        .sort_by_key(|d| (d.span.line, d.span.column, d.severity != Severity::Error));
+    report.notes = merge_notes(sink.notes);
+    report
+}
+
+/// One note for a message said of several threads (the same assumption for every thread of a
+/// long program), naming the other lines.
+fn merge_notes(notes: Vec<Note>) -> Vec<Note> {
+    let mut out: Vec<(Note, Vec<u32>)> = Vec::with_capacity(notes.len());
+    for n in notes {
+        match out.iter_mut().find(|(o, _)| o.message == n.message) {
+            Some((o, lines)) => {
+                if o.span.line != n.span.line && !lines.contains(&n.span.line) {
+                    lines.push(n.span.line);
+                }
+            }
+            None => out.push((n, Vec::new())),
+        }
+    }
+    out.into_iter()
+        .map(|(mut n, lines)| {
+            if !lines.is_empty() {
+                let shown: Vec<String> = lines.iter().take(8).map(u32::to_string).collect();
+                n.message.push_str(&format!(
+                    " (also for the thread{} at line{} {}{})",
+                    if lines.len() == 1 { "" } else { "s" },
+                    if lines.len() == 1 { "" } else { "s" },
+                    shown.join(", "),
+                    if lines.len() > 8 { ", …" } else { "" }
+                ));
+            }
+            n
+        })
+        .collect()
+}
+
+/// One finding for a message repeated on several blocks (a dialect's warning on each block of a
+/// modal G92), naming the other lines.
+fn merge_repeats(diags: Vec<Diagnostic>) -> Vec<Diagnostic> {
+    let mut out: Vec<(Diagnostic, Vec<u32>)> = Vec::with_capacity(diags.len());
+    for d in diags {
+        match out
+            .iter_mut()
+            .find(|(o, _)| o.code == d.code && o.severity == d.severity && o.message == d.message)
+        {
+            Some((_, lines)) => lines.push(d.span.line),
+            None => out.push((d, Vec::new())),
+        }
+    }
+    out.into_iter()
+        .map(|(mut d, lines)| {
+            if !lines.is_empty() {
+                let shown: Vec<String> = lines.iter().take(8).map(u32::to_string).collect();
+                d.message.push_str(&format!(
+                    " (also on line{} {}{})",
+                    if lines.len() == 1 { "" } else { "s" },
+                    shown.join(", "),
+                    if lines.len() > 8 { ", …" } else { "" }
+                ));
+            }
+            d
+        })
+        .collect()
+}
+
+/// Passes as `pass 3`, `passes 1–4`, `passes 1, 3, 5–8`.
+pub fn passes_list(passes: &[u32]) -> String {
+    let mut sorted = passes.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    if sorted.len() == 1 {
+        return format!("pass {}", sorted[0]);
+    }
+    let mut parts: Vec<String> = Vec::new();
+    let mut i = 0;
+    while i < sorted.len() {
+        let mut j = i;
+        while j + 1 < sorted.len() && sorted[j + 1] == sorted[j] + 1 {
+            j += 1;
+        }
+        parts.push(match j - i {
+            0 => sorted[i].to_string(),
+            1 => format!("{}, {}", sorted[i], sorted[j]),
+            _ => format!("{}–{}", sorted[i], sorted[j]),
+        });
+        i = j + 1;
+    }
+    format!("passes {}", parts.join(", "))
+}
+
+/// A number for a message (an angle, a count): up to 4 decimals, no trailing zeros.
+pub fn number(v: f64) -> String {
+    length(Units::Mm, v)
+}
+
+/// A length for a message: program units, up to 4 decimals, no trailing zeros.
+pub fn length(units: Units, mm: f64) -> String {
+    let s = format!("{:.4}", units.from_mm(mm));
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.to_string()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn passes_are_listed_as_ranges() {
+        assert_eq!(passes_list(&[3]), "pass 3");
+        assert_eq!(passes_list(&[1, 2, 3, 4]), "passes 1–4");
+        assert_eq!(passes_list(&[5, 1, 3, 6, 7, 8]), "passes 1, 3, 5–8");
+        assert_eq!(passes_list(&[2, 3]), "passes 2, 3");
+    }
+}
+
+#[cfg(test)]
+mod proptests {
+    use super::*;
+
+    /// Blocks of every kind the check reads: plain and thread moves, cycles of each controller,
+    /// spindle words, tool changes, words without decimal points, and errors.
+    const WORDS: &[&str] = &[
+        "G0 X40. Z5.",
+        "G0 X40 Z5",
+        "G00 X29.2",
+        "G32 Z-30. F2.",
+        "G32 Z-30 F2",
+        "G32 X33. Z-32.",
+        "G33 Z-20 K1.5",
+        "Z5.",
+        "X28.7",
+        "G1 Z-3 F0.1",
+        "G97 S800 M3",
+        "G96 S150",
+        "G50 S2000",
+        "T0303",
+        "M30",
+        "G92 X29.2 Z-30. F2.",
+        "G76 P020060 Q100 R0.05",
+        "G76 X27.546 Z-30. P1227 Q400 F2.",
+        "G76 X27.5 Z-30 K1.2 D0.4 F2 A60",
+        "G78 P020545 Q0.15 R0.5",
+        "G78 X16 Z-20 P1.2 Q0.3 F2",
+        "G78 X8.16 Z-20. K0.92 D0.35 F1.5 A60 P1",
+        "G33X.212Z-.5I.012K.05PC",
+        "G76 P2.5 Z-30 I-1.0 J0.3 K1.5335",
+        "G20",
+        "G21",
+        "G0 X1.2.3",
+        "G55.5",
+        "G04 X1000",
+    ];
+
+    proptest::proptest! {
+        /// `check` never panics, whatever the blocks, the controller and the options; its findings
+        /// have places and its JSON parses.
+        #[test]
+        fn check_never_panics(
+            lines in proptest::collection::vec(proptest::sample::select(WORDS), 0..30),
+            which in 0usize..crate::machine::BUILT_IN.len(),
+            stock in proptest::option::of(10.0f64..80.0),
+            face in proptest::option::of(-10.0f64..10.0),
+            thread in proptest::option::of(proptest::sample::select(vec!["M30x2-6g", "M24x1.5-6H", "3/4-10 UNC-2A"])),
+            nose in proptest::option::of(0.0f64..0.5),
+        ) {
+            let machine = Machine::built_in(crate::machine::BUILT_IN[which].0).unwrap();
+            let src = lines.join("\n");
+            let opts = Options {
+                stock_diameter: stock,
+                stock_start: face,
+                tip: nose.map(|radius| Tip::Radius { radius }),
+                thread: thread.map(|n| crate::thread::standard::lookup(n).unwrap()),
+            };
+            if let Ok(report) = check(src.as_bytes(), Source::Gcode(&machine), &opts) {
+                let json = serde_json::to_string(&report.findings("p.nc")).unwrap();
+                proptest::prop_assert!(serde_json::from_str::<serde_json::Value>(&json).is_ok());
+                for d in &report.diagnostics {
+                    proptest::prop_assert!(d.span.line <= lines.len() as u32 + 1, "{d:?}");
+                }
+            }
+        }
+    }
+}
