@@ -27,6 +27,7 @@ pub mod apt;
 pub mod diag;
 pub mod dialect;
 pub mod gcode;
+pub mod interp;
 pub mod machine;
 pub mod mill;
 pub mod post;

@@ -1,0 +1,805 @@
+//! The LinuxCNC (RS274/NGC) front end: o-word subroutines and control flow, numbered and named
+//! parameters, `[ … ]` expressions in every word. Reading rules and error texts follow LinuxCNC's
+//! documentation (docs/src/gcode/o-code.adoc, overview.adoc) and its interpreter; each choice is
+//! a row of docs/dialects/linuxcnc-interp.md.
+
+use crate::diag::{Code as DiagCode, Diagnostic};
+use crate::gcode::{lex_line_with, Word};
+
+use super::code::{Assign, Block, BlockWord, Call, CallKind, CallTarget, Code, Inst, Target, WordValue};
+use super::expr::{read_name, read_number, Expr, Lang, Parser};
+use super::scan::Squeezed;
+use super::text::{Text, TextLine};
+
+/// LinuxCNC passes up to 30 arguments (INTERP_SUB_PARAMS).
+const MAX_ARGS: usize = 30;
+
+/// An o-word's name: `o<name>`, `o123`, or a computed number (`o[#1]`, for calls only).
+enum OName {
+    Named(String),
+    Computed(Expr),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Keyword {
+    Sub,
+    Endsub,
+    Call,
+    Do,
+    While,
+    Repeat,
+    If,
+    Elseif,
+    Else,
+    Endif,
+    Break,
+    Continue,
+    Endwhile,
+    Endrepeat,
+    Return,
+}
+
+/// In LinuxCNC's order of trial (read_o): a longer keyword before its prefix.
+const KEYWORDS: [(&[u8], Keyword); 15] = [
+    (b"SUB", Keyword::Sub),
+    (b"ENDSUB", Keyword::Endsub),
+    (b"CALL", Keyword::Call),
+    (b"DO", Keyword::Do),
+    (b"WHILE", Keyword::While),
+    (b"REPEAT", Keyword::Repeat),
+    (b"IF", Keyword::If),
+    (b"ELSEIF", Keyword::Elseif),
+    (b"ELSE", Keyword::Else),
+    (b"ENDIF", Keyword::Endif),
+    (b"BREAK", Keyword::Break),
+    (b"CONTINUE", Keyword::Continue),
+    (b"ENDWHILE", Keyword::Endwhile),
+    (b"ENDREPEAT", Keyword::Endrepeat),
+    (b"RETURN", Keyword::Return),
+];
+
+/// A construct open while compiling.
+enum Open {
+    Sub {
+        name: u32,
+        skip: u32,
+        line: usize,
+        inst: u32,
+    },
+    If {
+        name: String,
+        pending: Option<u32>,
+        ends: Vec<u32>,
+        has_else: bool,
+        line: usize,
+        inst: u32,
+    },
+    While {
+        name: String,
+        start: u32,
+        breaks: Vec<u32>,
+        line: usize,
+    },
+    Do {
+        name: String,
+        start: u32,
+        breaks: Vec<u32>,
+        continues: Vec<u32>,
+        line: usize,
+        inst: u32,
+    },
+    Repeat {
+        name: String,
+        top: u32,
+        breaks: Vec<u32>,
+        line: usize,
+        inst: u32,
+    },
+}
+
+impl Open {
+    fn name<'a>(&'a self, code: &'a Code) -> &'a str {
+        match self {
+            Open::Sub { name, .. } => code.exprs.name(*name),
+            Open::If { name, .. }
+            | Open::While { name, .. }
+            | Open::Do { name, .. }
+            | Open::Repeat { name, .. } => name,
+        }
+    }
+
+    fn what(&self) -> (&'static str, &'static str) {
+        match self {
+            Open::Sub { .. } => ("sub", "endsub"),
+            Open::If { .. } => ("if", "endif"),
+            Open::While { .. } => ("while", "endwhile"),
+            Open::Do { .. } => ("do", "while"),
+            Open::Repeat { .. } => ("repeat", "endrepeat"),
+        }
+    }
+
+    fn line_and_inst(&self) -> (usize, u32) {
+        match self {
+            Open::Sub { line, inst, .. }
+            | Open::If { line, inst, .. }
+            | Open::Do { line, inst, .. }
+            | Open::Repeat { line, inst, .. } => (*line, *inst),
+            Open::While { line, start, .. } => (*line, *start),
+        }
+    }
+}
+
+struct Compiler {
+    code: Code,
+    open: Vec<Open>,
+    /// A `%` opened the program: the next one ends it.
+    percent_seen: bool,
+    /// Something other than a blank line or `%` came already.
+    begun: bool,
+    lexed: Vec<Word>,
+}
+
+/// Compiles a LinuxCNC program.
+pub fn compile(text: Text, bare: &'static [u8]) -> Code {
+    let mut c = Compiler {
+        code: Code::new(Lang::Ngc, text, bare),
+        open: Vec::new(),
+        percent_seen: false,
+        begun: false,
+        lexed: Vec::new(),
+    };
+    for i in 0..c.code.text.len() {
+        c.code.start_line(i);
+        c.line(i);
+    }
+    c.finish();
+    c.code
+}
+
+impl Compiler {
+    fn line(&mut self, i: usize) {
+        let Compiler { code, lexed, .. } = self;
+        let line = code.text.line(i);
+        // Most lines are plain blocks the lexer reads.
+        let lexed_line = lex_line_with(line.text, line.number, line.offset, lexed, code.bare);
+        let owned = lexed_line.is_err().then(|| line.text.to_vec());
+        let (number, offset) = (line.number, line.offset);
+        match lexed_line {
+            Ok(shape) => {
+                if shape.percent {
+                    if self.percent_seen || self.begun {
+                        self.code.emit(i, Inst::End);
+                    } else {
+                        self.percent_seen = true;
+                    }
+                    return;
+                }
+                if self.lexed.is_empty() {
+                    return;
+                }
+                self.begun = true;
+                if let Some(w) = self.lexed.iter().find(|w| w.letter == b'O') {
+                    let d = numbered_programs(w.span);
+                    self.code.fail(i, d);
+                    return;
+                }
+                let end = ends_program(&self.lexed);
+                if let Some(d) = fanuc_calls(&self.lexed) {
+                    self.code.fail(i, d);
+                    return;
+                }
+                self.code.emit(i, Inst::Plain);
+                if end {
+                    self.code.emit(i, Inst::End);
+                }
+            }
+            Err(lex_error) => {
+                self.begun = true;
+                let text = owned.unwrap_or_default();
+                let line = TextLine {
+                    number,
+                    offset,
+                    text: &text,
+                    raw: &text,
+                };
+                if let Err(d) = self.macro_line(i, line) {
+                    // A line neither reads: LinuxCNC's own message where the macro reader has
+                    // one, else the lexer's.
+                    let d = if d.code == DiagCode::Syntax && !looks_like_macro(line.text) {
+                        lex_error
+                    } else {
+                        d
+                    };
+                    self.code.fail(i, d);
+                }
+            }
+        }
+    }
+
+    fn macro_line(&mut self, i: usize, line: TextLine) -> Result<(), Diagnostic> {
+        let s = Squeezed::new(line)?;
+        let mut k = 0;
+        if s.at(k) == b'/' {
+            k += 1;
+        }
+        // A line number: N and a whole number.
+        if s.at(k) == b'N' && s.at(k + 1).is_ascii_digit() {
+            k += 1;
+            while s.at(k).is_ascii_digit() || s.at(k) == b'.' {
+                k += 1;
+            }
+        }
+        if s.at(k) == b'O' {
+            return self.oword(i, &s, k);
+        }
+        let block = self.block(&s, k)?;
+        let end = block.words.iter().any(|w| {
+            w.letter == b'M'
+                && matches!(w.value, WordValue::Lit { value, .. } if value == 2.0 || value == 30.0)
+        });
+        if let Some(w) = block.words.iter().find(|w| {
+            w.letter == b'M'
+                && matches!(w.value, WordValue::Lit { value, .. } if value == 98.0 || value == 99.0)
+        }) {
+            return Err(fanuc_call_error(w.span));
+        }
+        let b = self.code.blocks.len() as u32;
+        self.code.blocks.push(block);
+        self.code.emit(i, Inst::Block(b));
+        if end {
+            self.code.emit(i, Inst::End);
+        }
+        Ok(())
+    }
+
+    /// Words and parameter settings.
+    fn block(&mut self, s: &Squeezed, mut k: usize) -> Result<Block, Diagnostic> {
+        let mut block = Block {
+            block_delete: s.block_delete,
+            ..Block::default()
+        };
+        while k < s.len() {
+            let c = s.at(k);
+            if c == b'#' {
+                block.assigns.push(self.setting(s, &mut k)?);
+                continue;
+            }
+            if !(c.is_ascii_uppercase() || c == b'$') || c == b'O' {
+                return Err(if c == b'O' {
+                    s.error(k, k + 1, "an o-word must begin its line")
+                } else {
+                    s.error(k, k + 1, "Bad character used")
+                });
+            }
+            let from = k;
+            k += 1;
+            let value = self.value(s, &mut k)?;
+            block.words.push(BlockWord {
+                letter: c,
+                value,
+                span: s.span(from, k),
+            });
+        }
+        Ok(block)
+    }
+
+    /// A word's value: a plain number kept as written, anything else an expression.
+    fn value(&mut self, s: &Squeezed, k: &mut usize) -> Result<WordValue, Diagnostic> {
+        let c = s.at(*k);
+        let c1 = s.at(*k + 1);
+        let plain = c.is_ascii_digit()
+            || c == b'.'
+            || (matches!(c, b'+' | b'-') && (c1.is_ascii_digit() || c1 == b'.'));
+        if plain {
+            let letter_col = s.span(*k - 1, *k).column;
+            let (value, has_dot, end) = read_number(s, *k, Lang::Ngc)?;
+            let skip = s.span(*k, end).column - letter_col - 1;
+            *k = end;
+            return Ok(WordValue::Lit {
+                value,
+                has_dot,
+                skip,
+            });
+        }
+        let e = Parser::new(s, &mut self.code.exprs, Lang::Ngc).value(k)?;
+        Ok(WordValue::Expr(e))
+    }
+
+    /// `#n=value`, `#[…]=value`, `#<name>=value`.
+    fn setting(&mut self, s: &Squeezed, k: &mut usize) -> Result<Assign, Diagnostic> {
+        let from = *k;
+        *k += 1;
+        let target = if s.at(*k) == b'<' {
+            let name = read_name(s, k)?;
+            Target::Named(self.code.exprs.intern(name))
+        } else {
+            // The number: any value that is a whole number (`#[1+2]=…`, `##1=…`).
+            let e = Parser::new(s, &mut self.code.exprs, Lang::Ngc).value(k)?;
+            Target::Number(e)
+        };
+        if s.at(*k) != b'=' {
+            return Err(s.error(*k, *k + 1, "Equal sign missing in parameter setting"));
+        }
+        *k += 1;
+        let value = Parser::new(s, &mut self.code.exprs, Lang::Ngc).value(k)?;
+        Ok(Assign {
+            target,
+            value,
+            span: s.span(from, *k),
+        })
+    }
+
+    fn oword(&mut self, i: usize, s: &Squeezed, mut k: usize) -> Result<(), Diagnostic> {
+        let o_at = k;
+        k += 1;
+        let name = match s.at(k) {
+            b'<' => OName::Named(read_name(s, &mut k)?),
+            b'0'..=b'9' => {
+                let (v, dot, end) = read_number(s, k, Lang::Ngc)?;
+                if dot && v.fract() != 0.0 {
+                    return Err(s.error(k, end, "Non integer value for integer"));
+                }
+                k = end;
+                OName::Named(format!("{}", v as i64))
+            }
+            _ => OName::Computed(Parser::new(s, &mut self.code.exprs, Lang::Ngc).value(&mut k)?),
+        };
+        let name_end = k;
+        let Some(&(word, kw)) = KEYWORDS.iter().find(|(w, _)| s.starts_with(k, w)) else {
+            if k >= s.len() {
+                return Err(numbered_programs(s.span(o_at, name_end)));
+            }
+            return Err(s.error(k, s.len(), "Unknown control command in o word"));
+        };
+        let kw_span = (k, k + word.len());
+        k += word.len();
+        let name = match name {
+            OName::Named(n) => n,
+            OName::Computed(e) if kw == Keyword::Call => {
+                let args = self.args(s, &mut k)?;
+                self.end_of_oword(s, k)?;
+                return self.call(i, s, o_at, kw_span.1, CallTarget::Number(e), args);
+            }
+            OName::Computed(_) => {
+                return Err(s.error(o_at + 1, name_end, "only a call may compute its o-word's number"))
+            }
+        };
+        let here = self.code.here();
+        match kw {
+            Keyword::Sub => {
+                self.end_of_oword(s, k)?;
+                if let Some(Open::Sub { name: outer, .. }) =
+                    self.open.iter().find(|o| matches!(o, Open::Sub { .. }))
+                {
+                    let outer = self.code.exprs.name(*outer).to_string();
+                    return Err(s.error(o_at, kw_span.1, "Nested subroutine definition")
+                        .with_hint(format!("o{name} sub is inside the definition of o{outer}: end that one with o{outer} endsub first")));
+                }
+                let id = self.code.exprs.intern(name.clone());
+                let skip = self.code.emit(i, Inst::Jump(0));
+                if let Some(&first) = self.code.subs.get(&id) {
+                    let before = self.code.line_number(first.saturating_sub(1));
+                    self.code.fail_at(skip, s.error(o_at, kw_span.1, format!(
+                        "redefining sub: o|{name}| already defined in line {before}"
+                    )));
+                } else {
+                    self.code.subs.insert(id, self.code.here());
+                }
+                self.open.push(Open::Sub {
+                    name: id,
+                    skip,
+                    line: i,
+                    inst: skip,
+                });
+            }
+            Keyword::Endsub | Keyword::Return => {
+                let value = if s.at(k) == b'[' {
+                    Some(Parser::new(s, &mut self.code.exprs, Lang::Ngc).bracketed(&mut k)?)
+                } else {
+                    None
+                };
+                self.end_of_oword(s, k)?;
+                let Some(sub_at) = self.open.iter().rposition(|o| matches!(o, Open::Sub { .. })) else {
+                    return Err(s.error(o_at, kw_span.1, format!(
+                        "not in a subroutine definition: 'o{name} {}'",
+                        if kw == Keyword::Endsub { "endsub" } else { "return" }
+                    )));
+                };
+                let sub_name = self.open[sub_at].name(&self.code).to_string();
+                if sub_name != name {
+                    return Err(s.error(o_at, name_end, format!(
+                        "o{name} {} is inside o{sub_name} sub: it must name o{sub_name}",
+                        if kw == Keyword::Endsub { "endsub" } else { "return" }
+                    )));
+                }
+                self.code.emit(i, Inst::Return { value, to_label: None });
+                if kw == Keyword::Endsub {
+                    // Constructs left open inside the subroutine.
+                    while self.open.len() > sub_at + 1 {
+                        let o = self.open.pop().expect("open construct");
+                        self.unclosed(o);
+                    }
+                    let Some(Open::Sub { skip, .. }) = self.open.pop() else {
+                        unreachable!("checked above")
+                    };
+                    let after = self.code.here();
+                    self.code.patch(skip, after);
+                }
+            }
+            Keyword::Call => {
+                let args = self.args(s, &mut k)?;
+                self.end_of_oword(s, k)?;
+                let id = self.code.exprs.intern(name);
+                return self.call(i, s, o_at, kw_span.1, CallTarget::Name(id), args);
+            }
+            Keyword::If => {
+                let cond = self.condition(s, &mut k, "if")?;
+                self.end_of_oword(s, k)?;
+                self.local_name_free(s, o_at, name_end, &name)?;
+                let at = self.code.emit(i, Inst::JumpUnless { cond, target: 0 });
+                self.open.push(Open::If {
+                    name,
+                    pending: Some(at),
+                    ends: Vec::new(),
+                    has_else: false,
+                    line: i,
+                    inst: at,
+                });
+            }
+            Keyword::Elseif | Keyword::Else => {
+                let cond = if kw == Keyword::Elseif {
+                    Some(self.condition(s, &mut k, "elseif")?)
+                } else {
+                    None
+                };
+                self.end_of_oword(s, k)?;
+                let top = self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::If { .. }), "'if'")?;
+                let Open::If { pending, ends, has_else, .. } = &mut self.open[top] else { unreachable!() };
+                if *has_else {
+                    return Err(s.error(o_at, kw_span.1, format!("o{name} {} after o{name} else", if cond.is_some() { "elseif" } else { "else" })));
+                }
+                // The branch before ends here: on to the endif.
+                ends.push(here);
+                let pending_at = pending.take();
+                self.code.emit(i, Inst::Jump(0));
+                if let Some(p) = pending_at {
+                    let to = self.code.here();
+                    self.code.patch(p, to);
+                }
+                match cond {
+                    Some(cond) => {
+                        let at = self.code.emit(i, Inst::JumpUnless { cond, target: 0 });
+                        if let Some(Open::If { pending, .. }) = self.open.last_mut() {
+                            *pending = Some(at);
+                        }
+                    }
+                    None => {
+                        if let Some(Open::If { has_else, .. }) = self.open.last_mut() {
+                            *has_else = true;
+                        }
+                    }
+                }
+            }
+            Keyword::Endif => {
+                self.end_of_oword(s, k)?;
+                self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::If { .. }), "'if'")?;
+                let Some(Open::If { pending, ends, .. }) = self.open.pop() else { unreachable!() };
+                let after = self.code.emit(i, Inst::Nop);
+                for at in pending.into_iter().chain(ends) {
+                    self.code.patch(at, after);
+                }
+            }
+            Keyword::While => {
+                let cond = self.condition(s, &mut k, "while")?;
+                self.end_of_oword(s, k)?;
+                // The end of a do … while loop, or the start of a while loop.
+                if let Some(Open::Do { name: n, .. }) = self.open.last() {
+                    if *n == name {
+                        let Some(Open::Do { start, breaks, continues, .. }) = self.open.pop() else { unreachable!() };
+                        let test = self.code.here();
+                        for c in continues {
+                            self.code.patch(c, test);
+                        }
+                        self.code.emit(i, Inst::JumpIf { cond, target: start });
+                        let after = self.code.here();
+                        for b in breaks {
+                            self.code.patch(b, after);
+                        }
+                        return Ok(());
+                    }
+                }
+                self.local_name_free(s, o_at, name_end, &name)?;
+                let start = self.code.emit(i, Inst::JumpUnless { cond, target: 0 });
+                self.open.push(Open::While {
+                    name,
+                    start,
+                    breaks: vec![start],
+                    line: i,
+                });
+            }
+            Keyword::Endwhile => {
+                self.end_of_oword(s, k)?;
+                self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::While { .. }), "while")?;
+                let Some(Open::While { start, breaks, .. }) = self.open.pop() else { unreachable!() };
+                self.code.emit(i, Inst::Jump(start));
+                let after = self.code.here();
+                for b in breaks {
+                    self.code.patch(b, after);
+                }
+            }
+            Keyword::Do => {
+                self.end_of_oword(s, k)?;
+                self.local_name_free(s, o_at, name_end, &name)?;
+                let start = self.code.emit(i, Inst::Nop);
+                self.open.push(Open::Do {
+                    name,
+                    start,
+                    breaks: Vec::new(),
+                    continues: Vec::new(),
+                    line: i,
+                    inst: start,
+                });
+            }
+            Keyword::Repeat => {
+                let count = self.condition(s, &mut k, "repeat")?;
+                self.end_of_oword(s, k)?;
+                self.local_name_free(s, o_at, name_end, &name)?;
+                let slot = self.code.repeat_slots;
+                self.code.repeat_slots += 1;
+                let inst = self.code.emit(i, Inst::RepeatStart { count, slot });
+                let top = self.code.emit(i, Inst::RepeatTest { slot, exit: 0 });
+                self.open.push(Open::Repeat {
+                    name,
+                    top,
+                    breaks: vec![top],
+                    line: i,
+                    inst,
+                });
+            }
+            Keyword::Endrepeat => {
+                self.end_of_oword(s, k)?;
+                self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::Repeat { .. }), "repeat")?;
+                let Some(Open::Repeat { top, breaks, .. }) = self.open.pop() else { unreachable!() };
+                self.code.emit(i, Inst::Jump(top));
+                let after = self.code.here();
+                for b in breaks {
+                    self.code.patch(b, after);
+                }
+            }
+            Keyword::Break | Keyword::Continue => {
+                self.end_of_oword(s, k)?;
+                let top = self.matching(
+                    s,
+                    o_at,
+                    name_end,
+                    &name,
+                    |o| matches!(o, Open::While { .. } | Open::Do { .. }),
+                    "while/do",
+                )?;
+                let at = here;
+                match (&mut self.open[top], kw) {
+                    (Open::While { breaks, .. } | Open::Do { breaks, .. }, Keyword::Break) => {
+                        breaks.push(at);
+                        self.code.emit(i, Inst::Jump(0));
+                    }
+                    (Open::While { start, .. }, _) => {
+                        let start = *start;
+                        self.code.emit(i, Inst::Jump(start));
+                    }
+                    (Open::Do { continues, .. }, _) => {
+                        continues.push(at);
+                        self.code.emit(i, Inst::Jump(0));
+                    }
+                    _ => unreachable!("matched while/do"),
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn call(
+        &mut self,
+        i: usize,
+        s: &Squeezed,
+        from: usize,
+        to: usize,
+        target: CallTarget,
+        args: Vec<Expr>,
+    ) -> Result<(), Diagnostic> {
+        let c = self.code.calls.len() as u32;
+        self.code.calls.push(Call {
+            kind: CallKind::OWord,
+            target,
+            args,
+            arg_letters: Vec::new(),
+            arg_no_point: Vec::new(),
+            count: None,
+            span: s.span(from, to),
+        });
+        self.code.emit(i, Inst::Call(c));
+        Ok(())
+    }
+
+    /// `[a] [b] …` after `call`.
+    fn args(&mut self, s: &Squeezed, k: &mut usize) -> Result<Vec<Expr>, Diagnostic> {
+        let mut args = Vec::new();
+        while s.at(*k) == b'[' {
+            if args.len() == MAX_ARGS {
+                return Err(s.error(*k, *k + 1, "Too many subroutine parameters"));
+            }
+            args.push(Parser::new(s, &mut self.code.exprs, Lang::Ngc).bracketed(k)?);
+        }
+        Ok(args)
+    }
+
+    fn condition(&mut self, s: &Squeezed, k: &mut usize, what: &str) -> Result<Expr, Diagnostic> {
+        if s.at(*k) != b'[' {
+            return Err(s.error(*k, *k + 1, format!("Left bracket missing after '{what}'")));
+        }
+        Parser::new(s, &mut self.code.exprs, Lang::Ngc).bracketed(k)
+    }
+
+    fn end_of_oword(&self, s: &Squeezed, k: usize) -> Result<(), Diagnostic> {
+        if k < s.len() {
+            return Err(s.error(k, s.len(), "words after an o-word")
+                .with_hint("LinuxCNC leaves other words on an o-word line undefined: write them on a line of their own"));
+        }
+        Ok(())
+    }
+
+    /// The innermost open construct, which must be `pred` and carry `name`.
+    fn matching(
+        &mut self,
+        s: &Squeezed,
+        o_at: usize,
+        name_end: usize,
+        name: &str,
+        pred: impl Fn(&Open) -> bool,
+        what: &str,
+    ) -> Result<usize, Diagnostic> {
+        let code = &self.code;
+        // Break and continue may sit in an if inside the loop: look past other constructs, but
+        // not out of the current subroutine.
+        let scope_start = self
+            .open
+            .iter()
+            .rposition(|o| matches!(o, Open::Sub { .. }))
+            .map_or(0, |p| p + 1);
+        let looking_for_loop = what == "while/do";
+        let found = self.open[scope_start..].iter().rposition(|o| {
+            o.name(code) == name && (pred(o) || !looking_for_loop)
+        });
+        match found {
+            Some(p) if pred(&self.open[scope_start + p]) => {
+                if !looking_for_loop && scope_start + p + 1 != self.open.len() {
+                    let inner = &self.open[self.open.len() - 1];
+                    let (open, close) = inner.what();
+                    let inner_line = code.text.line(inner.line_and_inst().0).number;
+                    return Err(s.error(o_at, name_end, format!(
+                        "o{} {open} (line {inner_line}) must end with o{} {close} first",
+                        inner.name(code),
+                        inner.name(code)
+                    )));
+                }
+                Ok(scope_start + p)
+            }
+            Some(p) => {
+                let o = &self.open[scope_start + p];
+                let line = code.text.line(o.line_and_inst().0).number;
+                Err(s.error(o_at, name_end, format!(
+                    "no matching {what} label: 'o{name}' (found '{}' in line {line})",
+                    o.what().0
+                )))
+            }
+            None => Err(s.error(o_at, name_end, format!("undefined O-word label: 'o{name}'"))),
+        }
+    }
+
+    /// A control-flow label may not be opened twice at once in the same scope.
+    fn local_name_free(&self, s: &Squeezed, o_at: usize, name_end: usize, name: &str) -> Result<(), Diagnostic> {
+        let scope_start = self
+            .open
+            .iter()
+            .rposition(|o| matches!(o, Open::Sub { .. }))
+            .map_or(0, |p| p + 1);
+        if let Some(o) = self.open[scope_start..].iter().find(|o| o.name(&self.code) == name) {
+            let line = self.code.text.line(o.line_and_inst().0).number;
+            return Err(s.error(o_at, name_end, format!(
+                "duplicate O-word label - already defined in line {line}: 'o{name}'"
+            )));
+        }
+        Ok(())
+    }
+
+    /// A construct the file leaves open: its first line fails when it runs.
+    fn unclosed(&mut self, o: Open) {
+        let (open, close) = o.what();
+        let name = o.name(&self.code).to_string();
+        let (line, inst) = o.line_and_inst();
+        let l = self.code.text.line(line);
+        let d = Diagnostic::error(
+            DiagCode::Syntax,
+            l.whole(),
+            format!("o{name} {open} has no o{name} {close}"),
+        )
+        .with_hint(format!("close it with o{name} {close}"));
+        self.code.fail_at(inst, d);
+    }
+
+    fn finish(&mut self) {
+        while let Some(o) = self.open.pop() {
+            self.unclosed(o);
+        }
+    }
+}
+
+/// Whether a block ends the program (M2, M30).
+fn ends_program(words: &[Word]) -> bool {
+    words
+        .iter()
+        .any(|w| w.letter == b'M' && (w.value == 2.0 || w.value == 30.0))
+}
+
+/// LinuxCNC's Fanuc-style numbered programs are not read by threadcut.
+fn numbered_programs(span: crate::diag::Span) -> Diagnostic {
+    Diagnostic::error(
+        DiagCode::Unsupported,
+        span,
+        "Fanuc-style numbered programs (o100 … M99, M98 P100) are not read by threadcut's LinuxCNC dialect",
+    )
+    .with_hint("write the subroutine as o100 sub … o100 endsub and call it with o100 call")
+}
+
+fn fanuc_call_error(span: crate::diag::Span) -> Diagnostic {
+    Diagnostic::error(
+        DiagCode::Unsupported,
+        span,
+        "M98/M99 (Fanuc-style numbered programs) are not read by threadcut's LinuxCNC dialect",
+    )
+    .with_hint("write the subroutine as o100 sub … o100 endsub and call it with o100 call")
+}
+
+fn fanuc_calls(words: &[Word]) -> Option<Diagnostic> {
+    words
+        .iter()
+        .find(|w| w.letter == b'M' && (w.value == 98.0 || w.value == 99.0))
+        .map(|w| fanuc_call_error(w.span))
+}
+
+/// Whether a line the lexer refuses is written in LinuxCNC's macro syntax: a parameter, an
+/// expression, or an o-word.
+pub fn looks_like_macro(text: &[u8]) -> bool {
+    let mut in_comment = false;
+    let mut first = None;
+    for &b in text {
+        match b {
+            b'(' => in_comment = true,
+            b')' => in_comment = false,
+            b';' if !in_comment => break,
+            b'#' | b'[' if !in_comment => return true,
+            b' ' | b'\t' | b'\r' => {}
+            _ if !in_comment && first.is_none() => first = Some(b),
+            _ => {}
+        }
+    }
+    // An o-word begins its line (after an optional block delete and line number).
+    let t: Vec<u8> = text
+        .iter()
+        .copied()
+        .filter(|b| !matches!(b, b' ' | b'\t'))
+        .map(|b| b.to_ascii_uppercase())
+        .collect();
+    let mut k = 0;
+    if t.get(k) == Some(&b'/') {
+        k += 1;
+    }
+    if t.get(k) == Some(&b'N') {
+        k += 1;
+        while t.get(k).is_some_and(|b| b.is_ascii_digit() || *b == b'.') {
+            k += 1;
+        }
+    }
+    let _ = first;
+    t.get(k) == Some(&b'O')
+        && t.get(k + 1).is_some_and(|b| b.is_ascii_digit() || *b == b'<')
+}
