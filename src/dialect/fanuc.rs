@@ -88,6 +88,18 @@ impl Dialect for Fanuc {
             .unwrap_or(Read::Plain))
     }
 
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        // Custom Macro B: subprograms nest ten levels deep and macro calls five (Fanuc 0i-F);
+        // M98 takes its count in L or packed in P (docs/dialects/fanuc.md).
+        Some(crate::interp::Syntax {
+            lang: crate::interp::Lang::MacroB,
+            max_call_depth: 10,
+            max_macro_depth: 5,
+            g65_operations: false,
+            m98_l_word: true,
+        })
+    }
+
     fn format(&self) -> Format {
         Format::lathe(&self.machine, "G32", 'F')
     }

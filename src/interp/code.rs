@@ -20,21 +20,43 @@ pub enum Inst {
     Block(u32),
     Jump(u32),
     /// Jumps when the condition is false (if, while).
-    JumpUnless { cond: Expr, target: u32 },
+    JumpUnless {
+        cond: Expr,
+        target: u32,
+    },
     /// Jumps when the condition is true (LinuxCNC's do … while).
-    JumpIf { cond: Expr, target: u32 },
+    JumpIf {
+        cond: Expr,
+        target: u32,
+    },
     /// Fanuc `GOTO n`: the sequence number is looked up when it runs, in program `program`.
-    Goto { target: Expr, program: u32 },
+    Goto {
+        target: Expr,
+        program: u32,
+    },
     /// Fanuc `IF [c] GOTO n`.
-    IfGoto { cond: Expr, target: Expr, program: u32 },
+    IfGoto {
+        cond: Expr,
+        target: Expr,
+        program: u32,
+    },
     /// A LinuxCNC `repeat [n]`: sets the loop's count (slot `slot` of the frame).
-    RepeatStart { count: Expr, slot: u32 },
+    RepeatStart {
+        count: Expr,
+        slot: u32,
+    },
     /// The top of a repeat loop: leaves it (to `exit`) when the count is spent.
-    RepeatTest { slot: u32, exit: u32 },
+    RepeatTest {
+        slot: u32,
+        exit: u32,
+    },
     /// A call: `calls[i]`.
     Call(u32),
     /// LinuxCNC `endsub`/`return` (with its optional value), Fanuc `M99`.
-    Return { value: Option<Expr>, to_label: Option<Expr> },
+    Return {
+        value: Option<Expr>,
+        to_label: Option<Expr>,
+    },
     /// The program ends (M2, M30, the closing `%`).
     End,
     /// The start of another program (Fanuc `O1000` after the main program): the program running
@@ -53,7 +75,11 @@ pub enum Inst {
 pub enum WordValue {
     /// As the lexer would give it: the value, whether written with a decimal point, and where the
     /// number starts after the letter.
-    Lit { value: f64, has_dot: bool, skip: u32 },
+    Lit {
+        value: f64,
+        has_dot: bool,
+        skip: u32,
+    },
     Expr(Expr),
 }
 
@@ -241,8 +267,6 @@ impl Code {
 
     /// The text line number of instruction `at`.
     pub fn line_number(&self, at: u32) -> u32 {
-        self.text
-            .line(self.inst_line[at as usize] as usize)
-            .number
+        self.text.line(self.inst_line[at as usize] as usize).number
     }
 }

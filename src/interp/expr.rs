@@ -234,10 +234,18 @@ impl<'a, 's> Parser<'a, 's> {
         }
         self.depth += 1;
         if self.depth > max_nesting(self.lang) {
-            return Err(self.s.error(open, open + 1, match self.lang {
-                Lang::MacroB => "brackets nested more than five deep (alarm PS0118)".to_string(),
-                Lang::Ngc => format!("brackets nested more than {} deep", max_nesting(self.lang)),
-            }));
+            return Err(self.s.error(
+                open,
+                open + 1,
+                match self.lang {
+                    Lang::MacroB => {
+                        "brackets nested more than five deep (alarm PS0118)".to_string()
+                    }
+                    Lang::Ngc => {
+                        format!("brackets nested more than {} deep", max_nesting(self.lang))
+                    }
+                },
+            ));
         }
         *i += 1;
         self.chain(i, Some(open))?;
@@ -275,8 +283,15 @@ impl<'a, 's> Parser<'a, 's> {
                         Lang::Ngc => self.s.error(at, at + 1, "Unknown operation"),
                         Lang::MacroB => self
                             .s
-                            .error(at, at + 1, "an operator or `]` expected here (alarm PS0114)")
-                            .with_hint(format!("the expression opened at column {} is not closed here", self.s.span(o, o + 1).column)),
+                            .error(
+                                at,
+                                at + 1,
+                                "an operator or `]` expected here (alarm PS0114)",
+                            )
+                            .with_hint(format!(
+                                "the expression opened at column {} is not closed here",
+                                self.s.span(o, o + 1).column
+                            )),
                     });
                 }
                 break;
@@ -302,9 +317,11 @@ impl<'a, 's> Parser<'a, 's> {
     fn unclosed(&self, open: usize) -> Diagnostic {
         match self.lang {
             Lang::Ngc => self.s.error(open, self.s.len(), "Unclosed expression"),
-            Lang::MacroB => self
-                .s
-                .error(open, self.s.len(), "the expression is not closed with `]` (alarm PS0114)"),
+            Lang::MacroB => self.s.error(
+                open,
+                self.s.len(),
+                "the expression is not closed with `]` (alarm PS0114)",
+            ),
         }
     }
 
@@ -404,9 +421,11 @@ impl<'a, 's> Parser<'a, 's> {
             _ => {
                 return Err(match self.lang {
                     Lang::Ngc => self.s.error(at, *i + 1, "Bad number format"),
-                    Lang::MacroB => self
-                        .s
-                        .error(at, *i + 1, "`#` must be followed by a variable number or `[` (alarm PS0114)"),
+                    Lang::MacroB => self.s.error(
+                        at,
+                        *i + 1,
+                        "`#` must be followed by a variable number or `[` (alarm PS0114)",
+                    ),
                 })
             }
         }
@@ -443,13 +462,18 @@ impl<'a, 's> Parser<'a, 's> {
             b"POW" if self.lang == Lang::MacroB => return self.pow(i, end),
             _ => {
                 return Err(match self.lang {
-                    Lang::Ngc => self
-                        .s
-                        .error(at, end.max(at + 1), "Unknown word where unary operation could be"),
+                    Lang::Ngc => self.s.error(
+                        at,
+                        end.max(at + 1),
+                        "Unknown word where unary operation could be",
+                    ),
                     Lang::MacroB => self.s.error(
                         at,
                         end.max(at + 1),
-                        format!("`{}` is not a macro function (alarm PS0114)", String::from_utf8_lossy(name)),
+                        format!(
+                            "`{}` is not a macro function (alarm PS0114)",
+                            String::from_utf8_lossy(name)
+                        ),
                     ),
                 })
             }
@@ -461,9 +485,11 @@ impl<'a, 's> Parser<'a, 's> {
                     end + 1,
                     "Left bracket missing after unary operation name",
                 ),
-                Lang::MacroB => self
-                    .s
-                    .error(end, end + 1, "`[` must follow the function's name (alarm PS0114)"),
+                Lang::MacroB => self.s.error(
+                    end,
+                    end + 1,
+                    "`[` must follow the function's name (alarm PS0114)",
+                ),
             });
         }
         *i = end;
@@ -531,7 +557,11 @@ impl<'a, 's> Parser<'a, 's> {
         let Some(_) = comma else { return Ok(false) };
         self.depth += 1;
         if self.depth > max_nesting(self.lang) {
-            return Err(self.s.error(open, open + 1, "brackets nested more than five deep (alarm PS0118)"));
+            return Err(self.s.error(
+                open,
+                open + 1,
+                "brackets nested more than five deep (alarm PS0118)",
+            ));
         }
         *i = open + 1;
         self.chain_until_comma(i)?;
@@ -591,21 +621,23 @@ impl<'a, 's> Parser<'a, 's> {
         let at = *i;
         let mut k = end;
         if self.s.at(k) != b'[' {
-            return Err(self.s.error(
-                k,
-                k + 1,
-                "Left bracket missing after unary operation name",
-            ));
+            return Err(self
+                .s
+                .error(k, k + 1, "Left bracket missing after unary operation name"));
         }
         k += 1;
         if self.s.at(k) != b'#' || self.s.at(k + 1) != b'<' {
-            return Err(self.s.error(k, k + 1, "Expected # reading parameter")
+            return Err(self
+                .s
+                .error(k, k + 1, "Expected # reading parameter")
                 .with_hint("EXISTS takes one named parameter: EXISTS[#<name>]"));
         }
         k += 1;
         let name = read_name(self.s, &mut k)?;
         if self.s.at(k) != b']' {
-            return Err(self.s.error(k, k + 1, "Expected ] reading bracketed parameter"));
+            return Err(self
+                .s
+                .error(k, k + 1, "Expected ] reading bracketed parameter"));
         }
         k += 1;
         let id = self.exprs.intern(name);
@@ -631,10 +663,14 @@ pub fn read_number(s: &Squeezed, at: usize, lang: Lang) -> PResult<(f64, bool, u
             b'.' if !dot => dot = true,
             b'.' => {
                 return Err(match lang {
-                    Lang::Ngc => s.error(at, k + 1, format!(
-                        "bad number format (trailing characters) parsing '{}'",
-                        String::from_utf8_lossy(s.source(at, k + 1))
-                    )),
+                    Lang::Ngc => s.error(
+                        at,
+                        k + 1,
+                        format!(
+                            "bad number format (trailing characters) parsing '{}'",
+                            String::from_utf8_lossy(s.source(at, k + 1))
+                        ),
+                    ),
                     Lang::MacroB => s.error(k, k + 1, "a second decimal point (alarm PS0114)"),
                 })
             }
@@ -649,7 +685,9 @@ pub fn read_number(s: &Squeezed, at: usize, lang: Lang) -> PResult<(f64, bool, u
         });
     }
     let text: String = (at..k).map(|j| s.at(j) as char).collect();
-    let v: f64 = text.parse().map_err(|_| s.error(at, k, "Bad number format"))?;
+    let v: f64 = text
+        .parse()
+        .map_err(|_| s.error(at, k, "Bad number format"))?;
     if !v.is_finite() || (digits_from..k).count() > 400 {
         return Err(Diagnostic::error(
             Code::BadNumber,
@@ -793,7 +831,10 @@ impl Exprs {
                     let b = stack.pop().flatten().unwrap_or(0.0);
                     let a = stack.pop().flatten().unwrap_or(0.0);
                     if a < 0.0 && b.fract() != 0.0 {
-                        return Err(argument(span, "POW of a negative number to a fractional power"));
+                        return Err(argument(
+                            span,
+                            "POW of a negative number to a fractional power",
+                        ));
                     }
                     Some(a.powf(b))
                 }
@@ -933,7 +974,10 @@ fn binary(
 fn bits(v: f64, span: Span) -> Result<i64, Diagnostic> {
     let n = v.round();
     if n.abs() > 2f64.powi(31) {
-        return Err(argument(span, "AND, OR and XOR work on whole numbers below 2^31"));
+        return Err(argument(
+            span,
+            "AND, OR and XOR work on whole numbers below 2^31",
+        ));
     }
     Ok(n as i64)
 }
@@ -955,7 +999,10 @@ fn unary(lang: Lang, f: Func, a: Option<f64>, span: Span) -> Result<Option<f64>,
         Tan => x.to_radians().tan(),
         Asin => {
             if !(-1.0..=1.0).contains(&x) {
-                return Err(err("Argument to asin out of range", "ASIN of a value outside -1..1"));
+                return Err(err(
+                    "Argument to asin out of range",
+                    "ASIN of a value outside -1..1",
+                ));
             }
             let d = x.asin().to_degrees();
             // Fanuc (NAT = 0): 270 to 90 degrees.
@@ -967,7 +1014,10 @@ fn unary(lang: Lang, f: Func, a: Option<f64>, span: Span) -> Result<Option<f64>,
         }
         Acos => {
             if !(-1.0..=1.0).contains(&x) {
-                return Err(err("Argument to acos out of range", "ACOS of a value outside -1..1"));
+                return Err(err(
+                    "Argument to acos out of range",
+                    "ACOS of a value outside -1..1",
+                ));
             }
             x.acos().to_degrees()
         }
@@ -981,7 +1031,10 @@ fn unary(lang: Lang, f: Func, a: Option<f64>, span: Span) -> Result<Option<f64>,
         }
         Sqrt => {
             if x < 0.0 {
-                return Err(err("Negative argument to sqrt", "SQRT of a negative number"));
+                return Err(err(
+                    "Negative argument to sqrt",
+                    "SQRT of a negative number",
+                ));
             }
             x.sqrt()
         }
@@ -989,7 +1042,10 @@ fn unary(lang: Lang, f: Func, a: Option<f64>, span: Span) -> Result<Option<f64>,
         Exp => x.exp(),
         Ln => {
             if x <= 0.0 {
-                return Err(err("Zero or negative argument to ln", "LN of zero or a negative number"));
+                return Err(err(
+                    "Zero or negative argument to ln",
+                    "LN of zero or a negative number",
+                ));
             }
             x.ln()
         }
@@ -1140,7 +1196,9 @@ mod tests {
             "Non integer value for integer"
         );
         assert_eq!(
-            eval(Lang::Ngc, "[[-1] ** 0.5]", vec![]).unwrap_err().message,
+            eval(Lang::Ngc, "[[-1] ** 0.5]", vec![])
+                .unwrap_err()
+                .message,
             "Attempt to raise negative to non integer power"
         );
         let deep = format!("{}1{}", "[".repeat(70), "]".repeat(70));

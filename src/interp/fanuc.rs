@@ -134,7 +134,9 @@ impl Compiler<'_> {
             }
         }
         let control = words.iter().any(|w| {
-            (w.letter == b'M' && matches!(w.value as u32, 2 | 30 | 98 | 99) && w.value.fract() == 0.0)
+            (w.letter == b'M'
+                && matches!(w.value as u32, 2 | 30 | 98 | 99)
+                && w.value.fract() == 0.0)
                 || (w.letter == b'G' && w.value == 65.0)
                 || w.letter == b'O'
         });
@@ -188,19 +190,31 @@ impl Compiler<'_> {
             } else if s.starts_with(k, b"THEN") {
                 k += 4;
                 if s.at(k) != b'#' {
-                    return Err(s.error(k, k + 1, "THEN takes an assignment: IF [cond] THEN #1=… (alarm PS0114)"));
+                    return Err(s.error(
+                        k,
+                        k + 1,
+                        "THEN takes an assignment: IF [cond] THEN #1=… (alarm PS0114)",
+                    ));
                 }
                 let a = self.assignment(s, &mut k)?;
                 Statement::IfThen(cond, a)
             } else {
-                return Err(s.error(k, k + 1, "IF [condition] is followed by GOTO n or THEN (alarm PS0114)"));
+                return Err(s.error(
+                    k,
+                    k + 1,
+                    "IF [condition] is followed by GOTO n or THEN (alarm PS0114)",
+                ));
             }
         } else if s.starts_with(k, b"WHILE") && s.at(k + 5) == b'[' {
             let at = k;
             k += 5;
             let cond = Parser::new(s, &mut self.code.exprs, Lang::MacroB).bracketed(&mut k)?;
             if !s.starts_with(k, b"DO") {
-                return Err(s.error(k, k + 1, "WHILE [condition] is followed by DOm (alarm PS0114)"));
+                return Err(s.error(
+                    k,
+                    k + 1,
+                    "WHILE [condition] is followed by DOm (alarm PS0114)",
+                ));
             }
             let m = loop_number(s, &mut k, 2)?;
             Statement::While(Some(cond), m, s.span(at, k))
@@ -223,7 +237,11 @@ impl Compiler<'_> {
         };
         if k < s.len() {
             return Err(s
-                .error(k, s.len(), "a macro statement and NC words in one block (alarm PS0127)")
+                .error(
+                    k,
+                    s.len(),
+                    "a macro statement and NC words in one block (alarm PS0127)",
+                )
                 .with_hint("write the NC words in a block of their own"));
         }
         Ok((label, statement))
@@ -248,14 +266,24 @@ impl Compiler<'_> {
             b'0'..=b'9' => {
                 let (v, dot, end) = read_number(s, *k, Lang::MacroB)?;
                 if dot {
-                    return Err(s.error(*k, end, "a variable number is a whole number (alarm PS0114)"));
+                    return Err(s.error(
+                        *k,
+                        end,
+                        "a variable number is a whole number (alarm PS0114)",
+                    ));
                 }
                 let e = self.code.exprs.number(v, s.span(*k, end));
                 *k = end;
                 e
             }
             b'#' => Parser::new(s, &mut self.code.exprs, Lang::MacroB).value(k)?,
-            _ => return Err(s.error(from, *k + 1, "`#` must be followed by a variable number (alarm PS0114)")),
+            _ => {
+                return Err(s.error(
+                    from,
+                    *k + 1,
+                    "`#` must be followed by a variable number (alarm PS0114)",
+                ))
+            }
         };
         if s.at(*k) != b'=' {
             return Err(s.error(*k, *k + 1, "`=` expected after the variable (alarm PS0114)"));
@@ -278,25 +306,42 @@ impl Compiler<'_> {
         while k < s.len() {
             let c = s.at(k);
             if !c.is_ascii_uppercase() {
-                return Err(s.error(k, k + 1, format!("`{}` cannot begin a word (alarm PS0114)", c as char)));
+                return Err(s.error(
+                    k,
+                    k + 1,
+                    format!("`{}` cannot begin a word (alarm PS0114)", c as char),
+                ));
             }
             let from = k;
             k += 1;
             let c1 = s.at(k);
             let c2 = s.at(k + 1);
-            let value = if c1.is_ascii_digit() || c1 == b'.' || (matches!(c1, b'+' | b'-') && (c2.is_ascii_digit() || c2 == b'.')) {
+            let value = if c1.is_ascii_digit()
+                || c1 == b'.'
+                || (matches!(c1, b'+' | b'-') && (c2.is_ascii_digit() || c2 == b'.'))
+            {
                 let letter_col = s.span(from, from + 1).column;
                 let (value, has_dot, end) = read_number(s, k, Lang::MacroB)?;
                 let skip = s.span(k, end).column - letter_col - 1;
                 k = end;
-                WordValue::Lit { value, has_dot, skip }
-            } else if matches!(c1, b'#' | b'[') || (matches!(c1, b'+' | b'-') && matches!(c2, b'#' | b'[')) {
+                WordValue::Lit {
+                    value,
+                    has_dot,
+                    skip,
+                }
+            } else if matches!(c1, b'#' | b'[')
+                || (matches!(c1, b'+' | b'-') && matches!(c2, b'#' | b'['))
+            {
                 WordValue::Expr(Parser::new(s, &mut self.code.exprs, Lang::MacroB).value(&mut k)?)
             } else {
-                return Err(s.error(from, k + 1, format!(
+                return Err(s.error(
+                    from,
+                    k + 1,
+                    format!(
                     "`{}` must be followed by a number, a variable or [expression] (alarm PS0114)",
                     c as char
-                )));
+                ),
+                ));
             };
             block.words.push(BlockWord {
                 letter: c,
@@ -349,27 +394,56 @@ impl Compiler<'_> {
             }
             Statement::Assign(a) => {
                 self.begun = true;
-                self.emit_block(i, Block { words: Vec::new(), assigns: vec![a], block_delete: false });
+                self.emit_block(
+                    i,
+                    Block {
+                        words: Vec::new(),
+                        assigns: vec![a],
+                        block_delete: false,
+                    },
+                );
             }
             Statement::IfGoto(cond, target) => {
                 self.begun = true;
-                self.code.emit(i, Inst::IfGoto { cond, target, program: self.program });
+                self.code.emit(
+                    i,
+                    Inst::IfGoto {
+                        cond,
+                        target,
+                        program: self.program,
+                    },
+                );
             }
             Statement::IfThen(cond, a) => {
                 self.begun = true;
                 let skip = self.code.emit(i, Inst::JumpUnless { cond, target: 0 });
-                self.emit_block(i, Block { words: Vec::new(), assigns: vec![a], block_delete: false });
+                self.emit_block(
+                    i,
+                    Block {
+                        words: Vec::new(),
+                        assigns: vec![a],
+                        block_delete: false,
+                    },
+                );
                 let after = self.code.here();
                 self.code.patch(skip, after);
             }
             Statement::While(cond, m, span) => {
                 self.begun = true;
                 if self.dos.len() >= 3 {
-                    return Err(Diagnostic::error(DiagCode::OutOfRange, span, "loops nest at most three deep (DO1–DO3, alarm PS0126)"));
+                    return Err(Diagnostic::error(
+                        DiagCode::OutOfRange,
+                        span,
+                        "loops nest at most three deep (DO1–DO3, alarm PS0126)",
+                    ));
                 }
                 if self.dos.iter().any(|d| d.m == m) {
-                    return Err(Diagnostic::error(DiagCode::Syntax, span, format!("DO{m} inside a loop of the same number (alarm PS0126)"))
-                        .with_hint("nested loops need different numbers: DO1, DO2, DO3"));
+                    return Err(Diagnostic::error(
+                        DiagCode::Syntax,
+                        span,
+                        format!("DO{m} inside a loop of the same number (alarm PS0126)"),
+                    )
+                    .with_hint("nested loops need different numbers: DO1, DO2, DO3"));
                 }
                 let inst = match cond {
                     Some(cond) => self.code.emit(i, Inst::JumpUnless { cond, target: 0 }),
@@ -394,15 +468,23 @@ impl Compiler<'_> {
                         )));
                     }
                     None => {
-                        return Err(Diagnostic::error(DiagCode::Syntax, span, format!(
-                            "END{m} without WHILE … DO{m} before it (alarm PS0124)"
-                        )))
+                        return Err(Diagnostic::error(
+                            DiagCode::Syntax,
+                            span,
+                            format!("END{m} without WHILE … DO{m} before it (alarm PS0124)"),
+                        ))
                     }
                 }
             }
             Statement::Goto(target) => {
                 self.begun = true;
-                self.code.emit(i, Inst::Goto { target, program: self.program });
+                self.code.emit(
+                    i,
+                    Inst::Goto {
+                        target,
+                        program: self.program,
+                    },
+                );
             }
         }
         Ok(())
@@ -418,18 +500,26 @@ impl Compiler<'_> {
     /// and the end; the other words run as a block first, as the control runs them.
     fn nc_block(&mut self, i: usize, mut b: Block) -> Result<(), Diagnostic> {
         let lit = |w: &BlockWord| match w.value {
-            WordValue::Lit { value, .. } if value.fract() == 0.0 && value >= 0.0 => Some(value as u32),
+            WordValue::Lit { value, .. } if value.fract() == 0.0 && value >= 0.0 => {
+                Some(value as u32)
+            }
             _ => None,
         };
         let find = |b: &Block, letter: u8, code: u32| {
-            b.words.iter().position(|w| w.letter == letter && lit(w) == Some(code))
+            b.words
+                .iter()
+                .position(|w| w.letter == letter && lit(w) == Some(code))
         };
         if let Some(g65) = find(&b, b'G', 65) {
             return self.g65(i, b, g65);
         }
         if let Some(o) = b.words.iter().find(|w| w.letter == b'O') {
-            return Err(Diagnostic::error(DiagCode::Syntax, o.span, "a program number O stands alone at the start of its program")
-                .with_hint("write O1000 on a line of its own"));
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                o.span,
+                "a program number O stands alone at the start of its program",
+            )
+            .with_hint("write O1000 on a line of its own"));
         }
         let m98 = find(&b, b'M', 98);
         let m99 = find(&b, b'M', 99);
@@ -445,13 +535,22 @@ impl Compiler<'_> {
             (Some(a), None) => (a, true),
             (None, Some(a)) => (a, false),
             (Some(_), Some(a)) => {
-                return Err(Diagnostic::error(DiagCode::Conflict, b.words[a].span, "M98 and M99 in one block"))
+                return Err(Diagnostic::error(
+                    DiagCode::Conflict,
+                    b.words[a].span,
+                    "M98 and M99 in one block",
+                ))
             }
             (None, None) => unreachable!(),
         };
         let word_span = b.words[at].span;
         b.words.remove(at);
-        let take = |b: &mut Block, letter: u8| b.words.iter().position(|w| w.letter == letter).map(|k| b.words.remove(k));
+        let take = |b: &mut Block, letter: u8| {
+            b.words
+                .iter()
+                .position(|w| w.letter == letter)
+                .map(|k| b.words.remove(k))
+        };
         let p = take(&mut b, b'P');
         let l = if is_call { take(&mut b, b'L') } else { None };
         let to_expr = |c: &mut Self, w: BlockWord| match w.value {
@@ -464,7 +563,11 @@ impl Compiler<'_> {
         }
         if is_call {
             let Some(p) = p else {
-                return Err(Diagnostic::error(DiagCode::MissingWord, word_span, "M98 needs P, the program to call (alarm PS0076)"));
+                return Err(Diagnostic::error(
+                    DiagCode::MissingWord,
+                    word_span,
+                    "M98 needs P, the program to call (alarm PS0076)",
+                ));
             };
             if l.is_some() && !self.syntax.m98_l_word {
                 let l = l.expect("checked");
@@ -487,7 +590,13 @@ impl Compiler<'_> {
             self.code.emit(i, Inst::Call(c));
         } else {
             let to_label = p.map(|p| to_expr(self, p));
-            self.code.emit(i, Inst::Return { value: None, to_label });
+            self.code.emit(
+                i,
+                Inst::Return {
+                    value: None,
+                    to_label,
+                },
+            );
         }
         if end {
             self.code.emit(i, Inst::End);
@@ -506,13 +615,26 @@ impl Compiler<'_> {
         if self.syntax.g65_operations {
             return self.macro_op(i, b, g_span);
         }
-        if let Some(w) = b.words.iter().find(|w| matches!(w.letter, b'G' | b'N' | b'O') ) {
-            return Err(Diagnostic::error(DiagCode::Syntax, w.span, format!(
-                "{} cannot be an argument of G65 (alarm PS0129)", w.letter as char
-            )));
+        if let Some(w) = b
+            .words
+            .iter()
+            .find(|w| matches!(w.letter, b'G' | b'N' | b'O'))
+        {
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                w.span,
+                format!(
+                    "{} cannot be an argument of G65 (alarm PS0129)",
+                    w.letter as char
+                ),
+            ));
         }
         let Some(pk) = b.words.iter().position(|w| w.letter == b'P') else {
-            return Err(Diagnostic::error(DiagCode::MissingWord, g_span, "G65 needs P, the macro program to call (alarm PS0076)"));
+            return Err(Diagnostic::error(
+                DiagCode::MissingWord,
+                g_span,
+                "G65 needs P, the macro program to call (alarm PS0076)",
+            ));
         };
         let p = b.words.remove(pk);
         let number = to_expr(self, &p);
@@ -536,7 +658,10 @@ impl Compiler<'_> {
         let c = self.code.calls.len() as u32;
         self.code.calls.push(Call {
             kind: CallKind::G65,
-            target: CallTarget::Program { number, packed: false },
+            target: CallTarget::Program {
+                number,
+                packed: false,
+            },
             args,
             arg_letters: letters,
             arg_no_point: no_point,
@@ -556,12 +681,24 @@ impl Compiler<'_> {
         };
         let h_value = match h.value {
             WordValue::Lit { value, .. } if value.fract() == 0.0 && value >= 0.0 => value as u32,
-            _ => return Err(Diagnostic::error(DiagCode::Syntax, h.span, "H is the operation's number, written as a number")),
+            _ => {
+                return Err(Diagnostic::error(
+                    DiagCode::Syntax,
+                    h.span,
+                    "H is the operation's number, written as a number",
+                ))
+            }
         };
-        if let Some(w) = b.words.iter().find(|w| !matches!(w.letter, b'H' | b'P' | b'Q' | b'R')) {
-            return Err(Diagnostic::error(DiagCode::Unsupported, w.span, format!(
-                "{} is not a word of G65 Hm P#i Q#j R#k", w.letter as char
-            )));
+        if let Some(w) = b
+            .words
+            .iter()
+            .find(|w| !matches!(w.letter, b'H' | b'P' | b'Q' | b'R'))
+        {
+            return Err(Diagnostic::error(
+                DiagCode::Unsupported,
+                w.span,
+                format!("{} is not a word of G65 Hm P#i Q#j R#k", w.letter as char),
+            ));
         }
         let value_of = |c: &mut Self, w: Option<&BlockWord>| {
             w.map(|w| match w.value {
@@ -583,7 +720,11 @@ impl Compiler<'_> {
                         (Some(dest), None)
                     }
                     WordValue::Lit { .. } => {
-                        return Err(Diagnostic::error(DiagCode::Syntax, w.span, "P names the variable set: write P#100"))
+                        return Err(Diagnostic::error(
+                            DiagCode::Syntax,
+                            w.span,
+                            "P names the variable set: write P#100",
+                        ))
                     }
                 },
                 None => (None, None),
@@ -607,14 +748,24 @@ impl Compiler<'_> {
 
     /// The variable number a `P#i` word names: re-read from the word's text.
     fn variable_number(&mut self, w: &BlockWord, span: Span) -> Result<Expr, Diagnostic> {
-        let line_index = self.code.text.index_of(span.line).expect("the word's own line");
+        let line_index = self
+            .code
+            .text
+            .index_of(span.line)
+            .expect("the word's own line");
         let line = self.code.text.line(line_index);
         let s = Squeezed::new(line)?;
         // Find the `#` after the word's letter.
         let col = (span.column as usize).saturating_sub(1);
         let mut k = (0..s.len())
             .find(|&k| s.span(k, k + 1).column as usize > col + 1 && s.at(k) == b'#')
-            .ok_or_else(|| Diagnostic::error(DiagCode::Syntax, w.span, "P names the variable set: write P#100"))?;
+            .ok_or_else(|| {
+                Diagnostic::error(
+                    DiagCode::Syntax,
+                    w.span,
+                    "P names the variable set: write P#100",
+                )
+            })?;
         k += 1;
         match s.at(k) {
             b'[' => Parser::new(&s, &mut self.code.exprs, Lang::MacroB).bracketed(&mut k),
@@ -629,10 +780,14 @@ impl Compiler<'_> {
     fn end_program(&mut self) {
         while let Some(d) = self.dos.pop() {
             let line = self.code.text.line(d.line);
-            let e = Diagnostic::error(DiagCode::Syntax, line.whole(), format!(
-                "DO{} has no END{} in its program (alarm PS0124, missing END statement)",
-                d.m, d.m
-            ));
+            let e = Diagnostic::error(
+                DiagCode::Syntax,
+                line.whole(),
+                format!(
+                    "DO{} has no END{} in its program (alarm PS0124, missing END statement)",
+                    d.m, d.m
+                ),
+            );
             self.code.fail_at(d.inst, e);
         }
         let here = self.code.here();
@@ -653,7 +808,11 @@ fn loop_number(s: &Squeezed, k: &mut usize, skip: usize) -> Result<u8, Diagnosti
     let digits: String = (from..*k).map(|j| s.at(j) as char).collect();
     match digits.parse::<u32>() {
         Ok(m @ 1..=3) => Ok(m as u8),
-        _ => Err(s.error(at, (*k).max(at + skip), "the loop number must be 1, 2 or 3 (alarm PS0126)")),
+        _ => Err(s.error(
+            at,
+            (*k).max(at + skip),
+            "the loop number must be 1, 2 or 3 (alarm PS0126)",
+        )),
     }
 }
 
@@ -737,16 +896,25 @@ mod tests {
     use super::*;
 
     fn slots(letters: &str) -> Vec<u8> {
-        let v: Vec<(u8, Span)> = letters.bytes().map(|b| (b, Span::new(0, 0, 0, 0))).collect();
+        let v: Vec<(u8, Span)> = letters
+            .bytes()
+            .map(|b| (b, Span::new(0, 0, 0, 0)))
+            .collect();
         argument_slots(&v)
     }
 
     #[test]
     fn argument_specification_one_and_two() {
         // Specification I.
-        assert_eq!(slots("ABCIJKDEFHMQRSTUVWXYZ"), [1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26]);
+        assert_eq!(
+            slots("ABCIJKDEFHMQRSTUVWXYZ"),
+            [1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 13, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26]
+        );
         // Specification II: A B C and sets of I J K.
-        assert_eq!(slots("ABCIJKIJKIJK"), [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]);
+        assert_eq!(
+            slots("ABCIJKIJKIJK"),
+            [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12]
+        );
         assert_eq!(slots("IIII"), [4, 7, 10, 13]);
         assert_eq!(slots("JI"), [5, 7]);
         assert_eq!(slots("IJKIJKIJKIJKIJKIJKIJKIJKIJKIJK")[27..], [31, 32, 33]);

@@ -6,7 +6,10 @@
 use crate::diag::{Code as DiagCode, Diagnostic};
 use crate::gcode::{lex_line_with, Word};
 
-use super::code::{Assign, Block, BlockWord, Call, CallKind, CallTarget, Code, Inst, Target, WordValue};
+use super::code::{
+    Assign, Block, BlockWord, Call, CallKind, CallTarget, Code, Inst, ProgramInfo, Target,
+    WordValue,
+};
 use super::expr::{read_name, read_number, Expr, Lang, Parser};
 use super::scan::Squeezed;
 use super::text::{Text, TextLine};
@@ -177,15 +180,26 @@ impl Compiler {
                 if self.lexed.is_empty() {
                     return;
                 }
-                self.begun = true;
-                if let Some(w) = self.lexed.iter().find(|w| w.letter == b'O') {
-                    let d = numbered_programs(w.span);
-                    self.code.fail(i, d);
-                    return;
+                if let [o] = self.lexed[..] {
+                    if o.letter == b'O' {
+                        self.numbered_program(i, o);
+                        return;
+                    }
                 }
+                self.begun = true;
                 let end = ends_program(&self.lexed);
-                if let Some(d) = fanuc_calls(&self.lexed) {
-                    self.code.fail(i, d);
+                let numbered = self.lexed.iter().any(|w| {
+                    w.letter == b'O' || (w.letter == b'M' && (w.value == 98.0 || w.value == 99.0))
+                });
+                if numbered {
+                    let block = Block {
+                        words: self.lexed.iter().map(literal).collect(),
+                        assigns: Vec::new(),
+                        block_delete: shape.block_delete,
+                    };
+                    if let Err(d) = self.numbered_call(i, block, end) {
+                        self.code.fail(i, d);
+                    }
                     return;
                 }
                 self.code.emit(i, Inst::Plain);
@@ -237,15 +251,171 @@ impl Compiler {
             w.letter == b'M'
                 && matches!(w.value, WordValue::Lit { value, .. } if value == 2.0 || value == 30.0)
         });
-        if let Some(w) = block.words.iter().find(|w| {
+        if block.words.iter().any(|w| {
             w.letter == b'M'
                 && matches!(w.value, WordValue::Lit { value, .. } if value == 98.0 || value == 99.0)
         }) {
-            return Err(fanuc_call_error(w.span));
+            return self.numbered_call(i, block, end);
         }
         let b = self.code.blocks.len() as u32;
         self.code.blocks.push(block);
         self.code.emit(i, Inst::Block(b));
+        if end {
+            self.code.emit(i, Inst::End);
+        }
+        Ok(())
+    }
+
+    /// A bare `o123`: the main program's number when it comes first, else the start of a
+    /// Fanuc-style numbered subprogram (o-code.adoc, "Fanuc-Style Numbered Programs").
+    fn numbered_program(&mut self, i: usize, o: Word) {
+        if o.value < 0.0 || o.value.fract() != 0.0 {
+            self.code.fail(
+                i,
+                Diagnostic::error(DiagCode::Syntax, o.span, "Non integer value for integer"),
+            );
+            return;
+        }
+        let n = o.value as u32;
+        if !self.begun && self.code.programs.is_empty() {
+            self.begun = true;
+            self.code.programs.push(ProgramInfo {
+                number: Some(n),
+                first: 0,
+                end: 0,
+                labels: Default::default(),
+            });
+            return;
+        }
+        self.begun = true;
+        if let Some(open) = self.open.last() {
+            let (what, _) = open.what();
+            let l = self.code.text.line(open.line_and_inst().0).number;
+            self.code.fail(
+                i,
+                Diagnostic::error(
+                    DiagCode::Syntax,
+                    o.span,
+                    format!("o{n} (a numbered program) inside the o-word {what} of line {l}"),
+                ),
+            );
+            return;
+        }
+        if self.code.programs.is_empty() {
+            self.code.programs.push(ProgramInfo {
+                number: None,
+                first: 0,
+                end: 0,
+                labels: Default::default(),
+            });
+        }
+        self.code.emit(i, Inst::NextProgram);
+        if self.code.programs.iter().any(|p| p.number == Some(n)) {
+            self.code.fail(
+                i,
+                Diagnostic::error(
+                    DiagCode::Conflict,
+                    o.span,
+                    format!("redefining sub: o|{n}| already defined"),
+                ),
+            );
+            return;
+        }
+        let first = self.code.here();
+        self.code.programs.push(ProgramInfo {
+            number: Some(n),
+            first,
+            end: first,
+            labels: Default::default(),
+        });
+    }
+
+    /// A block with `M98 P… [L…]` (a call of a numbered program) or `M99` (its return); the
+    /// block's other words run first.
+    fn numbered_call(&mut self, i: usize, mut block: Block, end: bool) -> Result<(), Diagnostic> {
+        if let Some(o) = block.words.iter().find(|w| w.letter == b'O') {
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                o.span,
+                "an o-word must begin its line",
+            ));
+        }
+        let is = |w: &BlockWord, code: f64| {
+            w.letter == b'M' && matches!(w.value, WordValue::Lit { value, .. } if value == code)
+        };
+        let m98 = block.words.iter().position(|w| is(w, 98.0));
+        let m99 = block.words.iter().position(|w| is(w, 99.0));
+        let (at, call) = match (m98, m99) {
+            (Some(a), None) => (a, true),
+            (None, Some(a)) => (a, false),
+            _ => {
+                let w = &block.words[m99.unwrap_or(0)];
+                return Err(Diagnostic::error(
+                    DiagCode::Conflict,
+                    w.span,
+                    "Two M codes used from same modal group",
+                ));
+            }
+        };
+        let span = block.words.remove(at).span;
+        let mut take = |letter: u8| {
+            block
+                .words
+                .iter()
+                .position(|w| w.letter == letter)
+                .map(|k| block.words.remove(k))
+        };
+        let p = if call { take(b'P') } else { None };
+        let l = if call { take(b'L') } else { None };
+        if !block.words.is_empty() {
+            let b = self.code.blocks.len() as u32;
+            self.code.blocks.push(block);
+            self.code.emit(i, Inst::Block(b));
+        }
+        let mut expr = |w: BlockWord| match w.value {
+            WordValue::Expr(e) => e,
+            WordValue::Lit { value, .. } => self.code.exprs.number(value, w.span),
+        };
+        if call {
+            let Some(p) = p else {
+                return Err(Diagnostic::error(
+                    DiagCode::MissingWord,
+                    span,
+                    "Found 'm98' code with no P-word",
+                ));
+            };
+            let number = expr(p);
+            let count = l.map(&mut expr);
+            let c = self.code.calls.len() as u32;
+            self.code.calls.push(Call {
+                kind: CallKind::M98,
+                target: CallTarget::Program {
+                    number,
+                    packed: false,
+                },
+                args: Vec::new(),
+                arg_letters: Vec::new(),
+                arg_no_point: Vec::new(),
+                count,
+                span,
+            });
+            self.code.emit(i, Inst::Call(c));
+        } else {
+            if self.open.iter().any(|o| matches!(o, Open::Sub { .. })) {
+                return Err(Diagnostic::error(
+                    DiagCode::Syntax,
+                    span,
+                    "Found 'M99' instead of 'O endsub' after 'O sub'",
+                ));
+            }
+            self.code.emit(
+                i,
+                Inst::Return {
+                    value: None,
+                    to_label: None,
+                },
+            );
+        }
         if end {
             self.code.emit(i, Inst::End);
         }
@@ -347,7 +517,11 @@ impl Compiler {
         let name_end = k;
         let Some(&(word, kw)) = KEYWORDS.iter().find(|(w, _)| s.starts_with(k, w)) else {
             if k >= s.len() {
-                return Err(numbered_programs(s.span(o_at, name_end)));
+                return Err(s.error(
+                    o_at,
+                    name_end,
+                    "a numbered program's o-word stands alone on its line",
+                ));
             }
             return Err(s.error(k, s.len(), "Unknown control command in o word"));
         };
@@ -361,7 +535,11 @@ impl Compiler {
                 return self.call(i, s, o_at, kw_span.1, CallTarget::Number(e), args);
             }
             OName::Computed(_) => {
-                return Err(s.error(o_at + 1, name_end, "only a call may compute its o-word's number"))
+                return Err(s.error(
+                    o_at + 1,
+                    name_end,
+                    "only a call may compute its o-word's number",
+                ))
             }
         };
         let here = self.code.here();
@@ -379,9 +557,14 @@ impl Compiler {
                 let skip = self.code.emit(i, Inst::Jump(0));
                 if let Some(&first) = self.code.subs.get(&id) {
                     let before = self.code.line_number(first.saturating_sub(1));
-                    self.code.fail_at(skip, s.error(o_at, kw_span.1, format!(
-                        "redefining sub: o|{name}| already defined in line {before}"
-                    )));
+                    self.code.fail_at(
+                        skip,
+                        s.error(
+                            o_at,
+                            kw_span.1,
+                            format!("redefining sub: o|{name}| already defined in line {before}"),
+                        ),
+                    );
                 } else {
                     self.code.subs.insert(id, self.code.here());
                 }
@@ -399,20 +582,46 @@ impl Compiler {
                     None
                 };
                 self.end_of_oword(s, k)?;
-                let Some(sub_at) = self.open.iter().rposition(|o| matches!(o, Open::Sub { .. })) else {
-                    return Err(s.error(o_at, kw_span.1, format!(
-                        "not in a subroutine definition: 'o{name} {}'",
-                        if kw == Keyword::Endsub { "endsub" } else { "return" }
-                    )));
+                let Some(sub_at) = self
+                    .open
+                    .iter()
+                    .rposition(|o| matches!(o, Open::Sub { .. }))
+                else {
+                    return Err(s.error(
+                        o_at,
+                        kw_span.1,
+                        format!(
+                            "not in a subroutine definition: 'o{name} {}'",
+                            if kw == Keyword::Endsub {
+                                "endsub"
+                            } else {
+                                "return"
+                            }
+                        ),
+                    ));
                 };
                 let sub_name = self.open[sub_at].name(&self.code).to_string();
                 if sub_name != name {
-                    return Err(s.error(o_at, name_end, format!(
-                        "o{name} {} is inside o{sub_name} sub: it must name o{sub_name}",
-                        if kw == Keyword::Endsub { "endsub" } else { "return" }
-                    )));
+                    return Err(s.error(
+                        o_at,
+                        name_end,
+                        format!(
+                            "o{name} {} is inside o{sub_name} sub: it must name o{sub_name}",
+                            if kw == Keyword::Endsub {
+                                "endsub"
+                            } else {
+                                "return"
+                            }
+                        ),
+                    ));
                 }
-                self.code.emit(i, Inst::Return { value, to_label: None });
+                self.code.emit(
+                    i,
+                    Inst::Return {
+                        value,
+                        to_label: None,
+                    },
+                );
                 if kw == Keyword::Endsub {
                     // Constructs left open inside the subroutine.
                     while self.open.len() > sub_at + 1 {
@@ -453,10 +662,32 @@ impl Compiler {
                     None
                 };
                 self.end_of_oword(s, k)?;
-                let top = self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::If { .. }), "'if'")?;
-                let Open::If { pending, ends, has_else, .. } = &mut self.open[top] else { unreachable!() };
+                let top = self.matching(
+                    s,
+                    o_at,
+                    name_end,
+                    &name,
+                    |o| matches!(o, Open::If { .. }),
+                    "'if'",
+                )?;
+                let Open::If {
+                    pending,
+                    ends,
+                    has_else,
+                    ..
+                } = &mut self.open[top]
+                else {
+                    unreachable!()
+                };
                 if *has_else {
-                    return Err(s.error(o_at, kw_span.1, format!("o{name} {} after o{name} else", if cond.is_some() { "elseif" } else { "else" })));
+                    return Err(s.error(
+                        o_at,
+                        kw_span.1,
+                        format!(
+                            "o{name} {} after o{name} else",
+                            if cond.is_some() { "elseif" } else { "else" }
+                        ),
+                    ));
                 }
                 // The branch before ends here: on to the endif.
                 ends.push(here);
@@ -482,8 +713,17 @@ impl Compiler {
             }
             Keyword::Endif => {
                 self.end_of_oword(s, k)?;
-                self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::If { .. }), "'if'")?;
-                let Some(Open::If { pending, ends, .. }) = self.open.pop() else { unreachable!() };
+                self.matching(
+                    s,
+                    o_at,
+                    name_end,
+                    &name,
+                    |o| matches!(o, Open::If { .. }),
+                    "'if'",
+                )?;
+                let Some(Open::If { pending, ends, .. }) = self.open.pop() else {
+                    unreachable!()
+                };
                 let after = self.code.emit(i, Inst::Nop);
                 for at in pending.into_iter().chain(ends) {
                     self.code.patch(at, after);
@@ -495,12 +735,26 @@ impl Compiler {
                 // The end of a do … while loop, or the start of a while loop.
                 if let Some(Open::Do { name: n, .. }) = self.open.last() {
                     if *n == name {
-                        let Some(Open::Do { start, breaks, continues, .. }) = self.open.pop() else { unreachable!() };
+                        let Some(Open::Do {
+                            start,
+                            breaks,
+                            continues,
+                            ..
+                        }) = self.open.pop()
+                        else {
+                            unreachable!()
+                        };
                         let test = self.code.here();
                         for c in continues {
                             self.code.patch(c, test);
                         }
-                        self.code.emit(i, Inst::JumpIf { cond, target: start });
+                        self.code.emit(
+                            i,
+                            Inst::JumpIf {
+                                cond,
+                                target: start,
+                            },
+                        );
                         let after = self.code.here();
                         for b in breaks {
                             self.code.patch(b, after);
@@ -519,8 +773,17 @@ impl Compiler {
             }
             Keyword::Endwhile => {
                 self.end_of_oword(s, k)?;
-                self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::While { .. }), "while")?;
-                let Some(Open::While { start, breaks, .. }) = self.open.pop() else { unreachable!() };
+                self.matching(
+                    s,
+                    o_at,
+                    name_end,
+                    &name,
+                    |o| matches!(o, Open::While { .. }),
+                    "while",
+                )?;
+                let Some(Open::While { start, breaks, .. }) = self.open.pop() else {
+                    unreachable!()
+                };
                 self.code.emit(i, Inst::Jump(start));
                 let after = self.code.here();
                 for b in breaks {
@@ -558,8 +821,17 @@ impl Compiler {
             }
             Keyword::Endrepeat => {
                 self.end_of_oword(s, k)?;
-                self.matching(s, o_at, name_end, &name, |o| matches!(o, Open::Repeat { .. }), "repeat")?;
-                let Some(Open::Repeat { top, breaks, .. }) = self.open.pop() else { unreachable!() };
+                self.matching(
+                    s,
+                    o_at,
+                    name_end,
+                    &name,
+                    |o| matches!(o, Open::Repeat { .. }),
+                    "repeat",
+                )?;
+                let Some(Open::Repeat { top, breaks, .. }) = self.open.pop() else {
+                    unreachable!()
+                };
                 self.code.emit(i, Inst::Jump(top));
                 let after = self.code.here();
                 for b in breaks {
@@ -666,47 +938,66 @@ impl Compiler {
             .rposition(|o| matches!(o, Open::Sub { .. }))
             .map_or(0, |p| p + 1);
         let looking_for_loop = what == "while/do";
-        let found = self.open[scope_start..].iter().rposition(|o| {
-            o.name(code) == name && (pred(o) || !looking_for_loop)
-        });
+        let found = self.open[scope_start..]
+            .iter()
+            .rposition(|o| o.name(code) == name && (pred(o) || !looking_for_loop));
         match found {
             Some(p) if pred(&self.open[scope_start + p]) => {
                 if !looking_for_loop && scope_start + p + 1 != self.open.len() {
                     let inner = &self.open[self.open.len() - 1];
                     let (open, close) = inner.what();
                     let inner_line = code.text.line(inner.line_and_inst().0).number;
-                    return Err(s.error(o_at, name_end, format!(
-                        "o{} {open} (line {inner_line}) must end with o{} {close} first",
-                        inner.name(code),
-                        inner.name(code)
-                    )));
+                    return Err(s.error(
+                        o_at,
+                        name_end,
+                        format!(
+                            "o{} {open} (line {inner_line}) must end with o{} {close} first",
+                            inner.name(code),
+                            inner.name(code)
+                        ),
+                    ));
                 }
                 Ok(scope_start + p)
             }
             Some(p) => {
                 let o = &self.open[scope_start + p];
                 let line = code.text.line(o.line_and_inst().0).number;
-                Err(s.error(o_at, name_end, format!(
-                    "no matching {what} label: 'o{name}' (found '{}' in line {line})",
-                    o.what().0
-                )))
+                Err(s.error(
+                    o_at,
+                    name_end,
+                    format!(
+                        "no matching {what} label: 'o{name}' (found '{}' in line {line})",
+                        o.what().0
+                    ),
+                ))
             }
             None => Err(s.error(o_at, name_end, format!("undefined O-word label: 'o{name}'"))),
         }
     }
 
     /// A control-flow label may not be opened twice at once in the same scope.
-    fn local_name_free(&self, s: &Squeezed, o_at: usize, name_end: usize, name: &str) -> Result<(), Diagnostic> {
+    fn local_name_free(
+        &self,
+        s: &Squeezed,
+        o_at: usize,
+        name_end: usize,
+        name: &str,
+    ) -> Result<(), Diagnostic> {
         let scope_start = self
             .open
             .iter()
             .rposition(|o| matches!(o, Open::Sub { .. }))
             .map_or(0, |p| p + 1);
-        if let Some(o) = self.open[scope_start..].iter().find(|o| o.name(&self.code) == name) {
+        if let Some(o) = self.open[scope_start..]
+            .iter()
+            .find(|o| o.name(&self.code) == name)
+        {
             let line = self.code.text.line(o.line_and_inst().0).number;
-            return Err(s.error(o_at, name_end, format!(
-                "duplicate O-word label - already defined in line {line}: 'o{name}'"
-            )));
+            return Err(s.error(
+                o_at,
+                name_end,
+                format!("duplicate O-word label - already defined in line {line}: 'o{name}'"),
+            ));
         }
         Ok(())
     }
@@ -730,6 +1021,10 @@ impl Compiler {
         while let Some(o) = self.open.pop() {
             self.unclosed(o);
         }
+        let here = self.code.here();
+        if let Some(p) = self.code.programs.last_mut() {
+            p.end = here;
+        }
     }
 }
 
@@ -740,30 +1035,17 @@ fn ends_program(words: &[Word]) -> bool {
         .any(|w| w.letter == b'M' && (w.value == 2.0 || w.value == 30.0))
 }
 
-/// LinuxCNC's Fanuc-style numbered programs are not read by threadcut.
-fn numbered_programs(span: crate::diag::Span) -> Diagnostic {
-    Diagnostic::error(
-        DiagCode::Unsupported,
-        span,
-        "Fanuc-style numbered programs (o100 … M99, M98 P100) are not read by threadcut's LinuxCNC dialect",
-    )
-    .with_hint("write the subroutine as o100 sub … o100 endsub and call it with o100 call")
-}
-
-fn fanuc_call_error(span: crate::diag::Span) -> Diagnostic {
-    Diagnostic::error(
-        DiagCode::Unsupported,
-        span,
-        "M98/M99 (Fanuc-style numbered programs) are not read by threadcut's LinuxCNC dialect",
-    )
-    .with_hint("write the subroutine as o100 sub … o100 endsub and call it with o100 call")
-}
-
-fn fanuc_calls(words: &[Word]) -> Option<Diagnostic> {
-    words
-        .iter()
-        .find(|w| w.letter == b'M' && (w.value == 98.0 || w.value == 99.0))
-        .map(|w| fanuc_call_error(w.span))
+/// A lexed word as a block word.
+fn literal(w: &Word) -> BlockWord {
+    BlockWord {
+        letter: w.letter,
+        value: WordValue::Lit {
+            value: w.value,
+            has_dot: w.has_dot,
+            skip: (w.raw_start() as u32).saturating_sub(w.span.column),
+        },
+        span: w.span,
+    }
 }
 
 /// Whether a line the lexer refuses is written in LinuxCNC's macro syntax: a parameter, an
@@ -801,5 +1083,6 @@ pub fn looks_like_macro(text: &[u8]) -> bool {
     }
     let _ = first;
     t.get(k) == Some(&b'O')
-        && t.get(k + 1).is_some_and(|b| b.is_ascii_digit() || *b == b'<')
+        && t.get(k + 1)
+            .is_some_and(|b| b.is_ascii_digit() || *b == b'<')
 }

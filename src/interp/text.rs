@@ -128,9 +128,15 @@ mod tests {
         let t = Text::new(b"G0 X1\r\n\nM30".to_vec(), 5, 100);
         assert_eq!(t.len(), 3);
         let l = t.line(0);
-        assert_eq!((l.number, l.offset, l.text, l.raw), (5, 100, &b"G0 X1"[..], &b"G0 X1\r\n"[..]));
+        assert_eq!(
+            (l.number, l.offset, l.text, l.raw),
+            (5, 100, &b"G0 X1"[..], &b"G0 X1\r\n"[..])
+        );
         let l = t.line(1);
-        assert_eq!((l.number, l.offset, l.text, l.raw), (6, 107, &b""[..], &b"\n"[..]));
+        assert_eq!(
+            (l.number, l.offset, l.text, l.raw),
+            (6, 107, &b""[..], &b"\n"[..])
+        );
         let l = t.line(2);
         assert_eq!((l.number, l.text, l.raw), (7, &b"M30"[..], &b"M30"[..]));
         assert_eq!(t.index_of(6), Some(1));

@@ -8,9 +8,7 @@ use crate::diag::{Code as DiagCode, Diagnostic, Span};
 use crate::gcode::{lex_line_with, Modal, Word};
 use crate::units::Units;
 
-use super::code::{
-    Block, Call, CallKind, CallTarget, Code, Inst, MacroOp, Target, WordValue,
-};
+use super::code::{Block, Call, CallKind, CallTarget, Code, Inst, MacroOp, Target, WordValue};
 use super::expr::{whole, Budget, Expr, Lang, Vars};
 use super::text::TextLine;
 use super::{Limits, Syntax};
@@ -33,9 +31,12 @@ pub trait Host {
     fn warn(&mut self, d: Diagnostic);
 }
 
-/// Where a block runs: the lines of the calls it runs inside, outermost first.
+/// Where a block runs.
 pub struct Context<'a> {
+    /// The lines of the calls it runs inside, outermost first.
     pub callers: &'a [u32],
+    /// The block is its line exactly as written (a plain line): its text may be copied as it is.
+    pub verbatim: bool,
 }
 
 /// How a run ended.
@@ -306,7 +307,8 @@ impl<'c> Vm<'c> {
             match self.step(pc, inst, host)? {
                 Next::Go(to) => {
                     if to <= pc {
-                        self.last_loop = Some((self.code.line_number(to), self.code.line_number(pc)));
+                        self.last_loop =
+                            Some((self.code.line_number(to), self.code.line_number(pc)));
                     }
                     pc = to;
                 }
@@ -319,7 +321,9 @@ impl<'c> Vm<'c> {
     }
 
     fn line(&self, pc: u32) -> TextLine<'c> {
-        self.code.text.line(self.code.inst_line[pc as usize] as usize)
+        self.code
+            .text
+            .line(self.code.inst_line[pc as usize] as usize)
     }
 
     fn step<H: Host>(&mut self, pc: u32, inst: &Inst, host: &mut H) -> R<Next, H::Error> {
@@ -426,7 +430,10 @@ impl<'c> Vm<'c> {
             Some((first, _)) => format!("the loop of line {first}"),
             None => "the program".to_string(),
         };
-        let span = match self.last_loop.and_then(|(first, _)| self.code.text.index_of(first)) {
+        let span = match self
+            .last_loop
+            .and_then(|(first, _)| self.code.text.index_of(first))
+        {
             Some(i) => self.code.text.line(i).whole(),
             None => self.line(pc).whole(),
         };
@@ -446,7 +453,10 @@ impl<'c> Vm<'c> {
         ))
     }
 
-    fn view<'a>(&'a mut self, modal: &'a Modal) -> (View<'a>, &'a mut Vec<Option<f64>>, &'a mut Budget) {
+    fn view<'a>(
+        &'a mut self,
+        modal: &'a Modal,
+    ) -> (View<'a>, &'a mut Vec<Option<f64>>, &'a mut Budget) {
         let frame = self.frames.last_mut().expect("main frame");
         (
             View {
@@ -489,6 +499,7 @@ impl<'c> Vm<'c> {
             shape.block_delete,
             &Context {
                 callers: &self.callers,
+                verbatim: true,
             },
         );
         self.words = words;
@@ -508,6 +519,7 @@ impl<'c> Vm<'c> {
                 b.block_delete,
                 &Context {
                     callers: &self.callers,
+                    verbatim: false,
                 },
             ),
             Ok(()) => Ok(()),
@@ -562,7 +574,11 @@ impl<'c> Vm<'c> {
 
     /// Parameter settings: every value is read first, then all are stored (LinuxCNC sets them in
     /// parallel, after the line's values are read).
-    fn assign<H: Host>(&mut self, assigns: &[super::code::Assign], host: &H) -> Result<(), Diagnostic> {
+    fn assign<H: Host>(
+        &mut self,
+        assigns: &[super::code::Assign],
+        host: &H,
+    ) -> Result<(), Diagnostic> {
         if assigns.is_empty() {
             return Ok(());
         }
@@ -658,7 +674,13 @@ impl<'c> Vm<'c> {
 
     /// Fanuc `GOTO n` in program `program`: the block numbered `n`, searched from the next block
     /// to the program's end, then from its start.
-    fn goto<H: Host>(&mut self, pc: u32, target: Expr, program: u32, host: &H) -> Result<u32, Diagnostic> {
+    fn goto<H: Host>(
+        &mut self,
+        pc: u32,
+        target: Expr,
+        program: u32,
+        host: &H,
+    ) -> Result<u32, Diagnostic> {
         let span = self.code.exprs.span(target);
         let n = self.eval(target, host)?;
         let n = n.filter(|v| *v >= 0.0 && v.fract() == 0.0 && *v <= 99_999.0);
@@ -674,12 +696,10 @@ impl<'c> Vm<'c> {
 
     fn find_label(&self, pc: u32, n: u32, program: u32, span: Span) -> Result<u32, Diagnostic> {
         let p = &self.code.programs[program as usize];
-        let found = p.labels.get(&n).and_then(|at| {
-            at.iter()
-                .find(|&&i| i > pc)
-                .or_else(|| at.first())
-                .copied()
-        });
+        let found = p
+            .labels
+            .get(&n)
+            .and_then(|at| at.iter().find(|&&i| i > pc).or_else(|| at.first()).copied());
         found.ok_or_else(|| {
             let mut d = Diagnostic::error(
                 DiagCode::MissingWord,
@@ -732,7 +752,9 @@ impl<'c> Vm<'c> {
                     self.line(pc).number
                 ),
             )
-            .with_hint(format!("define the subroutine in the file: o{shown} sub … o{shown} endsub")));
+            .with_hint(format!(
+                "define the subroutine in the file: o{shown} sub … o{shown} endsub"
+            )));
         };
         // LinuxCNC: call levels 1–9 below the main program (INTERP_SUB_ROUTINE_LEVELS is 10).
         if self.frames.len() >= self.syntax.max_call_depth as usize {
@@ -761,9 +783,18 @@ impl<'c> Vm<'c> {
         Ok(Next::Go(entry))
     }
 
-    fn call_program<H: Host>(&mut self, pc: u32, call: &Call, host: &H) -> Result<Next, Diagnostic> {
+    fn call_program<H: Host>(
+        &mut self,
+        pc: u32,
+        call: &Call,
+        host: &H,
+    ) -> Result<Next, Diagnostic> {
         let CallTarget::Program { number, packed } = &call.target else {
-            return Err(Diagnostic::error(DiagCode::Syntax, call.span, "a call without a program number"));
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                call.span,
+                "a call without a program number",
+            ));
         };
         let p_span = self.code.exprs.span(*number);
         let p = self.eval(*number, host)?.unwrap_or(-1.0);
@@ -804,16 +835,37 @@ impl<'c> Vm<'c> {
             .find(|info| info.number == Some(program as u32))
             .map(|info| info.first)
         else {
+            if self.code.lang == Lang::Ngc {
+                return Err(Diagnostic::error(
+                    DiagCode::MissingWord,
+                    p_span,
+                    format!(
+                        "EOF seeking o-word: o<{program}> from line: {}",
+                        self.line(pc).number
+                    ),
+                )
+                .with_hint(format!(
+                    "define the numbered program after the main program: o{program} … M99"
+                )));
+            }
             return Err(Diagnostic::error(
                 DiagCode::MissingWord,
                 p_span,
-                format!("program O{program:04} is not in the file (alarm PS0078, number not found)"),
+                format!(
+                    "program O{program:04} is not in the file (alarm PS0078, number not found)"
+                ),
             )
             .with_hint(format!(
                 "put O{program:04} after the main program's end (M30), in the same file"
             )));
         };
-        let depth = self.frames.iter().filter(|f| f.kind == call.kind).count() as u32;
+        // LinuxCNC counts every call level together (the main program too); Fanuc counts
+        // subprogram and macro calls apart.
+        let depth = if self.code.lang == Lang::Ngc {
+            self.frames.len() as u32
+        } else {
+            self.frames.iter().filter(|f| f.kind == call.kind).count() as u32
+        };
         let (max, what) = match call.kind {
             CallKind::G65 => (self.syntax.max_macro_depth, "macro calls (G65) nest"),
             _ => (self.syntax.max_call_depth, "subprogram calls (M98) nest"),
@@ -822,7 +874,10 @@ impl<'c> Vm<'c> {
             return Err(Diagnostic::error(
                 DiagCode::OutOfRange,
                 call.span,
-                format!("{what} at most {max} levels deep (alarm PS0077)"),
+                match self.code.lang {
+                    Lang::Ngc => "Too many subroutine levels".to_string(),
+                    Lang::MacroB => format!("{what} at most {max} levels deep (alarm PS0077)"),
+                },
             ));
         }
         let mut frame = Frame::new(call.kind, pc, entry, self.code.repeat_slots);
@@ -837,7 +892,10 @@ impl<'c> Vm<'c> {
                 // Written without a decimal point: as the machine reads such a number, except in
                 // the integer addresses (docs/dialects/fanuc.md).
                 if call.arg_no_point[k] && !matches!(letter, b'M' | b'S' | b'T' | b'H' | b'D') {
-                    v = v.map(|v| host.modal().value(&Word::literal(letter, v, false, span, 0)));
+                    v = v.map(|v| {
+                        host.modal()
+                            .value(&Word::literal(letter, v, false, span, 0))
+                    });
                 }
                 locals[mapped[k] as usize] = v;
             }
@@ -929,7 +987,11 @@ impl<'c> Vm<'c> {
                 return Ok(Next::Go(pc + 1));
             }
             let Some(p) = op.p else {
-                return Err(Diagnostic::error(DiagCode::MissingWord, op.span, "the jump needs P, the block's sequence number"));
+                return Err(Diagnostic::error(
+                    DiagCode::MissingWord,
+                    op.span,
+                    "the jump needs P, the block's sequence number",
+                ));
             };
             Ok(Next::Go(vm.goto(pc, p, op.program, host)?))
         };
@@ -940,7 +1002,12 @@ impl<'c> Vm<'c> {
             4 => Some(j * k),
             5 | 26 => {
                 if k == 0.0 {
-                    return Err(Diagnostic::error(DiagCode::OutOfRange, op.span, "division by zero (G65 H05/H26)").into());
+                    return Err(Diagnostic::error(
+                        DiagCode::OutOfRange,
+                        op.span,
+                        "division by zero (G65 H05/H26)",
+                    )
+                    .into());
                 }
                 if op.h == 5 {
                     Some(j / k)
@@ -961,14 +1028,24 @@ impl<'c> Vm<'c> {
             13 => Some(((j.round() as i64) ^ (k.round() as i64)) as f64),
             21 => {
                 if j < 0.0 {
-                    return Err(Diagnostic::error(DiagCode::OutOfRange, op.span, "square root of a negative number (G65 H21)").into());
+                    return Err(Diagnostic::error(
+                        DiagCode::OutOfRange,
+                        op.span,
+                        "square root of a negative number (G65 H21)",
+                    )
+                    .into());
                 }
                 Some(j.sqrt())
             }
             22 => Some(j.abs()),
             23 => {
                 if k == 0.0 {
-                    return Err(Diagnostic::error(DiagCode::OutOfRange, op.span, "division by zero (G65 H23)").into());
+                    return Err(Diagnostic::error(
+                        DiagCode::OutOfRange,
+                        op.span,
+                        "division by zero (G65 H23)",
+                    )
+                    .into());
                 }
                 Some(j - (j / k).trunc() * k)
             }
@@ -1012,11 +1089,21 @@ impl<'c> Vm<'c> {
         };
         if let Some(v) = value {
             if !v.is_finite() {
-                return Err(Diagnostic::error(DiagCode::OutOfRange, op.span, "calculated data overflow").into());
+                return Err(Diagnostic::error(
+                    DiagCode::OutOfRange,
+                    op.span,
+                    "calculated data overflow",
+                )
+                .into());
             }
         }
         let Some(d) = op.dest else {
-            return Err(Diagnostic::error(DiagCode::MissingWord, op.span, "the operation needs P#i, the variable it sets").into());
+            return Err(Diagnostic::error(
+                DiagCode::MissingWord,
+                op.span,
+                "the operation needs P#i, the variable it sets",
+            )
+            .into());
         };
         let n = self.eval(d, host)?;
         let n = whole(Lang::MacroB, n, op.span)?;
