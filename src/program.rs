@@ -53,7 +53,7 @@ pub enum Event<'a, 'l> {
 
 mod interpreted;
 
-pub use interpreted::Output;
+pub use interpreted::{write_executed_block, Output, Where};
 
 /// What a run found besides its output.
 #[derive(Debug, Default)]

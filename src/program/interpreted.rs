@@ -326,7 +326,7 @@ pub(super) fn expand_interpreted(
     if sink.interp.flatten {
         return match ev {
             Event::Plain { line, .. } => {
-                flat_block(sink.out, line, at.verbatim, modal)?;
+                write_executed_block(sink.out, line, at.verbatim, modal)?;
                 Ok(())
             }
             ev => expand_event(sink.out, &sink.format, sink.distance_words, modal, ev),
@@ -447,8 +447,8 @@ pub(super) fn expand_end(sink: &mut ExpandSink, text: &Text, from: usize) -> Res
 }
 
 /// A block of the executed program, as straight-line code: the line as written when it is a
-/// plain line, else its words with their values.
-fn flat_block(
+/// plain line (`verbatim`), else its words with their values (`--flatten`).
+pub fn write_executed_block(
     out: &mut dyn Write,
     line: &Line,
     verbatim: bool,

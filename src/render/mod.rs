@@ -20,8 +20,19 @@ pub fn program_svg<R: BufRead>(
     machine: &Machine,
     tip: Tip,
 ) -> Result<(String, Summary), Error> {
+    program_svg_with(input, machine, tip, &program::Options::default())
+}
+
+/// [`program_svg`] with the run's options: a program with control flow draws every cycle it
+/// executes.
+pub fn program_svg_with<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    tip: Tip,
+    options: &program::Options,
+) -> Result<(String, Summary), Error> {
     let mut cycles: Vec<(Job, Vec<Pass>, sim::Section, Toolpath)> = Vec::new();
-    let summary = program::run(input, machine, |_, ev| {
+    let summary = program::run_with(input, machine, options, |_, ev| {
         if let Event::Cycle { job, .. } = ev {
             let passes = job.passes()?;
             let path = toolpath::build_with(&job, &passes)?;

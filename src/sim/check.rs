@@ -51,6 +51,8 @@ pub struct CheckOptions {
     pub stock_start: Option<f64>,
     /// The tool's tip, its sizes in the program's units at each cycle; its angle is the cycle's.
     pub tip: Tip,
+    /// A program with control flow stops after this many executed blocks (`--max-blocks`).
+    pub max_blocks: u64,
 }
 
 impl Default for CheckOptions {
@@ -59,6 +61,7 @@ impl Default for CheckOptions {
             stock_diameter: None,
             stock_start: None,
             tip: Tip::Sharp,
+            max_blocks: program::Options::default().max_blocks,
         }
     }
 }
@@ -146,7 +149,11 @@ pub fn check<R: BufRead>(
     let mut report = CheckReport::default();
     let mut spindle = Spindle::default();
     let mut found = Vec::new();
-    let result = program::run(input, machine, |_, ev| {
+    let run = program::Options {
+        max_blocks: opts.max_blocks,
+        ..program::Options::default()
+    };
+    let result = program::run_with(input, machine, &run, |_, ev| {
         match ev {
             Event::Plain { line, .. } | Event::Settings { line } => {
                 spindle.read(line, set_position)

@@ -17,6 +17,7 @@ pub fn run(
     stock_diameter: Option<f64>,
     stock_start: Option<f64>,
     tool: &ToolArgs,
+    options: &threadcut::program::Options,
 ) -> Result<ExitCode, Failure> {
     let machine = load_machine(machine)?;
     let input = open_input(file)?;
@@ -24,6 +25,7 @@ pub fn run(
         stock_diameter,
         stock_start,
         tip: tool.tip()?,
+        max_blocks: options.max_blocks,
     };
     let report = check::check(input, &machine, &opts).map_err(|e| failure(file, e))?;
     let mut out = std::io::stdout().lock();

@@ -76,6 +76,29 @@ impl ToolArgs {
     }
 }
 
+/// How a program with control flow (subroutines, loops, parameters) is run.
+#[derive(clap::Args, Clone, Copy)]
+struct RunArgs {
+    /// Stop a program with control flow after N executed blocks (an endless loop ends with an
+    /// error naming it).
+    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    max_blocks: u64,
+}
+
+impl RunArgs {
+    fn options(&self, flatten: bool) -> Result<program::Options, Failure> {
+        if self.max_blocks == 0 {
+            return Err(Failure::Usage(
+                "--max-blocks 0: expected at least 1".to_string(),
+            ));
+        }
+        Ok(program::Options {
+            max_blocks: self.max_blocks,
+            flatten,
+        })
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum ExpandFormat {
     /// The program with each cycle replaced by plain moves in the controller's format.
@@ -97,6 +120,12 @@ enum Command {
         output: Option<PathBuf>,
         #[arg(long, value_enum, default_value = "gcode")]
         format: ExpandFormat,
+        /// A program with control flow: write the executed program as straight-line code (loops
+        /// unrolled, calls inlined, expressions evaluated) instead of keeping its text.
+        #[arg(long)]
+        flatten: bool,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Print each cycle's pass table: depth, increment, infeed point, chip area.
     Passes {
@@ -110,6 +139,8 @@ enum Command {
         output: Option<PathBuf>,
         #[command(flatten)]
         tool: ToolArgs,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
     /// feed and lead limits, run-up, depth and form. Exit status 2 on any error.
@@ -126,6 +157,8 @@ enum Command {
         stock_start: Option<f64>,
         #[command(flatten)]
         tool: ToolArgs,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Draw each cycle's pass diagram and XZ toolpath into one SVG.
     Plot {
@@ -137,6 +170,8 @@ enum Command {
         output: PathBuf,
         #[command(flatten)]
         tool: ToolArgs,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Post an APT/CL file (THREAD, COUPLE, GOTO …) to a controller: native threading cycles where
     /// they reproduce the toolpath exactly, plain moves otherwise.
@@ -161,6 +196,12 @@ enum Command {
         to: String,
         #[arg(long, short = 'o')]
         output: Option<PathBuf>,
+        /// A program with control flow: write the executed program as straight-line code (needed
+        /// to convert such a program to another controller's language).
+        #[arg(long)]
+        flatten: bool,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// List the built-in controller profiles.
     Controllers,
@@ -253,7 +294,10 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             machine,
             output,
             format,
+            flatten,
+            run,
         } => {
+            let options = run.options(flatten)?;
             let mut input = open_input(&file)?;
             if post::is_apt(&file, &mut input) {
                 match format {
@@ -267,8 +311,8 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             }
             let machine = load_machine(&machine)?;
             let summary = output::write(&file, output.as_deref(), |out| match format {
-                ExpandFormat::Gcode => program::expand_gcode(input, out, &machine),
-                ExpandFormat::Jsonl => program::expand_jsonl(input, out, &machine),
+                ExpandFormat::Gcode => program::expand_gcode_with(input, out, &machine, &options),
+                ExpandFormat::Jsonl => program::expand_jsonl_with(input, out, &machine, &options),
             })?;
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
@@ -288,7 +332,10 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             from,
             to,
             output,
+            flatten,
+            run,
         } => {
+            let options = run.options(flatten)?;
             let load = |name: &str| {
                 load_machine(&MachineArgs {
                     controller: Some(name.to_string()),
@@ -298,7 +345,7 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             let (from, to) = (load(&from)?, load(&to)?);
             let input = open_input(&file)?;
             let summary = output::write(&file, output.as_deref(), |out| {
-                convert::convert(input, out, &from, &to)
+                convert::convert(input, out, &from, &to, &options)
             })?;
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
@@ -309,20 +356,37 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             stock_diameter,
             stock_start,
             tool,
-        } => check::run(&file, &machine, stock_diameter, stock_start, &tool),
+            run,
+        } => {
+            let options = run.options(false)?;
+            check::run(
+                &file,
+                &machine,
+                stock_diameter,
+                stock_start,
+                &tool,
+                &options,
+            )
+        }
         Command::Plot {
             file,
             machine,
             output,
             tool,
-        } => plot::run(&file, &machine, &output, &tool),
+            run,
+        } => {
+            let options = run.options(false)?;
+            plot::run(&file, &machine, &output, &tool, &options)
+        }
         Command::Passes {
             file,
             machine,
             json,
             output,
             tool,
+            run,
         } => {
+            let options = run.options(false)?;
             let mut input = open_input(&file)?;
             if post::is_apt(&file, &mut input) {
                 post::passes(&file, input, json, output.as_deref(), tool.tip()?)?;
@@ -331,7 +395,7 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             let machine = load_machine(&machine)?;
             let tip = tool.tip()?;
             let summary = output::write(&file, output.as_deref(), |out| {
-                passes(input, out, &machine, json, tip)
+                passes(input, out, &machine, json, tip, &options)
             })?;
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
@@ -397,9 +461,10 @@ fn passes(
     machine: &Machine,
     json: bool,
     tip: threadcut::sim::Tip,
+    options: &program::Options,
 ) -> Result<Summary, Error> {
     let mut writer = passes::PassesWriter::begin(out, json, tip)?;
-    let summary = program::run(input, machine, |modal, ev| {
+    let summary = program::run_with(input, machine, options, |modal, ev| {
         let Event::Cycle { job, .. } = ev else {
             return Ok(());
         };

@@ -12,12 +12,13 @@ pub fn run(
     machine: &MachineArgs,
     out: &Path,
     tool: &ToolArgs,
+    options: &threadcut::program::Options,
 ) -> Result<ExitCode, Failure> {
     let machine = load_machine(machine)?;
     let tip = tool.tip()?;
     let input = open_input(file)?;
     let summary = output::write(file, Some(out), |w| {
-        let (svg, summary) = render::program_svg(input, &machine, tip)?;
+        let (svg, summary) = render::program_svg_with(input, &machine, tip, options)?;
         w.write_all(svg.as_bytes())?;
         Ok(summary)
     })?;
