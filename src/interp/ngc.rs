@@ -943,19 +943,26 @@ impl Compiler {
             .rposition(|o| o.name(code) == name && (pred(o) || !looking_for_loop));
         match found {
             Some(p) if pred(&self.open[scope_start + p]) => {
-                if !looking_for_loop && scope_start + p + 1 != self.open.len() {
-                    let inner = &self.open[self.open.len() - 1];
-                    let (open, close) = inner.what();
-                    let inner_line = code.text.line(inner.line_and_inst().0).number;
-                    return Err(s.error(
-                        o_at,
-                        name_end,
-                        format!(
-                            "o{} {open} (line {inner_line}) must end with o{} {close} first",
-                            inner.name(code),
-                            inner.name(code)
-                        ),
-                    ));
+                if !looking_for_loop {
+                    // Constructs opened inside and not closed before this line: each fails
+                    // where it begins.
+                    let closing = format!(
+                        "{} (line {})",
+                        String::from_utf8_lossy(s.source(o_at, s.len())),
+                        s.line.number
+                    );
+                    while self.open.len() > scope_start + p + 1 {
+                        let inner = self.open.pop().expect("an inner construct");
+                        let (open, close) = inner.what();
+                        let name = inner.name(&self.code).to_string();
+                        let (line, inst) = inner.line_and_inst();
+                        let d = Diagnostic::error(
+                            DiagCode::Syntax,
+                            self.code.text.line(line).whole(),
+                            format!("o{name} {open} has no o{name} {close} before {closing}"),
+                        );
+                        self.code.fail_at(inst, d);
+                    }
                 }
                 Ok(scope_start + p)
             }

@@ -564,8 +564,9 @@ impl<'c> Vm<'c> {
         }
         match letter {
             b'X' | b'Z' | b'U' | b'W' | b'I' | b'K' | b'R' => {
-                let step = host.resolution(host.modal().units);
-                (v / step).round() * step
+                // Rounded in decimal: 19.4 stays the double nearest 19.4.
+                let per_unit = (1.0 / host.resolution(host.modal().units)).round();
+                (v * per_unit).round() / per_unit
             }
             b'M' | b'S' | b'T' | b'L' | b'H' | b'D' | b'N' | b'O' => v.round(),
             _ => v,
