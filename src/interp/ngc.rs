@@ -546,12 +546,16 @@ impl Compiler {
         match kw {
             Keyword::Sub => {
                 self.end_of_oword(s, k)?;
-                if let Some(Open::Sub { name: outer, .. }) =
-                    self.open.iter().find(|o| matches!(o, Open::Sub { .. }))
+                if let Some(&Open::Sub {
+                    name: outer, skip, ..
+                }) = self.open.iter().find(|o| matches!(o, Open::Sub { .. }))
                 {
-                    let outer = self.code.exprs.name(*outer).to_string();
-                    return Err(s.error(o_at, kw_span.1, "Nested subroutine definition")
-                        .with_hint(format!("o{name} sub is inside the definition of o{outer}: end that one with o{outer} endsub first")));
+                    let outer = self.code.exprs.name(outer).to_string();
+                    let e = s.error(o_at, kw_span.1, "Nested subroutine definition")
+                        .with_hint(format!("o{name} sub is inside the definition of o{outer}: end that one with o{outer} endsub first"));
+                    // LinuxCNC finds it as it reads past the outer definition: so does the run.
+                    self.code.fail_at(skip, e.clone());
+                    return Err(e);
                 }
                 let id = self.code.exprs.intern(name.clone());
                 let skip = self.code.emit(i, Inst::Jump(0));
