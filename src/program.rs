@@ -234,7 +234,6 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
         // A Fanuc-style GOTO may jump back to a plain line before the first macro statement.
         reader.keep_prefix(crate::interp::PREFIX_KEPT);
     }
-    let has_macros = macros.is_some();
     let mut summary = Summary::default();
     let mut pending = 0usize;
     loop {
@@ -245,7 +244,11 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
         // macros also sends the lines that may be calls or a program's end the general way: one
         // test of the word summary.)
         while let Some(line) = reader.next_plain_line() {
-            if dialect.prefilter(&line) || (has_macros && line.summary.may_be_control()) {
+            if dialect.prefilter(&line)
+                || macros
+                    .as_ref()
+                    .is_some_and(|m| m.control(&line) != Control::No)
+            {
                 // Read again below, the general way.
                 let len = line.raw.len();
                 reader.put_back(len);

@@ -837,3 +837,81 @@ proptest! {
         }
     }
 }
+
+/// Pieces of macro programs, glued at random into lines: whatever they make, the run ends with an
+/// output or an error (never a panic, never a hang).
+const FRAGMENTS: &[&str] = &[
+    "o1 while [#1 LT 3]",
+    "o1 endwhile",
+    "o2 if [#2 GT 1]",
+    "o2 elseif [#2 EQ 0]",
+    "o2 else",
+    "o2 endif",
+    "o3 do",
+    "o3 while [#3 LT 2]",
+    "o4 repeat [2]",
+    "o4 endrepeat",
+    "o1 break",
+    "o1 continue",
+    "o<s> sub",
+    "o<s> endsub [#1]",
+    "o<s> return",
+    "o<s> call [1] [2]",
+    "o[#9] call",
+    "#1 = [#1 + 1]",
+    "#2 = [#2 - 1]",
+    "#<_g> = 5",
+    "#<l> = #<_g>",
+    "G0 X[#1 * 2] Z#2",
+    "G1 X#<l> Z[-#1] F0.2",
+    "G33 Z-10 K1.5",
+    "G76 P1.5 Z-20 I-0.8 J0.2 K0.92",
+    "G7",
+    "S500 M3",
+    "M2",
+    "M98 P100",
+    "M99",
+    "o100",
+    "#100=#100+1",
+    "WHILE[#100LT3]DO1",
+    "END1",
+    "IF[#100GT2]GOTO20",
+    "IF[#1EQ#0]THEN#1=1",
+    "N20 G0 X30. Z5.",
+    "GOTO20",
+    "G65 P100 A1. I2.",
+    "G65 H02 P#100 Q#100 R1",
+    "G65 H84 P20 Q#100 R3",
+    "M98 P21000",
+    "M30",
+    "O1000",
+    "O100",
+    "G92 X29.2 Z-30. F2.",
+    "G0 X[1/#0]",
+    "[",
+    "#",
+    "(comment)",
+    "%",
+];
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn random_macro_programs_end(
+        lines in proptest::collection::vec(proptest::collection::vec(proptest::sample::select(FRAGMENTS), 1..3), 0..25),
+    ) {
+        let mut src = String::from("G0 X30 Z5\n");
+        for l in &lines {
+            src.push_str(&l.join(" "));
+            src.push('\n');
+        }
+        let options = Options { max_blocks: 5_000, flatten: false };
+        for controller in ["linuxcnc", "fanuc", "gsk980"] {
+            let t = std::time::Instant::now();
+            let _ = run_jsonl(&src, controller, &options);
+            let _ = expand(&src, controller, true);
+            prop_assert!(t.elapsed().as_secs() < 10, "{}: {:?}\n{}", controller, t.elapsed(), src);
+        }
+    }
+}

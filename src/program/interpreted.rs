@@ -342,9 +342,12 @@ pub(super) fn expand_interpreted(
             line.span()
         }
     };
+    let mut place = describe(at, start, modal);
+    if let Event::Settings { line } | Event::Cycle { line, .. } = &ev {
+        computed_words(&mut place, line);
+    }
     let mut buf = Vec::new();
     expand_event(&mut buf, &sink.format, sink.distance_words, modal, ev)?;
-    let place = describe(at, start, modal);
     let from = sink.interp.from.unwrap_or(0);
     if line < from {
         // A cycle of the streamed beginning, run again by a jump back.
@@ -391,21 +394,48 @@ pub(super) fn expand_interpreted(
     }
 }
 
+/// Where a run of a cycle happened, for a message: the call it ran in and its start point.
 fn describe(at: &Where, start: Option<crate::units::Pos>, modal: &Modal) -> String {
     let mut s = match at.callers.last() {
         Some(call) => format!("(called at line {call}"),
         None => "(in the main program".to_string(),
     };
     if let Some(p) = start {
-        let num = |v: f64| crate::post::number(v, 4, false);
         s.push_str(&format!(
             ", starting at X{} Z{}",
-            num(modal.x_from_mm(p.x)),
-            num(modal.units.from_mm(p.z))
+            shown(modal.x_from_mm(p.x)),
+            shown(modal.units.from_mm(p.z))
         ));
     }
     s.push(')');
     s
+}
+
+/// Adds the values the run gave the line's computed words (`X#6 = 23.249`) to a description.
+fn computed_words(place: &mut String, line: &Line) {
+    let words: Vec<String> = line
+        .words
+        .iter()
+        .filter(|w| w.is_computed())
+        .map(|w| {
+            format!(
+                "{}{} = {}",
+                w.letter as char,
+                String::from_utf8_lossy(w.raw(line.text)),
+                shown(w.value)
+            )
+        })
+        .collect();
+    if !words.is_empty() {
+        place.pop();
+        place.push_str(&format!(", with {})", words.join(", ")));
+    }
+}
+
+/// A number for a message: up to four decimals, no trailing zeros or point.
+fn shown(v: f64) -> String {
+    let s = crate::post::number(v, 4, false);
+    s.strip_suffix('.').map(str::to_string).unwrap_or(s)
 }
 
 fn differs(span: crate::diag::Span, line: u32, first: &str, other: &str) -> Error {
