@@ -474,10 +474,14 @@ fn fanuc_g65_arguments_and_local_levels() {
     let src = "G21\nG0 X40. Z10.\nG65 P9011 Z1000 L3\nM30\nO9011\nG0 W-#26\nM99\n";
     let zs: Vec<f64> = moves(src, "fanuc").iter().map(|m| m.z).collect();
     assert_eq!(zs, [9.0, 8.0, 7.0]);
-    // Macro calls nest five levels.
-    let src = "G21\nG0 X40. Z10.\nG65 P1 A6.\nM30\nO0001\nIF[#1EQ0]GOTO9\nG65 P1 A[#1-1]\nN9 M99\n";
-    let e = error(src, "fanuc");
-    assert!(e.message.contains("at most 5 levels"), "{}", e.message);
+    // Macro calls nest four levels (the main program is level 0).
+    let nest = |n: u32| {
+        format!("G21\nG0 X40. Z10.\nG65 P1 A{n}.\nM30\nO0001\nIF[#1EQ1]GOTO9\nG65 P1 A[#1-1]\nN9 G0 W-1.\nM99\n")
+    };
+    assert_eq!(moves(&nest(4), "fanuc").len(), 4);
+    let e = error(&nest(5), "fanuc");
+    assert!(e.message.contains("at most 4 levels"), "{}", e.message);
+    assert_eq!(e.span.line, 7);
 }
 
 #[test]
@@ -517,12 +521,12 @@ fn fanuc_errors_at_their_place() {
     assert!(e.message.contains("macro alarm 3012"), "{}", e.message);
     let e = error("G21\nG0 X1. Z1.\n#1=SQRT[-1]\nM30\n", "fanuc");
     assert!(e.message.contains("PS0119"), "{}", e.message);
-    // Subprograms nest ten levels.
+    // Subprograms nest four levels.
     let e = error(
         "G21\nG0 X1. Z1.\nM98 P1\nM30\nO0001\nM98 P1\nM99\n",
         "fanuc",
     );
-    assert!(e.message.contains("at most 10 levels"), "{}", e.message);
+    assert!(e.message.contains("at most 4 levels"), "{}", e.message);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -355,11 +355,9 @@ impl Compiler<'_> {
     fn statement(&mut self, i: usize, st: Statement) -> Result<(), Diagnostic> {
         match st {
             Statement::Nothing => {}
-            Statement::Percent => {
-                if self.begun {
-                    self.code.emit(i, Inst::End);
-                }
-            }
+            // `%` delimits programs on a tape; the run ends at M2/M30 (and a main program at the
+            // next program's O number), as in the streamed run.
+            Statement::Percent => {}
             Statement::Header(n, span) => {
                 if !self.begun && self.program == 0 {
                     self.code.programs[0].number = Some(n);

@@ -135,8 +135,6 @@ impl Open {
 struct Compiler {
     code: Code,
     open: Vec<Open>,
-    /// A `%` opened the program: the next one ends it.
-    percent_seen: bool,
     /// Something other than a blank line or `%` came already.
     begun: bool,
     lexed: Vec<Word>,
@@ -147,7 +145,6 @@ pub fn compile(text: Text, bare: &'static [u8]) -> Code {
     let mut c = Compiler {
         code: Code::new(Lang::Ngc, text, bare),
         open: Vec::new(),
-        percent_seen: false,
         begun: false,
         lexed: Vec::new(),
     };
@@ -169,12 +166,8 @@ impl Compiler {
         let (number, offset) = (line.number, line.offset);
         match lexed_line {
             Ok(shape) => {
+                // `%` delimits the program; as in the streamed run it ends nothing (M2 does).
                 if shape.percent {
-                    if self.percent_seen || self.begun {
-                        self.code.emit(i, Inst::End);
-                    } else {
-                        self.percent_seen = true;
-                    }
                     return;
                 }
                 if self.lexed.is_empty() {
