@@ -567,8 +567,7 @@ impl Compiler<'_> {
                     "M98 needs P, the program to call (alarm PS0076)",
                 ));
             };
-            if l.is_some() && !self.syntax.m98_l_word {
-                let l = l.expect("checked");
+            if let Some(l) = l.as_ref().filter(|_| !self.syntax.m98_l_word) {
                 return Err(Diagnostic::error(DiagCode::Unsupported, l.span, "this control's M98 has no L: the count is packed in P")
                     .with_hint("M98 P00031000 calls O1000 three times: four digits of count, four of program number"));
             }
