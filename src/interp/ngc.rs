@@ -61,6 +61,22 @@ const KEYWORDS: [(&[u8], Keyword); 15] = [
     (b"RETURN", Keyword::Return),
 ];
 
+/// Where an o-word line's parts are (indices into its squeezed characters) and its keyword.
+struct OLine {
+    line: usize,
+    kw: Keyword,
+    o_at: usize,
+    name_end: usize,
+    kw_end: usize,
+}
+
+/// What follows an o-word's keyword.
+enum Arg {
+    None,
+    One(Expr),
+    List(Vec<Expr>),
+}
+
 /// A construct open while compiling.
 enum Open {
     Sub {
@@ -492,6 +508,8 @@ impl Compiler {
         })
     }
 
+    /// An o-word line: its name, keyword and arguments are read here, then the construct it opens,
+    /// continues or closes is compiled by the keyword's own method.
     fn oword(&mut self, i: usize, s: &Squeezed, mut k: usize) -> Result<(), Diagnostic> {
         let o_at = k;
         k += 1;
@@ -518,350 +536,401 @@ impl Compiler {
             }
             return Err(s.error(k, s.len(), "Unknown control command in o word"));
         };
-        let kw_span = (k, k + word.len());
         k += word.len();
-        let name = match name {
-            OName::Named(n) => n,
-            OName::Computed(e) if kw == Keyword::Call => {
-                let args = self.args(s, &mut k)?;
-                self.end_of_oword(s, k)?;
-                return self.call(i, s, o_at, kw_span.1, CallTarget::Number(e), args);
+        let o = OLine {
+            line: i,
+            kw,
+            o_at,
+            name_end,
+            kw_end: k,
+        };
+        let what = match kw {
+            Keyword::If => "if",
+            Keyword::Elseif => "elseif",
+            Keyword::While => "while",
+            _ => "repeat",
+        };
+        let arg = match kw {
+            Keyword::Call => Arg::List(self.args(s, &mut k)?),
+            Keyword::Endsub | Keyword::Return if s.at(k) == b'[' => {
+                Arg::One(Parser::new(s, &mut self.code.exprs, Lang::Ngc).bracketed(&mut k)?)
             }
-            OName::Computed(_) => {
+            Keyword::If | Keyword::Elseif | Keyword::While | Keyword::Repeat => {
+                Arg::One(self.condition(s, &mut k, what)?)
+            }
+            _ => Arg::None,
+        };
+        self.end_of_oword(s, k)?;
+        let (name, arg) = match (name, arg) {
+            (OName::Named(n), Arg::List(args)) => {
+                let id = self.code.exprs.intern(n);
+                return self.call(i, s, o_at, o.kw_end, CallTarget::Name(id), args);
+            }
+            (OName::Computed(e), Arg::List(args)) => {
+                return self.call(i, s, o_at, o.kw_end, CallTarget::Number(e), args);
+            }
+            (OName::Computed(_), _) => {
                 return Err(s.error(
                     o_at + 1,
                     name_end,
                     "only a call may compute its o-word's number",
                 ))
             }
+            (OName::Named(n), arg) => (n, arg),
         };
-        let here = self.code.here();
+        let one = match arg {
+            Arg::One(e) => Some(e),
+            _ => None,
+        };
         match kw {
-            Keyword::Sub => {
-                self.end_of_oword(s, k)?;
-                if let Some(&Open::Sub {
-                    name: outer, skip, ..
-                }) = self.open.iter().find(|o| matches!(o, Open::Sub { .. }))
-                {
-                    let outer = self.code.exprs.name(outer).to_string();
-                    let e = s.error(o_at, kw_span.1, "Nested subroutine definition")
-                        .with_hint(format!("o{name} sub is inside the definition of o{outer}: end that one with o{outer} endsub first"));
-                    // LinuxCNC finds it as it reads past the outer definition: so does the run.
-                    self.code.fail_at(skip, e.clone());
-                    return Err(e);
-                }
-                let id = self.code.exprs.intern(name.clone());
-                let skip = self.code.emit(i, Inst::Jump(0));
-                if let Some(&first) = self.code.subs.get(&id) {
-                    let before = self.code.line_number(first.saturating_sub(1));
-                    self.code.fail_at(
-                        skip,
-                        s.error(
-                            o_at,
-                            kw_span.1,
-                            format!("redefining sub: o|{name}| already defined in line {before}"),
-                        ),
-                    );
-                } else {
-                    self.code.subs.insert(id, self.code.here());
-                }
-                self.open.push(Open::Sub {
-                    name: id,
-                    skip,
-                    line: i,
-                    inst: skip,
-                });
+            Keyword::Sub => self.sub(s, &o, name),
+            Keyword::Endsub | Keyword::Return => self.sub_end(s, &o, &name, one),
+            Keyword::If => self.open_if(s, &o, name, one.expect("a condition")),
+            Keyword::Elseif | Keyword::Else => self.else_branch(s, &o, &name, one),
+            Keyword::Endif => self.endif(s, &o, &name),
+            Keyword::While => self.while_line(s, &o, name, one.expect("a condition")),
+            Keyword::Endwhile => self.endwhile(s, &o, &name),
+            Keyword::Do => self.open_do(s, &o, name),
+            Keyword::Repeat => self.repeat(s, &o, name, one.expect("a count")),
+            Keyword::Endrepeat => self.endrepeat(s, &o, &name),
+            Keyword::Break | Keyword::Continue => self.leave_or_continue(s, &o, &name),
+            Keyword::Call => unreachable!("calls returned above"),
+        }
+    }
+
+    /// `oN sub`: the body is jumped over where it is defined, and entered by its calls.
+    fn sub(&mut self, s: &Squeezed, o: &OLine, name: String) -> Result<(), Diagnostic> {
+        if let Some(&Open::Sub {
+            name: outer, skip, ..
+        }) = self.open.iter().find(|x| matches!(x, Open::Sub { .. }))
+        {
+            let outer = self.code.exprs.name(outer).to_string();
+            let e = s.error(o.o_at, o.kw_end, "Nested subroutine definition")
+                .with_hint(format!("o{name} sub is inside the definition of o{outer}: end that one with o{outer} endsub first"));
+            // LinuxCNC finds it as it reads past the outer definition: so does the run.
+            self.code.fail_at(skip, e.clone());
+            return Err(e);
+        }
+        let id = self.code.exprs.intern(name.clone());
+        let skip = self.code.emit(o.line, Inst::Jump(0));
+        if let Some(&first) = self.code.subs.get(&id) {
+            let before = self.code.line_number(first.saturating_sub(1));
+            let e = s.error(
+                o.o_at,
+                o.kw_end,
+                format!("redefining sub: o|{name}| already defined in line {before}"),
+            );
+            self.code.fail_at(skip, e);
+        } else {
+            self.code.subs.insert(id, self.code.here());
+        }
+        self.open.push(Open::Sub {
+            name: id,
+            skip,
+            line: o.line,
+            inst: skip,
+        });
+        Ok(())
+    }
+
+    /// `oN endsub [value]`, `oN return [value]`.
+    fn sub_end(
+        &mut self,
+        s: &Squeezed,
+        o: &OLine,
+        name: &str,
+        value: Option<Expr>,
+    ) -> Result<(), Diagnostic> {
+        let word = if o.kw == Keyword::Endsub {
+            "endsub"
+        } else {
+            "return"
+        };
+        let Some(sub_at) = self
+            .open
+            .iter()
+            .rposition(|x| matches!(x, Open::Sub { .. }))
+        else {
+            return Err(s.error(
+                o.o_at,
+                o.kw_end,
+                format!("not in a subroutine definition: 'o{name} {word}'"),
+            ));
+        };
+        let sub_name = self.open[sub_at].name(&self.code).to_string();
+        if sub_name != name {
+            return Err(s.error(
+                o.o_at,
+                o.name_end,
+                format!("o{name} {word} is inside o{sub_name} sub: it must name o{sub_name}"),
+            ));
+        }
+        self.code.emit(
+            o.line,
+            Inst::Return {
+                value,
+                to_label: None,
+            },
+        );
+        if o.kw == Keyword::Endsub {
+            // Constructs left open inside the subroutine.
+            while self.open.len() > sub_at + 1 {
+                let inner = self.open.pop().expect("an open construct");
+                self.unclosed(inner);
             }
-            Keyword::Endsub | Keyword::Return => {
-                let value = if s.at(k) == b'[' {
-                    Some(Parser::new(s, &mut self.code.exprs, Lang::Ngc).bracketed(&mut k)?)
-                } else {
-                    None
-                };
-                self.end_of_oword(s, k)?;
-                let Some(sub_at) = self
-                    .open
-                    .iter()
-                    .rposition(|o| matches!(o, Open::Sub { .. }))
-                else {
-                    return Err(s.error(
-                        o_at,
-                        kw_span.1,
-                        format!(
-                            "not in a subroutine definition: 'o{name} {}'",
-                            if kw == Keyword::Endsub {
-                                "endsub"
-                            } else {
-                                "return"
-                            }
-                        ),
-                    ));
-                };
-                let sub_name = self.open[sub_at].name(&self.code).to_string();
-                if sub_name != name {
-                    return Err(s.error(
-                        o_at,
-                        name_end,
-                        format!(
-                            "o{name} {} is inside o{sub_name} sub: it must name o{sub_name}",
-                            if kw == Keyword::Endsub {
-                                "endsub"
-                            } else {
-                                "return"
-                            }
-                        ),
-                    ));
-                }
-                self.code.emit(
-                    i,
-                    Inst::Return {
-                        value,
-                        to_label: None,
-                    },
-                );
-                if kw == Keyword::Endsub {
-                    // Constructs left open inside the subroutine.
-                    while self.open.len() > sub_at + 1 {
-                        let o = self.open.pop().expect("open construct");
-                        self.unclosed(o);
-                    }
-                    let Some(Open::Sub { skip, .. }) = self.open.pop() else {
-                        unreachable!("checked above")
-                    };
-                    let after = self.code.here();
-                    self.code.patch(skip, after);
-                }
-            }
-            Keyword::Call => {
-                let args = self.args(s, &mut k)?;
-                self.end_of_oword(s, k)?;
-                let id = self.code.exprs.intern(name);
-                return self.call(i, s, o_at, kw_span.1, CallTarget::Name(id), args);
-            }
-            Keyword::If => {
-                let cond = self.condition(s, &mut k, "if")?;
-                self.end_of_oword(s, k)?;
-                self.local_name_free(s, o_at, name_end, &name)?;
-                let at = self.code.emit(i, Inst::JumpUnless { cond, target: 0 });
-                self.open.push(Open::If {
-                    name,
-                    pending: Some(at),
-                    ends: Vec::new(),
-                    has_else: false,
-                    line: i,
-                    inst: at,
-                });
-            }
-            Keyword::Elseif | Keyword::Else => {
-                let cond = if kw == Keyword::Elseif {
-                    Some(self.condition(s, &mut k, "elseif")?)
-                } else {
-                    None
-                };
-                self.end_of_oword(s, k)?;
-                let top = self.matching(
-                    s,
-                    o_at,
-                    name_end,
-                    &name,
-                    |o| matches!(o, Open::If { .. }),
-                    "'if'",
-                )?;
-                let Open::If {
-                    pending,
-                    ends,
-                    has_else,
-                    ..
-                } = &mut self.open[top]
-                else {
-                    unreachable!()
-                };
-                if *has_else {
-                    return Err(s.error(
-                        o_at,
-                        kw_span.1,
-                        format!(
-                            "o{name} {} after o{name} else",
-                            if cond.is_some() { "elseif" } else { "else" }
-                        ),
-                    ));
-                }
-                // The branch before ends here: on to the endif.
-                ends.push(here);
-                let pending_at = pending.take();
-                self.code.emit(i, Inst::Jump(0));
-                if let Some(p) = pending_at {
-                    let to = self.code.here();
-                    self.code.patch(p, to);
-                }
-                match cond {
-                    Some(cond) => {
-                        let at = self.code.emit(i, Inst::JumpUnless { cond, target: 0 });
-                        if let Some(Open::If { pending, .. }) = self.open.last_mut() {
-                            *pending = Some(at);
-                        }
-                    }
-                    None => {
-                        if let Some(Open::If { has_else, .. }) = self.open.last_mut() {
-                            *has_else = true;
-                        }
-                    }
-                }
-            }
-            Keyword::Endif => {
-                self.end_of_oword(s, k)?;
-                self.matching(
-                    s,
-                    o_at,
-                    name_end,
-                    &name,
-                    |o| matches!(o, Open::If { .. }),
-                    "'if'",
-                )?;
-                let Some(Open::If { pending, ends, .. }) = self.open.pop() else {
-                    unreachable!()
-                };
-                let after = self.code.emit(i, Inst::Nop);
-                for at in pending.into_iter().chain(ends) {
-                    self.code.patch(at, after);
+            let Some(Open::Sub { skip, .. }) = self.open.pop() else {
+                unreachable!("found above")
+            };
+            let after = self.code.here();
+            self.code.patch(skip, after);
+        }
+        Ok(())
+    }
+
+    fn open_if(
+        &mut self,
+        s: &Squeezed,
+        o: &OLine,
+        name: String,
+        cond: Expr,
+    ) -> Result<(), Diagnostic> {
+        self.local_name_free(s, o.o_at, o.name_end, &name)?;
+        let at = self.code.emit(o.line, Inst::JumpUnless { cond, target: 0 });
+        self.open.push(Open::If {
+            name,
+            pending: Some(at),
+            ends: Vec::new(),
+            has_else: false,
+            line: o.line,
+            inst: at,
+        });
+        Ok(())
+    }
+
+    /// `oN elseif [c]` (`cond`), `oN else`: the branch before jumps to the endif; the failed
+    /// condition before lands here.
+    fn else_branch(
+        &mut self,
+        s: &Squeezed,
+        o: &OLine,
+        name: &str,
+        cond: Option<Expr>,
+    ) -> Result<(), Diagnostic> {
+        let here = self.code.here();
+        let top = self.matching(
+            s,
+            o.o_at,
+            o.name_end,
+            name,
+            |x| matches!(x, Open::If { .. }),
+            "'if'",
+        )?;
+        let Open::If {
+            pending,
+            ends,
+            has_else,
+            ..
+        } = &mut self.open[top]
+        else {
+            unreachable!("matched an if")
+        };
+        if *has_else {
+            let word = if cond.is_some() { "elseif" } else { "else" };
+            return Err(s.error(
+                o.o_at,
+                o.kw_end,
+                format!("o{name} {word} after o{name} else"),
+            ));
+        }
+        ends.push(here);
+        let failed = pending.take();
+        self.code.emit(o.line, Inst::Jump(0));
+        if let Some(p) = failed {
+            let to = self.code.here();
+            self.code.patch(p, to);
+        }
+        match cond {
+            Some(cond) => {
+                let at = self.code.emit(o.line, Inst::JumpUnless { cond, target: 0 });
+                if let Some(Open::If { pending, .. }) = self.open.last_mut() {
+                    *pending = Some(at);
                 }
             }
-            Keyword::While => {
-                let cond = self.condition(s, &mut k, "while")?;
-                self.end_of_oword(s, k)?;
-                // The end of a do … while loop, or the start of a while loop.
-                if let Some(Open::Do { name: n, .. }) = self.open.last() {
-                    if *n == name {
-                        let Some(Open::Do {
-                            start,
-                            breaks,
-                            continues,
-                            ..
-                        }) = self.open.pop()
-                        else {
-                            unreachable!()
-                        };
-                        let test = self.code.here();
-                        for c in continues {
-                            self.code.patch(c, test);
-                        }
-                        self.code.emit(
-                            i,
-                            Inst::JumpIf {
-                                cond,
-                                target: start,
-                            },
-                        );
-                        let after = self.code.here();
-                        for b in breaks {
-                            self.code.patch(b, after);
-                        }
-                        return Ok(());
-                    }
-                }
-                self.local_name_free(s, o_at, name_end, &name)?;
-                let start = self.code.emit(i, Inst::JumpUnless { cond, target: 0 });
-                self.open.push(Open::While {
-                    name,
-                    start,
-                    breaks: vec![start],
-                    line: i,
-                });
-            }
-            Keyword::Endwhile => {
-                self.end_of_oword(s, k)?;
-                self.matching(
-                    s,
-                    o_at,
-                    name_end,
-                    &name,
-                    |o| matches!(o, Open::While { .. }),
-                    "while",
-                )?;
-                let Some(Open::While { start, breaks, .. }) = self.open.pop() else {
-                    unreachable!()
-                };
-                self.code.emit(i, Inst::Jump(start));
-                let after = self.code.here();
-                for b in breaks {
-                    self.code.patch(b, after);
+            None => {
+                if let Some(Open::If { has_else, .. }) = self.open.last_mut() {
+                    *has_else = true;
                 }
             }
-            Keyword::Do => {
-                self.end_of_oword(s, k)?;
-                self.local_name_free(s, o_at, name_end, &name)?;
-                let start = self.code.emit(i, Inst::Nop);
-                self.open.push(Open::Do {
-                    name,
-                    start,
-                    breaks: Vec::new(),
-                    continues: Vec::new(),
-                    line: i,
-                    inst: start,
-                });
+        }
+        Ok(())
+    }
+
+    fn endif(&mut self, s: &Squeezed, o: &OLine, name: &str) -> Result<(), Diagnostic> {
+        self.matching(
+            s,
+            o.o_at,
+            o.name_end,
+            name,
+            |x| matches!(x, Open::If { .. }),
+            "'if'",
+        )?;
+        let Some(Open::If { pending, ends, .. }) = self.open.pop() else {
+            unreachable!("matched an if")
+        };
+        let after = self.code.emit(o.line, Inst::Nop);
+        for at in pending.into_iter().chain(ends) {
+            self.code.patch(at, after);
+        }
+        Ok(())
+    }
+
+    /// `oN while [c]`: the end of an `oN do` loop, or the start of a while loop.
+    fn while_line(
+        &mut self,
+        s: &Squeezed,
+        o: &OLine,
+        name: String,
+        cond: Expr,
+    ) -> Result<(), Diagnostic> {
+        if matches!(self.open.last(), Some(Open::Do { name: n, .. }) if *n == name) {
+            let Some(Open::Do {
+                start,
+                breaks,
+                continues,
+                ..
+            }) = self.open.pop()
+            else {
+                unreachable!("checked above")
+            };
+            let test = self.code.here();
+            for c in continues {
+                self.code.patch(c, test);
             }
-            Keyword::Repeat => {
-                let count = self.condition(s, &mut k, "repeat")?;
-                self.end_of_oword(s, k)?;
-                self.local_name_free(s, o_at, name_end, &name)?;
-                let slot = self.code.repeat_slots;
-                self.code.repeat_slots += 1;
-                let inst = self.code.emit(i, Inst::RepeatStart { count, slot });
-                let top = self.code.emit(i, Inst::RepeatTest { slot, exit: 0 });
-                self.open.push(Open::Repeat {
-                    name,
-                    top,
-                    breaks: vec![top],
-                    line: i,
-                    inst,
-                });
+            self.code.emit(
+                o.line,
+                Inst::JumpIf {
+                    cond,
+                    target: start,
+                },
+            );
+            let after = self.code.here();
+            for b in breaks {
+                self.code.patch(b, after);
             }
-            Keyword::Endrepeat => {
-                self.end_of_oword(s, k)?;
-                self.matching(
-                    s,
-                    o_at,
-                    name_end,
-                    &name,
-                    |o| matches!(o, Open::Repeat { .. }),
-                    "repeat",
-                )?;
-                let Some(Open::Repeat { top, breaks, .. }) = self.open.pop() else {
-                    unreachable!()
-                };
-                self.code.emit(i, Inst::Jump(top));
-                let after = self.code.here();
-                for b in breaks {
-                    self.code.patch(b, after);
-                }
+            return Ok(());
+        }
+        self.local_name_free(s, o.o_at, o.name_end, &name)?;
+        let start = self.code.emit(o.line, Inst::JumpUnless { cond, target: 0 });
+        self.open.push(Open::While {
+            name,
+            start,
+            breaks: vec![start],
+            line: o.line,
+        });
+        Ok(())
+    }
+
+    fn endwhile(&mut self, s: &Squeezed, o: &OLine, name: &str) -> Result<(), Diagnostic> {
+        self.matching(
+            s,
+            o.o_at,
+            o.name_end,
+            name,
+            |x| matches!(x, Open::While { .. }),
+            "while",
+        )?;
+        let Some(Open::While { start, breaks, .. }) = self.open.pop() else {
+            unreachable!("matched a while")
+        };
+        self.code.emit(o.line, Inst::Jump(start));
+        let after = self.code.here();
+        for b in breaks {
+            self.code.patch(b, after);
+        }
+        Ok(())
+    }
+
+    fn open_do(&mut self, s: &Squeezed, o: &OLine, name: String) -> Result<(), Diagnostic> {
+        self.local_name_free(s, o.o_at, o.name_end, &name)?;
+        let start = self.code.emit(o.line, Inst::Nop);
+        self.open.push(Open::Do {
+            name,
+            start,
+            breaks: Vec::new(),
+            continues: Vec::new(),
+            line: o.line,
+            inst: start,
+        });
+        Ok(())
+    }
+
+    fn repeat(
+        &mut self,
+        s: &Squeezed,
+        o: &OLine,
+        name: String,
+        count: Expr,
+    ) -> Result<(), Diagnostic> {
+        self.local_name_free(s, o.o_at, o.name_end, &name)?;
+        let slot = self.code.repeat_slots;
+        self.code.repeat_slots += 1;
+        let inst = self.code.emit(o.line, Inst::RepeatStart { count, slot });
+        let top = self.code.emit(o.line, Inst::RepeatTest { slot, exit: 0 });
+        self.open.push(Open::Repeat {
+            name,
+            top,
+            breaks: vec![top],
+            line: o.line,
+            inst,
+        });
+        Ok(())
+    }
+
+    fn endrepeat(&mut self, s: &Squeezed, o: &OLine, name: &str) -> Result<(), Diagnostic> {
+        self.matching(
+            s,
+            o.o_at,
+            o.name_end,
+            name,
+            |x| matches!(x, Open::Repeat { .. }),
+            "repeat",
+        )?;
+        let Some(Open::Repeat { top, breaks, .. }) = self.open.pop() else {
+            unreachable!("matched a repeat")
+        };
+        self.code.emit(o.line, Inst::Jump(top));
+        let after = self.code.here();
+        for b in breaks {
+            self.code.patch(b, after);
+        }
+        Ok(())
+    }
+
+    /// `oN break` (to after the loop) and `oN continue` (to its condition).
+    fn leave_or_continue(&mut self, s: &Squeezed, o: &OLine, name: &str) -> Result<(), Diagnostic> {
+        let top = self.matching(
+            s,
+            o.o_at,
+            o.name_end,
+            name,
+            |x| matches!(x, Open::While { .. } | Open::Do { .. }),
+            "while/do",
+        )?;
+        let at = self.code.here();
+        match (&mut self.open[top], o.kw) {
+            (Open::While { breaks, .. } | Open::Do { breaks, .. }, Keyword::Break) => {
+                breaks.push(at);
+                self.code.emit(o.line, Inst::Jump(0));
             }
-            Keyword::Break | Keyword::Continue => {
-                self.end_of_oword(s, k)?;
-                let top = self.matching(
-                    s,
-                    o_at,
-                    name_end,
-                    &name,
-                    |o| matches!(o, Open::While { .. } | Open::Do { .. }),
-                    "while/do",
-                )?;
-                let at = here;
-                match (&mut self.open[top], kw) {
-                    (Open::While { breaks, .. } | Open::Do { breaks, .. }, Keyword::Break) => {
-                        breaks.push(at);
-                        self.code.emit(i, Inst::Jump(0));
-                    }
-                    (Open::While { start, .. }, _) => {
-                        let start = *start;
-                        self.code.emit(i, Inst::Jump(start));
-                    }
-                    (Open::Do { continues, .. }, _) => {
-                        continues.push(at);
-                        self.code.emit(i, Inst::Jump(0));
-                    }
-                    _ => unreachable!("matched while/do"),
-                }
+            (Open::While { start, .. }, _) => {
+                let start = *start;
+                self.code.emit(o.line, Inst::Jump(start));
             }
+            (Open::Do { continues, .. }, _) => {
+                continues.push(at);
+                self.code.emit(o.line, Inst::Jump(0));
+            }
+            _ => unreachable!("matched a while or do"),
         }
         Ok(())
     }
