@@ -539,6 +539,16 @@ fn gsk_g65_operations() {
     let src = "G0 X40 Z10\nG65 H01 P#100 Q0\nN10 G65 H02 P#100 Q#100 R1\nG0 X[40-#100*2] Z10\nG65 H84 P10 Q#100 R3\nM30\n";
     let xs: Vec<f64> = moves(src, "gsk980").iter().map(|m| m.x).collect();
     assert_eq!(xs, [19.0, 18.0, 17.0]);
+    // H26, H27, H24/H25, H31, H34.
+    let src = "G0 X40 Z10\nG65 H01 P#1 Q6\nG65 H26 P#1 Q4 R3\nG65 H27 P#2 Q3 R4\nG65 H25 P#3 Q12\nG65 H24 P#4 Q#3\nG65 H31 P#5 Q2 R30\nG65 H34 P#6 Q-1 R-1\nG0 X#1 Z#2\nG0 X#3 Z#4\nG0 X#5 Z#6\nM30\n";
+    let got: Vec<(f64, f64)> = moves(src, "gsk980").iter().map(|m| (m.x, m.z)).collect();
+    assert_eq!(got.len(), 3);
+    assert_eq!(got[0], (4.0, 5.0));
+    assert_eq!(got[1], (9.0, 12.0));
+    assert!(
+        (got[2].0 - 0.5).abs() < 1e-9 && (got[2].1 - 225.0).abs() < 1e-9,
+        "{got:?}"
+    );
     let e = error("G0 X40 Z10\nG65 H99 P7\nM30\n", "gsk980");
     assert!(e.message.contains("P/S alarm 507"), "{}", e.message);
     // G65 without H is not a call on this control.

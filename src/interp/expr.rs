@@ -982,7 +982,12 @@ fn bits(v: f64, span: Span) -> Result<i64, Diagnostic> {
     Ok(n as i64)
 }
 
-fn unary(lang: Lang, f: Func, a: Option<f64>, span: Span) -> Result<Option<f64>, Diagnostic> {
+pub(crate) fn unary(
+    lang: Lang,
+    f: Func,
+    a: Option<f64>,
+    span: Span,
+) -> Result<Option<f64>, Diagnostic> {
     use Func::*;
     let x = a.unwrap_or(0.0);
     let ngc = lang == Lang::Ngc;

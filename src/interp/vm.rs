@@ -974,17 +974,15 @@ impl<'c> Vm<'c> {
 
     /// GSK's `G65 Hm P#i Q#j R#k`.
     fn macro_op<H: Host>(&mut self, pc: u32, op: &MacroOp, host: &mut H) -> R<Next, H::Error> {
-        let q = match op.q {
-            Some(e) => self.eval(e, host)?,
-            None => None,
+        let value_of = |e: Option<Expr>, vm: &mut Self| match e {
+            Some(e) => vm.eval(e, host),
+            None => Ok(None),
         };
-        let r = match op.r {
-            Some(e) => self.eval(e, host)?,
-            None => None,
-        };
+        let q = value_of(op.q, self)?;
+        let r = value_of(op.r, self)?;
         let (j, k) = (q.unwrap_or(0.0), r.unwrap_or(0.0));
-        let jump = |vm: &mut Self, cond: bool, host: &mut H| -> Result<Next, Diagnostic> {
-            if !cond {
+        if let Some(taken) = gsk_jump(op.h, j, k) {
+            if !taken {
                 return Ok(Next::Go(pc + 1));
             }
             let Some(p) = op.p else {
@@ -992,111 +990,20 @@ impl<'c> Vm<'c> {
                     DiagCode::MissingWord,
                     op.span,
                     "the jump needs P, the block's sequence number",
-                ));
+                )
+                .into());
             };
-            Ok(Next::Go(vm.goto(pc, p, op.program, host)?))
-        };
-        let value = match op.h {
-            1 => q,
-            2 => Some(j + k),
-            3 => Some(j - k),
-            4 => Some(j * k),
-            5 | 26 => {
-                if k == 0.0 {
-                    return Err(Diagnostic::error(
-                        DiagCode::OutOfRange,
-                        op.span,
-                        "division by zero (G65 H05/H26)",
-                    )
-                    .into());
-                }
-                if op.h == 5 {
-                    Some(j / k)
-                } else {
-                    let i = match op.dest {
-                        Some(d) => {
-                            let n = self.eval(d, host)?;
-                            let n = whole(Lang::MacroB, n, op.span)?;
-                            self.view(host.modal()).0.get(n, op.span)?.unwrap_or(0.0)
-                        }
-                        None => 0.0,
-                    };
-                    Some(i * j / k)
-                }
-            }
-            11 => Some(((j.round() as i64) | (k.round() as i64)) as f64),
-            12 => Some(((j.round() as i64) & (k.round() as i64)) as f64),
-            13 => Some(((j.round() as i64) ^ (k.round() as i64)) as f64),
-            21 => {
-                if j < 0.0 {
-                    return Err(Diagnostic::error(
-                        DiagCode::OutOfRange,
-                        op.span,
-                        "square root of a negative number (G65 H21)",
-                    )
-                    .into());
-                }
-                Some(j.sqrt())
-            }
-            22 => Some(j.abs()),
-            23 => {
-                if k == 0.0 {
-                    return Err(Diagnostic::error(
-                        DiagCode::OutOfRange,
-                        op.span,
-                        "division by zero (G65 H23)",
-                    )
-                    .into());
-                }
-                Some(j - (j / k).trunc() * k)
-            }
-            27 => Some((j * j + k * k).sqrt()),
-            31 => Some(j * k.to_radians().sin()),
-            32 => Some(j * k.to_radians().cos()),
-            33 => Some(j * k.to_radians().tan()),
-            34 => {
-                let d = j.atan2(k).to_degrees();
-                Some(if d < 0.0 { d + 360.0 } else { d })
-            }
-            80 => return Ok(jump(self, true, host)?),
-            81 => return Ok(jump(self, j == k, host)?),
-            82 => return Ok(jump(self, j != k, host)?),
-            83 => return Ok(jump(self, j > k, host)?),
-            84 => return Ok(jump(self, j < k, host)?),
-            85 => return Ok(jump(self, j >= k, host)?),
-            86 => return Ok(jump(self, j <= k, host)?),
-            99 => {
-                let n = match op.p {
-                    Some(p) => self.eval(p, host)?.unwrap_or(0.0),
-                    None => 0.0,
-                };
-                return Err(Diagnostic::error(
-                    DiagCode::Conflict,
-                    op.span,
-                    format!("P/S alarm {} (G65 H99)", 500.0 + n),
-                )
-                .with_hint("the program raises this alarm itself")
-                .into());
-            }
-            h => {
-                return Err(Diagnostic::error(
-                    DiagCode::Unsupported,
-                    op.span,
-                    format!("G65 H{h:02} is not one of GSK's macro operations"),
-                )
-                .with_hint("GSK 980TDi: H01–H05, H11–H13, H21–H27, H31–H34, H80–H86, H99")
-                .into())
-            }
-        };
-        if let Some(v) = value {
-            if !v.is_finite() {
-                return Err(Diagnostic::error(
-                    DiagCode::OutOfRange,
-                    op.span,
-                    "calculated data overflow",
-                )
-                .into());
-            }
+            return Ok(Next::Go(self.goto(pc, p, op.program, host)?));
+        }
+        if op.h == 99 {
+            let n = value_of(op.p, self)?.unwrap_or(0.0);
+            return Err(Diagnostic::error(
+                DiagCode::Conflict,
+                op.span,
+                format!("P/S alarm {} (G65 H99)", 500.0 + n),
+            )
+            .with_hint("the program raises this alarm itself")
+            .into());
         }
         let Some(d) = op.dest else {
             return Err(Diagnostic::error(
@@ -1108,9 +1015,86 @@ impl<'c> Vm<'c> {
         };
         let n = self.eval(d, host)?;
         let n = whole(Lang::MacroB, n, op.span)?;
+        // H26 reads the variable it sets.
+        let i = if op.h == 26 {
+            self.view(host.modal()).0.get(n, op.span)?.unwrap_or(0.0)
+        } else {
+            0.0
+        };
+        let value = gsk_value(op.h, i, q, j, k, op.span)?;
         self.store(n, value, op.span)?;
         Ok(Next::Go(pc + 1))
     }
+}
+
+/// Whether a GSK jump operation (H80–H86) jumps; `None` for the other operations.
+fn gsk_jump(h: u32, j: f64, k: f64) -> Option<bool> {
+    Some(match h {
+        80 => true,
+        81 => j == k,
+        82 => j != k,
+        83 => j > k,
+        84 => j < k,
+        85 => j >= k,
+        86 => j <= k,
+        _ => return None,
+    })
+}
+
+/// The value GSK's operation `h` sets #i to (#i, #j and #k given; `q` is #j, possibly vacant).
+fn gsk_value(
+    h: u32,
+    i: f64,
+    q: Option<f64>,
+    j: f64,
+    k: f64,
+    span: Span,
+) -> Result<Option<f64>, Diagnostic> {
+    let fail =
+        |msg: &str| Diagnostic::error(DiagCode::OutOfRange, span, format!("{msg} (G65 H{h:02})"));
+    let bits = |v: f64| v.round() as i64;
+    let v = match h {
+        1 => return Ok(q),
+        2 => j + k,
+        3 => j - k,
+        4 => j * k,
+        5 | 23 | 26 if k == 0.0 => return Err(fail("division by zero")),
+        5 => j / k,
+        11 => (bits(j) | bits(k)) as f64,
+        12 => (bits(j) & bits(k)) as f64,
+        13 => (bits(j) ^ bits(k)) as f64,
+        21 if j < 0.0 => return Err(fail("square root of a negative number")),
+        21 => j.sqrt(),
+        22 => j.abs(),
+        23 => j - (j / k).trunc() * k,
+        24 => return super::expr::unary(Lang::MacroB, super::expr::Func::Bin, q, span),
+        25 => return super::expr::unary(Lang::MacroB, super::expr::Func::Bcd, q, span),
+        26 => i * j / k,
+        27 => (j * j + k * k).sqrt(),
+        31 => j * k.to_radians().sin(),
+        32 => j * k.to_radians().cos(),
+        33 => j * k.to_radians().tan(),
+        34 => {
+            let d = j.atan2(k).to_degrees();
+            if d < 0.0 {
+                d + 360.0
+            } else {
+                d
+            }
+        }
+        _ => {
+            return Err(Diagnostic::error(
+                DiagCode::Unsupported,
+                span,
+                format!("G65 H{h:02} is not one of GSK's macro operations"),
+            )
+            .with_hint("GSK 980TDi: H01–H05, H11–H13, H21–H27, H31–H34, H80–H86, H99"))
+        }
+    };
+    if !v.is_finite() {
+        return Err(fail("calculated data overflow"));
+    }
+    Ok(Some(v))
 }
 
 /// What to run next.
