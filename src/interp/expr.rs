@@ -173,8 +173,14 @@ pub struct Parser<'a, 's> {
     pub s: &'a Squeezed<'s>,
     pub exprs: &'a mut Exprs,
     pub lang: Lang,
+    /// Brackets open.
     depth: usize,
+    /// Values being read inside one another (brackets, signs, `#`).
+    atoms: usize,
 }
+
+/// How deeply values may nest inside one another, brackets, signs and `#` together.
+const MAX_ATOM_DEPTH: usize = 256;
 
 type PResult<T> = Result<T, Diagnostic>;
 
@@ -185,6 +191,7 @@ impl<'a, 's> Parser<'a, 's> {
             exprs,
             lang,
             depth: 0,
+            atoms: 0,
         }
     }
 
@@ -356,6 +363,19 @@ impl<'a, 's> Parser<'a, 's> {
 
     /// One value: a number, `#…`, `[…]`, a function, or a sign before one of these.
     fn atom(&mut self, i: &mut usize) -> PResult<()> {
+        // Signs and `#`s nest without brackets (`--#1`, `###1`): their depth is bounded too, so
+        // that no line (up to a megabyte) can exhaust the stack.
+        self.atoms += 1;
+        let r = if self.atoms > MAX_ATOM_DEPTH {
+            Err(self.s.error(*i, *i + 1, "this value nests too deeply"))
+        } else {
+            self.atom_inner(i)
+        };
+        self.atoms -= 1;
+        r
+    }
+
+    fn atom_inner(&mut self, i: &mut usize) -> PResult<()> {
         let at = *i;
         let c = self.s.at(at);
         match c {
@@ -1247,5 +1267,16 @@ mod tests {
     fn long_chains_do_not_recurse() {
         let src = format!("[1{}]", "+1".repeat(200_000));
         assert_eq!(ngc(&src), 200_001.0);
+        // Signs and `#` nest without brackets: bounded, an error rather than a stack overflow.
+        for deep in [
+            format!("{}1", "-".repeat(500_000)),
+            format!("{}1", "#".repeat(500_000)),
+            format!("{}#1", "-#".repeat(300_000)),
+        ] {
+            let e = eval(Lang::Ngc, &deep, vec![]).unwrap_err();
+            assert_eq!(e.message, "this value nests too deeply");
+            assert!(eval(Lang::MacroB, &deep, vec![]).is_err());
+        }
+        assert_eq!(ngc("--2"), 2.0);
     }
 }
