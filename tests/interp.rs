@@ -529,6 +529,23 @@ fn fanuc_errors_at_their_place() {
     assert!(e.message.contains("at most 4 levels"), "{}", e.message);
 }
 
+#[test]
+fn dialect_alarms_on_computed_words_point_at_the_written_word() {
+    // The dialect checks the evaluated block; its error lands on the word as written.
+    let e = error(
+        "G7 G21 G18\nS500 M3\nG0 X24 Z5\n#<j> = 0\nG76 P1.5 Z-20 I-1 J#<j> K0.92\nM2\n",
+        "linuxcnc",
+    );
+    assert_eq!(e.message, "In G76, J must be greater than 0");
+    assert_eq!((e.span.line, e.span.column, e.span.len), (5, 19, 5));
+    let e = error(
+        "G21\nG0 X32. Z5.\n#1=0\nG76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q#1 F2.\nM30\n",
+        "fanuc",
+    );
+    assert!(e.message.contains("PS0062"), "{}", e.message);
+    assert_eq!((e.span.line, e.span.column), (5, 25));
+}
+
 // ---------------------------------------------------------------------------------------------
 // GSK 980TDi
 // ---------------------------------------------------------------------------------------------
