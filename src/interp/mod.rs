@@ -96,18 +96,17 @@ impl Syntax {
         self.control_words(line)
     }
 
+    /// (Whole codes compare exactly as doubles: no rounding on the way, which the fast path would
+    /// pay for on every M and G line.)
     #[inline(never)]
     fn control_words(&self, line: &Line) -> Control {
         let mut end = false;
         for w in line.words {
-            let whole = w.value.fract() == 0.0 && w.value >= 0.0;
+            let v = w.value;
             match w.letter {
-                b'M' if whole => match w.value as u32 {
-                    98 | 99 => return Control::Interpret,
-                    2 | 30 => end = true,
-                    _ => {}
-                },
-                b'G' if w.value == 65.0 && self.lang == Lang::MacroB => return Control::Interpret,
+                b'M' if v == 98.0 || v == 99.0 => return Control::Interpret,
+                b'M' if v == 2.0 || v == 30.0 => end = true,
+                b'G' if v == 65.0 && self.lang == Lang::MacroB => return Control::Interpret,
                 b'O' if self.lang == Lang::Ngc => return Control::Interpret,
                 _ => {}
             }
