@@ -707,15 +707,30 @@ fn expand_compares_a_cycle_before_the_first_macro_statement_that_a_jump_runs_aga
     // start: the expansion already written stands for both runs.
     let src = "G21\nG0 X32. Z5.\nN10 G92 X29.2 Z-30. F2.\n#100=#100+1\nIF[#100LT2]GOTO10\nM30\n";
     let out = expand(src, "fanuc", false).unwrap();
-    assert!(out.starts_with("G21\nG0 X32. Z5.\n(threadcut: fanuc cycle of line 3"), "{out}");
-    assert!(out.ends_with("#100=#100+1\nIF[#100LT2]GOTO10\nM30\n"), "{out}");
-    assert_eq!(moves(src, "fanuc").iter().filter(|m| m.line == 3).count(), 2 * 5);
+    assert!(
+        out.starts_with("G21\nG0 X32. Z5.\n(threadcut: fanuc cycle of line 3"),
+        "{out}"
+    );
+    assert!(
+        out.ends_with("#100=#100+1\nIF[#100LT2]GOTO10\nM30\n"),
+        "{out}"
+    );
+    assert_eq!(
+        moves(src, "fanuc").iter().filter(|m| m.line == 3).count(),
+        2 * 5
+    );
     // From another start the second time: exit 2, naming the line and both runs.
-    let src = "G21\nG0 X32. Z5.\nN10 G0 U2.\nG92 X29.2 Z-30. F2.\n#100=#100+1\nIF[#100LT2]GOTO10\nM30\n";
+    let src =
+        "G21\nG0 X32. Z5.\nN10 G0 U2.\nG92 X29.2 Z-30. F2.\n#100=#100+1\nIF[#100LT2]GOTO10\nM30\n";
     match expand(src, "fanuc", false) {
         Err(Error::Input(d)) => {
             assert_eq!(d.span.line, 4);
-            assert!(d.message.contains("before the program's first macro statement"), "{}", d.message);
+            assert!(
+                d.message
+                    .contains("before the program's first macro statement"),
+                "{}",
+                d.message
+            );
             assert!(d.message.contains("starting at X36"), "{}", d.message);
         }
         other => panic!("{other:?}"),

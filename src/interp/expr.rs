@@ -97,14 +97,6 @@ impl Exprs {
         self.ops[e.end as usize - 1].1
     }
 
-    /// The expression is one number (`X[2]` is not, but `#1=2` has one).
-    pub fn constant(&self, e: Expr) -> Option<f64> {
-        match &self.ops[e.start as usize..e.end as usize] {
-            [(Op::Num(v), _)] => Some(*v),
-            _ => None,
-        }
-    }
-
     /// The index of a name already interned.
     pub fn find(&self, name: &str) -> Option<u32> {
         self.name_index.get(name).copied()
@@ -131,17 +123,6 @@ impl Exprs {
         Expr {
             start,
             end: start + 1,
-        }
-    }
-
-    /// `#n` with a constant `n`, as an expression.
-    pub fn variable(&mut self, n: f64, span: Span) -> Expr {
-        let start = self.ops.len() as u32;
-        self.ops.push((Op::Num(n), span));
-        self.ops.push((Op::Var, span));
-        Expr {
-            start,
-            end: start + 2,
         }
     }
 }

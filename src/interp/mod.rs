@@ -14,17 +14,17 @@
 //! steps, call depths as the controls limit them, bracket nesting, and the size of the program
 //! held in memory ([`MAX_PROGRAM_BYTES`]). The design: docs/architecture.md, "The interpreter".
 
-pub mod code;
-pub mod expr;
-pub mod fanuc;
-pub mod ngc;
-pub mod scan;
+pub(crate) mod code;
+pub(crate) mod expr;
+pub(crate) mod fanuc;
+pub(crate) mod ngc;
+pub(crate) mod scan;
 pub mod text;
-pub mod vm;
+pub(crate) mod vm;
 
 pub use expr::Lang;
-pub use text::Text;
-pub use vm::{Context, Host, Outcome};
+pub use text::{Text, TextLine};
+pub(crate) use vm::{Context, Host, Outcome};
 
 use crate::gcode::Line;
 
@@ -122,7 +122,7 @@ impl Syntax {
 /// Compiles a program's text (held from some line on) for `syntax`. Never fails: a line that
 /// cannot run becomes an instruction that raises its error when the run reaches it, as the
 /// control raises it.
-pub fn compile(text: Text, syntax: &Syntax, bare: &'static [u8]) -> code::Code {
+pub(crate) fn compile(text: Text, syntax: &Syntax, bare: &'static [u8]) -> code::Code {
     match syntax.lang {
         Lang::Ngc => ngc::compile(text, bare),
         Lang::MacroB => fanuc::compile(text, syntax, bare),
@@ -131,7 +131,7 @@ pub fn compile(text: Text, syntax: &Syntax, bare: &'static [u8]) -> code::Code {
 
 /// Runs a compiled program from line number `from` (the first line of control flow; the lines
 /// before it have run already).
-pub fn run<H: Host>(
+pub(crate) fn run<H: Host>(
     code: &code::Code,
     syntax: &Syntax,
     limits: Limits,

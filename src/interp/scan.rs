@@ -67,10 +67,6 @@ impl<'t> Squeezed<'t> {
         self.chars.len()
     }
 
-    pub fn is_empty(&self) -> bool {
-        self.chars.is_empty()
-    }
-
     /// The character at `i`, or 0 past the end.
     #[inline]
     pub fn at(&self, i: usize) -> u8 {
