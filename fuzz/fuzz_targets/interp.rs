@@ -32,7 +32,10 @@ fuzz_target!(|data: &[u8]| {
         };
         if program::expand_jsonl_with(data, &mut out, &machine, &options).is_ok() {
             for line in String::from_utf8_lossy(&out).lines() {
-                assert!(!line.contains("NaN") && !line.contains("inf"), "{name}: {line}");
+                assert!(
+                    !line.contains("NaN") && !line.contains("inf"),
+                    "{name}: {line}"
+                );
             }
         }
     }
