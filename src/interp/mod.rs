@@ -98,7 +98,7 @@ impl Syntax {
 
     /// (Whole codes compare exactly as doubles: no rounding on the way, which the fast path would
     /// pay for on every M and G line.)
-    #[inline(never)]
+    #[inline(always)]
     fn control_words(&self, line: &Line) -> Control {
         let mut end = false;
         for w in line.words {
