@@ -596,6 +596,19 @@ pub fn each_gcode<R: BufRead>(
     input: R,
     machine: &Machine,
     crest: Option<Crest>,
+    each: impl FnMut(Thread) -> Result<(), Error>,
+) -> Result<Summary, Error> {
+    each_gcode_with(input, machine, crest, &program::Options::default(), each)
+}
+
+/// [`each_gcode`] with the run's options: a program with control flow gives the threads of its
+/// execution (a cycle run three times is three threads; passes written as moves inside a loop are
+/// read as the loop runs them).
+pub fn each_gcode_with<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    crest: Option<Crest>,
+    options: &program::Options,
     mut each: impl FnMut(Thread) -> Result<(), Error>,
 ) -> Result<Summary, Error> {
     let controller = crate::dialect::open(machine).map_err(Error::Setup)?.name();
@@ -611,7 +624,7 @@ pub fn each_gcode<R: BufRead>(
         Ok(())
     };
     let mut warnings = Vec::new();
-    let mut summary = program::run(input, machine, |modal, ev| {
+    let mut summary = program::run_with(input, machine, options, |modal, ev| {
         let mut push = |f| queue.push(f);
         match ev {
             Event::Plain { line, mv } => {

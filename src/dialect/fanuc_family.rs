@@ -720,7 +720,8 @@ impl FanucFamily {
 
     /// A count of least input increments, written without a decimal point, in mm.
     fn increments(&self, modal: &Modal, w: &Word, name: &str, what: &str) -> Result<f64> {
-        if w.has_dot || w.value.fract() != 0.0 {
+        // A computed value (`Q#1`) is the count itself; it must be a whole number.
+        if (w.has_dot && !w.is_computed()) || w.value.fract() != 0.0 {
             return Err(Diagnostic::error(
                 Code::Syntax,
                 w.span,

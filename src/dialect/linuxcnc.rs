@@ -474,6 +474,18 @@ impl Dialect for LinuxCnc {
         Ok(Read::Cycle(Box::new(job)))
     }
 
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        // o-word subroutines and control flow, parameters, expressions (o-code.adoc). Calls nest
+        // ten levels, the main program counted (INTERP_SUB_ROUTINE_LEVELS).
+        Some(crate::interp::Syntax {
+            lang: crate::interp::Lang::Ngc,
+            max_call_depth: 10,
+            max_macro_depth: 0,
+            g65_operations: false,
+            m98_l_word: false,
+        })
+    }
+
     fn format(&self) -> Format {
         Format {
             lead_decimals: [6, 7],

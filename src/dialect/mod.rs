@@ -122,6 +122,12 @@ pub trait Dialect {
     fn cycle_taper(&self) -> Option<CycleTaper> {
         self.taper_word().map(CycleTaper::Word)
     }
+    /// The macro language this controller's programs are written in, if any: which front end of
+    /// [`crate::interp`] runs a program that has control flow (subprograms, loops, parameters,
+    /// expressions). `None` (the default): every line is a plain block.
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        None
+    }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
     /// [`format`](Dialect::format).
@@ -465,6 +471,9 @@ impl PackedP {
 
 /// Reads a `P(m)(r)(a)` word of `block`'s first block; `example` is the hint's worked example.
 pub(crate) fn packed_p(line: &Line, p: &Word, block: &str, example: &str) -> Result<PackedP> {
+    if p.is_computed() {
+        return computed_packed_p(p, block, example);
+    }
     let raw = p.raw(line.text);
     let digits = raw.strip_prefix(b"+").unwrap_or(raw);
     if p.has_dot || digits.first() == Some(&b'-') || digits.len() > 6 {
@@ -495,6 +504,30 @@ pub(crate) fn packed_p(line: &Line, p: &Word, block: &str, example: &str) -> Res
     Ok(PackedP {
         fields: [v / 10_000, (v / 100) % 100, v % 100],
         spans: [span(0), span(1), span(2)],
+    })
+}
+
+/// A `P(m)(r)(a)` word whose value the macro interpreter computed (`P#1`): the fields are read from
+/// the value, a whole number from 0 to 999999 (as the written digits would be, leading zeros
+/// left out); the spans are the whole word's.
+fn computed_packed_p(p: &Word, block: &str, example: &str) -> Result<PackedP> {
+    if !(0.0..1_000_000.0).contains(&p.value) || p.value.fract() != 0.0 {
+        return Err(Diagnostic::error(
+            crate::diag::Code::Syntax,
+            p.span,
+            format!(
+                "P is {}, not P(m)(r)(a): the first {block} block packs three two-digit fields",
+                p.value
+            ),
+        )
+        .with_hint(format!(
+            "the value must be a whole number of up to six digits: {example}"
+        )));
+    }
+    let v = p.value as u32;
+    Ok(PackedP {
+        fields: [v / 10_000, (v / 100) % 100, v % 100],
+        spans: [p.span; 3],
     })
 }
 

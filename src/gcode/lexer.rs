@@ -40,15 +40,49 @@ impl Word {
         self.raw_len() == 0
     }
 
+    /// A word whose value the macro interpreter ([`crate::interp`]) computed from what follows the
+    /// letter (a parameter, an expression): `span` covers the letter and what follows it, which
+    /// [`raw`](Word::raw) gives back as written (`[#1*2]`, for messages). Its value is a value, not
+    /// a count of least increments: it reads as written with a decimal point (the Fanuc macro rule,
+    /// docs/dialects/fanuc.md). A dialect that decodes a word's digits (a packed `P`) reads a
+    /// computed word from its value ([`is_computed`](Word::is_computed)).
+    pub fn computed(letter: u8, value: f64, span: Span) -> Word {
+        Word {
+            letter,
+            value,
+            has_dot: true,
+            raw_skip: COMPUTED,
+            span,
+        }
+    }
+
+    /// A word the macro interpreter read as a plain number in a line the lexer does not take
+    /// (`X10` beside `Z#1`): as [`lex_line`] would give it, the number's lexeme starting `skip`
+    /// bytes after the letter.
+    pub fn literal(letter: u8, value: f64, has_dot: bool, span: Span, skip: u32) -> Word {
+        Word {
+            letter,
+            value,
+            has_dot,
+            raw_skip: skip & !COMPUTED,
+            span,
+        }
+    }
+
+    /// Whether the value was computed by the macro interpreter ([`computed`](Word::computed)).
+    pub fn is_computed(&self) -> bool {
+        self.raw_skip & COMPUTED != 0
+    }
+
     /// Byte offset of the number's lexeme within the line (after the letter and any blanks).
     pub fn raw_start(&self) -> usize {
         // The span's column is the letter's offset plus one.
-        self.span.column as usize + self.raw_skip as usize
+        self.span.column as usize + (self.raw_skip & !COMPUTED) as usize
     }
 
     /// Length of the number's lexeme in bytes.
     pub fn raw_len(&self) -> usize {
-        (self.span.len as usize).saturating_sub(1 + self.raw_skip as usize)
+        (self.span.len as usize).saturating_sub(1 + (self.raw_skip & !COMPUTED) as usize)
     }
 
     /// The number exactly as written, e.g. `020545` for `P020545`.
@@ -70,6 +104,9 @@ impl Word {
         }
     }
 }
+
+/// The top bit of a word's `raw_skip`: the word was computed by the macro interpreter.
+const COMPUTED: u32 = 1 << 31;
 
 /// Which words a line has, in brief: gathered by the lexer on its way through the line, so that
 /// a caller can tell that a line has no `G78` (or no `E` word) without looking at its words.
@@ -143,6 +180,13 @@ impl WordSummary {
             i += 1;
         }
         mask
+    }
+
+    /// Whether some word begins with `M` or `O`, or some `G` word is other than G0–G3: the lines
+    /// a macro interpreter looks at more closely (`M98`, `M99`, `M30`, `G65`), one test for all.
+    #[inline(always)]
+    pub fn may_be_control(&self) -> bool {
+        self.bits & (1 << (b'M' & 31) | 1 << (b'O' & 31) | OTHER_G) != 0
     }
 
     /// Whether the line may have a `G` word with this code (×10, as

@@ -132,6 +132,10 @@ pub struct Reader<R> {
     offset: u64,
     done: bool,
     syntax: Syntax,
+    /// The input consumed so far, kept for the macro interpreter while it is at most
+    /// `keep_limit` bytes (see [`keep_prefix`](Self::keep_prefix)); `None` once it grew past it.
+    keep: Option<Vec<u8>>,
+    keep_limit: usize,
 }
 
 impl<R: BufRead> Reader<R> {
@@ -150,7 +154,98 @@ impl<R: BufRead> Reader<R> {
             offset: 0,
             done: false,
             syntax: Syntax::default(),
+            keep: None,
+            keep_limit: 0,
         }
+    }
+
+    /// Keeps the input consumed from here on (from the start, when called first), up to `limit`
+    /// bytes: a program that turns out to have control flow may jump back into it. The copy is
+    /// made once per read of more input, not per line; past the limit nothing more is kept.
+    pub(crate) fn keep_prefix(&mut self, limit: usize) {
+        self.keep = Some(Vec::new());
+        self.keep_limit = limit;
+    }
+
+    /// The program from the line at `from` (an offset of the line just handed out, still in the
+    /// buffer) to the end of the input, read whole, with the input kept before it when all of it
+    /// was ([`keep_prefix`](Self::keep_prefix)): the bytes and the offset of their first byte.
+    /// `Ok(None)` when the part from `from` on is longer than `cap` bytes.
+    pub(crate) fn take_rest(
+        &mut self,
+        from: u64,
+        cap: usize,
+    ) -> std::io::Result<Option<(Vec<u8>, u64)>> {
+        let back = (self.offset - from) as usize;
+        let at = self.start - back;
+        let (mut bytes, base) = match self.keep.take() {
+            Some(mut kept) if kept.len() + at <= self.keep_limit => {
+                kept.extend_from_slice(&self.buf[..at]);
+                (kept, 0)
+            }
+            _ => (Vec::new(), from),
+        };
+        let rest_from = bytes.len();
+        bytes.extend_from_slice(&self.buf[at..self.end]);
+        self.start = self.end;
+        while !self.eof {
+            if bytes.len() - rest_from > cap {
+                return Ok(None);
+            }
+            let len = bytes.len();
+            bytes.resize(len + CHUNK, 0);
+            let read = loop {
+                match self.source.read(&mut bytes[len..]) {
+                    Ok(n) => break n,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                    Err(e) => return Err(e),
+                }
+            };
+            bytes.truncate(len + read);
+            self.eof = read == 0;
+        }
+        self.done = true;
+        if bytes.len() - rest_from > cap {
+            return Ok(None);
+        }
+        Ok(Some((bytes, base)))
+    }
+
+    /// Hands the rest of the input, unread, to `f` in pieces (the lines after a program's end,
+    /// which no one runs); returns how many line ends it held.
+    pub(crate) fn pass_rest<E: From<std::io::Error>>(
+        &mut self,
+        mut f: impl FnMut(&[u8]) -> Result<(), E>,
+    ) -> Result<usize, E> {
+        let mut lines = 0;
+        loop {
+            let piece = &self.buf[self.start..self.end];
+            lines += memchr::memchr_iter(b'\n', piece).count();
+            if !piece.is_empty() {
+                f(piece)?;
+            }
+            self.start = self.end;
+            if self.eof {
+                break;
+            }
+            self.start = 0;
+            self.end = 0;
+            self.complete = 0;
+            if self.buf.len() < CHUNK {
+                self.buf.resize(CHUNK, 0);
+            }
+            let read = loop {
+                match self.source.read(&mut self.buf[..]) {
+                    Ok(n) => break n,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                    Err(e) => return Err(e.into()),
+                }
+            };
+            self.end = read;
+            self.eof = read == 0;
+        }
+        self.done = true;
+        Ok(lines)
     }
 
     /// Reads every line as a controller writes it: its [`Syntax`], which a dialect states in its
@@ -391,6 +486,13 @@ impl<R: BufRead> Reader<R> {
     /// Moves the unconsumed input to the front of the buffer and reads more after it.
     fn refill(&mut self) -> std::io::Result<()> {
         if self.start > 0 {
+            if let Some(kept) = &mut self.keep {
+                if kept.len() + self.start <= self.keep_limit {
+                    kept.extend_from_slice(&self.buf[..self.start]);
+                } else {
+                    self.keep = None;
+                }
+            }
             self.buf.copy_within(self.start..self.end, 0);
             self.end -= self.start;
             self.complete = self.complete.saturating_sub(self.start);

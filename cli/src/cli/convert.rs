@@ -94,6 +94,7 @@ pub fn convert(
     out: &mut dyn Write,
     from: &Machine,
     to: &Machine,
+    options: &program::Options,
 ) -> Result<Summary, Error> {
     let target = dialect::open(to).map_err(Error::Setup)?;
     let tformat = target.format();
@@ -129,80 +130,222 @@ pub fn convert(
     if tf == Family::LinuxCnc && !same {
         header.push(format!("G90 {}", if to.diameter_x { "G7" } else { "G8" }));
     }
-    let mut header = Some(header);
-    // Where the target's thread move writes its lead with F (Fanuc, GSK), F is also the feed rate:
-    // after thread moves whose F differs from the source's F register, the next other block gets
-    // the source's F back, so a later G1 does not feed at the lead.
-    let mut pending_f: Option<String> = None;
-    program::run(input, from, |modal, ev| {
+    let mut converter = Converter {
+        out,
+        to,
+        same,
+        ff,
+        tf,
+        tformat,
+        tname,
+        flatten: options.flatten,
+        header: Some(header),
+        pending_f: None,
+        unrun: Vec::new(),
+    };
+    let summary = program::run_output(input, from, options, &mut converter)?;
+    converter.after_end()?;
+    Ok(summary)
+}
+
+/// `convert`'s side of a run.
+struct Converter<'o> {
+    out: &'o mut dyn Write,
+    to: &'o Machine,
+    same: bool,
+    ff: Family,
+    tf: Family,
+    tformat: Format,
+    tname: &'static str,
+    flatten: bool,
+    header: Option<Vec<String>>,
+    /// Where the target's thread move writes its lead with F (Fanuc, GSK), F is also the feed
+    /// rate: after thread moves whose F differs from the source's F register, the next other
+    /// block gets the source's F back, so a later G1 does not feed at the lead.
+    pending_f: Option<String>,
+    /// The lines after the program's end (not run).
+    unrun: Vec<u8>,
+}
+
+impl Converter<'_> {
+    fn header(&mut self, line: &Line) -> Result<(), Error> {
+        if !line.shape.percent {
+            if let Some(h) = self.header.take() {
+                for l in h {
+                    writeln!(self.out, "{l}")?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The lines after the program's end: the same controller's copied; for another
+    /// controller, blank lines, comments and `%` are copied, a line with words is an error (with
+    /// `--flatten`, which writes what runs, it is left out).
+    fn after_end(&mut self) -> Result<(), Error> {
+        if self.same {
+            self.out.write_all(&self.unrun)?;
+            return Ok(());
+        }
+        for raw in self.unrun.split_inclusive(|&b| b == b'\n') {
+            let text: Vec<u8> = strip_comments(raw);
+            let t = text.trim_ascii();
+            if t.is_empty() || t == b"%" {
+                self.out.write_all(raw)?;
+            } else if !self.flatten {
+                return Err(Error::Input(
+                    Diagnostic::error(
+                        Code::Unsupported,
+                        threadcut::diag::Span::new(0, 0, 0, 0),
+                        format!(
+                            "`{}` follows the program's end (M2/M30): it is not run, and threadcut does not rewrite it for {}",
+                            String::from_utf8_lossy(raw.trim_ascii()),
+                            self.tname
+                        ),
+                    )
+                    .with_hint("--flatten writes only what the program runs"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn plain(&mut self, modal: &Modal, line: &Line, mv: Option<PlainMove>) -> Result<(), Error> {
+        if line.words.is_empty() {
+            self.out.write_all(line.raw)?;
+            return Ok(());
+        }
+        let threading = mv.is_some_and(|m| m.mode == MotionMode::Thread);
+        if !threading {
+            if let Some(f) = self.pending_f.take() {
+                if line.word(b'F').is_none() {
+                    writeln!(self.out, "{f}")?;
+                }
+            }
+        }
+        let (text, lead) = block(line, mv, modal, self.ff, self.tf, &self.tformat, self.tname)?;
+        writeln!(self.out, "{text}")?;
+        if let Some(lead) = lead {
+            self.pending_f = restore_f(&self.tformat, modal, lead);
+        }
+        Ok(())
+    }
+
+    fn cycle(&mut self, modal: &Modal, job: &threadcut::thread::Job) -> Result<(), Error> {
+        if let Some(f) = self.pending_f.take() {
+            writeln!(self.out, "{f}")?;
+        }
+        let written = translate::write_job(self.out, self.to, job)?;
+        // The F register after the cycle: the native cycle's F, or the last plain thread move's.
+        let last = match written {
+            translate::Written::Native => Some(job.lead.lead),
+            translate::Written::Plain(_) => toolpath::build(job)?
+                .segments()
+                .filter_map(|(from, m)| match m.kind {
+                    MotionKind::Thread { lead, .. } => Some(if self.tformat.lead_along_path {
+                        path_lead(lead, m.to.minus(from))
+                    } else {
+                        lead
+                    }),
+                    _ => None,
+                })
+                .last(),
+        };
+        if let Some(lead) = last {
+            self.pending_f = restore_f(&self.tformat, modal, modal.units.from_mm(lead));
+        }
+        Ok(())
+    }
+}
+
+impl program::Output for Converter<'_> {
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
         let line = match &ev {
             Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
                 line
             }
         };
-        if !line.shape.percent {
-            if let Some(h) = header.take() {
-                for l in h {
-                    writeln!(out, "{l}")?;
-                }
-            }
-        }
+        self.header(line)?;
         match ev {
             // Same controller: every line, cycles included, is already right.
             Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. }
-                if same =>
+                if self.same =>
             {
-                out.write_all(line.raw)?;
+                self.out.write_all(line.raw)?;
                 Ok(())
             }
-            Event::Plain { line, mv } => {
-                if line.words.is_empty() {
-                    out.write_all(line.raw)?;
-                    return Ok(());
-                }
-                let threading = mv.is_some_and(|m| m.mode == MotionMode::Thread);
-                if !threading {
-                    if let Some(f) = pending_f.take() {
-                        if line.word(b'F').is_none() {
-                            writeln!(out, "{f}")?;
-                        }
-                    }
-                }
-                let (text, lead) = block(line, mv, modal, ff, tf, &tformat, tname)?;
-                writeln!(out, "{text}")?;
-                if let Some(lead) = lead {
-                    pending_f = restore_f(&tformat, modal, lead);
-                }
-                Ok(())
-            }
+            Event::Plain { line, mv } => self.plain(modal, line, mv),
             Event::Settings { .. } => Ok(()),
-            Event::Cycle { job, .. } => {
-                if let Some(f) = pending_f.take() {
-                    writeln!(out, "{f}")?;
-                }
-                let written = translate::write_job(out, to, &job)?;
-                // The F register after the cycle: the native cycle's F, or the last plain thread move's.
-                let last = match written {
-                    translate::Written::Native => Some(job.lead.lead),
-                    translate::Written::Plain(_) => toolpath::build(&job)?
-                        .segments()
-                        .filter_map(|(from, m)| match m.kind {
-                            MotionKind::Thread { lead, .. } => Some(if tformat.lead_along_path {
-                                path_lead(lead, m.to.minus(from))
-                            } else {
-                                lead
-                            }),
-                            _ => None,
-                        })
-                        .last(),
-                };
-                if let Some(lead) = last {
-                    pending_f = restore_f(&tformat, modal, modal.units.from_mm(lead));
-                }
-                Ok(())
-            }
+            Event::Cycle { job, .. } => self.cycle(modal, &job),
         }
-    })
+    }
+
+    fn unrun(&mut self, text: &[u8]) -> Result<(), Error> {
+        self.unrun.extend_from_slice(text);
+        Ok(())
+    }
+
+    fn interpreting(&mut self, line: u32) -> Result<(), Error> {
+        if self.same || self.flatten {
+            return Ok(());
+        }
+        Err(Error::Input(
+            Diagnostic::error(
+                Code::Unsupported,
+                threadcut::diag::Span::new(0, 0, line, 1),
+                format!(
+                    "the program has control flow from line {line} on (subroutines, loops or parameters), which threadcut does not rewrite for {}",
+                    self.tname
+                ),
+            )
+            .with_hint("--flatten writes the executed program as straight-line code for the target"),
+        ))
+    }
+
+    fn interpreted(&mut self, modal: &Modal, ev: Event, at: &program::Where) -> Result<(), Error> {
+        if !self.flatten {
+            // The same controller's program is copied as it is (interpreted_end).
+            return Ok(());
+        }
+        if self.same {
+            let line = match &ev {
+                Event::Plain { line, .. }
+                | Event::Settings { line }
+                | Event::Cycle { line, .. } => line,
+            };
+            self.header(line)?;
+            program::write_executed_block(self.out, line, at.verbatim, modal)?;
+            return Ok(());
+        }
+        self.event(modal, ev)
+    }
+
+    fn interpreted_end(
+        &mut self,
+        text: &threadcut::interp::Text,
+        from: usize,
+    ) -> Result<(), Error> {
+        if self.same && !self.flatten {
+            self.out.write_all(text.bytes_from(from))?;
+        }
+        Ok(())
+    }
+}
+
+/// A line's text without its comments.
+fn strip_comments(raw: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(raw.len());
+    let mut depth = false;
+    for &b in raw {
+        match b {
+            b'(' => depth = true,
+            b')' => depth = false,
+            b';' if !depth => break,
+            _ if !depth => out.push(b),
+            _ => {}
+        }
+    }
+    out
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -384,6 +527,10 @@ fn block(
     for w in line.words {
         // The number as written, without the blanks LinuxCNC allows inside it (`S 1 2 0 0`).
         let text = || {
+            if w.is_computed() {
+                // A value the program computed (`M#1`): the word as the run used it.
+                return format!("{}{}", w.letter as char, post::number(w.value, 6, false));
+            }
             let raw: Vec<u8> = w
                 .raw(line.text)
                 .iter()
