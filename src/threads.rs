@@ -125,13 +125,19 @@ impl Thread {
                 last_line,
                 ..
             } => format!(
-                "{} {} as one thread (lines {first_line}–{last_line})",
+                "{} {} as one thread ({})",
                 self.passes.len(),
                 match (from_cycles, self.passes.len()) {
                     (true, 1) => "single-pass cycle",
                     (true, _) => "single-pass cycles",
                     (false, 1) => "synchronised pass",
                     (false, _) => "synchronised passes",
+                },
+                // A loop runs its passes from the same lines.
+                if first_line == last_line {
+                    format!("line {first_line}")
+                } else {
+                    format!("lines {first_line}–{last_line}")
                 }
             ),
         }

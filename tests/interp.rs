@@ -550,6 +550,88 @@ fn dialect_alarms_on_computed_words_point_at_the_written_word() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Haas (its macros: Fanuc's Macro B with M97, M99 P jumps and #10000–#10999)
+// ---------------------------------------------------------------------------------------------
+
+/// Haas's M97 P n L k calls the block N n of the same program k times and returns at M99 (the
+/// Haas DIY "M97 Local Sub-Program Call" page's form): three passes, 0.2 mm deeper each, after
+/// the first positioning.
+#[test]
+fn haas_m97_local_subprogram_repeats() {
+    let src = "G21 G99\nG0 X30. Z5.\n#10000=0\nM97 P1000 L3\nG0 X50. Z50.\nM30\nN1000 (ONE PASS)\n#10000=#10000+0.2\nG0 X[29.-#10000] Z5.\nG32 Z-20. F1.5\nG0 X30.\nZ5.\nM99\n";
+    let xs: Vec<f64> = moves(src, "haas")
+        .iter()
+        .filter(|m| m.kind == "thread")
+        .map(|m| m.x)
+        .collect();
+    assert_eq!(xs, [14.4, 14.3, 14.2]);
+    let last = moves(src, "haas").last().cloned().unwrap();
+    assert_eq!((last.x, last.z, last.line), (25.0, 50.0, 5));
+    // A missing block names its number; L0 calls nothing.
+    let e = error("G21\nG0 X30. Z5.\nM97 P2000\nM30\nN1000 M99\n", "haas");
+    assert!(e.message.contains("no block N2000"), "{}", e.message);
+    assert_eq!((e.span.line, e.span.column), (3, 5));
+    let src = "G21\nG0 X30. Z5.\nM97 P1000 L0\nG0 X31.\nM30\nN1000 G0 X1.\nM99\n";
+    let xs: Vec<f64> = moves(src, "haas").iter().map(|m| m.x).collect();
+    assert_eq!(xs, [15.0, 15.5]);
+    // Fanuc has no M97: it is a plain M code there, and N1000 after M30 never runs.
+    let xs: Vec<f64> = moves(src.replace("L0", "").as_str(), "fanuc")
+        .iter()
+        .map(|m| m.x)
+        .collect();
+    assert_eq!(xs, [15.0, 15.5]);
+}
+
+/// Haas's M99 P n jumps to N n of the program it is in and does not return ("It does not return
+/// control to the calling subprogram"); `[condition] M99 P n` jumps when the condition holds.
+/// On Fanuc, M99 P n in a subprogram returns to the caller's N n.
+#[test]
+fn haas_m99_p_jumps_where_fanuc_returns() {
+    let src = "G21\nG0 X40. Z10.\nM98 P1000\nG0 X1.\nN50 G0 X2.\nM30\nO1000\nG0 Z9.\nM99 P50\nN50 G0 X3.\nM99\n";
+    let fanuc: Vec<f64> = moves(src, "fanuc").iter().map(|m| m.x).collect();
+    assert_eq!(fanuc, [20.0, 20.0, 1.0]);
+    // Haas: N50 of O1000 (X3.), then its M99 returns after the call (X1., X2.).
+    let haas: Vec<f64> = moves(src, "haas").iter().map(|m| m.x).collect();
+    assert_eq!(haas, [20.0, 20.0, 1.5, 0.5, 1.0]);
+    // A counted loop in the main program with the conditional M99.
+    let src = "G21\nG0 X40. Z10.\n#10001=0\nN10 #10001=#10001+1\nG0 W-1.\n[#10001 LT 3] M99 P10\nG0 X50.\nM30\n";
+    let zs: Vec<f64> = moves(src, "haas").iter().map(|m| m.z).collect();
+    assert_eq!(zs, [10.0, 9.0, 8.0, 7.0, 7.0]);
+    // The same block is refused on Fanuc, which has no conditional M99.
+    assert!(matches!(
+        run_jsonl(src, "fanuc", &Options::default()),
+        Err(Error::Input(_))
+    ));
+}
+
+/// #10000–#10999 are Haas's general-purpose variables, kept apart from #100–#999; on Fanuc they
+/// are not variables threadcut keeps (alarm PS0115).
+#[test]
+fn haas_wide_common_variables() {
+    let src = "G21\nG0 X40. Z10.\n#10500=12.\n#500=3.\nG0 X#10500 Z#500\nM30\n";
+    let got: Vec<(f64, f64)> = moves(src, "haas").iter().map(|m| (m.x, m.z)).collect();
+    assert_eq!(got, [(20.0, 10.0), (6.0, 3.0)]);
+    let e = error(src, "fanuc");
+    assert!(
+        e.message.contains("#10500 is not a variable"),
+        "{}",
+        e.message
+    );
+}
+
+/// A Haas macro program (M97 local subprogram, #10000 variables) moves as its Fanuc twin (M98 to
+/// a program after M30, #100 variables).
+#[test]
+fn haas_programs_move_as_their_fanuc_twins() {
+    let haas = "G21 G99\nG97 S500 M03\nG0 X32. Z5.\n#10000=0\nM97 P100 L4\nG0 X60. Z60.\nM30\nN100\n#10000=#10000+0.25\nG0 X[30.-#10000]\nG32 Z-25. F2.\nG0 X32.\nZ5.\nM99\n";
+    let fanuc = "G21 G99\nG97 S500 M03\nG0 X32. Z5.\n#100=0\nM98 P100 L4\nG0 X60. Z60.\nM30\nO0100\n#100=#100+0.25\nG0 X[30.-#100]\nG32 Z-25. F2.\nG0 X32.\nZ5.\nM99\n";
+    let a = shape(&moves(haas, "haas"));
+    let b = shape(&moves(fanuc, "fanuc"));
+    assert_eq!(a.len(), 1 + 4 * 4 + 1);
+    assert_eq!(a, b);
+}
+
+// ---------------------------------------------------------------------------------------------
 // GSK 980TDi
 // ---------------------------------------------------------------------------------------------
 
@@ -813,11 +895,38 @@ fn fanuc_straight_line() -> impl Strategy<Value = Vec<String>> {
     proptest::collection::vec(line, 1..14)
 }
 
+/// The Fanuc lines as another member of the family writes them: its own thread move, single-pass
+/// cycle and multiple threading cycle (`fanuc15` and `haas`: the one-block G76; `fanuc-b`: G33,
+/// G78 and the two-block G76).
+fn family_lines(lines: &[String], controller: &str) -> Vec<String> {
+    let one_block = "G0 X32. Z5.\nG76 X27.546 Z-30. K1.227 D0.4 F2. A60 P1";
+    lines
+        .iter()
+        .map(|l| {
+            let mut l = l.clone();
+            if l.contains("G76 P020060") {
+                let z = l
+                    .split_once('\n')
+                    .map_or("G0 X32. Z5.", |(a, _)| a)
+                    .to_string();
+                l = match controller {
+                    "fanuc15" | "haas" => one_block.replacen("G0 X32. Z5.", &z, 1),
+                    _ => l,
+                };
+            }
+            if controller == "fanuc-b" {
+                l = l.replace("G32 ", "G33 ").replace("G92 ", "G78 ");
+            }
+            l
+        })
+        .collect()
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(48))]
 
     /// A straight-line program the interpreter runs (a macro statement that changes nothing put
-    /// in at any line) moves exactly as the streamed program.
+    /// in at any line) moves exactly as the streamed program, on every control with macros.
     #[test]
     fn interpreted_straight_line_moves_as_streamed(
         lines in linuxcnc_straight_line(),
@@ -825,10 +934,16 @@ proptest! {
         fanuc_lines in fanuc_straight_line(),
         fanuc_at in 0usize..14,
     ) {
+        let fanuc15_lines = family_lines(&fanuc_lines, "fanuc15");
+        let fanuc_b_lines = family_lines(&fanuc_lines, "fanuc-b");
+        let haas_lines = family_lines(&fanuc_lines, "haas");
         for (controller, head, lines, at, noop) in [
             ("linuxcnc", "G18 G21 S500 M3\nG0 X30 Z5\n", &lines, at, "#<_unused> = [1 + 1]"),
             ("fanuc", "G21 G99\nG0 X30. Z5.\n", &fanuc_lines, fanuc_at, "#100=1"),
             ("gsk980", "G0 X30 Z5\n", &fanuc_lines, fanuc_at, "#100=1"),
+            ("fanuc15", "G21 G99\nG0 X30. Z5.\n", &fanuc15_lines, fanuc_at, "#100=1"),
+            ("fanuc-b", "G21 G95\nG0 X30. Z5.\n", &fanuc_b_lines, fanuc_at, "#100=1"),
+            ("haas", "G21 G99\nG0 X30. Z5.\n", &haas_lines, fanuc_at, "#10000=1"),
         ] {
             let body = lines.join("\n");
             let plain = format!("{head}{body}\n");
@@ -865,7 +980,7 @@ proptest! {
             "%\nO0001\nG21 G99\nG0 X{x0:.3} Z5.\n#5=0\nWHILE[#5LT{reps}]DO1\n#1=1\nWHILE[#1LE{passes}]DO2\nG65 P100 A[{x0:.3}-#1*{step:.4}]\n#1=#1+1\nEND2\n#5=#5+1\nEND1\nM30\n%\nO100\nG0 X#1\nG32 Z-{length:.3} F{lead:.4}\nG0 X{x1:.3}\nZ5.\nM99\n%\n",
             x1 = x0 + 4.0,
         );
-        for (controller, src) in [("linuxcnc", &linuxcnc), ("fanuc", &fanuc)] {
+        for (controller, src) in [("linuxcnc", &linuxcnc), ("fanuc", &fanuc), ("haas", &fanuc), ("fanuc15", &fanuc)] {
             let original = moves(src, controller);
             prop_assert_eq!(original.iter().filter(|m| m.kind == "thread").count(), passes * reps as usize);
             let flat = expand(src, controller, true).unwrap();
@@ -958,6 +1073,10 @@ const FRAGMENTS: &[&str] = &[
     "O100",
     "G92 X29.2 Z-30. F2.",
     "G0 X[1/#0]",
+    "M97 P20 L2",
+    "[#100 LT 3] M99 P20",
+    "M99 P20",
+    "#10000=#10000+1",
     "[",
     "#",
     "(comment)",
@@ -977,11 +1096,35 @@ proptest! {
             src.push('\n');
         }
         let options = Options { max_blocks: 5_000, flatten: false };
-        for controller in ["linuxcnc", "fanuc", "gsk980"] {
+        for controller in ["linuxcnc", "fanuc", "gsk980", "haas"] {
             let t = std::time::Instant::now();
             let _ = run_jsonl(&src, controller, &options);
             let _ = expand(&src, controller, true);
             prop_assert!(t.elapsed().as_secs() < 10, "{}: {:?}\n{}", controller, t.elapsed(), src);
         }
     }
+}
+
+/// A Fanuc `GOTO` may jump back into the plain lines before the first macro statement while that
+/// beginning is at most `interp::PREFIX_KEPT` bytes (the reader keeps it in place); past it the
+/// jump is the control's "sequence number not found" with a hint saying why.
+#[test]
+fn a_jump_back_reaches_the_kept_beginning_only() {
+    let program = |filler: usize| {
+        let mut s = String::from("G21\nN10 G0 X30. Z5.\n");
+        for _ in 0..filler {
+            s.push_str("G1 X30.000 Z5.000 F0.2\n");
+        }
+        s.push_str("#100=#100+1\nIF[#100LT2]GOTO10\nM30\n");
+        s
+    };
+    // 1,000 lines (about 23 KB): N10 runs twice.
+    let ms = moves(&program(1_000), "fanuc");
+    assert_eq!(ms.iter().filter(|m| m.line == 2).count(), 2);
+    // 50,000 lines (1.15 MB, more than 1 MiB): the beginning is no longer held.
+    let e = error(&program(50_000), "fanuc");
+    assert!(e.message.contains("there is no block N10"), "{}", e.message);
+    let hint = e.hint.unwrap_or_default();
+    assert!(hint.contains("no longer held"), "{hint}");
+    assert_eq!(threadcut::interp::PREFIX_KEPT, 1 << 20);
 }

@@ -597,3 +597,39 @@ fn the_blank_is_compared_at_the_programs_resolution() {
         "{out}"
     );
 }
+
+/// `check` runs a program with control flow as the control does: G32 passes written once in a
+/// subprogram that a loop calls four times are one thread of four passes, judged at the G32's
+/// line; `Options::max_blocks` bounds the run (an endless loop is the error, the run stopped).
+#[test]
+fn check_runs_programs_with_control_flow() {
+    let src = "G21 G99\nG97 S500 M03\nG0 X32. Z5.\n#100=0\nM98 P100 L4\nG0 X60. Z60.\nM30\nO0100\n#100=#100+0.25\nG0 X[30.-#100]\nG32 Z-25. F2.\nG0 X32.\nZ5.\nM99\n";
+    let args = ["-c", "fanuc", "--thread", "M30x2-6g", "--stock-start", "0"];
+    let (code, out) = check_cli("macro-passes", src, &args);
+    assert_eq!(code, 2, "{out}");
+    // Four passes of 0.125 mm from Ø29.75 to Ø29: 0.5 deep from the crest Ø30.
+    assert!(
+        out.contains(
+            "error[E016]: minor diameter 29 > 27.508 max for M30x2-6g: the passes reach 0.5 deep"
+        ),
+        "{out}"
+    );
+    assert!(out.contains("check-macro-passes.nc:11:1"), "{out}");
+    assert!(out.contains("1 error, 1 warning in 1 thread"), "{out}");
+    let m = Machine::built_in("fanuc").unwrap();
+    let endless = "G21\nG0 X30. Z5.\n#1=0\nWHILE[#1GE0]DO1\n#1=#1+1\nEND1\nM30\n";
+    let opts = Options {
+        max_blocks: 1000,
+        ..Options::default()
+    };
+    let r = check::check(endless.as_bytes(), check::Source::Gcode(&m), &opts).unwrap();
+    assert!(r.stopped);
+    let d = r.diagnostics.iter().find(|d| d.is_error()).unwrap();
+    assert!(
+        d.message
+            .contains("the loop of lines 4 to 6 ran past 1000 executed blocks"),
+        "{}",
+        d.message
+    );
+    assert_eq!(d.span.line, 4);
+}

@@ -1,5 +1,5 @@
 //! The macro interpreter of every dialect that has one (LinuxCNC o-words and parameters, Fanuc and
-//! GSK Macro B), through `expand` (the program's text and `--flatten`) and the motion stream, on
+//! GSK Macro B, Haas and the Fanuc G-code systems and FS15 format), through `expand` (the program's text and `--flatten`) and the motion stream, on
 //! arbitrary bytes: an error or an output, never a panic, a hang or a stack overflow (a small
 //! block limit keeps each run short). A flattened program is read back: it must run too.
 #![no_main]
@@ -9,7 +9,7 @@ use threadcut::machine::Machine;
 use threadcut::program::{self, Options};
 
 fuzz_target!(|data: &[u8]| {
-    for name in ["linuxcnc", "fanuc", "gsk980"] {
+    for name in ["linuxcnc", "fanuc", "gsk980", "haas", "fanuc15", "fanuc-b"] {
         let machine = Machine::built_in(name).unwrap();
         for flatten in [false, true] {
             let options = Options {

@@ -146,13 +146,7 @@ impl Dialect for Fanuc {
         // Custom Macro B: subprograms (M98) nest four levels deep, and macro calls (G65) four
         // levels apart from them (Fanuc 16i/18i operator's manual, custom macro "call nesting";
         // alarm 077); M98 takes its count in L or packed in P (docs/dialects/fanuc.md).
-        Some(crate::interp::Syntax {
-            lang: crate::interp::Lang::MacroB,
-            max_call_depth: 4,
-            max_macro_depth: 4,
-            g65_operations: false,
-            m98_l_word: true,
-        })
+        Some(crate::interp::Syntax::MACRO_B)
     }
 
     fn format(&self) -> Format {

@@ -664,11 +664,10 @@ impl Dialect for Gsk {
         // GSK 980TDi: G65 is its macro operation `G65 Hm P#i Q#j R#k`, M98 packs the count in P
         // (`M98 P00031000`), subprograms nest four levels (docs/dialects/gsk-g78.md).
         Some(crate::interp::Syntax {
-            lang: crate::interp::Lang::MacroB,
-            max_call_depth: 4,
             max_macro_depth: 0,
             g65_operations: true,
             m98_l_word: false,
+            ..crate::interp::Syntax::MACRO_B
         })
     }
 

@@ -246,6 +246,22 @@ impl Dialect for Haas {
         }
     }
 
+    /// Haas's macros (an option of the control, read here whenever a program uses them): Fanuc's
+    /// Custom Macro B (`#` variables, `WHILE … DOm … ENDm`, `IF … GOTO`, `IF … THEN`, `GOTO`, `G65`
+    /// with Fanuc's argument letters) with Haas's own subprogram words: `M97 P n L k` calls the
+    /// block N n of the same program, `M99 P n` jumps to N n of the program it is in (it does
+    /// not return; `[condition] M99 P n` when the condition holds), and `#10000`–`#10999` are
+    /// general-purpose variables besides `#100`–`#199` and `#500`–`#999`. Nesting: Fanuc's four
+    /// levels of M97/M98 and four of G65 (docs/dialects/haas.md, "Macros").
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        Some(crate::interp::Syntax {
+            m97_local_calls: true,
+            m99_p_jumps: true,
+            wide_commons: true,
+            ..crate::interp::Syntax::MACRO_B
+        })
+    }
+
     fn format(&self) -> Format {
         Format {
             start_angle: Some(fanuc_family::START_ANGLE_Q),

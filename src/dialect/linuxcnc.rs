@@ -483,6 +483,9 @@ impl Dialect for LinuxCnc {
             max_macro_depth: 0,
             g65_operations: false,
             m98_l_word: false,
+            m97_local_calls: false,
+            m99_p_jumps: false,
+            wide_commons: false,
         })
     }
 

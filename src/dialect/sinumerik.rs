@@ -621,7 +621,7 @@ impl Sinumerik {
                     span,
                     format!("{n}: threadcut reads a program from top to bottom and does not follow program flow"),
                 )
-                .with_hint("unroll the program (or run it in the control's simulation) before expanding it"))
+                .with_hint("threadcut runs the macro languages of LinuxCNC and the Fanuc family, not Sinumerik's: unroll the program (or run it in the control's simulation) before expanding it"))
             }
             n if FRAMES.contains(&n) => return Err(frame_refused(n, span)),
             n => {

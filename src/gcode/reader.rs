@@ -132,9 +132,9 @@ pub struct Reader<R> {
     offset: u64,
     done: bool,
     syntax: Syntax,
-    /// The input consumed so far, kept for the macro interpreter while it is at most
-    /// `keep_limit` bytes (see [`keep_prefix`](Self::keep_prefix)); `None` once it grew past it.
-    keep: Option<Vec<u8>>,
+    /// The input consumed so far is still in the buffer, from its first byte (`buf[0]` is the
+    /// input's first byte), for the macro interpreter: see [`keep_prefix`](Self::keep_prefix).
+    keeping: bool,
     keep_limit: usize,
 }
 
@@ -154,16 +154,24 @@ impl<R: BufRead> Reader<R> {
             offset: 0,
             done: false,
             syntax: Syntax::default(),
-            keep: None,
+            keeping: false,
             keep_limit: 0,
         }
     }
 
-    /// Keeps the input consumed from here on (from the start, when called first), up to `limit`
-    /// bytes: a program that turns out to have control flow may jump back into it. The copy is
-    /// made once per read of more input, not per line; past the limit nothing more is kept.
+    /// Keeps the input from its start while at most `limit` bytes of it have been consumed: a
+    /// program that turns out to have control flow may jump back into it. Nothing is copied for
+    /// it: the buffer is made `limit` and a read larger at once (zeroed pages the system hands
+    /// out as they are touched), and the consumed input stays where it was read until the buffer
+    /// is full or more than `limit` bytes were consumed; from then on the buffer is used as
+    /// always.
+    /// Called before the first line is read (otherwise nothing is kept).
     pub(crate) fn keep_prefix(&mut self, limit: usize) {
-        self.keep = Some(Vec::new());
+        if self.offset > 0 || self.end > 0 {
+            return;
+        }
+        self.buf = vec![0; limit + CHUNK];
+        self.keeping = true;
         self.keep_limit = limit;
     }
 
@@ -178,31 +186,22 @@ impl<R: BufRead> Reader<R> {
     ) -> std::io::Result<Option<(Vec<u8>, u64)>> {
         let back = (self.offset - from) as usize;
         let at = self.start - back;
-        let (mut bytes, base) = match self.keep.take() {
-            Some(mut kept) if kept.len() + at <= self.keep_limit => {
-                kept.extend_from_slice(&self.buf[..at]);
-                (kept, 0)
-            }
-            _ => (Vec::new(), from),
-        };
-        let rest_from = bytes.len();
-        bytes.extend_from_slice(&self.buf[at..self.end]);
+        // Where the kept beginning still starts the buffer, the text starts at the input's start.
+        let kept = self.keeping && at <= self.keep_limit;
+        let first = if kept { 0 } else { at };
+        let base = if kept { 0 } else { from };
+        self.keeping = false;
+        let mut bytes = Vec::with_capacity(self.end - first + CHUNK);
+        let rest_from = at - first;
+        bytes.extend_from_slice(&self.buf[first..self.end]);
         self.start = self.end;
-        while !self.eof {
-            if bytes.len() - rest_from > cap {
-                return Ok(None);
-            }
-            let len = bytes.len();
-            bytes.resize(len + CHUNK, 0);
-            let read = loop {
-                match self.source.read(&mut bytes[len..]) {
-                    Ok(n) => break n,
-                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
-                    Err(e) => return Err(e),
-                }
-            };
-            bytes.truncate(len + read);
-            self.eof = read == 0;
+        if !self.eof {
+            // The rest, up to one byte past the cap (to tell a longer program), as it comes:
+            // `read_to_end` grows the vector as needed, whatever the size of each read.
+            let room = (cap + 1).saturating_sub(bytes.len() - rest_from) as u64;
+            let mut rest = std::io::Read::take(&mut self.source, room);
+            std::io::Read::read_to_end(&mut rest, &mut bytes)?;
+            self.eof = true;
         }
         self.done = true;
         if bytes.len() - rest_from > cap {
@@ -485,14 +484,12 @@ impl<R: BufRead> Reader<R> {
 
     /// Moves the unconsumed input to the front of the buffer and reads more after it.
     fn refill(&mut self) -> std::io::Result<()> {
-        if self.start > 0 {
-            if let Some(kept) = &mut self.keep {
-                if kept.len() + self.start <= self.keep_limit {
-                    kept.extend_from_slice(&self.buf[..self.start]);
-                } else {
-                    self.keep = None;
-                }
-            }
+        // The kept beginning stays in place while the buffer has room after it; a read that
+        // would need more is the end of keeping it.
+        let keep_in_place =
+            self.keeping && self.start <= self.keep_limit && self.end < self.buf.len();
+        if self.start > 0 && !keep_in_place {
+            self.keeping = false;
             self.buf.copy_within(self.start..self.end, 0);
             self.end -= self.start;
             self.complete = self.complete.saturating_sub(self.start);
@@ -503,8 +500,11 @@ impl<R: BufRead> Reader<R> {
             let len = (self.buf.len() * 2).clamp(CHUNK, MAX_LINE_BYTES + 2 + CHUNK);
             self.buf.resize(len, 0);
         }
+        // At most a chunk a read, also into the larger buffer of a kept beginning: a caller that
+        // counts what was read (a progress bar) sees the input come in steps.
+        let stop = (self.end + CHUNK).min(self.buf.len());
         let read = loop {
-            match self.source.read(&mut self.buf[self.end..]) {
+            match self.source.read(&mut self.buf[self.end..stop]) {
                 Ok(n) => break n,
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
                 Err(e) => return Err(e),
@@ -925,5 +925,63 @@ mod tests {
         assert_eq!(g_code(0.0), Some(0));
         assert_eq!(g_code(1.25), None);
         assert_eq!(g_code(-1.0), None);
+    }
+
+    /// The beginning a reader keeps for a jump back: while at most `limit` bytes were consumed
+    /// the rest handed to the interpreter starts at the input's first byte; past the limit it
+    /// starts at the line handed over. Reads stay a chunk at most (a progress bar sees them).
+    #[test]
+    fn a_kept_beginning_stays_in_place_up_to_its_limit() {
+        let line = b"G1 X1.234 Z-5.678 F0.2\n"; // 23 bytes
+        let src: Vec<u8> = line.repeat(20_000); // 460,000 bytes: several chunks
+        for step in [7, 4096, CHUNK, 3 * CHUNK] {
+            for (limit, want_base) in [(300_000usize, 0u64), (100_000, 1)] {
+                let mut r = Reader::new(Trickle { data: &src, step });
+                r.keep_prefix(limit);
+                // The line at offset 200,008 (line 8,697): within the first limit, past the second.
+                let mut offset = 0;
+                while let Some(l) = r.next_line() {
+                    let l = l.unwrap();
+                    if l.number == 8_697 {
+                        offset = l.offset;
+                        break;
+                    }
+                }
+                assert_eq!(offset, 8_696 * 23);
+                let (bytes, base) = r.take_rest(offset, 1 << 20).unwrap().unwrap();
+                let base_want = if want_base == 0 { 0 } else { offset };
+                assert_eq!(base, base_want, "step {step} limit {limit}");
+                assert_eq!(
+                    &bytes[..],
+                    &src[base as usize..],
+                    "step {step} limit {limit}"
+                );
+            }
+        }
+        // Reads into the kept beginning's buffer take a chunk at most.
+        struct Counting<'a>(&'a [u8], usize);
+        impl std::io::Read for Counting<'_> {
+            fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+                self.1 = self.1.max(out.len());
+                let n = out.len().min(self.0.len());
+                out[..n].copy_from_slice(&self.0[..n]);
+                self.0 = &self.0[n..];
+                Ok(n)
+            }
+        }
+        impl BufRead for Counting<'_> {
+            fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+                Ok(self.0)
+            }
+            fn consume(&mut self, n: usize) {
+                self.0 = &self.0[n..];
+            }
+        }
+        let mut source = Counting(&src, 0);
+        let mut r = Reader::new(&mut source);
+        r.keep_prefix(1 << 20);
+        while r.next_line().is_some() {}
+        drop(r);
+        assert!(source.1 <= CHUNK, "{}", source.1);
     }
 }

@@ -134,6 +134,8 @@ pub enum CallTarget {
     Number(Expr),
     /// A Fanuc program number (P), and for M98's packed form whether the count is packed in it.
     Program { number: Expr, packed: bool },
+    /// A sequence number in Fanuc-style program `program` (Haas's local subprogram, `M97 P…`).
+    Label { label: Expr, program: u32 },
 }
 
 #[derive(Clone, Debug)]

@@ -1,4 +1,5 @@
-//! The Fanuc Custom Macro B front end (Fanuc, and GSK with its own `G65 H` operations): variables
+//! The Fanuc Custom Macro B front end (Fanuc, GSK with its own `G65 H` operations, Haas with M97,
+//! its M99 P jumps and #10000 variables): variables
 //! `#1=…`, `IF […] GOTO n`, `IF […] THEN …`, `WHILE […] DOm … ENDm`, `GOTO n`, `M98`/`M99`
 //! subprograms and `G65` macro calls to programs held in the same file. Each choice is a row of
 //! docs/dialects/fanuc.md (GSK's of docs/dialects/gsk-g78.md).
@@ -133,9 +134,10 @@ impl Compiler<'_> {
                 return (None, Statement::Header(o.value as u32, o.span));
             }
         }
+        let m97 = self.syntax.m97_local_calls;
         let control = words.iter().any(|w| {
             (w.letter == b'M'
-                && matches!(w.value as u32, 2 | 30 | 98 | 99)
+                && (matches!(w.value as u32, 2 | 30 | 98 | 99) || (m97 && w.value as u32 == 97))
                 && w.value.fract() == 0.0)
                 || (w.letter == b'G' && w.value == 65.0)
                 || w.letter == b'O'
@@ -180,6 +182,19 @@ impl Compiler<'_> {
         let statement = if s.at(k) == b'#' {
             let a = self.assignment(s, &mut k)?;
             Statement::Assign(a)
+        } else if s.at(k) == b'[' && self.syntax.m99_p_jumps {
+            // Haas's conditional M99: `[condition] M99 P n` jumps to N n when it holds.
+            let cond = Parser::new(s, &mut self.code.exprs, Lang::MacroB).bracketed(&mut k)?;
+            if !s.starts_with(k, b"M99P") {
+                return Err(s.error(
+                    k,
+                    k + 1,
+                    "[condition] is followed by M99 P n (a conditional jump) or begins an IF",
+                ));
+            }
+            k += 4;
+            let target = self.goto_target(s, &mut k)?;
+            Statement::IfGoto(cond, target)
         } else if s.starts_with(k, b"IF") && s.at(k + 2) == b'[' {
             k += 2;
             let cond = Parser::new(s, &mut self.code.exprs, Lang::MacroB).bracketed(&mut k)?;
@@ -520,8 +535,19 @@ impl Compiler<'_> {
             .with_hint("write O1000 on a line of its own"));
         }
         let m98 = find(&b, b'M', 98);
+        let m97 = find(&b, b'M', 97).filter(|_| self.syntax.m97_local_calls);
         let m99 = find(&b, b'M', 99);
         let end = find(&b, b'M', 2).or(find(&b, b'M', 30)).is_some();
+        if let Some(at) = m97 {
+            if m98.is_some() || m99.is_some() {
+                return Err(Diagnostic::error(
+                    DiagCode::Conflict,
+                    b.words[at].span,
+                    "M97 and another call or return in one block",
+                ));
+            }
+            return self.local_call(i, b, at, end);
+        }
         if m98.is_none() && m99.is_none() {
             self.emit_block(i, b);
             if end {
@@ -585,6 +611,16 @@ impl Compiler<'_> {
                 span: word_span,
             });
             self.code.emit(i, Inst::Call(c));
+        } else if let (Some(p), true) = (p.clone(), self.syntax.m99_p_jumps) {
+            // Haas: `M99 P n` jumps to N n in the program it is in, and returns nowhere.
+            let target = to_expr(self, p);
+            self.code.emit(
+                i,
+                Inst::Goto {
+                    target,
+                    program: self.program,
+                },
+            );
         } else {
             let to_label = p.map(|p| to_expr(self, p));
             self.code.emit(
@@ -595,6 +631,63 @@ impl Compiler<'_> {
                 },
             );
         }
+        if end {
+            self.code.emit(i, Inst::End);
+        }
+        Ok(())
+    }
+
+    /// Haas's `M97 P n L k`: calls the block N n of the program it is in as a subprogram, k
+    /// times (the same local variables, as M98; it returns at M99). The block's other words run
+    /// first.
+    fn local_call(
+        &mut self,
+        i: usize,
+        mut b: Block,
+        at: usize,
+        end: bool,
+    ) -> Result<(), Diagnostic> {
+        let word_span = b.words[at].span;
+        b.words.remove(at);
+        let take = |b: &mut Block, letter: u8| {
+            b.words
+                .iter()
+                .position(|w| w.letter == letter)
+                .map(|k| b.words.remove(k))
+        };
+        let p = take(&mut b, b'P');
+        let l = take(&mut b, b'L');
+        let to_expr = |c: &mut Self, w: BlockWord| match w.value {
+            WordValue::Expr(e) => e,
+            WordValue::Lit { value, .. } => c.code.exprs.number(value, w.span),
+        };
+        if !b.words.is_empty() {
+            self.emit_block(i, b);
+        }
+        let Some(p) = p else {
+            return Err(Diagnostic::error(
+                DiagCode::MissingWord,
+                word_span,
+                "M97 needs P, the sequence number of the local subprogram to call",
+            )
+            .with_hint("M97 P1000 calls the block N1000 of the same program; it returns at M99"));
+        };
+        let label = to_expr(self, p);
+        let count = l.map(|l| to_expr(self, l));
+        let c = self.code.calls.len() as u32;
+        self.code.calls.push(Call {
+            kind: CallKind::M98,
+            target: CallTarget::Label {
+                label,
+                program: self.program,
+            },
+            args: Vec::new(),
+            arg_letters: Vec::new(),
+            arg_no_point: Vec::new(),
+            count,
+            span: word_span,
+        });
+        self.code.emit(i, Inst::Call(c));
         if end {
             self.code.emit(i, Inst::End);
         }

@@ -41,6 +41,31 @@ pub struct Syntax {
     pub g65_operations: bool,
     /// `M98` takes the call count in L (Fanuc); without, only packed in P (`P00031000`, GSK).
     pub m98_l_word: bool,
+    /// `M97 P… L…` calls the block with that sequence number in the same program as a
+    /// subprogram (Haas's local subprogram call).
+    pub m97_local_calls: bool,
+    /// `M99 P…` jumps to that sequence number in the program it is in, without returning, and
+    /// `[condition] M99 P…` jumps when the condition holds (Haas); otherwise `M99 P…` returns to
+    /// the caller's block of that number (Fanuc).
+    pub m99_p_jumps: bool,
+    /// `#10000`–`#10999` are common variables too (Haas's NGC numbering of its general-purpose
+    /// variables), besides `#100`–`#199` and `#500`–`#999`.
+    pub wide_commons: bool,
+}
+
+impl Syntax {
+    /// Fanuc's Custom Macro B with Fanuc's nesting (four levels of M98, four of G65), G65 a
+    /// call, M98's count in L: the base the Fanuc-style controls state their differences from.
+    pub const MACRO_B: Syntax = Syntax {
+        lang: Lang::MacroB,
+        max_call_depth: 4,
+        max_macro_depth: 4,
+        g65_operations: false,
+        m98_l_word: true,
+        m97_local_calls: false,
+        m99_p_jumps: false,
+        wide_commons: false,
+    };
 }
 
 /// What a run may take.
@@ -104,14 +129,30 @@ impl Syntax {
         for w in line.words {
             let v = w.value;
             match w.letter {
-                b'M' if v == 98.0 || v == 99.0 => return Control::Interpret,
-                b'M' if v == 2.0 || v == 30.0 => end = true,
+                b'M' => match self.m_code(v) {
+                    Control::Interpret => return Control::Interpret,
+                    Control::End => end = true,
+                    Control::No => {}
+                },
                 b'G' if v == 65.0 && self.lang == Lang::MacroB => return Control::Interpret,
                 b'O' if self.lang == Lang::Ngc => return Control::Interpret,
                 _ => {}
             }
         }
         if end {
+            Control::End
+        } else {
+            Control::No
+        }
+    }
+
+    /// What an M code is to the interpreter: a call or a return (M98, M99, and M97 where the
+    /// control has local subprograms), the program's end (M2, M30), or nothing.
+    #[inline(always)]
+    fn m_code(&self, v: f64) -> Control {
+        if v == 98.0 || v == 99.0 || (v == 97.0 && self.m97_local_calls) {
+            Control::Interpret
+        } else if v == 2.0 || v == 30.0 {
             Control::End
         } else {
             Control::No

@@ -88,8 +88,10 @@ struct State {
     globals: HashMap<u32, f64>,
     /// Fanuc local variables, one set per macro level (#1–#33; index 0 unused).
     locals: Vec<[Option<f64>; 34]>,
-    /// Fanuc common variables #100–#199 and #500–#999 (indexed by number − 100).
+    /// Fanuc common variables #100–#199 and #500–#999 (indexed by number − 100), and where the
+    /// control has them ([`Syntax::wide_commons`]) #10000–#10999 after them (number − 9100).
     commons: Vec<Option<f64>>,
+    wide_commons: bool,
     /// The value a LinuxCNC subroutine returned, if it returned one.
     value: Option<f64>,
     line_number: u32,
@@ -124,6 +126,9 @@ impl Vars for View<'_> {
                 0 => Ok(None),
                 1..=33 => Ok(self.state.locals.last().and_then(|l| l[n as usize])),
                 100..=199 | 500..=999 => Ok(self.state.commons[n as usize - 100]),
+                10_000..=10_999 if self.state.wide_commons => {
+                    Ok(self.state.commons[n as usize - 10_000 + 900])
+                }
                 // Position of the block's end point, X as the program writes it (#5001, #5041
                 // and the other axes' numbers: X is axis 1 and Z axis 2 on a two-axis lathe).
                 5001 | 5041 => Ok(Some(program_x(self.modal, span)?)),
@@ -277,11 +282,12 @@ impl<'c> Vm<'c> {
                 },
                 globals: HashMap::new(),
                 locals: vec![[None; 34]],
-                commons: if lang == Lang::MacroB {
-                    vec![None; 900]
-                } else {
-                    Vec::new()
+                commons: match lang {
+                    Lang::MacroB if syntax.wide_commons => vec![None; 1900],
+                    Lang::MacroB => vec![None; 900],
+                    Lang::Ngc => Vec::new(),
                 },
+                wide_commons: syntax.wide_commons,
                 value: None,
                 line_number: 0,
             },
@@ -636,6 +642,9 @@ impl<'c> Vm<'c> {
                     }
                 }
                 100..=199 | 500..=999 => self.state.commons[n as usize - 100] = v,
+                10_000..=10_999 if self.state.wide_commons => {
+                    self.state.commons[n as usize - 10_000 + 900] = v
+                }
                 3000 => {
                     let n = v.unwrap_or(0.0);
                     return Err(Diagnostic::error(
@@ -739,7 +748,7 @@ impl<'c> Vm<'c> {
                 let n = whole(Lang::Ngc, v, self.code.exprs.span(*e))?;
                 self.code.exprs.find(&n.to_string())
             }
-            CallTarget::Program { .. } => None,
+            CallTarget::Program { .. } | CallTarget::Label { .. } => None,
         };
         let entry = name.and_then(|id| self.code.subs.get(&id).copied());
         let Some(entry) = entry else {
@@ -796,12 +805,18 @@ impl<'c> Vm<'c> {
         call: &Call,
         host: &H,
     ) -> Result<Next, Diagnostic> {
-        let CallTarget::Program { number, packed } = &call.target else {
-            return Err(Diagnostic::error(
-                DiagCode::Syntax,
-                call.span,
-                "a call without a program number",
-            ));
+        let (number, packed) = match &call.target {
+            CallTarget::Program { number, packed } => (number, packed),
+            CallTarget::Label { label, program } => {
+                return self.call_label(pc, call, *label, *program, host)
+            }
+            CallTarget::Name(_) | CallTarget::Number(_) => {
+                return Err(Diagnostic::error(
+                    DiagCode::Syntax,
+                    call.span,
+                    "a call without a program number",
+                ))
+            }
         };
         let p_span = self.code.exprs.span(*number);
         let p = self.eval(*number, host)?.unwrap_or(-1.0);
@@ -812,20 +827,7 @@ impl<'c> Vm<'c> {
                 format!("P{p} is not a program number (alarm PS0076)"),
             ));
         }
-        let mut count = match call.count {
-            Some(l) => {
-                let v = self.eval(l, host)?.unwrap_or(1.0);
-                if v < 0.0 || v.fract() != 0.0 || v > 9999.0 {
-                    return Err(Diagnostic::error(
-                        DiagCode::OutOfRange,
-                        self.code.exprs.span(l),
-                        format!("L{v}: the number of calls must be a whole number from 0 to 9999"),
-                    ));
-                }
-                v as u64
-            }
-            None => 1,
-        };
+        let mut count = self.call_count(call, host)?;
         let mut program = p as u64;
         // The packed form P(count)(program): the last four digits are the program number.
         if *packed && program > 9999 {
@@ -911,6 +913,68 @@ impl<'c> Vm<'c> {
         self.frames.push(frame);
         self.callers.push(self.line(pc).number);
         Ok(Next::Go(entry))
+    }
+
+    /// Haas's `M97 P n L k`: the block N n of program `program`, called as a subprogram (its
+    /// level counts with M98's; the same local variables).
+    fn call_label<H: Host>(
+        &mut self,
+        pc: u32,
+        call: &Call,
+        label: Expr,
+        program: u32,
+        host: &H,
+    ) -> Result<Next, Diagnostic> {
+        let span = self.code.exprs.span(label);
+        let n = self.eval(label, host)?;
+        let Some(n) = n.filter(|v| *v >= 0.0 && v.fract() == 0.0 && *v <= 99_999.0) else {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                span,
+                "M97's P is a sequence number, a whole number from 1 to 99999",
+            ));
+        };
+        let count = self.call_count(call, host)?;
+        if count == 0 {
+            return Ok(Next::Go(pc + 1));
+        }
+        let entry = self.find_label(pc, n as u32, program, span)?;
+        let depth = self
+            .frames
+            .iter()
+            .filter(|f| f.kind == CallKind::M98)
+            .count() as u32;
+        if depth >= self.syntax.max_call_depth {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                call.span,
+                format!(
+                    "subprogram calls (M97, M98) nest at most {} levels deep",
+                    self.syntax.max_call_depth
+                ),
+            ));
+        }
+        let mut frame = Frame::new(CallKind::M98, pc, entry, self.code.repeat_slots);
+        frame.remaining = count - 1;
+        self.frames.push(frame);
+        self.callers.push(self.line(pc).number);
+        Ok(Next::Go(entry))
+    }
+
+    /// A call's count (L; 1 without): a whole number from 0 to 9999.
+    fn call_count<H: Host>(&mut self, call: &Call, host: &H) -> Result<u64, Diagnostic> {
+        let Some(l) = call.count else {
+            return Ok(1);
+        };
+        let v = self.eval(l, host)?.unwrap_or(1.0);
+        if v < 0.0 || v.fract() != 0.0 || v > 9999.0 {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                self.code.exprs.span(l),
+                format!("L{v}: the number of calls must be a whole number from 0 to 9999"),
+            ));
+        }
+        Ok(v as u64)
     }
 
     fn ret<H: Host>(
