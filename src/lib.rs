@@ -29,6 +29,7 @@ pub mod diag;
 pub mod dialect;
 pub mod eol;
 pub mod gcode;
+pub mod interp;
 pub mod machine;
 pub mod mill;
 pub mod post;

@@ -293,6 +293,32 @@ pub struct LinuxCncSettings {
     pub spindles: u8,
 }
 
+/// One point of the machine in program coordinates, axis by axis: an axis left out is not known.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisPoint {
+    /// X as the program writes it at power-on: a diameter where `diameter_x` is true.
+    #[serde(default)]
+    pub x: Option<f64>,
+    #[serde(default)]
+    pub z: Option<f64>,
+}
+
+/// Where the reference returns leave the tool, in the program's coordinates at power-on (the
+/// profile's `units`, X as `diameter_x` says). A program's coordinates depend on its work offset:
+/// state these only for a machine whose programs run in one known coordinate system. Without
+/// them, an axis that returns to a reference point is not known afterwards.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ReferencePoints {
+    /// The first reference point (`G28`, and LinuxCNC's `G28` stored position).
+    #[serde(default)]
+    pub g28: AxisPoint,
+    /// The second reference point (`G30`; on Fanuc `G30 P2`, its default).
+    #[serde(default)]
+    pub g30: AxisPoint,
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Machine {
@@ -320,6 +346,9 @@ pub struct Machine {
     pub linuxcnc: Option<LinuxCncSettings>,
     #[serde(default)]
     pub haas: Option<HaasSettings>,
+    /// Where reference returns leave the tool (absent: nowhere the program can know).
+    #[serde(default)]
+    pub reference: Option<ReferencePoints>,
 }
 
 impl Machine {
@@ -349,6 +378,11 @@ impl Machine {
     /// The least input increment in `units`.
     pub fn resolution(&self, units: Units) -> f64 {
         10f64.powi(-(self.decimals(units) as i32))
+    }
+
+    /// The program's resolution in `units`, with X written as `diameter_x` says.
+    pub fn program_resolution(&self, units: Units, diameter_x: bool) -> crate::units::Resolution {
+        crate::units::Resolution::new(self.resolution(units), units, diameter_x)
     }
 
     /// What a number written without a decimal point is worth, in program units.
@@ -418,6 +452,21 @@ mod tests {
         assert_eq!(m.decimals(Units::Inch), 4);
         m.increment_system = IncrementSystem::Isc;
         assert_eq!(m.resolution(Units::Mm), 1e-4);
+    }
+
+    #[test]
+    fn reference_points_are_optional_axis_by_axis() {
+        let text = format!(
+            "{}\n[reference]\ng28 = {{ x = 250.0, z = 120.5 }}\ng30 = {{ z = 80.0 }}\n",
+            BUILT_IN[0].1
+        );
+        let m = Machine::from_toml(&text).unwrap();
+        let r = m.reference.unwrap();
+        assert_eq!((r.g28.x, r.g28.z), (Some(250.0), Some(120.5)));
+        assert_eq!((r.g30.x, r.g30.z), (None, Some(80.0)));
+        assert!(Machine::from_toml(&text.replace("g30", "g31")).is_err());
+        assert!(Machine::from_toml(&text.replace("z = 80.0", "y = 80.0")).is_err());
+        assert_eq!(Machine::built_in("fanuc").unwrap().reference, None);
     }
 
     #[test]

@@ -9,6 +9,7 @@ use crate::diag::Diagnostic;
 use crate::dialect::{self, Read};
 use crate::eol::{self, LineEnding};
 use crate::gcode::{Conventions, Line, Modal, MotionMode, PlainMove, Reader};
+use crate::interp::{Control, Lang};
 use crate::machine::Machine;
 use crate::post::{self, json_num};
 use crate::thread::{Job, Pass, PassKind};
@@ -51,12 +52,40 @@ pub enum Event<'a, 'l> {
     },
 }
 
+mod interpreted;
+
+pub use interpreted::{write_executed_block, Output, Where};
+
 /// What a run found besides its output.
 #[derive(Debug, Default)]
 pub struct Summary {
     pub lines: u32,
     pub cycles: u32,
     pub warnings: Vec<Diagnostic>,
+    /// The line from which the macro interpreter ran the program (its first line of control
+    /// flow), if it had any.
+    pub interpreted_from: Option<u32>,
+    /// Blocks and statements the interpreter executed.
+    pub executed: u64,
+}
+
+/// How a program is run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Options {
+    /// The interpreter stops a program after this many executed blocks (`--max-blocks`).
+    pub max_blocks: u64,
+    /// `expand`: write the executed program as straight-line code (loops unrolled, calls inlined,
+    /// expressions evaluated) instead of the program's own text (`--flatten`).
+    pub flatten: bool,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            max_blocks: crate::interp::Limits::default().max_blocks,
+            flatten: false,
+        }
+    }
 }
 
 /// Runs `input` through the machine's dialect, handing every line to `sink` with the modal state
@@ -66,7 +95,30 @@ pub fn run<R: BufRead>(
     machine: &Machine,
     sink: impl FnMut(&Modal, Event) -> Result<(), Error>,
 ) -> Result<Summary, Error> {
-    drive(input, machine, EverySink(sink))
+    run_with(input, machine, &Options::default(), sink)
+}
+
+/// [`run`] with options. A program with control flow is run by the interpreter: `sink` sees every
+/// executed block, in the order the control executes them (a cycle run three times comes three
+/// times), each with its source line.
+pub fn run_with<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    options: &Options,
+    sink: impl FnMut(&Modal, Event) -> Result<(), Error>,
+) -> Result<Summary, Error> {
+    drive(input, machine, options, EverySink(sink))
+}
+
+/// [`run_with`] for a caller that needs more than the events ([`Output`]): the text of a program
+/// the interpreter runs, and the lines after a program's end.
+pub fn run_output<R: BufRead, O: Output>(
+    input: R,
+    machine: &Machine,
+    options: &Options,
+    output: &mut O,
+) -> Result<Summary, Error> {
+    drive(input, machine, options, interpreted::OutputSink(output))
 }
 
 /// Where [`drive`] hands the lines.
@@ -78,6 +130,28 @@ trait Sink {
     fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error>;
     /// The bytes of consecutive plain lines, in order; every plain line exactly once.
     fn pass(&mut self, bytes: &[u8]) -> Result<(), Error>;
+    /// The rest of the input after the program's end (M2, M30), which is not run.
+    fn unrun(&mut self, _bytes: &[u8]) -> Result<(), Error> {
+        Ok(())
+    }
+    /// The interpreter runs the program from line `line` on.
+    fn interpreting(&mut self, _line: u32) -> Result<(), Error> {
+        Ok(())
+    }
+    /// A block the interpreter executed.
+    fn interpreted(
+        &mut self,
+        modal: &Modal,
+        ev: Event,
+        _ctx: &interpreted::Where,
+    ) -> Result<(), Error> {
+        self.event(modal, ev)
+    }
+    /// The interpreter ran to the end: the program's text, from the line it took over
+    /// (`text.line(from)`) on.
+    fn interpreted_end(&mut self, _text: &crate::interp::Text, _from: usize) -> Result<(), Error> {
+        Ok(())
+    }
 }
 
 /// Every line to one closure ([`run`]).
@@ -99,12 +173,18 @@ impl<F: FnMut(&Modal, Event) -> Result<(), Error>> Sink for EverySink<F> {
 /// on before anything else is written, before the reader may read more input (which drops them
 /// from its buffer) and before an error returns (so that the output up to the error is what it
 /// would be line by line).
-fn drive<R: BufRead, S: Sink>(input: R, machine: &Machine, sink: S) -> Result<Summary, Error> {
+fn drive<R: BufRead, S: Sink>(
+    input: R,
+    machine: &Machine,
+    options: &Options,
+    sink: S,
+) -> Result<Summary, Error> {
     dialect::open_with(
         machine,
         Drive {
             input,
             machine,
+            options,
             sink,
         },
     )
@@ -115,46 +195,56 @@ fn drive<R: BufRead, S: Sink>(input: R, machine: &Machine, sink: S) -> Result<Su
 struct Drive<'m, R, S> {
     input: R,
     machine: &'m Machine,
+    options: &'m Options,
     sink: S,
 }
 
 impl<R: BufRead, S: Sink> dialect::WithDialect for Drive<'_, R, S> {
     type Output = Result<Summary, Error>;
     fn run<D: dialect::Dialect + 'static>(self, dialect: D) -> Result<Summary, Error> {
-        drive_with(self.input, self.machine, self.sink, dialect)
+        drive_with(self.input, self.machine, self.options, self.sink, dialect)
     }
 }
 
 /// [`drive`] with the dialect's own type.
+///
+/// A program with control flow is found out where its first line of control flow comes (a line
+/// the lexer refuses that is the dialect's macro syntax, a call, a return): the rest of the
+/// program goes to the interpreter from that line on, with the modal state as it stands there
+/// (docs/architecture.md, "The interpreter"). A program's end (M2, M30) ends the run; the lines
+/// after it are not run.
 fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     input: R,
     machine: &Machine,
+    options: &Options,
     mut sink: S,
     mut dialect: D,
 ) -> Result<Summary, Error> {
     let conv = dialect.conventions().clone();
-    let mut modal = Modal::new(
-        &conv,
-        machine.units,
-        [
-            machine.no_point_scale(Units::Mm),
-            machine.no_point_scale(Units::Inch),
-        ],
-    );
+    let mut modal = Modal::for_machine(&conv, machine);
     // A G code the controller does not have is its alarm.
     modal.vocabulary = Some(dialect.vocabulary());
-    let mut reader = Reader::new(input)
-        .with_bare_letters(dialect.bare_letters())
-        .with_syntax(dialect.syntax());
+    let mut reader = Reader::new(input).with_syntax(conv.syntax);
+    let macros = dialect.macros();
+    if macros.is_some_and(|m| m.lang == Lang::MacroB) {
+        // A Fanuc-style GOTO may jump back to a plain line before the first macro statement.
+        reader.keep_prefix(crate::interp::PREFIX_KEPT);
+    }
     let mut summary = Summary::default();
     let mut pending = 0usize;
     loop {
         // Most lines are plain lines that the reader's fast path lexes and that are none of the
         // dialect's business (its prefilter says so without `read`, which would return
         // `Read::Plain` and leave everything as it is): this loop takes them as long as they come.
-        // Nothing else happens in it, so that the line stays in registers.
+        // Nothing else happens in it, so that the line stays in registers. (A dialect with
+        // macros also sends the lines that may be calls or a program's end the general way: one
+        // test of the word summary.)
         while let Some(line) = reader.next_plain_line() {
-            if dialect.prefilter(&line) {
+            if dialect.prefilter(&line)
+                || macros
+                    .as_ref()
+                    .is_some_and(|m| m.control(&line) != Control::No)
+            {
                 // Read again below, the general way.
                 let len = line.raw.len();
                 reader.put_back(len);
@@ -173,16 +263,67 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
         let line = match reader.next_line_by_reference() {
             Some(Ok(line)) => line,
             Some(Err(e)) => {
+                // The line in error has been consumed; the run ends before it, or the
+                // interpreter takes over from it.
+                let consumed = (reader.offset() - offset) as usize;
                 if S::BATCH && pending > 0 {
-                    // The line in error may have been consumed; the run ends before it.
-                    let consumed = (reader.offset() - offset) as usize;
                     sink.pass(handed_out(&reader, pending, consumed)?)?;
+                }
+                if let Some(syntax) = macros {
+                    let text = reader.handed_out(consumed).unwrap_or_default();
+                    if syntax.looks_like_macro(text) {
+                        let switch = interpreted::Switch {
+                            offset,
+                            line: e.span.line,
+                            syntax,
+                        };
+                        return interpreted::switch(
+                            reader, switch, machine, options, dialect, modal, sink, summary,
+                        );
+                    }
                 }
                 return Err(e.into());
             }
             None => break,
         };
         summary.lines = line.number;
+        if let Some(syntax) = macros {
+            match syntax.control(&line) {
+                Control::No => {}
+                Control::Interpret => {
+                    flush_before(&mut sink, line.before, &mut pending)?;
+                    let switch = interpreted::Switch {
+                        offset: line.offset,
+                        line: line.number,
+                        syntax,
+                    };
+                    return interpreted::switch(
+                        reader, switch, machine, options, dialect, modal, sink, summary,
+                    );
+                }
+                Control::End => {
+                    if !dialect.prefilter(&line) {
+                        plain_line(&line, &mut modal, &conv, &mut sink, &mut pending)?;
+                    } else {
+                        dialect_line(
+                            line,
+                            &mut dialect,
+                            &mut modal,
+                            &conv,
+                            &mut sink,
+                            &mut summary,
+                            &mut pending,
+                        )?;
+                    }
+                    if S::BATCH && pending > 0 {
+                        sink.pass(handed_out(&reader, pending, 0)?)?;
+                    }
+                    let unrun = reader.pass_rest(|b| sink.unrun(b))?;
+                    summary.lines += unrun as u32;
+                    return Ok(summary);
+                }
+            }
+        }
         // Most lines are not the dialect's business: its prefilter says so without `read` (which
         // would return `Read::Plain` and leave everything as it is).
         if !dialect.prefilter(&line) {
@@ -260,7 +401,7 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
         Read::Cycle(job) => {
             summary.cycles += 1;
             // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
-            modal.position = Some(job.end_point());
+            modal.position = crate::gcode::Position::at(job.end_point());
             sink.event(
                 modal,
                 Event::Cycle {
@@ -326,9 +467,21 @@ pub fn jobs<R: BufRead>(input: R, machine: &Machine) -> Result<Vec<Job>, Error> 
 /// `threadcut expand`: the program with each cycle replaced by plain moves in the controller's own
 /// format. Other lines are copied byte for byte.
 pub fn expand_gcode<R: BufRead>(
+    input: R,
+    out: &mut dyn Write,
+    machine: &Machine,
+) -> Result<Summary, Error> {
+    expand_gcode_with(input, out, machine, &Options::default())
+}
+
+/// [`expand_gcode`] with options. A program with control flow keeps its text: each cycle block
+/// is replaced in place when every run of it expands to the same moves, and is an error
+/// otherwise; with [`Options::flatten`] the executed program is written as straight-line code.
+pub fn expand_gcode_with<R: BufRead>(
     mut input: R,
     out: &mut dyn Write,
     machine: &Machine,
+    options: &Options,
 ) -> Result<Summary, Error> {
     let d = dialect::open(machine).map_err(Error::Setup)?;
     // The lines an expansion writes end as the program's first line does (CRLF in, CRLF out);
@@ -336,14 +489,17 @@ pub fn expand_gcode<R: BufRead>(
     let ending = LineEnding::peek(&mut input)?;
     let format = d.format();
     let distance_words = d.conventions().g90_g91_distance;
+    let keeps_prefix = d.macros().is_some_and(|m| m.lang == Lang::MacroB);
     drive(
         input,
         machine,
+        options,
         ExpandSink {
             out,
             format,
             distance_words,
             ending,
+            interp: interpreted::ExpandState::new(options.flatten, keeps_prefix),
         },
     )
 }
@@ -354,25 +510,68 @@ struct ExpandSink<'o> {
     format: post::Format,
     distance_words: bool,
     ending: LineEnding,
+    /// What the interpreter's part of the run needs (and the expansions of the cycles before it
+    /// that a jump may run again).
+    interp: interpreted::ExpandState,
 }
 
 impl Sink for ExpandSink<'_> {
     const BATCH: bool = true;
     fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
-        match self.ending {
-            LineEnding::Lf => expand_event(self.out, &self.format, self.distance_words, modal, ev),
-            LineEnding::CrLf => expand_event(
-                &mut eol::Writer::new(&mut *self.out, LineEnding::CrLf),
-                &self.format,
-                self.distance_words,
-                modal,
-                ev,
-            ),
+        if self.interp.records_prefix() {
+            return interpreted::expand_recorded(self, modal, ev);
         }
+        expand_ending(
+            self.out,
+            &self.format,
+            self.distance_words,
+            self.ending,
+            modal,
+            ev,
+        )
     }
     #[inline(always)]
     fn pass(&mut self, bytes: &[u8]) -> Result<(), Error> {
         Ok(self.out.write_all(bytes)?)
+    }
+    fn unrun(&mut self, bytes: &[u8]) -> Result<(), Error> {
+        Ok(self.out.write_all(bytes)?)
+    }
+    fn interpreting(&mut self, line: u32) -> Result<(), Error> {
+        self.interp.start(line);
+        Ok(())
+    }
+    fn interpreted(
+        &mut self,
+        modal: &Modal,
+        ev: Event,
+        ctx: &interpreted::Where,
+    ) -> Result<(), Error> {
+        interpreted::expand_interpreted(self, modal, ev, ctx)
+    }
+    fn interpreted_end(&mut self, text: &crate::interp::Text, from: usize) -> Result<(), Error> {
+        interpreted::expand_end(self, text, from)
+    }
+}
+
+/// [`expand_event`] with the generated lines ending as the program's lines do.
+fn expand_ending(
+    out: &mut dyn Write,
+    format: &post::Format,
+    distance_words: bool,
+    ending: LineEnding,
+    modal: &Modal,
+    ev: Event,
+) -> Result<(), Error> {
+    match ending {
+        LineEnding::Lf => expand_event(out, format, distance_words, modal, ev),
+        LineEnding::CrLf => expand_event(
+            &mut eol::Writer::new(out, LineEnding::CrLf),
+            format,
+            distance_words,
+            modal,
+            ev,
+        ),
     }
 }
 
@@ -482,7 +681,17 @@ pub fn expand_jsonl<R: BufRead>(
     out: &mut dyn Write,
     machine: &Machine,
 ) -> Result<Summary, Error> {
-    run(input, machine, |modal, ev| {
+    expand_jsonl_with(input, out, machine, &Options::default())
+}
+
+/// [`expand_jsonl`] with options: a program with control flow lists the motion of its execution.
+pub fn expand_jsonl_with<R: BufRead>(
+    input: R,
+    out: &mut dyn Write,
+    machine: &Machine,
+    options: &Options,
+) -> Result<Summary, Error> {
+    run_with(input, machine, options, |modal, ev| {
         match ev {
             Event::Plain { line, mv: Some(mv) } => {
                 let units = modal.units;
@@ -492,7 +701,7 @@ pub fn expand_jsonl<R: BufRead>(
                     pass: 0,
                     line: line.number,
                 };
-                let text = match mv.mode {
+                let mut text = match mv.mode {
                     MotionMode::Rapid => post::motion_json(&m(MotionKind::Rapid), units),
                     MotionMode::Feed => post::motion_json(&m(MotionKind::Feed), units),
                     MotionMode::Thread => post::motion_json(
@@ -513,6 +722,23 @@ pub fn expand_jsonl<R: BufRead>(
                     ),
                     MotionMode::Cycle => return Ok(()),
                 };
+                // A move whose start is not known (the first positioning of a program, a move
+                // after a reference return) ends at a known point: it is reported, and says which
+                // axes of its start are unknown (docs/dialects/README.md, "Where the tool is").
+                let unknown = mv.from.unknown_axes();
+                if !unknown.is_empty() {
+                    text.pop();
+                    text.push_str(r#","start_unknown":["#);
+                    for (i, axis) in unknown.iter().enumerate() {
+                        if i > 0 {
+                            text.push(',');
+                        }
+                        text.push('"');
+                        text.push_str(&axis.to_ascii_lowercase());
+                        text.push('"');
+                    }
+                    text.push_str("]}");
+                }
                 writeln!(out, "{text}")?;
             }
             Event::Cycle { job, .. } => {
@@ -697,7 +923,7 @@ mod tests {
         "G0 X1.2.3",
         "G1 X2 U3",
         "G78 X16 Z-20 Q0.3 F2",
-        "G0 X#1",
+        "G0 X@1",
     ];
 
     proptest::proptest! {

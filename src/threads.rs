@@ -125,13 +125,19 @@ impl Thread {
                 last_line,
                 ..
             } => format!(
-                "{} {} as one thread (lines {first_line}–{last_line})",
+                "{} {} as one thread ({})",
                 self.passes.len(),
                 match (from_cycles, self.passes.len()) {
                     (true, 1) => "single-pass cycle",
                     (true, _) => "single-pass cycles",
                     (false, 1) => "synchronised pass",
                     (false, _) => "synchronised passes",
+                },
+                // A loop runs its passes from the same lines.
+                if first_line == last_line {
+                    format!("line {first_line}")
+                } else {
+                    format!("lines {first_line}–{last_line}")
                 }
             ),
         }
@@ -317,6 +323,33 @@ impl<C: Clone> Collector<C> {
                 self.close(out);
             }
         }
+    }
+
+    /// A plain block of a G-code program and its move, if any: a tool change or the program's end
+    /// ends the thread being read; a move whose start is not known on an axis it names (the first
+    /// positioning, a move after a reference return the profile does not place) comes from where
+    /// the program does not say, so it ends the thread being read too, and a synchronised one is
+    /// no pass: the warning returned says so.
+    pub fn plain(
+        &mut self,
+        line: &Line,
+        mv: Option<PlainMove>,
+        setting: Setting,
+        ctx: impl FnOnce() -> C,
+        out: &mut dyn FnMut(Found<C>),
+    ) -> Option<Diagnostic> {
+        if ends_thread(line) {
+            self.boundary(out);
+        }
+        let mv = mv?;
+        if mv.from.known().is_none() {
+            self.boundary(out);
+            return (mv.mode == MotionMode::Thread).then(|| thread_from_unknown(line, &mv));
+        }
+        if let Some(m) = plain_move(line, &mv) {
+            self.motion(m, setting, false, ctx, out);
+        }
+        None
     }
 
     /// A threading cycle: single-pass cycles (one pass, no depth: a G92) are read as passes, so
@@ -510,8 +543,11 @@ pub fn ends_thread(line: &Line) -> bool {
     })
 }
 
-/// A plain move as the thread reader takes it: arcs count as feeds.
+/// A plain move as the thread reader takes it: arcs count as feeds. `None` for a canned cycle's
+/// words, a thread move without a lead, and a move whose start is not known on an axis it names
+/// (see [`Collector::plain`]).
 pub fn plain_move(line: &Line, mv: &PlainMove) -> Option<Move> {
+    let from = mv.from.known()?;
     let kind = match mv.mode {
         MotionMode::Rapid => MotionKind::Rapid,
         MotionMode::Feed | MotionMode::ArcCw | MotionMode::ArcCcw => MotionKind::Feed,
@@ -523,19 +559,41 @@ pub fn plain_move(line: &Line, mv: &PlainMove) -> Option<Move> {
         },
         MotionMode::Cycle => return None,
     };
-    let span = line
-        .words
+    Some(Move {
+        kind,
+        from,
+        to: mv.to,
+        line: line.number,
+        span: move_span(line),
+    })
+}
+
+/// Where a move is written: its G word, else the block's first word.
+fn move_span(line: &Line) -> Span {
+    line.words
         .iter()
         .find(|w| w.letter == b'G')
         .or(line.words.first())
-        .map_or(line.span(), |w| w.span);
-    Some(Move {
-        kind,
-        from: mv.from,
-        to: mv.to,
-        line: line.number,
-        span,
-    })
+        .map_or(line.span(), |w| w.span)
+}
+
+/// The warning for a synchronised move whose start is not known on an axis it names (after a
+/// reference return the profile does not place, a move in machine coordinates, at power-on): it
+/// cuts from a point the program does not say, so threadcut cannot tell what it cuts.
+#[cold]
+fn thread_from_unknown(line: &Line, mv: &PlainMove) -> Diagnostic {
+    let axes = mv.from.unknown_axes();
+    Diagnostic::warning(
+        crate::diag::Code::Suspicious,
+        move_span(line),
+        format!(
+            "this synchronised move starts where the tool's {} {} not known: it is not read as a \
+             pass, and what it cuts is not checked",
+            axes.join(" and "),
+            if axes.len() == 1 { "is" } else { "are" }
+        ),
+    )
+    .with_hint("position the tool with G0 X.. Z.. before the thread move")
 }
 
 /// Every thread of a G-code program, in order, to `each` (depths from `crest` when given). A
@@ -544,6 +602,19 @@ pub fn each_gcode<R: BufRead>(
     input: R,
     machine: &Machine,
     crest: Option<Crest>,
+    each: impl FnMut(Thread) -> Result<(), Error>,
+) -> Result<Summary, Error> {
+    each_gcode_with(input, machine, crest, &program::Options::default(), each)
+}
+
+/// [`each_gcode`] with the run's options: a program with control flow gives the threads of its
+/// execution (a cycle run three times is three threads; passes written as moves inside a loop are
+/// read as the loop runs them).
+pub fn each_gcode_with<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    crest: Option<Crest>,
+    options: &program::Options,
     mut each: impl FnMut(Thread) -> Result<(), Error>,
 ) -> Result<Summary, Error> {
     let controller = crate::dialect::open(machine).map_err(Error::Setup)?.name();
@@ -558,20 +629,18 @@ pub fn each_gcode<R: BufRead>(
         }
         Ok(())
     };
-    let summary = program::run(input, machine, |modal, ev| {
+    let mut warnings = Vec::new();
+    let mut summary = program::run_with(input, machine, options, |modal, ev| {
         let mut push = |f| queue.push(f);
         match ev {
             Event::Plain { line, mv } => {
-                if ends_thread(line) {
-                    collector.boundary(&mut push);
-                }
-                if let Some(m) = mv.and_then(|mv| plain_move(line, &mv)) {
-                    let setting = Setting {
-                        units: modal.units,
-                        diameter_x: modal.diameter_x,
-                        controller,
-                    };
-                    collector.motion(m, setting, false, || (), &mut push);
+                let setting = Setting {
+                    units: modal.units,
+                    diameter_x: modal.diameter_x,
+                    controller,
+                };
+                if let Some(w) = collector.plain(line, mv, setting, || (), &mut push) {
+                    warnings.push(w);
                 }
             }
             Event::Settings { .. } => {}
@@ -581,6 +650,8 @@ pub fn each_gcode<R: BufRead>(
     })?;
     collector.finish(&mut |f| queue.push(f));
     drain(&mut queue)?;
+    summary.warnings.extend(warnings);
+    summary.warnings.sort_by_key(|d| d.span.line);
     Ok(summary)
 }
 

@@ -64,19 +64,11 @@ pub fn verify(
     let mut d = dialect::open(target)?;
     d.assume_ready();
     let conv = d.conventions().clone();
-    let mut modal = Modal::new(
-        &conv,
-        job.units,
-        [
-            target.no_point_scale(Units::Mm),
-            target.no_point_scale(Units::Inch),
-        ],
-    );
-    modal.position = Some(job.start);
+    let mut modal = Modal::for_machine(&conv, target);
+    modal.units = job.units;
+    modal.position = crate::gcode::Position::at(job.start);
     let text = lines.join("\n") + "\n";
-    let mut reader = Reader::new(text.as_bytes())
-        .with_bare_letters(d.bare_letters())
-        .with_syntax(d.syntax());
+    let mut reader = Reader::new(text.as_bytes()).with_syntax(conv.syntax);
     let mut warnings = Vec::new();
     let mut read_back = None;
     while let Some(line) = reader.next_line() {

@@ -304,8 +304,11 @@ fn inch_program_in_g20() {
         String::from_utf8(out).unwrap()
     };
     // JSON lines are in program units with X as a radius: the first thread move ends at Z0.2 − 1.2.
-    // The G20 G0 block comes from an unknown position, so it is no motion; the cycle's rapid is first.
-    let thread: serde_json::Value = serde_json::from_str(jsonl.lines().nth(1).unwrap()).unwrap();
+    // The G20 G0 block comes from an unknown position to a known one: it is reported, marked as
+    // such; the cycle's rapid follows.
+    let first: serde_json::Value = serde_json::from_str(jsonl.lines().next().unwrap()).unwrap();
+    assert_eq!(first["start_unknown"], serde_json::json!(["x", "z"]));
+    let thread: serde_json::Value = serde_json::from_str(jsonl.lines().nth(2).unwrap()).unwrap();
     assert_eq!(thread["kind"], "thread");
     close(thread["x"].as_f64().unwrap(), 0.49);
     close(thread["z"].as_f64().unwrap(), -1.0);
@@ -496,7 +499,7 @@ fn cycle_errors_that_a_careful_control_refuses() {
         Code::UnknownPosition,
         1,
         1,
-        "position is not known",
+        "the tool's X and Z are not known here",
     );
     assert_error(
         &format!("{c}G78 X27 P1 Q0.4 F2\n"),
@@ -762,7 +765,10 @@ proptest! {
             }
             Ok(())
         }).unwrap();
-        let cycle_moves = &moves[..moves.len() - 1];
+        // The first is the positioning block itself (from an unknown start), the last the block
+        // after the cycle.
+        prop_assert_eq!(moves[0].from, threadcut::gcode::Position::UNKNOWN);
+        let cycle_moves = &moves[1..moves.len() - 1];
         prop_assert_eq!(cycle_moves.len(), path.motions.len());
         for (mv, m) in cycle_moves.iter().zip(&path.motions) {
             // X is written on diameter to 0.001: a radius within 0.0005; Z within 0.0005.

@@ -593,7 +593,8 @@ fn thread_moves(src: &str) -> Vec<(threadcut::units::Pos, threadcut::units::Pos,
     program::run(src.as_bytes(), &haas(), |_, ev| {
         match ev {
             program::Event::Plain { mv: Some(mv), .. } if mv.lead.is_some() => {
-                moves.push((mv.from, mv.to, mv.lead.unwrap(), mv.phase_deg))
+                let from = mv.from.known().expect("a thread move from a known start");
+                moves.push((from, mv.to, mv.lead.unwrap(), mv.phase_deg))
             }
             program::Event::Cycle { job, .. } => {
                 for (from, m) in toolpath::build(&job)?.segments() {

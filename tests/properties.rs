@@ -19,7 +19,8 @@ fn thread_moves(src: &str, machine: &Machine) -> Vec<ThreadMove> {
     program::run(src.as_bytes(), machine, |_, ev| {
         match ev {
             Event::Plain { mv: Some(mv), .. } if mv.lead.is_some() => {
-                moves.push((mv.from, mv.to, mv.lead.unwrap()))
+                // Thread moves in these programs start from a known point.
+                moves.push((mv.from.known().unwrap(), mv.to, mv.lead.unwrap()))
             }
             Event::Cycle { job, .. } => {
                 let path = toolpath::build(&job)?;

@@ -526,3 +526,110 @@ fn apt_programs_are_checked_and_plotted() {
     let text = std::fs::read_to_string(&svg).unwrap();
     assert!(text.contains("line 12: apt cycle"), "{}", &text[..400]);
 }
+
+/// A synchronised move whose start is not known (here after `G28 W0.`, which the fanuc profile
+/// does not place) cuts from a point the program does not say: it is no pass (not a pass from Z0),
+/// `check`, `passes` and `plot` warn at it, and the passes after it are one thread of their own.
+#[test]
+fn a_thread_move_from_an_unknown_start_is_no_pass_and_says_so() {
+    let src = "G21 G99\nG97 S500 M3\nG0 X30. Z5.\nG28 W0.\nG32 Z-20. F1.5\nG0 X32.\nZ5.\nX29.2\nG32 Z-20. F1.5\nG0 X32.\nZ5.\nX28.8\nG32 Z-20. F1.5\nG0 X32.\nM30\n";
+    let (code, out) = check_cli("unknown-start", src, &["-c", "fanuc"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains(
+            "warning[W001]: this synchronised move starts where the tool's Z is not known"
+        ),
+        "{out}"
+    );
+    assert!(out.contains("check-unknown-start.nc:5:1"), "{out}");
+    assert!(out.contains("0 errors, 1 warning in 1 thread"), "{out}");
+    // Through the library: the thread is the two passes of lines 9 and 13, 0.2 mm apart.
+    let m = Machine::built_in("fanuc").unwrap();
+    let mut threads: Vec<Thread> = Vec::new();
+    let summary = threadcut::threads::each_gcode(src.as_bytes(), &m, None, |t| {
+        threads.push(t);
+        Ok(())
+    })
+    .unwrap();
+    assert_eq!(threads.len(), 1);
+    assert_eq!(threads[0].passes.len(), 2);
+    assert!((threads[0].passes[1].depth - 0.2).abs() < 1e-9);
+    assert_eq!(summary.warnings.len(), 1);
+    assert_eq!(summary.warnings[0].code, Code::Suspicious);
+    assert_eq!(summary.warnings[0].span.line, 5);
+    // `passes` says it on standard error.
+    let input = tmp("passes-unknown-start.nc");
+    std::fs::write(&input, src).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_threadcut"))
+        .args(["passes", "-c", "fanuc"])
+        .arg(&input)
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("warning[W001]") && err.contains(":5:1"),
+        "{err}"
+    );
+}
+
+/// The blank's surface is compared at the program's resolution: in inch, one increment of X
+/// (.0001 on diameter) is 1.27 µm of radius, more than the fixed micrometre the check used. A
+/// return along Z at X.4999 over stock of Ø.5 is on the stock, not through it; X.4998 is through.
+#[test]
+fn the_blank_is_compared_at_the_programs_resolution() {
+    let src = "G20 G99\nG97 S500 M3\nG0 X.4999 Z.2\nX.49\nG32 Z-1. F.076923\nG0 X.4999\nZ.2\nX.48\nG32 Z-1. F.076923\nG0 X.4999\nZ.2\nM30\n";
+    let blank = [
+        "-c",
+        "fanuc",
+        "--stock-diameter",
+        ".5",
+        "--stock-start",
+        "0",
+    ];
+    let (code, out) = check_cli("inch-on-stock", src, &blank);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("0 errors, 0 warnings in 1 thread"), "{out}");
+    let (code, out) = check_cli("inch-in-stock", &src.replace("X.4999", "X.4998"), &blank);
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("error[E011]: passes 1, 2: a rapid move"),
+        "{out}"
+    );
+}
+
+/// `check` runs a program with control flow as the control does: G32 passes written once in a
+/// subprogram that a loop calls four times are one thread of four passes, judged at the G32's
+/// line; `Options::max_blocks` bounds the run (an endless loop is the error, the run stopped).
+#[test]
+fn check_runs_programs_with_control_flow() {
+    let src = "G21 G99\nG97 S500 M03\nG0 X32. Z5.\n#100=0\nM98 P100 L4\nG0 X60. Z60.\nM30\nO0100\n#100=#100+0.25\nG0 X[30.-#100]\nG32 Z-25. F2.\nG0 X32.\nZ5.\nM99\n";
+    let args = ["-c", "fanuc", "--thread", "M30x2-6g", "--stock-start", "0"];
+    let (code, out) = check_cli("macro-passes", src, &args);
+    assert_eq!(code, 2, "{out}");
+    // Four passes of 0.125 mm from Ø29.75 to Ø29: 0.5 deep from the crest Ø30.
+    assert!(
+        out.contains(
+            "error[E016]: minor diameter 29 > 27.508 max for M30x2-6g: the passes reach 0.5 deep"
+        ),
+        "{out}"
+    );
+    assert!(out.contains("check-macro-passes.nc:11:1"), "{out}");
+    assert!(out.contains("1 error, 1 warning in 1 thread"), "{out}");
+    let m = Machine::built_in("fanuc").unwrap();
+    let endless = "G21\nG0 X30. Z5.\n#1=0\nWHILE[#1GE0]DO1\n#1=#1+1\nEND1\nM30\n";
+    let opts = Options {
+        max_blocks: 1000,
+        ..Options::default()
+    };
+    let r = check::check(endless.as_bytes(), check::Source::Gcode(&m), &opts).unwrap();
+    assert!(r.stopped);
+    let d = r.diagnostics.iter().find(|d| d.is_error()).unwrap();
+    assert!(
+        d.message
+            .contains("the loop of lines 4 to 6 ran past 1000 executed blocks"),
+        "{}",
+        d.message
+    );
+    assert_eq!(d.span.line, 4);
+}

@@ -237,3 +237,22 @@ fn the_feed_rate_comes_back_after_thread_moves_on_an_f_lead_target() {
         "{out}"
     );
 }
+
+#[test]
+fn linuxcnc_blanks_inside_words_are_written_without_them() {
+    // LinuxCNC reads `S 1 2 0 0` as S1200; the target gets S1200, which it can read.
+    let src = "G 8 G 2 1 G 1 8\nS 1 2 0 0 M 3\nG0 X 1 6 Z 5\nG 7 6 P2 . 5 Z - 3 0 I - 1 J 0 . 3 K 1 . 5\nM2\n";
+    let out = ok(convert("blanks.ngc", src, "linuxcnc", "fanuc"));
+    assert!(out.contains("S1200") && out.contains("M3"), "{out}");
+    same_motion(&motion(src, "linuxcnc"), &motion(&out, "fanuc"), 0.0006);
+}
+
+#[test]
+fn reference_returns_keep_their_intermediate_point() {
+    // `G28 U0 W0` between two cycles: its words are the intermediate point, not a move to be
+    // rewritten as absolute coordinates; the program positions again after it.
+    let src = "G21 G99\nG97 S600 M3\nG0 X32. Z5.\nG92 X29.2 Z-30. F2.\nG28 U0 W0\nG0 X32.\nZ5.\nG92 X28.8 Z-30. F2.\nM30\n";
+    let out = ok(convert("g28.nc", src, "fanuc", "gsk980"));
+    assert!(out.contains("G28 U0 W0"), "{out}");
+    same_motion(&motion(src, "fanuc"), &motion(&out, "gsk980"), 0.0006);
+}

@@ -13,10 +13,7 @@
 //! * For a thread that runs toward +Z out through Z0, the blank ends at Z0.
 
 use crate::thread::{Job, Side};
-use crate::units::{Pos, Units};
-
-/// A rapid move that stays within this distance (mm) of the blank's surface does not enter it.
-pub const CLEARANCE_TOLERANCE: f64 = 1e-6;
+use crate::units::{Pos, Resolution, Tolerance, Units};
 
 /// Where a boundary of the blank comes from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -48,32 +45,45 @@ pub struct Blank {
     pub surface: Known,
     /// The program's units, for messages.
     pub units: Units,
+    /// Lengths along Z (the face, run-ups, a rapid along the axis) within this are the same: one
+    /// increment of the program's resolution.
+    pub z_tol: Tolerance,
+    /// Radii (the surface) within this are the same: one increment of the written X.
+    pub x_tol: Tolerance,
 }
 
 impl Blank {
     /// The blank of `job`'s thread, whose toolpath starts at `start`. `stock_diameter` and
     /// `stock_start` are the user's, in program units; `crest_known` says whether the job's crest
-    /// is the thread's crest (a cycle's, or one the user gave) or only its first pass.
+    /// is the thread's crest (a cycle's, or one the user gave) or only its first pass. Points
+    /// within the program's `resolution` of a boundary are on it (a start point written at the
+    /// crest does not enter the blank).
     pub fn new(
         job: &Job,
         start: Pos,
         stock_diameter: Option<f64>,
         stock_start: Option<f64>,
         crest_known: bool,
+        resolution: Resolution,
     ) -> Blank {
         let g = &job.geometry;
         let units = job.units;
+        let (z_tol, x_tol) = (resolution.length(), resolution.x());
         let dz = g.crest_end.z - g.crest_start.z;
         let backward = if dz < 0.0 { 1.0 } else { -1.0 };
         let (z_face, face) = match stock_start {
             Some(z) => (units.to_mm(z), Known::Given),
-            None if dz < 0.0 && start.z >= -CLEARANCE_TOLERANCE && g.crest_end.z < 0.0 => {
+            None if dz < 0.0 && !z_tol.lt(start.z, 0.0) && z_tol.lt(g.crest_end.z, 0.0) => {
                 (0.0, Known::Assumed)
             }
             None => (start.z, Known::Unknown),
         };
         // A thread that runs out through Z0 toward +Z ends at the face.
-        let z_end = if stock_start.is_none() && dz > 0.0 && g.crest_end.z > 0.0 && z_face < 0.0 {
+        let z_end = if stock_start.is_none()
+            && dz > 0.0
+            && z_tol.gt(g.crest_end.z, 0.0)
+            && z_tol.lt(z_face, 0.0)
+        {
             0.0
         } else {
             g.crest_end.z
@@ -112,6 +122,8 @@ impl Blank {
             face,
             surface,
             units,
+            z_tol,
+            x_tol,
         }
     }
 
@@ -151,10 +163,10 @@ impl Blank {
         }
     }
 
-    /// The blank as a convex quadrilateral in (z, x), shrunk by `CLEARANCE_TOLERANCE`: half-planes
-    /// `a·z + b·x ≤ c`.
+    /// The blank as a convex quadrilateral in (z, x), shrunk by the resolution (`z_tol` at the
+    /// face and the end, `x_tol` at the surface): half-planes `a·z + b·x ≤ c`.
     fn half_planes(&self) -> [(f64, f64, f64); 4] {
-        let eps = CLEARANCE_TOLERANCE;
+        let (ez, eps) = (self.z_tol.get(), self.x_tol.get());
         let (z0, z1) = (self.z_face.min(self.z_end), self.z_face.max(self.z_end));
         // The surface line x = x_face + k·(z − z_face).
         let k = if self.z_end != self.z_face {
@@ -185,7 +197,7 @@ impl Blank {
             // inside (0 ≤ −1), so no rapid is reported as entering it (docs/simulation.md).
             Side::FaceFront | Side::FaceBack => ((0.0, 0.0, -1.0), (0.0, 0.0, -1.0)),
         };
-        [(-1.0, 0.0, -z0 - eps), (1.0, 0.0, z1 - eps), surface, far]
+        [(-1.0, 0.0, -z0 - ez), (1.0, 0.0, z1 - ez), surface, far]
     }
 
     /// Whether a rapid move from `a` to `b` runs into the blank's interior. A move that starts
@@ -216,7 +228,7 @@ impl Blank {
         if starts_inside {
             let outward = (b.x - a.x) * self.side.outward().x;
             let along = (b.z - a.z).abs();
-            return !(along <= CLEARANCE_TOLERANCE && outward > 0.0);
+            return !(self.z_tol.is_zero(along) && outward > 0.0);
         }
         true
     }

@@ -7,8 +7,9 @@ use crate::sim::{section, tip_in_mm, GrooveReport, Tool};
 use crate::thread::{Exit, Side};
 use crate::threads::{Origin, Thread};
 use crate::toolpath::MotionKind;
+use crate::units::{Resolution, Tolerance};
 
-use super::blank::{Blank, Known, CLEARANCE_TOLERANCE};
+use super::blank::{Blank, Known};
 use super::spindle::SpindleSpeed;
 use super::standard::{self, Judging};
 use super::{length, passes_list, Note, Options};
@@ -28,15 +29,18 @@ pub fn check_thread(
     notes: &mut Vec<Note>,
 ) {
     let job = &t.job;
-    length_checks(t, machine, out);
+    // Programmed values are compared at the program's resolution (docs/reliability.md).
+    let res = machine.program_resolution(job.units, t.diameter_x);
+    length_checks(t, machine, res, out);
     let blank = Blank::new(
         job,
         t.path.start,
         opts.stock_diameter,
         opts.stock_start,
         t.crest_known(),
+        res,
     );
-    if blank.face == Known::Given && blank.before_face(blank.z_end) >= 0.0 {
+    if blank.face == Known::Given && !blank.z_tol.lt(blank.before_face(blank.z_end), 0.0) {
         let show = |mm: f64| length(job.units, mm);
         out.push(
             Diagnostic::error(
@@ -52,7 +56,7 @@ pub fn check_thread(
         );
         return;
     }
-    section_checks(t, machine, opts, &blank, out, notes);
+    section_checks(t, opts, &blank, out, notes);
     rapid_checks(t, &blank, out);
     spindle_checks(t, machine, &blank, spindle, out, notes);
     if let Some(thread) = &opts.thread {
@@ -65,7 +69,7 @@ pub fn check_thread(
 
 /// The lead against the controller's maximum, the thread against one lead, a cycle's chamfer
 /// against the thread.
-fn length_checks(t: &Thread, machine: &Machine, out: &mut Vec<Diagnostic>) {
+fn length_checks(t: &Thread, machine: &Machine, res: Resolution, out: &mut Vec<Diagnostic>) {
     let job = &t.job;
     let span = job.span;
     let units = job.units;
@@ -73,8 +77,9 @@ fn length_checks(t: &Thread, machine: &Machine, out: &mut Vec<Diagnostic>) {
     let g = &job.geometry;
     let axial = g.side.along(g.travel()).abs();
     let lead = job.lead.lead;
+    let tol = res.length();
     if let Some(max) = machine.limits.max_lead_mm {
-        if lead > max {
+        if tol.gt(lead, max) {
             out.push(
                 Diagnostic::error(
                     Code::LeadLimit,
@@ -90,7 +95,7 @@ fn length_checks(t: &Thread, machine: &Machine, out: &mut Vec<Diagnostic>) {
             );
         }
     }
-    if axial < lead {
+    if tol.lt(axial, lead) {
         out.push(
             Diagnostic::error(
                 Code::Geometry,
@@ -105,7 +110,7 @@ fn length_checks(t: &Thread, machine: &Machine, out: &mut Vec<Diagnostic>) {
         );
     }
     if let Exit::PullOut { start_before, .. } = job.exit {
-        if start_before >= axial && t.origin == Origin::Cycle {
+        if !tol.lt(start_before, axial) && t.origin == Origin::Cycle {
             out.push(Diagnostic::error(
                 Code::Geometry,
                 span,
@@ -123,7 +128,6 @@ fn length_checks(t: &Thread, machine: &Machine, out: &mut Vec<Diagnostic>) {
 /// infeed, is cut with a tool of the thread's angle: the standard's, else 60°) with the tip given.
 fn section_checks(
     t: &Thread,
-    machine: &Machine,
     opts: &Options,
     blank: &Blank,
     out: &mut Vec<Diagnostic>,
@@ -152,7 +156,7 @@ fn section_checks(
         ..job.clone()
     };
     match section(&with_angle, &t.passes, &tool, blank.stock_above) {
-        Ok(sec) => form_checks(t, machine, &sec.groove, out),
+        Ok(sec) => form_checks(t, blank.z_tol, blank.x_tol, &sec.groove, out),
         // The machine can still run the cycle; only the depth and form checks are lost.
         Err(e) => out.push(Diagnostic {
             code: Code::Form,
@@ -198,7 +202,9 @@ fn judge(
             &Judging {
                 target: &target,
                 tip: opts.tip.map(|tip| tip_in_mm(tip, units)),
-                resolution: units.to_mm(machine.resolution(units)),
+                resolution: machine
+                    .program_resolution(units, t.diameter_x)
+                    .increment_mm(),
                 face,
             },
             out,
@@ -211,11 +217,18 @@ fn judge(
     }
 }
 
-fn form_checks(t: &Thread, machine: &Machine, g: &GrooveReport, out: &mut Vec<Diagnostic>) {
+/// The groove's depth and form; a ridge or a size error within one increment of the program's
+/// resolution (`length` for heights, `x` for X's convention) is not there.
+fn form_checks(
+    t: &Thread,
+    length_tol: Tolerance,
+    x_tol: Tolerance,
+    g: &GrooveReport,
+    out: &mut Vec<Diagnostic>,
+) {
     let job = &t.job;
     let units = job.units;
     let show = |mm: f64| length(units, mm);
-    let resolution = units.to_mm(machine.resolution(units));
     // A thread written as moves has no stated depth: its deepest pass is its depth.
     if t.origin == Origin::Cycle
         && g.depth_reached < g.depth_target - crate::thread::plan::DEPTH_TOLERANCE
@@ -230,7 +243,7 @@ fn form_checks(t: &Thread, machine: &Machine, g: &GrooveReport, out: &mut Vec<Di
             ),
         ));
     }
-    if g.ridge > resolution {
+    if length_tol.gt(g.ridge, 0.0) {
         out.push(
             Diagnostic::warning(
                 Code::Form,
@@ -249,7 +262,8 @@ fn form_checks(t: &Thread, machine: &Machine, g: &GrooveReport, out: &mut Vec<Di
         return;
     }
     if let Some(e) = g.pitch_diameter_error {
-        if e.abs() > resolution {
+        // `e` is a diameter; X's tolerance is a radius.
+        if x_tol.gt((e / 2.0).abs(), 0.0) {
             out.push(
                 Diagnostic::warning(
                     Code::Form,
@@ -370,7 +384,7 @@ fn spindle_checks(
         .thread_lead_error
         .unwrap_or(DEFAULT_LEAD_ERROR);
     run_up(t, blank, &threads, spindle, t1, a, out, notes);
-    run_out(t, &threads, spindle, t1, out);
+    run_out(t, blank.z_tol, &threads, spindle, t1, out);
 }
 
 /// Synchronised feed: lead × rpm along each move's long axis.
@@ -474,7 +488,7 @@ fn run_up(
     }
     let short: Vec<&(u32, f64, f64)> = starts
         .iter()
-        .filter(|(_, needed, available)| needed - available > CLEARANCE_TOLERANCE)
+        .filter(|(_, needed, available)| blank.z_tol.gt(*needed, *available))
         .collect();
     let Some(&&(pass, needed, available)) = short
         .iter()
@@ -501,9 +515,9 @@ fn run_up(
             format!(
                 "{}{worst}: {}{face} but the synchronised feed needs {} {} of run-up to settle within {}% of the lead (servo time constant {t1} s)",
                 passes_list(&passes),
-                if available > CLEARANCE_TOLERANCE {
+                if blank.z_tol.gt(available, 0.0) {
                     format!("the thread move starts {} {} before the blank", show(available), units.name())
-                } else if available < -CLEARANCE_TOLERANCE {
+                } else if blank.z_tol.lt(available, 0.0) {
                     format!("the thread move starts {} {} inside the blank", show(-available), units.name())
                 } else {
                     "the thread move starts at the blank's face".to_string()
@@ -530,6 +544,7 @@ fn run_up(
 /// how long it is.
 fn run_out(
     t: &Thread,
+    tol: Tolerance,
     threads: &Synced,
     spindle: &impl SpindleSpeed,
     t1: f64,
@@ -553,7 +568,7 @@ fn run_out(
             continue;
         };
         let delta2 = t1 * lead * rpm / 60.0;
-        if delta2 > pull + CLEARANCE_TOLERANCE {
+        if tol.gt(delta2, pull) {
             short.push((m.pass, delta2));
         }
     }

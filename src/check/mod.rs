@@ -54,15 +54,15 @@ use crate::machine::Machine;
 use crate::program::{self, Error, Event};
 use crate::sim::Tip;
 use crate::thread::standard::StandardThread;
-use crate::threads::{ends_thread, plain_move, Collector, Crest, Found, Move, Setting};
+use crate::threads::{Collector, Crest, Found, Move, Setting};
 use crate::units::{Pos, Units};
 
-pub use blank::{Blank, Known, CLEARANCE_TOLERANCE};
+pub use blank::{Blank, Known};
 pub use cut::{check_thread, DEFAULT_LEAD_ERROR, DEFAULT_SERVO_TIME_CONSTANT};
 pub use spindle::{Rpm, Spindle, SpindleSpeed};
 
 /// What the check is told about the part, the tool and the thread.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Options {
     /// The blank's diameter, in the program's units at each thread; `None`: the thread's crest is
     /// assumed.
@@ -76,6 +76,21 @@ pub struct Options {
     pub tip: Option<Tip>,
     /// The standard thread to judge against (`--thread`).
     pub thread: Option<StandardThread>,
+    /// A program with control flow stops after this many executed blocks (`--max-blocks`; by
+    /// default the interpreter's, [`crate::interp::Limits`]).
+    pub max_blocks: u64,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            stock_diameter: None,
+            stock_start: None,
+            tip: None,
+            thread: None,
+            max_blocks: program::Options::default().max_blocks,
+        }
+    }
 }
 
 /// What the program is written in.
@@ -242,7 +257,12 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     let mut spindle = Spindle::default();
     let mut decimals = decimal::DecimalWords::new(machine);
     let mut collector: Collector<Spindle> = Collector::new(crest(opts));
-    let result = program::run(input, machine, |modal, ev| {
+    let mut unknown_starts = Vec::new();
+    let run = program::Options {
+        max_blocks: opts.max_blocks,
+        ..program::Options::default()
+    };
+    let result = program::run_with(input, machine, &run, |modal, ev| {
         let setting = Setting {
             units: modal.units,
             diameter_x: modal.diameter_x,
@@ -255,12 +275,9 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                 if let Some(dw) = decimals.as_mut() {
                     dw.line(line, modal.units, modal.motion == MotionMode::Thread);
                 }
-                if ends_thread(line) {
-                    collector.boundary(&mut take);
-                }
-                if let Some(m) = mv.and_then(|mv| plain_move(line, &mv)) {
-                    let now = spindle;
-                    collector.motion(m, setting, false, || now, &mut take);
+                let now = spindle;
+                if let Some(w) = collector.plain(line, mv, setting, || now, &mut take) {
+                    unknown_starts.push(w);
                 }
             }
             Event::Settings { line } => {
@@ -292,6 +309,7 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
         }
         Err(e) => return Err(e),
     }
+    report.diagnostics.extend(unknown_starts);
     if let Some(w) = decimals.and_then(decimal::DecimalWords::finding) {
         report.diagnostics.push(w);
     }
@@ -563,6 +581,7 @@ mod proptests {
                 stock_start: face,
                 tip: nose.map(|radius| Tip::Radius { radius }),
                 thread: thread.map(|n| crate::thread::standard::lookup(n).unwrap()),
+                ..Options::default()
             };
             if let Ok(report) = check(src.as_bytes(), Source::Gcode(&machine), &opts) {
                 let json = serde_json::to_string(&report.findings("p.nc")).unwrap();

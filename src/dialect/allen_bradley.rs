@@ -38,6 +38,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
         ],
         &[320, 760],
     ),
+    foreign: &[],
     others: super::others_with,
 };
 
@@ -76,6 +77,8 @@ impl AllenBradley {
                 set_position: G92,
                 canned_cycles: &[],
                 units_codes: crate::gcode::modal::G20_G21,
+                positions: crate::gcode::modal::PositionCodes::FANUC,
+                syntax: crate::gcode::lexer::Syntax::default(),
             },
             machine: machine.clone(),
             params,
@@ -264,6 +267,13 @@ impl Dialect for AllenBradley {
             if let Some(e) = line.word(b'E') {
                 modal.lead = Some(self.e_lead(e)?);
             }
+        }
+        // E is the lead of G33 (and of a block of axis words under a modal G33) and of G78.
+        let threads = line.has_g(G33)
+            || (modal.motion == crate::gcode::MotionMode::Thread
+                && !line.words.iter().any(|w| w.letter == b'G'));
+        if !threads {
+            super::refuse_exponent(line)?;
         }
         Ok(Read::Plain)
     }

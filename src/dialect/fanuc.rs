@@ -32,6 +32,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
     controller: "fanuc",
     alarm: ALARM,
     g_codes: &fanuc_family::g_codes(GCodeSystem::A, &WORDS),
+    foreign: GCodes::of(GCodeSystem::A).foreign,
     others: super::others_with,
 };
 /// … in G-code system B.
@@ -39,6 +40,7 @@ pub static VOCABULARY_B: Vocabulary = Vocabulary {
     controller: "fanuc (G-code system B)",
     alarm: ALARM,
     g_codes: &fanuc_family::g_codes(GCodeSystem::B, &WORDS),
+    foreign: GCodes::of(GCodeSystem::B).foreign,
     others: super::others_with,
 };
 /// … in G-code system C.
@@ -46,6 +48,7 @@ pub static VOCABULARY_C: Vocabulary = Vocabulary {
     controller: "fanuc (G-code system C)",
     alarm: ALARM,
     g_codes: &fanuc_family::g_codes(GCodeSystem::C, &WORDS),
+    foreign: GCodes::of(GCodeSystem::C).foreign,
     others: super::others_with,
 };
 
@@ -112,11 +115,12 @@ impl Dialect for Fanuc {
         self.family.vocabulary
     }
 
-    /// Only thread-cycle blocks, any block while the single-pass cycle is modal, and blocks with
-    /// a start angle Q are the family reader's business.
-    #[inline]
+    /// The family's blocks (cycle blocks, any block while the single-pass cycle is modal, blocks
+    /// with a start angle Q) and blocks with an E word (a lead on thread moves, an exponent to
+    /// refuse elsewhere).
+    #[inline(always)]
     fn prefilter(&self, line: &Line) -> bool {
-        self.family.wants(line)
+        self.family.prefilter(line, 0, |_| false)
     }
 
     fn read(
@@ -125,10 +129,24 @@ impl Dialect for Fanuc {
         modal: &mut Modal,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Read> {
-        Ok(self
-            .family
-            .read(&self.conv, line, modal, warnings)?
-            .unwrap_or(Read::Plain))
+        match self.family.read(&self.conv, line, modal, warnings)? {
+            Some(read) => Ok(read),
+            None => {
+                // E is a lead word on thread moves (its meaning depends on the series); nowhere
+                // else.
+                if !self.family.threads(&self.conv, line, modal) {
+                    super::refuse_exponent(line)?;
+                }
+                Ok(Read::Plain)
+            }
+        }
+    }
+
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        // Custom Macro B: subprograms (M98) nest four levels deep, and macro calls (G65) four
+        // levels apart from them (Fanuc 16i/18i operator's manual, custom macro "call nesting";
+        // alarm 077); M98 takes its count in L or packed in P (docs/dialects/fanuc.md).
+        Some(crate::interp::Syntax::MACRO_B)
     }
 
     fn format(&self) -> Format {

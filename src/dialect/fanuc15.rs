@@ -8,7 +8,7 @@ use crate::gcode::modal::Vocabulary;
 use crate::machine::{GCodeSystem, Machine};
 
 use super::fanuc::{Fanuc, ALARM};
-use super::fanuc_family::{self, Flavour, G76Form, ThreadWords};
+use super::fanuc_family::{self, Flavour, G76Form, GCodes, ThreadWords};
 use super::one_block::G76Words;
 
 /// The one-block G76's words in the FS15 format. E is read only to refuse it (its meaning depends
@@ -36,6 +36,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
     controller: "fanuc15",
     alarm: ALARM,
     g_codes: &fanuc_family::g_codes(GCodeSystem::A, &WORDS),
+    foreign: GCodes::of(GCodeSystem::A).foreign,
     others: super::others_with,
 };
 /// … in G-code system B.
@@ -43,6 +44,7 @@ pub static VOCABULARY_B: Vocabulary = Vocabulary {
     controller: "fanuc15 (G-code system B)",
     alarm: ALARM,
     g_codes: &fanuc_family::g_codes(GCodeSystem::B, &WORDS),
+    foreign: GCodes::of(GCodeSystem::B).foreign,
     others: super::others_with,
 };
 /// … in G-code system C.
@@ -50,6 +52,7 @@ pub static VOCABULARY_C: Vocabulary = Vocabulary {
     controller: "fanuc15 (G-code system C)",
     alarm: ALARM,
     g_codes: &fanuc_family::g_codes(GCodeSystem::C, &WORDS),
+    foreign: GCodes::of(GCodeSystem::C).foreign,
     others: super::others_with,
 };
 

@@ -17,14 +17,16 @@
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
-use crate::gcode::{Conventions, Line, Modal, MotionMode, Word};
+use crate::gcode::{
+    Conventions, Line, Modal, MotionMode, PositionCodes, Syntax, Word, WordSummary,
+};
 use crate::machine::{FanucParameters, GCodeSystem, Machine};
 use crate::post::{AngleUnit, StartAngleWord};
 use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
     Retract, ReturnPath, Side, StartIndexing,
 };
-use crate::units::{Pos, Units};
+use crate::units::{Pos, Tolerance, Units};
 
 use super::{one_block, only_words, Read};
 
@@ -52,6 +54,14 @@ pub struct GCodes {
     pub canned: &'static [u16],
     /// The codes that end a modal single-pass cycle: group 01 and the other turning cycles.
     pub ends_single: &'static [u16],
+    /// The codes that change coordinate offsets by amounts the program does not state: G10
+    /// (data setting), G52 (local coordinate system) and the workpiece coordinate system preset,
+    /// G50.3 (A) or G92.1 (B, C). The reference returns (G28, G30, G29, G30.1), G53 and G54–G59
+    /// are the same in every system.
+    pub offset_changes: &'static [u16],
+    /// The other systems' fractional codes whose whole number this system has for another
+    /// function: the preset of the other systems (`Vocabulary::foreign`).
+    pub foreign: &'static [u16],
 }
 
 impl GCodes {
@@ -70,6 +80,8 @@ impl GCodes {
                 ends_single: &[
                     0, 10, 20, 30, 320, 330, 340, 700, 710, 720, 730, 740, 750, 760, 780, 900, 940,
                 ],
+                offset_changes: &[100, 520, 503],
+                foreign: &[921],
             },
             GCodeSystem::B => GCodes {
                 system,
@@ -83,6 +95,8 @@ impl GCodes {
                 ends_single: &[
                     0, 10, 20, 30, 330, 340, 700, 710, 720, 730, 740, 750, 760, 770, 790,
                 ],
+                offset_changes: &[100, 520, 921],
+                foreign: &[503],
             },
             GCodeSystem::C => GCodes {
                 system,
@@ -96,6 +110,8 @@ impl GCodes {
                 ends_single: &[
                     0, 10, 20, 30, 330, 340, 200, 240, 720, 730, 740, 750, 760, 770, 780,
                 ],
+                offset_changes: &[100, 520, 921],
+                foreign: &[503],
             },
         }
     }
@@ -115,6 +131,18 @@ impl GCodes {
             set_position: self.set_position,
             canned_cycles: self.canned,
             units_codes: self.units,
+            positions: self.positions(),
+            syntax: Syntax::default(),
+        }
+    }
+
+    /// The codes after which the position is known only from the profile, or not at all
+    /// (`docs/dialects/README.md`): Fanuc's system-A list ([`PositionCodes::FANUC`]) with this
+    /// system's offset-changing codes.
+    pub const fn positions(&self) -> PositionCodes {
+        PositionCodes {
+            offset_changes: self.offset_changes,
+            ..PositionCodes::FANUC
         }
     }
 
@@ -133,7 +161,8 @@ const NONE: u16 = u16::MAX;
 
 /// The G code list of a Fanuc 0i/30i lathe control: one row per function, its number (×10) in
 /// G-code systems A, B and C (the operator's manual's G code list; `docs/dialects/fanuc.md`,
-/// "Vocabulary"). A fractional code (G7.1, G12.1, G50.3, G92.1) is known by its whole number.
+/// "Vocabulary"). A fractional code (G7.1, G12.1, G50.3, G92.1) is known by its whole number, but
+/// for the other systems' preset ([`GCodes::foreign`]).
 const G_CODE_LIST: &[[u16; 3]] = &[
     // The same number in every system.
     [0, 0, 0],
@@ -413,6 +442,8 @@ pub struct FanucFamily {
     /// The start angle of the synchronised run in progress, from the `Q` of its first plain
     /// thread move, while it is not 0: the moves that continue the run carry it.
     run_phase: Option<f64>,
+    /// The letters whose words make any line the family's business (a [`WordSummary`] mask).
+    letters: u32,
 }
 
 impl FanucFamily {
@@ -455,7 +486,42 @@ impl FanucFamily {
             ],
             g92: None,
             run_phase: None,
+            // E: a lead or an exponent to refuse; Q: a start angle.
+            letters: WordSummary::letter_mask(if flavour.start_angle { b"EQ" } else { b"E" }),
         }
+    }
+
+    /// Whether the family reads even a line of plain words: while a single-pass cycle is modal (a
+    /// block of axis words repeats it) or a run of thread moves begun with a start angle goes on.
+    #[inline(always)]
+    pub fn in_progress(&self) -> bool {
+        self.g92.is_some() | self.run_phase.is_some()
+    }
+
+    /// Whether a member's `read` may act on `line`: the family's blocks ([`wants`](Self::wants)),
+    /// a block with an E word (a lead where the member reads one, refused as an exponent
+    /// elsewhere), and the member's own blocks (`own_block`), which have a G code other than
+    /// G0–G3 or one of the member's `own_letters` (a [`WordSummary`] mask). Most lines have no G
+    /// code but G0–G3 and none of these letters: one test of the summary answers for them
+    /// (docs/performance.md, "Reader after issue 13").
+    #[inline(always)]
+    pub fn prefilter(
+        &self,
+        line: &Line,
+        own_letters: u32,
+        own_block: impl FnOnce(&Line) -> bool,
+    ) -> bool {
+        if !line.summary.other_g_or_any(self.letters | own_letters) {
+            return self.in_progress();
+        }
+        self.prefilter_words(line, own_block)
+    }
+
+    /// [`prefilter`](Self::prefilter) for the lines the summary's one test does not answer: kept
+    /// out of line, so that the test itself is inlined into the run loop.
+    #[inline(never)]
+    fn prefilter_words(&self, line: &Line, own_block: impl FnOnce(&Line) -> bool) -> bool {
+        self.wants(line) || line.summary.has_letter(b'E') || own_block(line)
     }
 
     /// Whether [`read`](Self::read) may act on `line`: a G76 or G92 block, any block while a G92
@@ -472,10 +538,10 @@ impl FanucFamily {
     }
 
     /// The pull-out of a pass for lead `lead` (mm), as the parameters (and M23/M24) give it.
-    fn chamfer(&self, lead: f64) -> Exit {
+    fn chamfer(&self, lead: f64, tol: Tolerance) -> Exit {
         let p = &self.params;
         let length = p.chamfer_leads * lead;
-        if !self.chamfer_on || length <= 0.0 {
+        if !self.chamfer_on || !tol.gt(length, 0.0) {
             return Exit::Straight;
         }
         Exit::PullOut {
@@ -501,6 +567,14 @@ impl FanucFamily {
             }),
             pull_out_name: self.flavour.chamfer_name,
         }
+    }
+
+    /// Whether `line` is a thread move (the dialect's thread-move code on it, or a block of axis
+    /// words under a modal thread move), where an E word may be a lead.
+    pub fn threads(&self, conv: &Conventions, line: &Line, modal: &Modal) -> bool {
+        line.has_g(conv.thread_move)
+            || (modal.motion == crate::gcode::MotionMode::Thread
+                && !line.words.iter().any(|w| w.letter == b'G'))
     }
 
     /// Reads `line` if it is a G76 or G92 block (or a block repeating a modal G92); `None` otherwise.
@@ -646,7 +720,8 @@ impl FanucFamily {
 
     /// A count of least input increments, written without a decimal point, in mm.
     fn increments(&self, modal: &Modal, w: &Word, name: &str, what: &str) -> Result<f64> {
-        if w.has_dot || w.value.fract() != 0.0 {
+        // A computed value (`Q#1`) is the count itself; it must be a whole number.
+        if (w.has_dot && !w.is_computed()) || w.value.fract() != 0.0 {
             return Err(Diagnostic::error(
                 Code::Syntax,
                 w.span,
@@ -754,11 +829,13 @@ impl FanucFamily {
                 ))
             }
         };
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
         for (w, v, word) in [
             (line.word(b'P'), height, "P(k)"),
             (line.word(b'Q'), first, "Q(Δd)"),
         ] {
-            if v <= 0.0 {
+            if !length.gt(v, 0.0) {
                 return Err(Diagnostic::error(
                     Code::OutOfRange,
                     w.map_or(g76, |w| w.span),
@@ -770,7 +847,7 @@ impl FanucFamily {
         let lead = self.lead(conv, line, modal, g76, &name)?;
         let (a, end) = self.endpoints(conv, line, modal, g76, &name)?;
         let p = self.params;
-        if p.allowance_mm >= height {
+        if !length.lt(p.allowance_mm, height) {
             return Err(Diagnostic::error(
                 Code::Geometry,
                 g76,
@@ -783,15 +860,15 @@ impl FanucFamily {
         }
         // C: the root at the thread start (X of the end point plus the taper, Z of the start point).
         let c = Pos::new(end.x + taper, a.z);
-        let side = side_of(a, c, g76)?;
+        let side = side_of(a, c, x_tol, g76)?;
         let travel_z = end.z - a.z;
-        if travel_z == 0.0 {
+        if length.is_zero(travel_z) {
             return Err(geometry(
                 g76,
                 "the thread end Z equals the start point's Z: the thread has no length",
             ));
         }
-        if taper.abs() > travel_z.abs() {
+        if length.gt(taper.abs(), travel_z.abs()) {
             return Err(geometry(
                 g76,
                 format!(
@@ -802,7 +879,8 @@ impl FanucFamily {
             ));
         }
         let crest_c = c.plus(side.outward().scale(height));
-        if (a.x - crest_c.x) * side.outward().x < 0.0 {
+        // A start point within the resolution of the crest is on the crest.
+        if x_tol.lt((a.x - crest_c.x) * side.outward().x, 0.0) {
             return Err(geometry(
                 g76,
                 "the start point lies inside the thread (between crest and root): the return along Z would cut through it",
@@ -829,9 +907,17 @@ impl FanucFamily {
         let full_offset = infeed.axis(height);
         let crest_start = Pos::new(crest_c.x, a.z - full_offset);
         let crest_end = Pos::new(crest_c.x - taper, end.z - full_offset);
-        let exit = self.chamfer(lead);
-        self.check_exit(&exit, travel_z, modal.units, g76)?;
-        super::lead_warning(lead, travel_z, modal.units, g76, "check F", warnings);
+        let exit = self.chamfer(lead, length);
+        self.check_exit(&exit, travel_z, modal.units, length, g76)?;
+        super::lead_warning(
+            lead,
+            travel_z,
+            modal.units,
+            length,
+            g76,
+            "check F",
+            warnings,
+        );
         Ok(Job {
             line: line.number,
             span: g76,
@@ -904,8 +990,10 @@ impl FanucFamily {
             phase_deg,
             phase_line: line.number,
         });
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
         let travel_z = end.z - a.z;
-        if travel_z == 0.0 {
+        if length.is_zero(travel_z) {
             return Err(geometry(
                 span,
                 "the thread end Z equals the start point's Z: the thread has no length",
@@ -913,8 +1001,8 @@ impl FanucFamily {
         }
         // The cut starts at the end X plus the taper; the pull-out rises toward the start point's X.
         let cut_start = Pos::new(end.x + taper, a.z);
-        let side = side_of(a, end, span)?;
-        if (a.x - cut_start.x) * side.outward().x <= 0.0 {
+        let side = side_of(a, end, x_tol, span)?;
+        if !x_tol.gt((a.x - cut_start.x) * side.outward().x, 0.0) {
             let t = f.taper_letter as char;
             return Err(geometry(
                 span,
@@ -927,10 +1015,18 @@ impl FanucFamily {
         let (exit, starts) = if f.gsk_g92_words {
             self.gsk_tail(line, modal, lead)?
         } else {
-            (self.chamfer(lead), 1)
+            (self.chamfer(lead, length), 1)
         };
-        self.check_exit(&exit, travel_z, modal.units, span)?;
-        super::lead_warning(lead, travel_z, modal.units, span, "check F", warnings);
+        self.check_exit(&exit, travel_z, modal.units, length, span)?;
+        super::lead_warning(
+            lead,
+            travel_z,
+            modal.units,
+            length,
+            span,
+            "check F",
+            warnings,
+        );
         Ok(Job {
             line: line.number,
             span,
@@ -1031,11 +1127,13 @@ impl FanucFamily {
                 ));
             }
         }
+        let length = modal.resolution().length();
         let exit = match (j, k) {
-            (None, None) => self.chamfer(lead),
-            (Some(j), None) | (Some(j), Some(0.0)) => pull_out(j, j),
-            (None, Some(k)) => pull_out(k, k),
-            (Some(j), Some(k)) => pull_out(j, k),
+            (None, None) => self.chamfer(lead, length),
+            (Some(j), None) => pull_out(j, j, length),
+            (Some(j), Some(k)) if length.is_zero(k) => pull_out(j, j, length),
+            (None, Some(k)) => pull_out(k, k, length),
+            (Some(j), Some(k)) => pull_out(j, k, length),
         };
         let starts = match line.word(b'L') {
             None => 1,
@@ -1121,9 +1219,16 @@ impl FanucFamily {
         Ok((a, modal.target(conv, line, a)?))
     }
 
-    fn check_exit(&self, exit: &Exit, travel_z: f64, units: Units, span: Span) -> Result<()> {
+    fn check_exit(
+        &self,
+        exit: &Exit,
+        travel_z: f64,
+        units: Units,
+        tol: Tolerance,
+        span: Span,
+    ) -> Result<()> {
         if let Exit::PullOut { length, .. } = *exit {
-            if length >= travel_z.abs() {
+            if !tol.lt(length, travel_z.abs()) {
                 return Err(geometry(
                     span,
                     format!(
@@ -1203,8 +1308,8 @@ fn one_block_words_on_two_block(
     }
 }
 
-fn pull_out(j: f64, k: f64) -> Exit {
-    if j > 0.0 && k > 0.0 {
+fn pull_out(j: f64, k: f64, length: Tolerance) -> Exit {
+    if length.gt(j, 0.0) && length.gt(k, 0.0) {
         Exit::PullOut {
             start_before: k,
             length: k,
@@ -1224,17 +1329,16 @@ fn start_point(modal: &Modal, span: Span, cycle: &str) -> Result<Pos> {
     )
 }
 
-/// External when the start point is above `reference` (cut toward −X), internal when below.
-fn side_of(a: Pos, reference: Pos, span: Span) -> Result<Side> {
-    if a.x > reference.x {
-        Ok(Side::External)
-    } else if a.x < reference.x {
-        Ok(Side::Internal)
-    } else {
-        Err(geometry(
+/// External when the start point is above `reference` (cut toward −X), internal when below; the
+/// same X at the program's resolution cannot tell.
+fn side_of(a: Pos, reference: Pos, x_tol: Tolerance, span: Span) -> Result<Side> {
+    match x_tol.sign(a.x - reference.x) {
+        1 => Ok(Side::External),
+        -1 => Ok(Side::Internal),
+        _ => Err(geometry(
             span,
             "the start point's X equals the thread's X: cannot tell an external from an internal thread",
-        ))
+        )),
     }
 }
 

@@ -16,7 +16,7 @@ use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan,
     Retract, ReturnPath, Side, StartIndexing,
 };
-use crate::units::{Pos, Units};
+use crate::units::{Pos, Resolution, Tolerance, Units};
 
 use super::fanuc_family::{self, FanucFamily, Flavour, GCodes, ThreadParameters};
 use super::{g, only_words, Dialect, Read};
@@ -102,6 +102,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
         g(980),
         g(990),
     ],
+    foreign: &[],
     others: super::others_with,
 };
 
@@ -171,6 +172,8 @@ impl Gsk {
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
                 units_codes: crate::gcode::modal::G20_G21,
+                positions: crate::gcode::modal::PositionCodes::FANUC,
+                syntax: crate::gcode::lexer::Syntax::default(),
             },
             machine: machine.clone(),
             settings: Settings::from_parameters(&params),
@@ -379,8 +382,9 @@ impl Gsk {
                 first,
                 lead,
                 settings: s,
-                tail: self.tail(lead),
+                tail: self.tail(lead, modal.resolution().length()),
                 x_word: |x| modal.x_from_mm(x),
+                resolution: modal.resolution(),
             },
             warnings,
         )
@@ -389,7 +393,7 @@ impl Gsk {
     /// The tail-out (J, K) in mm, following the 980TDi rules for omitted words: K alone means J = K,
     /// J alone means K = J, J = 0 means none; neither ever written: parameter 5130 (amount in 0.1
     /// lead) at the angle of parameter 5131 (0 = 45°).
-    fn tail(&self, lead: f64) -> Option<(f64, f64)> {
+    fn tail(&self, lead: f64, tol: Tolerance) -> Option<(f64, f64)> {
         let (j, k) = match (self.tail_j, self.tail_k) {
             (None, None) => {
                 let k = f64::from(self.params.p5130) * 0.1 * lead;
@@ -402,10 +406,10 @@ impl Gsk {
             }
             (Some(j), None) => (j, j),
             (None, Some(k)) => (k, k),
-            (Some(j), Some(0.0)) => (j, j),
+            (Some(j), Some(k)) if tol.is_zero(k) => (j, j),
             (Some(j), Some(k)) => (j, k),
         };
-        (j > 0.0 && k > 0.0).then_some((j, k))
+        (tol.gt(j, 0.0) && tol.gt(k, 0.0)).then_some((j, k))
     }
 }
 
@@ -435,6 +439,8 @@ struct LoweringInput<F: Fn(f64) -> f64> {
     tail: Option<(f64, f64)>,
     /// How the program writes an X radius, for messages.
     x_word: F,
+    /// The program's resolution, for every comparison of the values above.
+    resolution: Resolution,
 }
 
 /// Lowers a validated G78 into the shared model: points A, B, C, D of §12 and the formulas of §7–§8.
@@ -448,12 +454,13 @@ fn lower<F: Fn(f64) -> f64>(
     // C: the thread start on the root line, i (radius) from D's X, at A's Z (§12).
     let c = Pos::new(i.end.x + i.taper, i.a.z);
     let travel_z = i.end.z - i.a.z;
-    if travel_z == 0.0 {
+    let (x_tol, length) = (i.resolution.x(), i.resolution.length());
+    if length.is_zero(travel_z) {
         return Err(geometry_error(
             "the thread end Z equals the start point's Z: the thread has no length".into(),
         ));
     }
-    if i.taper.abs() > travel_z.abs() {
+    if length.gt(i.taper.abs(), travel_z.abs()) {
         return Err(geometry_error(format!(
             "the taper R(i) changes X by more than the thread's Z length ({} > {} mm, radius): G78 cuts along Z and cannot cut a face-like thread",
             i.taper.abs(),
@@ -463,18 +470,18 @@ fn lower<F: Fn(f64) -> f64>(
     }
     // The infeed direction follows from the start point (§8): above C an external thread, cut toward
     // −X ("negative-direction infeed"); below C an internal one.
-    let side = if i.a.x > c.x {
-        Side::External
-    } else if i.a.x < c.x {
-        Side::Internal
-    } else {
-        return Err(geometry_error(
+    let side = match x_tol.sign(i.a.x - c.x) {
+        1 => Side::External,
+        -1 => Side::Internal,
+        _ => return Err(geometry_error(
             "the start point's X equals the thread's start on the root line: cannot tell an external from an internal thread".into(),
-        ));
+        )),
     };
     let crest_start = c.plus(side.outward().scale(i.height));
+    // A start point within the resolution of the crest is on the crest (`G00 X40` before a crest
+    // computed at X40.001).
     let beyond_crest = (i.a.x - crest_start.x) * side.outward().x;
-    if beyond_crest < 0.0 {
+    if x_tol.lt(beyond_crest, 0.0) {
         return Err(geometry_error(format!(
             "the start point X{} lies inside the thread (the crest is at X{}): the return along Z between passes would cut through it",
             crate::post::number((i.x_word)(i.a.x), 4, false),
@@ -483,7 +490,7 @@ fn lower<F: Fn(f64) -> f64>(
         .with_hint("start the cycle from a point clear of the crest"));
     }
     let crest_end = Pos::new(crest_start.x - i.taper, i.end.z);
-    if s.finish_allowance_mm >= i.height {
+    if !length.lt(s.finish_allowance_mm, i.height) {
         return Err(geometry_error(format!(
             "the finishing allowance R(d) {} is not smaller than the thread height P(k) {}",
             i.units.from_mm(s.finish_allowance_mm),
@@ -493,7 +500,7 @@ fn lower<F: Fn(f64) -> f64>(
     let exit = match i.tail {
         None => Exit::Straight,
         Some((j, k)) => {
-            if k >= travel_z.abs() {
+            if !length.lt(k, travel_z.abs()) {
                 return Err(geometry_error(format!(
                     "the tail-out K {} is not shorter than the thread ({} along Z)",
                     i.units.from_mm(k),
@@ -511,6 +518,7 @@ fn lower<F: Fn(f64) -> f64>(
         i.lead,
         travel_z,
         i.units,
+        length,
         i.span,
         "check F: a lead written without its decimal point?",
         warnings,
@@ -574,7 +582,7 @@ fn lower<F: Fn(f64) -> f64>(
         infeed,
         finish_at: FinishPosition::LastRough,
         tool_angle_deg: s.tool_angle,
-        entry: if s.lead_in_mm > 0.0 {
+        entry: if length.gt(s.lead_in_mm, 0.0) {
             Entry::Ramp {
                 outward: s.lead_in_mm,
                 before: 0.0,
@@ -603,10 +611,11 @@ impl Dialect for Gsk {
         "gsk980"
     }
 
-    /// `read` looks at nothing but a G78 word.
-    #[inline]
+    /// G78 blocks, the family's (G76, G92) and blocks with an E word (G78's lead-in, an exponent
+    /// to refuse elsewhere).
+    #[inline(always)]
     fn prefilter(&self, line: &Line) -> bool {
-        line.has_g(G78) || self.family.wants(line)
+        self.family.prefilter(line, 0, |line| line.has_g(G78))
     }
 
     fn conventions(&self) -> &Conventions {
@@ -631,6 +640,10 @@ impl Dialect for Gsk {
             .iter()
             .find(|w| w.letter == b'G' && crate::gcode::reader::g_code(w.value) == Some(G78))
         else {
+            // E is G78's lead-in; on a thread move it may be a lead; nowhere else.
+            if !self.family.threads(&self.conv, line, modal) {
+                super::refuse_exponent(line)?;
+            }
             return Ok(Read::Plain);
         };
         super::alone_in_block(line, g78.span, "G78", &[])?;
@@ -645,6 +658,17 @@ impl Dialect for Gsk {
             self.read_first(line, modal)?;
             Ok(Read::Settings)
         }
+    }
+
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        // GSK 980TDi: G65 is its macro operation `G65 Hm P#i Q#j R#k`, M98 packs the count in P
+        // (`M98 P00031000`), subprograms nest four levels (docs/dialects/gsk-g78.md).
+        Some(crate::interp::Syntax {
+            max_macro_depth: 0,
+            g65_operations: true,
+            m98_l_word: false,
+            ..crate::interp::Syntax::MACRO_B
+        })
     }
 
     fn format(&self) -> Format {

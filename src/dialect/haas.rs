@@ -8,7 +8,7 @@
 use crate::diag::{Code, Diagnostic, Result};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
-use crate::gcode::{Conventions, Line, Modal, MotionMode};
+use crate::gcode::{Conventions, Line, Modal, MotionMode, PositionCodes, WordSummary};
 use crate::machine::{GCodeSystem, HaasSettings, Machine};
 use crate::post::Format;
 use crate::thread::Job;
@@ -43,6 +43,32 @@ pub const FLAVOUR: Flavour = Flavour {
     chamfer_name: "the thread chamfer (Setting 95)",
     allowance_name: "the thread finish allowance (Setting 86)",
     vocabulary,
+};
+
+/// Haas's lathe G codes for where the tool is: system A's (`fanuc_family::GCodes`), except that
+/// `G28` without axis words returns every axis ("returns all axes … simultaneously to the machine
+/// zero position when no axis is specified"), the work offsets are G54–G59 and G110–G129, and
+/// `G154 P1`–`P99` selects one of 99 more (each P another offset: taken as a change every time).
+pub const POSITIONS: PositionCodes = PositionCodes {
+    all_without_axes: true,
+    work_systems: &WORK_SYSTEMS,
+    offset_changes: &[100, 520, 1540],
+    ..GCodes::of(GCodeSystem::A).positions()
+};
+
+/// G54–G59 and G110–G129 (×10).
+const WORK_SYSTEMS: [u16; 26] = {
+    let mut t = [0u16; 26];
+    let mut i = 0;
+    while i < 6 {
+        t[i] = 540 + 10 * i as u16;
+        i += 1;
+    }
+    while i < 26 {
+        t[i] = 1100 + 10 * (i as u16 - 6);
+        i += 1;
+    }
+    t
 };
 
 /// Haas's lathe G codes, as ranges of whole numbers (Haas's lathe G-code list:
@@ -89,6 +115,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
             GCode::thread(920, b"XZUWIFEQ"),
         ],
     ),
+    foreign: &[],
     others: super::others_with,
 };
 
@@ -129,7 +156,10 @@ impl Haas {
         let settings = machine.haas.clone().unwrap_or_else(default_settings);
         let codes = GCodes::of(GCodeSystem::A);
         Haas {
-            conv: codes.conventions(machine),
+            conv: Conventions {
+                positions: POSITIONS,
+                ..codes.conventions(machine)
+            },
             family: FanucFamily::new(FLAVOUR, parameters(&settings), codes, machine),
             machine: machine.clone(),
         }
@@ -182,17 +212,19 @@ impl Dialect for Haas {
         &VOCABULARY
     }
 
-    /// The family's blocks, and blocks with M23/M24 or an E (on G32). Most M blocks (M3, M8) are
-    /// not offered: `read` would leave them as they are.
-    #[inline]
+    /// The family's blocks, and blocks with M23/M24 or an E (a lead on G76/G92, refused on G32
+    /// and as an exponent elsewhere). Most M blocks (M3, M8) are not offered: `read` would leave
+    /// them as they are.
+    #[inline(always)]
     fn prefilter(&self, line: &Line) -> bool {
-        self.family.wants(line)
-            || line.summary.has_letter(b'E')
-            || (line.summary.has_letter(b'M')
-                && line
-                    .words
-                    .iter()
-                    .any(|w| w.letter == b'M' && matches!(g_code(w.value), Some(M23 | M24))))
+        self.family
+            .prefilter(line, WordSummary::letter_mask(b"M"), |line| {
+                line.summary.has_letter(b'M')
+                    && line
+                        .words
+                        .iter()
+                        .any(|w| w.letter == b'M' && matches!(g_code(w.value), Some(M23 | M24)))
+            })
     }
 
     fn read(
@@ -203,10 +235,31 @@ impl Dialect for Haas {
     ) -> Result<Read> {
         self.chamfer_switch(line);
         self.thread_move_e(line, modal)?;
-        Ok(self
-            .family
-            .read(&self.conv, line, modal, warnings)?
-            .unwrap_or(Read::Plain))
+        match self.family.read(&self.conv, line, modal, warnings)? {
+            Some(read) => Ok(read),
+            None => {
+                // E is a lead on G76 and G92 only (and refused on G32, above): elsewhere an E
+                // glued to a number is an exponent.
+                super::refuse_exponent(line)?;
+                Ok(Read::Plain)
+            }
+        }
+    }
+
+    /// Haas's macros (an option of the control, read here whenever a program uses them): Fanuc's
+    /// Custom Macro B (`#` variables, `WHILE … DOm … ENDm`, `IF … GOTO`, `IF … THEN`, `GOTO`, `G65`
+    /// with Fanuc's argument letters) with Haas's own subprogram words: `M97 P n L k` calls the
+    /// block N n of the same program, `M99 P n` jumps to N n of the program it is in (it does
+    /// not return; `[condition] M99 P n` when the condition holds), and `#10000`–`#10999` are
+    /// general-purpose variables besides `#100`–`#199` and `#500`–`#999`. Nesting: Fanuc's four
+    /// levels of M97/M98 and four of G65 (docs/dialects/haas.md, "Macros").
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        Some(crate::interp::Syntax {
+            m97_local_calls: true,
+            m99_p_jumps: true,
+            wide_commons: true,
+            ..crate::interp::Syntax::MACRO_B
+        })
     }
 
     fn format(&self) -> Format {

@@ -32,6 +32,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
         g(30),
         g(40),
         g(50),
+        g(60),
         g(70),
         g(80),
         g(100),
@@ -86,16 +87,14 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
         g(980),
         g(990),
     ],
+    foreign: &[],
     others: super::others_with,
 };
 
-const G76: u16 = 760;
+mod words;
 
-/// Motion-group G codes (×10): one of them on a line ends the modal G76.
-const MOTION: &[u16] = &[
-    0, 10, 20, 30, 50, 51, 52, 330, 331, 382, 383, 384, 385, 730, 740, 760, 800, 810, 820, 830,
-    840, 850, 860, 870, 880, 890,
-];
+const G76: u16 = 760;
+const G80: u16 = 800;
 
 pub struct LinuxCnc {
     conv: Conventions,
@@ -103,8 +102,9 @@ pub struct LinuxCnc {
     spindles: u8,
     /// Which spindles turn (M3/M4 on, M5 off).
     turning: Vec<bool>,
-    /// G76 is modal: a later block with axis words and no motion code is another G76.
-    g76_modal: bool,
+    /// The motion mode in force (×10; `None` after G80 and at the start, as LinuxCNC starts in
+    /// G80): a later block with axis words and no motion code continues it (another G76).
+    motion: Option<u16>,
     cutter_comp: bool,
     /// Active plane ×10 (G17 170, G18 180, G19 190).
     plane: u16,
@@ -126,11 +126,19 @@ impl LinuxCnc {
                 set_position: 920,
                 canned_cycles: &[730, 740, 810, 820, 830, 840, 850, 860, 870, 880, 890],
                 units_codes: crate::gcode::modal::G20_G21,
+                positions: crate::gcode::modal::PositionCodes::LINUXCNC,
+                // LinuxCNC drops blanks and tabs outside comments before it reads a line
+                // (`close_and_downcase`), and refuses a comment inside a comment.
+                syntax: crate::gcode::lexer::Syntax {
+                    blanks_anywhere: true,
+                    nested_comment_error: true,
+                    ..crate::gcode::lexer::Syntax::default()
+                },
             },
             machine: machine.clone(),
             spindles,
             turning: vec![false; usize::from(spindles)],
-            g76_modal: false,
+            motion: None,
             cutter_comp: false,
             plane: 180,
         }
@@ -166,34 +174,18 @@ impl LinuxCnc {
 
     fn read_g76(&mut self, line: &Line, modal: &Modal, g76: Span) -> Result<Job> {
         let err = |span: Span, code: Code, msg: &str| Diagnostic::error(code, span, msg);
-        // Parse stage, in line order: H and L are integers, H ≥ -1 and L ≥ 0 in LinuxCNC; threadcut
+        // `words::read` has read H and L as LinuxCNC does (integers, H ≥ -1, L ≥ 0); threadcut
         // also refuses H-1, which LinuxCNC accepts and which skips the full-depth pass (deviation).
-        for w in line.words {
-            if matches!(w.letter, b'H' | b'L') {
-                if w.value.fract() != 0.0 {
-                    return Err(err(w.span, Code::Syntax, "Non integer value for integer"));
-                }
-                if w.letter == b'H' && w.value < 0.0 {
-                    return Err(err(w.span, Code::OutOfRange, "Negative h word used")
-                        .with_hint("H is the number of spring passes: 0 or more (LinuxCNC accepts H-1 and then never cuts to K; threadcut refuses it)"));
-                }
-                if w.letter == b'L' && w.value < 0.0 {
-                    return Err(err(w.span, Code::OutOfRange, "Negative l word used"));
-                }
-            }
-        }
+        let spring = match line.word(b'H') {
+            Some(h) => match words::integer(h)? {
+                -1 => return Err(err(h.span, Code::OutOfRange, "Negative h word used")
+                    .with_hint("H is the number of spring passes: 0 or more (LinuxCNC accepts H-1 and then never cuts to K; threadcut refuses it)")),
+                n => n as u32,
+            },
+            None => 0,
+        };
+        let l = line.word(b'L').map_or(Ok(0), words::integer)? as u64;
         let axis = |l: u8| line.word(l);
-        if !line.words.iter().any(|w| {
-            matches!(
-                w.letter,
-                b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W'
-            )
-        }) {
-            return Err(
-                err(g76, Code::MissingWord, "All axes missing with motion code")
-                    .with_hint("G76 needs Z, the end of the drive line"),
-            );
-        }
         let p =
             match line.word(b'P') {
                 Some(p) if p.value != -1.0 => p,
@@ -255,17 +247,21 @@ impl LinuxCnc {
             units.to_mm(j.value * half),
             units.to_mm(k.value * half),
         );
-        if iv == 0.0 {
+        // At the program's resolution (LinuxCNC compares these exactly; a value within one
+        // increment of another is the same value to threadcut, docs/dialects/linuxcnc-g76.md).
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
+        if x_tol.is_zero(iv) {
             return Err(err(i.span, Code::OutOfRange, "In G76, I must not be 0"));
         }
-        if jv <= 0.0 {
+        if !x_tol.gt(jv, 0.0) {
             return Err(err(
                 j.span,
                 Code::OutOfRange,
                 "In G76, J must be greater than 0",
             ));
         }
-        if kv <= jv {
+        if !x_tol.gt(kv, jv) {
             return Err(err(
                 k.span,
                 Code::OutOfRange,
@@ -298,7 +294,7 @@ impl LinuxCnc {
             err(g76, Code::MissingWord, "All axes missing with motion code")
                 .with_hint("G76 needs Z, the end of the drive line")
         })?;
-        if p.value <= 0.0 {
+        if !length.gt(units.to_mm(p.value), 0.0) {
             return Err(err(
                 p.span,
                 Code::OutOfRange,
@@ -317,20 +313,21 @@ impl LinuxCnc {
                 .with_hint("LinuxCNC's documentation lists R below 1.0 as an error; its code silently uses 1.0"))
             }
         };
-        let a = modal.position.ok_or_else(|| {
-            err(
+        let a = modal.position.known().ok_or_else(|| {
+            super::unknown_start(
+                modal,
                 g76,
-                Code::UnknownPosition,
-                "G76 starts its drive line where the tool is, and the tool's position is not known here",
+                "G76",
+                "starts its drive line where the tool is",
+                "position the tool with G0 X.. Z.. before the cycle",
             )
-            .with_hint("position the tool with G0 X.. Z.. before the cycle")
         })?;
         let z_end = if modal.absolute {
             units.to_mm(z.value)
         } else {
             a.z + units.to_mm(z.value)
         };
-        if z_end == a.z {
+        if length.eq(z_end, a.z) {
             return Err(err(
                 z.span,
                 Code::Geometry,
@@ -343,11 +340,13 @@ impl LinuxCnc {
         let q_word = line.word(b'Q').map_or(0.0, |q| q.value);
         // Z end above Z start mirrors everything (q = -q).
         let q = if dir > 0.0 { -q_word } else { q_word };
+        // E below the resolution (or negative) is no taper.
         let taper = line
             .word(b'E')
-            .map_or(0.0, |e| units.to_mm(e.value).max(0.0));
-        let l = line.word(b'L').map_or(0, |l| l.value as u64);
-        if taper > 0.0 && l & 3 != 0 && taper > (z_end - a.z).abs() / 2.0 {
+            .map(|e| units.to_mm(e.value))
+            .filter(|&e| length.gt(e, 0.0))
+            .unwrap_or(0.0);
+        if taper > 0.0 && l & 3 != 0 && length.gt(taper, (z_end - a.z).abs() / 2.0) {
             let e = line.word(b'E').expect("taper > 0");
             return Err(err(
                 e.span,
@@ -384,7 +383,6 @@ impl LinuxCnc {
                 angle_deg: -q,
             }
         };
-        let spring = line.word(b'H').map_or(0, |h| h.value as u32);
         Ok(Job {
             line: line.number,
             span: g76,
@@ -457,42 +455,38 @@ impl Dialect for LinuxCnc {
         _warnings: &mut Vec<Diagnostic>,
     ) -> Result<Read> {
         self.track(line, modal);
-        // The motion-group G codes of the line (no allocation: this runs on every line).
-        let mut motion = line
-            .words
-            .iter()
-            .filter(|w| w.letter == b'G')
-            .filter_map(|w| g_code(w.value).map(|c| (w, c)))
-            .filter(|(_, c)| MOTION.contains(c));
-        let g76 = match (motion.next(), motion.next()) {
-            (None, _) => {
-                let axes = line.words.iter().any(|w| {
-                    matches!(
-                        w.letter,
-                        b'X' | b'Y' | b'Z' | b'A' | b'B' | b'C' | b'U' | b'V' | b'W'
-                    )
-                });
-                if !(self.g76_modal && axes) {
-                    return Ok(Read::Plain);
-                }
-                line.span()
-            }
-            (Some((w, G76)), None) => w.span,
-            (Some(_), None) => {
-                self.g76_modal = false;
-                return Ok(Read::Plain);
-            }
-            (Some(_), Some((second, _))) => {
-                return Err(Diagnostic::error(
-                    Code::Conflict,
-                    second.span,
-                    "Two G codes used from same modal group",
-                ))
-            }
-        };
-        self.g76_modal = true;
+        // LinuxCNC's reading rules for every block: each letter once, a G and an M code per
+        // modal group, no word that no code of the block uses.
+        let block = words::read(line)?;
+        let motion = words::motion_to_be(&block, self.motion)?;
+        words::check_other_codes(&block, line, motion)?;
+        if let Some(m) = block.motion() {
+            self.motion = (m != G80).then_some(m);
+        }
+        if block.ends_program() {
+            self.motion = Some(10);
+        }
+        if motion != Some(G76) {
+            return Ok(Read::Plain);
+        }
+        let g76 = block.motion_span().unwrap_or_else(|| line.span());
         let job = self.read_g76(line, modal, g76)?;
         Ok(Read::Cycle(Box::new(job)))
+    }
+
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        // o-word subroutines and control flow, parameters, expressions (o-code.adoc). Calls nest
+        // ten levels, the main program counted (INTERP_SUB_ROUTINE_LEVELS).
+        Some(crate::interp::Syntax {
+            lang: crate::interp::Lang::Ngc,
+            max_call_depth: 10,
+            max_macro_depth: 0,
+            g65_operations: false,
+            m98_l_word: false,
+            m97_local_calls: false,
+            m99_p_jumps: false,
+            wide_commons: false,
+        })
     }
 
     fn format(&self) -> Format {

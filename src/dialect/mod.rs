@@ -122,14 +122,11 @@ pub trait Dialect {
     fn cycle_taper(&self) -> Option<CycleTaper> {
         self.taper_word().map(CycleTaper::Word)
     }
-    /// Letters this controller writes without a number (flags such as OmniTurn's `P`, `C`, `O`).
-    fn bare_letters(&self) -> &'static [u8] {
-        b""
-    }
-    /// How this controller's lines are written where it differs from RS274 (Sinumerik: `;`
-    /// comments only, and lines in its own syntax handed over unread).
-    fn syntax(&self) -> crate::gcode::Syntax {
-        crate::gcode::Syntax::default()
+    /// The macro language this controller's programs are written in, if any: which front end of
+    /// [`crate::interp`] runs a program that has control flow (subprograms, loops, parameters,
+    /// expressions). `None` (the default): every line is a plain block.
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        None
     }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in
@@ -345,22 +342,90 @@ pub(crate) fn alone_in_block(line: &Line, cycle: Span, name: &str, allowed: &[u1
     }
 }
 
-/// Where a cycle starts: the tool's position, which must be known (at power-on and after a reference
-/// return it is not). `hint` says how this controller's program positions the tool.
+/// Refuses a number written with an exponent (`X1e3`, `Z-2.5E-4`): G-code has none, so the text
+/// reads as the number and then an `E` word glued to it, and a block that gives E no meaning
+/// would silently move to X1. For controllers whose E is a word of some blocks only (a lead, a
+/// lead-in) and that do not otherwise check for unused words: each calls this on the blocks where
+/// E means nothing.
+pub(crate) fn refuse_exponent(line: &Line) -> Result<()> {
+    // Most lines a dialect reads have no E at all: the word summary says so without a look.
+    if !line.summary.has_letter(b'E') {
+        return Ok(());
+    }
+    let glued = line.words.windows(2).find(|pair| {
+        let (number, e) = (&pair[0], &pair[1]);
+        e.letter == b'E'
+            && !number.is_bare()
+            && number.span.start + u64::from(number.span.len) == e.span.start
+            && number
+                .raw(line.text)
+                .last()
+                .is_some_and(|b| b.is_ascii_digit() || *b == b'.')
+    });
+    match glued {
+        Some(pair) => {
+            let (number, e) = (&pair[0], &pair[1]);
+            let text = crate::gcode::lexer::show(
+                &line.text[number.span.column as usize - 1
+                    ..e.span.column as usize - 1 + e.span.len as usize],
+            );
+            Err(Diagnostic::error(
+                crate::diag::Code::Syntax,
+                Span::new(
+                    number.span.start,
+                    number.span.len + e.span.len,
+                    number.span.line,
+                    number.span.column,
+                ),
+                format!(
+                    "`{text}`: G-code numbers have no exponent, and E means nothing on this block"
+                ),
+            )
+            .with_hint(format!(
+                "this reads as {}{} and an E word; write the number out in full",
+                number.letter as char,
+                crate::gcode::lexer::show(number.raw(line.text))
+            )))
+        }
+        None => Ok(()),
+    }
+}
+
+/// Where a cycle starts: the tool's position, which must be known on both axes (at power-on, after
+/// a reference return the profile does not place, and after a move in machine coordinates an axis
+/// is not). `hint` says how this controller's program positions the tool.
 pub(crate) fn start_point(
     modal: &Modal,
     cycle: Span,
     name: &str,
     hint: &str,
 ) -> Result<crate::units::Pos> {
-    modal.position.ok_or_else(|| {
-        Diagnostic::error(
-            crate::diag::Code::UnknownPosition,
-            cycle,
-            format!("{name} starts where the tool is, and the tool's position is not known here"),
-        )
-        .with_hint(hint)
-    })
+    modal
+        .position
+        .known()
+        .ok_or_else(|| unknown_start(modal, cycle, name, "starts where the tool is", hint))
+}
+
+/// The error of a cycle whose start point is not known: it names the axes that are not.
+#[cold]
+pub(crate) fn unknown_start(
+    modal: &Modal,
+    cycle: Span,
+    name: &str,
+    what: &str,
+    hint: &str,
+) -> Diagnostic {
+    let axes = modal.position.unknown_axes();
+    Diagnostic::error(
+        crate::diag::Code::UnknownPosition,
+        cycle,
+        format!(
+            "{name} {what}, and the tool's {} {} not known here",
+            axes.join(" and "),
+            if axes.len() == 1 { "is" } else { "are" }
+        ),
+    )
+    .with_hint(hint)
 }
 
 /// Warns when one lead is longer than the thread's Z travel: each pass turns the spindle less than
@@ -369,11 +434,12 @@ pub(crate) fn lead_warning(
     lead: f64,
     travel_z: f64,
     units: crate::units::Units,
+    length: crate::units::Tolerance,
     span: Span,
     hint: &str,
     warnings: &mut Vec<Diagnostic>,
 ) {
-    if lead > travel_z.abs() {
+    if length.gt(lead, travel_z.abs()) {
         warnings.push(
             Diagnostic::warning(
                 crate::diag::Code::Suspicious,
@@ -405,6 +471,9 @@ impl PackedP {
 
 /// Reads a `P(m)(r)(a)` word of `block`'s first block; `example` is the hint's worked example.
 pub(crate) fn packed_p(line: &Line, p: &Word, block: &str, example: &str) -> Result<PackedP> {
+    if p.is_computed() {
+        return computed_packed_p(p, block, example);
+    }
     let raw = p.raw(line.text);
     let digits = raw.strip_prefix(b"+").unwrap_or(raw);
     if p.has_dot || digits.first() == Some(&b'-') || digits.len() > 6 {
@@ -435,6 +504,30 @@ pub(crate) fn packed_p(line: &Line, p: &Word, block: &str, example: &str) -> Res
     Ok(PackedP {
         fields: [v / 10_000, (v / 100) % 100, v % 100],
         spans: [span(0), span(1), span(2)],
+    })
+}
+
+/// A `P(m)(r)(a)` word whose value the macro interpreter computed (`P#1`): the fields are read from
+/// the value, a whole number from 0 to 999999 (as the written digits would be, leading zeros
+/// left out); the spans are the whole word's.
+fn computed_packed_p(p: &Word, block: &str, example: &str) -> Result<PackedP> {
+    if !(0.0..1_000_000.0).contains(&p.value) || p.value.fract() != 0.0 {
+        return Err(Diagnostic::error(
+            crate::diag::Code::Syntax,
+            p.span,
+            format!(
+                "P is {}, not P(m)(r)(a): the first {block} block packs three two-digit fields",
+                p.value
+            ),
+        )
+        .with_hint(format!(
+            "the value must be a whole number of up to six digits: {example}"
+        )));
+    }
+    let v = p.value as u32;
+    Ok(PackedP {
+        fields: [v / 10_000, (v / 100) % 100, v % 100],
+        spans: [p.span; 3],
     })
 }
 
@@ -573,6 +666,44 @@ mod tests {
         assert!(c.get(200).is_some_and(|g| !g.threads) && c.get(210).is_some_and(|g| g.threads));
         assert!(c.get(240).is_some() && c.get(760).is_some_and(|g| !g.threads));
         assert!(c.get(320).is_none() && fanuc::VOCABULARY.get(910).is_none());
+    }
+
+    /// A code is judged once: every code a dialect's `PositionCodes` gives a meaning is a code of
+    /// its vocabulary (else the meaning could never apply), and the preset of Fanuc's other
+    /// G-code systems is no code of this one (G92.1 is B's and C's preset and G92 is A's threading
+    /// cycle: system A does not read G92.1 as G92, nor system B G50.3 as G50).
+    #[test]
+    fn position_codes_are_codes_of_the_vocabulary() {
+        for (name, _) in crate::machine::BUILT_IN {
+            let d = open(&Machine::built_in(name).unwrap()).unwrap();
+            let (v, p) = (d.vocabulary(), &d.conventions().positions);
+            let codes = p
+                .returns
+                .iter()
+                .chain(p.stores)
+                .map(|(c, _)| *c)
+                .chain(p.machine_moves.iter().copied())
+                .chain(p.work_systems.iter().copied())
+                .chain(p.offset_changes.iter().copied())
+                .chain(p.not_moves.iter().copied())
+                .chain((p.from_reference != 0).then_some(p.from_reference));
+            for c in codes {
+                assert!(v.get(c).is_some(), "{name}: G{}", f64::from(c) / 10.0);
+            }
+        }
+        use crate::machine::GCodeSystem;
+        assert!(fanuc::vocabulary(GCodeSystem::A).get(921).is_none());
+        assert!(fanuc::vocabulary(GCodeSystem::A).get(503).is_some());
+        for system in [GCodeSystem::B, GCodeSystem::C] {
+            assert!(fanuc::vocabulary(system).get(503).is_none());
+            assert!(fanuc15::vocabulary(system).get(503).is_none());
+            assert!(fanuc::vocabulary(system).get(921).is_some());
+            assert!(
+                fanuc::vocabulary(system).get(502).is_some(),
+                "G50.2 polygon turning"
+            );
+        }
+        assert!(fanuc15::vocabulary(GCodeSystem::A).get(921).is_none());
     }
 
     #[test]

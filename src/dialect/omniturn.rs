@@ -32,6 +32,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
     controller: "omniturn",
     alarm: "OmniTurn: invalid G code",
     g_codes: &all_but(&[GCode::thread(G33, b"XZIKACPO")], &[320, 340, 760, 780]),
+    foreign: &[],
     others: super::others_with,
 };
 
@@ -105,6 +106,11 @@ impl OmniTurn {
                 set_position: G92,
                 canned_cycles: &[],
                 units_codes: crate::gcode::modal::G20_G21,
+                positions: crate::gcode::modal::PositionCodes::FANUC,
+                syntax: crate::gcode::lexer::Syntax {
+                    bare: b"PCO",
+                    ..crate::gcode::lexer::Syntax::default()
+                },
             },
             machine: machine.clone(),
             params: machine.omniturn.clone().unwrap_or_else(default_parameters),
@@ -126,7 +132,7 @@ impl OmniTurn {
             return Ok(());
         };
         let expected = || {
-            modal.position.map_or(String::new(), |p| {
+            modal.position.known().map_or(String::new(), |p| {
                 format!(
                     " (the tool is at X{} Z{})",
                     post::number(modal.x_from_mm(p.x), 5, false),
@@ -146,11 +152,14 @@ impl OmniTurn {
             )
             .with_hint(format!("write G92 X.. Z..{} on the line after {name}", expected())));
         }
-        if let Some(p) = modal.position {
+        if let Some(p) = modal.position.known() {
             let target = modal.target(&self.conv, line, p)?;
-            let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
-            for (letter, want, got) in [(b'X', p.x, target.x), (b'Z', p.z, target.z)] {
-                if (want - got).abs() > tolerance {
+            let res = modal.resolution();
+            for (letter, want, got, tol) in [
+                (b'X', p.x, target.x, res.x()),
+                (b'Z', p.z, target.z, res.length()),
+            ] {
+                if !tol.eq(want, got) {
                     let w = line.word(letter).expect("checked above");
                     return Err(Diagnostic::error(
                         Code::Conflict,
@@ -206,9 +215,9 @@ impl OmniTurn {
                     "G36 with no coarse feed mode (G35) active",
                 )),
                 _ => {
-                    if let (Some(from), Some(at)) = (self.coarse_from, modal.position) {
-                        let tolerance = self.resolution_in() * MM_PER_INCH / 2.0;
-                        if from.distance(at) > tolerance {
+                    if let (Some(from), Some(at)) = (self.coarse_from, modal.position.known()) {
+                        let res = modal.resolution();
+                        if !res.x().eq(from.x, at.x) || !res.length().eq(from.z, at.z) {
                             return Err(Diagnostic::error(
                                 Code::Geometry,
                                 g.span,
@@ -242,7 +251,7 @@ impl OmniTurn {
                 }
             };
             if self.coarse_from.is_none() {
-                self.coarse_from = modal.position;
+                self.coarse_from = modal.position.known();
             }
             mode
         };
@@ -305,7 +314,9 @@ impl OmniTurn {
             units.to_mm(r)
         };
         let i_value = modal.value(i);
-        if i_value <= 0.0 {
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
+        if !x_tol.gt(x_amount(i_value), 0.0) {
             return Err(Diagnostic::error(
                 Code::OutOfRange,
                 i.span,
@@ -314,7 +325,7 @@ impl OmniTurn {
         }
         let step = x_amount(i_value);
         let k_in = units.to_mm(modal.value(k)) / MM_PER_INCH;
-        if k_in <= 0.0 {
+        if !length.gt(k_in * MM_PER_INCH, 0.0) {
             return Err(Diagnostic::error(
                 Code::OutOfRange,
                 k.span,
@@ -322,10 +333,13 @@ impl OmniTurn {
             ));
         }
         let max = self.params.max_lead_in[self.mode as usize];
-        if k_in > max {
-            let fits = [FeedMode::G35, FeedMode::G35F2]
-                .into_iter()
-                .find(|m| k_in <= self.params.max_lead_in[*m as usize]);
+        if length.gt(k_in * MM_PER_INCH, max * MM_PER_INCH) {
+            let fits = [FeedMode::G35, FeedMode::G35F2].into_iter().find(|m| {
+                !length.gt(
+                    k_in * MM_PER_INCH,
+                    self.params.max_lead_in[*m as usize] * MM_PER_INCH,
+                )
+            });
             let hint = match fits {
                 Some(FeedMode::G35F2) => format!(
                     "put G35F2 on a line by itself before the cycle, then G92 X.. Z.. with the current position (leads up to {}\")",
@@ -391,19 +405,19 @@ impl OmniTurn {
         let end = modal.target(&self.conv, line, start)?;
         let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, g33, msg);
         let travel_z = end.z - start.z;
-        if travel_z == 0.0 {
+        if length.is_zero(travel_z) {
             return Err(geometry_error(
                 "Z is where the tool stands: the thread has no length".into(),
             ));
         }
-        if taper.abs() >= travel_z.abs() {
+        if !length.lt(taper.abs(), travel_z.abs()) {
             return Err(geometry_error(format!(
                 "the taper A moves X {} over {} of Z: G33 threads along Z",
                 units.from_mm(taper.abs()),
                 units.from_mm(travel_z.abs())
             )));
         }
-        let side = Side::of_cut(start.x, end.x).ok_or_else(|| {
+        let side = Side::of_cut(start.x, end.x, x_tol).ok_or_else(|| {
             Diagnostic::error(
                 Code::Geometry,
                 x.span,
@@ -555,6 +569,7 @@ impl Dialect for OmniTurn {
         // G codes is G0–G3.
         self.pending_g92.is_some()
             || line.summary.has_letter(b'S')
+            || line.summary.has_letter(b'E')
             || (line.summary.other_g()
                 && line.words.iter().any(|w| {
                     w.letter == b'G'
@@ -570,10 +585,6 @@ impl Dialect for OmniTurn {
         &VOCABULARY
     }
 
-    fn bare_letters(&self) -> &'static [u8] {
-        b"PCO"
-    }
-
     fn read(
         &mut self,
         line: &Line,
@@ -584,6 +595,8 @@ impl Dialect for OmniTurn {
             return Ok(Read::Plain);
         }
         self.check_companion(line, modal)?;
+        // OmniTurn has no E word: `X.5e-1` is a number with an exponent, which G-code has not.
+        super::refuse_exponent(line)?;
         let mut cycle = None;
         for w in line.words.iter().filter(|w| w.letter == b'G') {
             match g_code(w.value) {

@@ -21,7 +21,7 @@ use crate::thread::{
     tan_deg, DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed as ModelInfeed, Job,
     Lead, PassPlan, Retract, ReturnPath, Side,
 };
-use crate::units::{Pos, Units};
+use crate::units::{Pos, Tolerance, Units};
 
 /// The largest tool angle A (FS15: "0-120"; Haas: "0 to 120 degrees"; Allen-Bradley: "an integer
 /// value from 0 to 120").
@@ -113,9 +113,10 @@ pub struct Setup {
 }
 
 /// A radius word that is unsigned and above zero (K, D), in mm.
+/// Zero is a value within the program's resolution of it.
 pub fn positive(modal: &Modal, w: &Word, what: &str) -> Result<f64> {
     let v = modal.value(w);
-    if v <= 0.0 {
+    if !modal.resolution().length().gt(modal.units.to_mm(v), 0.0) {
         return Err(Diagnostic::error(
             Code::OutOfRange,
             w.span,
@@ -180,14 +181,17 @@ pub fn infeed(
 /// start Z; the finishing passes at K; the tool ends at the start point.
 pub fn lower(c: &Cycle, s: &Setup, modal: &Modal, warnings: &mut Vec<Diagnostic>) -> Result<Job> {
     let units = modal.units;
+    // Programmed values compare at the program's resolution (docs/dialects/README.md).
+    let res = modal.resolution();
+    let (x_tol, length) = (res.x(), res.length());
     let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, c.span, msg);
     let travel_z = c.end.z - c.start.z;
-    if travel_z == 0.0 {
+    if length.is_zero(travel_z) {
         return Err(geometry_error(
             "Z is the start point's Z: the thread has no length".into(),
         ));
     }
-    if c.taper.abs() >= travel_z.abs() {
+    if !length.lt(c.taper.abs(), travel_z.abs()) {
         return Err(geometry_error(format!(
             "the taper I changes the radius by {} over {} of Z: the cycle threads along Z",
             units.from_mm(c.taper.abs()),
@@ -196,7 +200,7 @@ pub fn lower(c: &Cycle, s: &Setup, modal: &Modal, warnings: &mut Vec<Diagnostic>
     }
     // I is "added to the X parameter to determine the start-point of the threading pass".
     let root_start = Pos::new(c.end.x + c.taper, c.start.z);
-    let side = Side::of_cut(c.start.x, root_start.x).ok_or_else(|| {
+    let side = Side::of_cut(c.start.x, root_start.x, x_tol).ok_or_else(|| {
         geometry_error(
             "the start point's X is the thread's root: cannot tell an external from an internal thread"
                 .into(),
@@ -204,7 +208,8 @@ pub fn lower(c: &Cycle, s: &Setup, modal: &Modal, warnings: &mut Vec<Diagnostic>
     })?;
     let outward = side.outward().x;
     let crest_x = root_start.x + outward * c.height;
-    if (c.start.x - crest_x) * outward < 0.0 {
+    // A start point within the resolution of the top of the thread is on it.
+    if x_tol.lt((c.start.x - crest_x) * outward, 0.0) {
         return Err(geometry_error(format!(
             "the start point X{} lies inside the thread (its top is at X{}): the return between passes would cut through it",
             post::number(modal.x_from_mm(c.start.x), 4, false),
@@ -212,7 +217,7 @@ pub fn lower(c: &Cycle, s: &Setup, modal: &Modal, warnings: &mut Vec<Diagnostic>
         ))
         .with_hint("start the cycle from a point clear of the top of the thread"));
     }
-    if s.allowance >= c.height {
+    if !length.lt(s.allowance, c.height) {
         return Err(geometry_error(format!(
             "{} {} is not smaller than the thread height K {}",
             s.allowance_name,
@@ -239,8 +244,8 @@ pub fn lower(c: &Cycle, s: &Setup, modal: &Modal, warnings: &mut Vec<Diagnostic>
     let shift = infeed.axis(c.height);
     let crest_start = Pos::new(crest_x, c.start.z - shift);
     let crest_end = Pos::new(c.end.x + outward * c.height, c.end.z - shift);
-    let exit = pull_out(c, s, units, travel_z)?;
-    if c.first >= c.height {
+    let exit = pull_out(c, s, units, travel_z, length)?;
+    if !length.lt(c.first, c.height) {
         warnings.push(Diagnostic::warning(
             Code::Suspicious,
             c.span,
@@ -251,7 +256,7 @@ pub fn lower(c: &Cycle, s: &Setup, modal: &Modal, warnings: &mut Vec<Diagnostic>
             ),
         ));
     }
-    super::lead_warning(c.lead, travel_z, units, c.span, "check F", warnings);
+    super::lead_warning(c.lead, travel_z, units, length, c.span, "check F", warnings);
     Ok(Job {
         line: c.line,
         span: c.span,
@@ -313,7 +318,13 @@ fn model_infeed(tool_angle: f64, p: Infeed, travel_z: f64) -> ModelInfeed {
     }
 }
 
-fn pull_out(c: &Cycle, s: &Setup, units: Units, travel_z: f64) -> Result<Exit> {
+fn pull_out(
+    c: &Cycle,
+    s: &Setup,
+    units: Units,
+    travel_z: f64,
+    tolerance: Tolerance,
+) -> Result<Exit> {
     let Some(p) = s.pull_out.filter(|p| p.leads > 0.0) else {
         return Ok(Exit::Straight);
     };
@@ -325,7 +336,7 @@ fn pull_out(c: &Cycle, s: &Setup, units: Units, travel_z: f64) -> Result<Exit> {
         )));
     }
     let length = p.leads * c.lead;
-    if length >= travel_z.abs() {
+    if !tolerance.lt(length, travel_z.abs()) {
         return Err(error(format!(
             "{} ({} leads = {}) is not shorter than the thread ({})",
             s.pull_out_name,

@@ -16,7 +16,10 @@ use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::lexer::{letter_slot, WordIndex};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
-use crate::gcode::{Conventions, Line, Modal, MotionMode, Syntax, Word, WordSummary};
+use crate::gcode::{
+    Conventions, Line, Modal, MotionMode, Position, PositionCodes, Reference, Syntax, Word,
+    WordSummary,
+};
 use crate::machine::Machine;
 use crate::post::{AngleUnit, Format, StartAngleWord};
 use crate::units::Units;
@@ -81,6 +84,63 @@ const SF: StartAngleWord = StartAngleWord {
     modal: true,
 };
 
+/// Sinumerik's lines: `;` comments (`(` belongs to calls), and lines in its own syntax handed
+/// over unread for [`block`] to read.
+pub const SYNTAX: Syntax = Syntax {
+    parens_not_comments: true,
+    hand_over_unread: true,
+    bare: b"",
+    blanks_anywhere: false,
+    nested_comment_error: false,
+};
+
+/// Sinumerik's G codes for where the tool is (`docs/dialects/sinumerik.md`, "Where the tool
+/// is"): `G74` approaches the reference point with the axes it names (the profile's
+/// `[reference] g28`); `G75` approaches a fixed point (machine data no profile states) and
+/// `G53`/`G153` move in machine coordinates: the named axes become unknown. The settable work
+/// offsets are `G500` (none: in force at power-on), `G54`–`G57` and `G505`–`G599`; `G25`/`G26`
+/// with axis words set the working-area limits and move nothing. (The programmable offsets
+/// `G58`/`G59` are frames, refused as TRANS is.)
+pub const POSITIONS: PositionCodes = PositionCodes {
+    returns: &[(740, Reference::First)],
+    all_without_axes: false,
+    stores: &[],
+    machine_moves: &[530, 1530, 750],
+    from_reference: 0,
+    work_systems: &WORK_SYSTEMS,
+    power_on_work_system: 5000,
+    offset_changes: &[],
+    not_moves: &[250, 260],
+};
+
+/// G500, G54–G57, G505–G599 (×10).
+const WORK_SYSTEMS: [u16; 100] = {
+    let first = [5000, 540, 550, 560, 570];
+    let mut t = [0u16; 100];
+    let mut i = 0;
+    while i < 100 {
+        t[i] = if i < 5 {
+            first[i]
+        } else {
+            5050 + 10 * (i as u16 - 5)
+        };
+        i += 1;
+    }
+    t
+};
+
+/// What a block does to where the tool is, beyond its words.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Leaves {
+    /// Its words say it all.
+    Known,
+    /// `SUPA`: the block's positions are in machine coordinates; the axes it names are unknown
+    /// after it (as after `G53`).
+    NamedAxesUnknown,
+    /// Another cycle's call: where it leaves the tool is not known.
+    AllUnknown,
+}
+
 /// Sinumerik's G functions in Siemens mode, as ranges of whole numbers (the Fundamentals manual's
 /// list of G functions: `docs/dialects/sinumerik.md`, "Vocabulary"). Generous where threadcut's
 /// knowledge of the list may be partial: every code G0–G99 but the ISO/Fanuc codes a Siemens-mode
@@ -127,6 +187,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
     controller: "sinumerik",
     alarm: "alarm 12470 (G function unknown)",
     g_codes: &super::ranges::<{ super::count(RANGES) }>(RANGES, &[GCode::thread(G33, b"XZIK")]),
+    foreign: &[],
     others: super::others_with,
 };
 
@@ -166,6 +227,8 @@ impl Sinumerik {
                 canned_cycles: &[],
                 // G70/G71; G700/G710 (feeds too) are read here.
                 units_codes: [700, 710],
+                positions: POSITIONS,
+                syntax: SYNTAX,
             },
             machine: machine.clone(),
             sf: 0.0,
@@ -219,8 +282,7 @@ impl Sinumerik {
 
     /// A line of address words: the state this dialect keeps, then the modal reader. `words` are
     /// the line's own or, for a line in Sinumerik's syntax, the address words found in it.
-    fn read_words(&mut self, line: &Line, modal: &mut Modal, leave_position: bool) -> Result<Read> {
-        let mut home = false;
+    fn read_words(&mut self, line: &Line, modal: &mut Modal, leaves: Leaves) -> Result<Read> {
         let mut absolute = modal.absolute;
         let mut thread = false;
         for w in line.words {
@@ -239,12 +301,14 @@ impl Sinumerik {
                 b'G' => match g_code(w.value) {
                     Some(700 | 7000) => modal.units = Units::Inch,
                     Some(710 | 7100) => modal.units = Units::Mm,
-                    // Reference point and fixed point approach: the tool goes where the
-                    // machine data say.
-                    Some(740 | 750) => home = true,
                     Some(900) => absolute = true,
                     Some(910) => absolute = false,
                     Some(G33) => thread = true,
+                    // The programmable zero offsets: frames, as TRANS and ATRANS ("G58 replaces
+                    // the absolute translation component of the programmable zero offset").
+                    Some(c @ (580 | 590)) => {
+                        return Err(frame_refused(&format!("G{}", c / 10), w.span))
+                    }
                     // G291 switches to the ISO dialect: the words after it are Fanuc's.
                     Some(2910) => {
                         return Err(Diagnostic::error(
@@ -283,15 +347,28 @@ impl Sinumerik {
         } else {
             false
         };
-        if !(thread || steep || home || leave_position) {
+        if !(thread || steep || leaves != Leaves::Known) {
+            // (G74/G75 and the work offsets are the shared modal reader's: `POSITIONS`.)
             return Ok(Read::Plain);
         }
         let mut mv = modal.apply(&self.conv, line)?;
         if let Some(m) = mv.as_mut().filter(|m| m.mode == MotionMode::Thread) {
             m.phase_deg = self.sf;
         }
-        if home || leave_position {
-            modal.position = None;
+        match leaves {
+            Leaves::Known => {}
+            Leaves::NamedAxesUnknown => {
+                // As G53: the named axes end in machine coordinates, and the block is no move in
+                // the program's.
+                if line.word(b'X').is_some() {
+                    modal.position.x = None;
+                }
+                if line.word(b'Z').is_some() {
+                    modal.position.z = None;
+                }
+                mv = None;
+            }
+            Leaves::AllUnknown => modal.position = Position::UNKNOWN,
         }
         Ok(Read::Applied(mv))
     }
@@ -312,7 +389,7 @@ impl Sinumerik {
                 k.value
             )));
         }
-        if i.value <= 0.0 {
+        if !modal.resolution().length().gt(modal.length_mm(i), 0.0) {
             return Err(Diagnostic::error(
                 Code::OutOfRange,
                 i.span,
@@ -333,7 +410,7 @@ impl Sinumerik {
         let items = block::parse(line.text, line.number, line.offset)?;
         let mut words: Vec<Word> = Vec::new();
         let mut cycle = None;
-        let mut leave_position = false;
+        let mut leaves = Leaves::Known;
         let mut machine_axis = None;
         for item in items {
             match item {
@@ -344,7 +421,9 @@ impl Sinumerik {
                     }
                 }
                 Item::Keyword { name, span } => {
-                    leave_position |= self.keyword(&name, span, modal)?;
+                    if self.keyword(&name, span, modal)? {
+                        leaves = leaves.max(Leaves::NamedAxesUnknown);
+                    }
                 }
                 Item::Call {
                     name,
@@ -361,7 +440,7 @@ impl Sinumerik {
                     .with_hint("the public descriptions of its parameter list found for threadcut disagree on the order of its parameters; program the thread with CYCLE97 or G33 blocks")),
                     // Another cycle (stock removal, grooving, drilling): it passes through, and
                     // threadcut does not know where it leaves the tool.
-                    n if n.starts_with("CYCLE") => leave_position = true,
+                    n if n.starts_with("CYCLE") => leaves = Leaves::AllUnknown,
                     n if PASSIVE_CALLS.contains(&n) => {}
                     n => return Err(Diagnostic::error(
                         Code::Unsupported,
@@ -425,7 +504,7 @@ impl Sinumerik {
             }
             return self.cycle97(&call, &own, modal, warnings);
         }
-        match self.read_words(&own, modal, leave_position)? {
+        match self.read_words(&own, modal, leaves)? {
             Read::Plain => Ok(Read::Applied(modal.apply(&self.conv, &own)?)),
             read => Ok(read),
         }
@@ -473,10 +552,11 @@ impl Sinumerik {
                 return Ok(None);
             }
             (_, true) => {
-                // A machine axis (`X1=0` with G74).
+                // A machine axis (`X1=0` with G74/G75): X and Z come back as the axes the block
+                // names (their values mean nothing there); others are not followed.
                 self.value(value)?;
                 machine_axis.get_or_insert(span);
-                return Ok(None);
+                return Ok(matches!(letter, b'X' | b'Z').then(|| Word::assigned(letter, 0.0, span)));
             }
             _ => {}
         }
@@ -541,16 +621,9 @@ impl Sinumerik {
                     span,
                     format!("{n}: threadcut reads a program from top to bottom and does not follow program flow"),
                 )
-                .with_hint("unroll the program (or run it in the control's simulation) before expanding it"))
+                .with_hint("threadcut runs the macro languages of LinuxCNC and the Fanuc family, not Sinumerik's: unroll the program (or run it in the control's simulation) before expanding it"))
             }
-            n if FRAMES.contains(&n) => {
-                return Err(Diagnostic::error(
-                    Code::Unsupported,
-                    span,
-                    format!("{n}: threadcut does not follow frames, which move every later position"),
-                )
-                .with_hint("write the positions in the workpiece coordinates the frame gives"))
-            }
+            n if FRAMES.contains(&n) => return Err(frame_refused(n, span)),
             n => {
                 return Err(Diagnostic::error(
                     Code::Unsupported,
@@ -614,6 +687,17 @@ impl Sinumerik {
     }
 }
 
+/// A frame (TRANS, ATRANS, G58, G59, …) is refused at its word.
+#[cold]
+fn frame_refused(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        Code::Unsupported,
+        span,
+        format!("{name}: threadcut does not follow frames, which move every later position"),
+    )
+    .with_hint("write the positions in the workpiece coordinates the frame gives")
+}
+
 /// Where each letter's last word is, as the lexer fills it for its own lines.
 fn word_index(words: &[Word]) -> WordIndex {
     let mut index = [0; 32];
@@ -636,20 +720,13 @@ impl Dialect for Sinumerik {
         &VOCABULARY
     }
 
-    fn syntax(&self) -> Syntax {
-        Syntax {
-            parens_not_comments: true,
-            hand_over_unread: true,
-        }
-    }
-
+    /// Lines in Sinumerik's own syntax, G codes other than G0–G3, and the letters `read` looks at
+    /// (D and T: the tool offset; L: a subprogram call; E: an exponent to refuse), in one test of
+    /// the word summary; and the line after a CYCLE97 expanded under DIAM90 and G91.
+    #[inline]
     fn prefilter(&self, line: &Line) -> bool {
-        line.shape.unread
-            || line.summary.other_g()
-            || line.summary.has_letter(b'D')
-            || line.summary.has_letter(b'T')
-            || line.summary.has_letter(b'L')
-            || self.restore_diameter.is_some()
+        const LETTERS: u32 = WordSummary::letter_mask(b"DTLE");
+        line.shape.unread || line.summary.other_g_or_any(LETTERS) || self.restore_diameter.is_some()
     }
 
     fn read(
@@ -664,7 +741,9 @@ impl Dialect for Sinumerik {
         if line.shape.unread {
             self.read_block(line, modal, warnings)
         } else {
-            self.read_words(line, modal, false)
+            // Sinumerik writes an exponent as `EX` (`1.5EX3`); an E glued to a number is none.
+            super::refuse_exponent(line)?;
+            self.read_words(line, modal, Leaves::Known)
         }
     }
 

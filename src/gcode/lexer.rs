@@ -35,20 +35,54 @@ impl Word {
     };
 
     /// A letter written without a number (OmniTurn's `P`, `C` and `O` flags on G33). Only letters a
-    /// dialect declares with [`lex_line_with`] can be bare; their value reads as 0.
+    /// dialect declares in its [`Syntax::bare`] can be bare; their value reads as 0.
     pub fn is_bare(&self) -> bool {
         self.raw_len() == 0
+    }
+
+    /// A word whose value the macro interpreter ([`crate::interp`]) computed from what follows the
+    /// letter (a parameter, an expression): `span` covers the letter and what follows it, which
+    /// [`raw`](Word::raw) gives back as written (`[#1*2]`, for messages). Its value is a value, not
+    /// a count of least increments: it reads as written with a decimal point (the Fanuc macro rule,
+    /// docs/dialects/fanuc.md). A dialect that decodes a word's digits (a packed `P`) reads a
+    /// computed word from its value ([`is_computed`](Word::is_computed)).
+    pub fn computed(letter: u8, value: f64, span: Span) -> Word {
+        Word {
+            letter,
+            value,
+            has_dot: true,
+            raw_skip: COMPUTED,
+            span,
+        }
+    }
+
+    /// A word the macro interpreter read as a plain number in a line the lexer does not take
+    /// (`X10` beside `Z#1`): as [`lex_line`] would give it, the number's lexeme starting `skip`
+    /// bytes after the letter.
+    pub fn literal(letter: u8, value: f64, has_dot: bool, span: Span, skip: u32) -> Word {
+        Word {
+            letter,
+            value,
+            has_dot,
+            raw_skip: skip & !COMPUTED,
+            span,
+        }
+    }
+
+    /// Whether the value was computed by the macro interpreter ([`computed`](Word::computed)).
+    pub fn is_computed(&self) -> bool {
+        self.raw_skip & COMPUTED != 0
     }
 
     /// Byte offset of the number's lexeme within the line (after the letter and any blanks).
     pub fn raw_start(&self) -> usize {
         // The span's column is the letter's offset plus one.
-        self.span.column as usize + self.raw_skip as usize
+        self.span.column as usize + (self.raw_skip & !COMPUTED) as usize
     }
 
     /// Length of the number's lexeme in bytes.
     pub fn raw_len(&self) -> usize {
-        (self.span.len as usize).saturating_sub(1 + self.raw_skip as usize)
+        (self.span.len as usize).saturating_sub(1 + (self.raw_skip & !COMPUTED) as usize)
     }
 
     /// The number exactly as written, e.g. `020545` for `P020545`.
@@ -70,6 +104,9 @@ impl Word {
         }
     }
 }
+
+/// The top bit of a word's `raw_skip`: the word was computed by the macro interpreter.
+const COMPUTED: u32 = 1 << 31;
 
 /// Which words a line has, in brief: gathered by the lexer on its way through the line, so that
 /// a caller can tell that a line has no `G78` (or no `E` word) without looking at its words.
@@ -121,6 +158,35 @@ impl WordSummary {
     #[inline(always)]
     pub fn other_g(&self) -> bool {
         self.bits & OTHER_G != 0
+    }
+
+    /// Whether some `G` word is other than `G0`–`G3` ([`other_g`](WordSummary::other_g)) or some
+    /// word begins with one of `letters` (a mask from [`letter_mask`](WordSummary::letter_mask)):
+    /// one test where a caller needs these answers only when one of them is yes.
+    #[inline(always)]
+    pub fn other_g_or_any(&self, letters: u32) -> bool {
+        self.bits & (OTHER_G | letters) != 0
+    }
+
+    /// The mask of these letters (upper case, `A`–`Z`) for
+    /// [`other_g_or_any`](WordSummary::other_g_or_any); other bytes add nothing.
+    pub const fn letter_mask(letters: &[u8]) -> u32 {
+        let mut mask = 0;
+        let mut i = 0;
+        while i < letters.len() {
+            if letters[i].is_ascii_uppercase() {
+                mask |= 1 << (letters[i] & 31);
+            }
+            i += 1;
+        }
+        mask
+    }
+
+    /// Whether some word begins with `M` or `O`, or some `G` word is other than G0–G3: the lines
+    /// a macro interpreter looks at more closely (`M98`, `M99`, `M30`, `G65`), one test for all.
+    #[inline(always)]
+    pub fn may_be_control(&self) -> bool {
+        self.bits & (1 << (b'M' & 31) | 1 << (b'O' & 31) | OTHER_G) != 0
     }
 
     /// Whether the line may have a `G` word with this code (×10, as
@@ -180,21 +246,40 @@ pub struct LineShape {
     pub unread: bool,
 }
 
-/// How a controller writes its lines, where that differs from RS274/Fanuc. The default is RS274:
-/// `(` opens a comment, and a line that is not address words is an error.
+/// How a controller writes its lines, where that differs from RS274/Fanuc. A dialect states it
+/// once, in its [`Conventions::syntax`](super::Conventions::syntax), and the reader lexes every line
+/// with it. The default is RS274's: every letter takes a number, a blank ends a number, `(` opens a
+/// comment that ends at the first `)`, and a line that is not address words is an error.
+///
+/// The reader's fast path reads only lines that every syntax reads alike (it looks at
+/// [`parens_not_comments`](Syntax::parens_not_comments) alone, and only on a `(`); everything
+/// else is the reference lexer's ([`lex_line_syntax`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Syntax {
+    /// Letters that may stand alone, without a number (flags such as OmniTurn's `G33 … P C O`). A
+    /// bare letter is followed by the end of the line, a blank, a comment or another letter;
+    /// [`Word::is_bare`] tells it from a letter with a value.
+    pub bare: &'static [u8],
+    /// Blanks (spaces, tabs, carriage returns) mean nothing anywhere outside comments, inside
+    /// numbers and between a sign and its digits too: `G 7 6 P2 . 5` is `G76 P2.5` (LinuxCNC
+    /// drops them before it reads a line). Elsewhere a blank ends a number, and a number after it
+    /// is an error.
+    pub blanks_anywhere: bool,
+    /// A `(` inside a comment is an error (LinuxCNC: "Nested comment found"); elsewhere a comment
+    /// ends at the first `)`.
+    pub nested_comment_error: bool,
     /// `(` is not a comment (Sinumerik: comments begin with `;`, and parentheses belong to calls
     /// such as `CYCLE97(…)`): the lexers treat it as any other character they cannot read.
     pub parens_not_comments: bool,
     /// A line the word lexer cannot read is handed out without words and with
     /// [`LineShape::unread`] set, rather than as an error: the dialect reads its own syntax from
-    /// the line's text (and reports the errors in it).
+    /// the line's text (and reports the errors in it). The reader's business: to
+    /// [`lex_line_syntax`] such a line is an error as always.
     pub hand_over_unread: bool,
 }
 
 /// Lexes one line (without its line terminator) into `words`, which is cleared first and reused so
-/// that streaming a file allocates nothing per block.
+/// that streaming a file allocates nothing per block. RS274's syntax ([`Syntax::default`]).
 ///
 /// `offset` is the byte offset of the line in the whole input and `line_no` its 1-based number.
 pub fn lex_line(
@@ -203,31 +288,17 @@ pub fn lex_line(
     offset: u64,
     words: &mut Vec<Word>,
 ) -> Result<LineShape, Diagnostic> {
-    lex_line_with(line, line_no, offset, words, b"")
+    lex_line_syntax(line, line_no, offset, words, &Syntax::default())
 }
 
-/// As [`lex_line`], but the letters in `bare` may also stand alone, without a number (a flag such
-/// as OmniTurn's `G33 … P C O`). A bare letter is followed by the end of the line, a blank, a
-/// comment or another letter; [`Word::is_bare`] tells it from a letter with a value.
-pub fn lex_line_with(
+/// As [`lex_line`], read as a controller's `syntax` says: the reference lexer, which the reader's
+/// fast path agrees with on every line it takes.
+pub fn lex_line_syntax(
     line: &[u8],
     line_no: u32,
     offset: u64,
     words: &mut Vec<Word>,
-    bare: &[u8],
-) -> Result<LineShape, Diagnostic> {
-    lex_line_in(line, line_no, offset, words, bare, Syntax::default())
-}
-
-/// As [`lex_line_with`], under a controller's [`Syntax`]. (`hand_over_unread` is the reader's
-/// business: here an unreadable line is an error as always.)
-pub fn lex_line_in(
-    line: &[u8],
-    line_no: u32,
-    offset: u64,
-    words: &mut Vec<Word>,
-    bare: &[u8],
-    syntax: Syntax,
+    syntax: &Syntax,
 ) -> Result<LineShape, Diagnostic> {
     words.clear();
     let mut shape = LineShape::default();
@@ -241,9 +312,12 @@ pub fn lex_line_in(
                 let letter = c.to_ascii_uppercase();
                 // Fast path: a number follows the letter directly and is short enough for
                 // `fast_number`; everything else (blanks after the letter, bare flags, errors, very
-                // long numbers) goes through `word_slow`, which is the reference behaviour.
-                // A number right after the letter also means the letter is not a bare flag.
-                if let Some((value, has_dot, end)) = fast_number(line, i + 1) {
+                // long numbers, a number that may go on after a blank) goes through `word_slow`,
+                // which is the reference behaviour. A number right after the letter also means the
+                // letter is not a bare flag.
+                let fast = fast_number(line, i + 1)
+                    .filter(|&(_, _, end)| !syntax.blanks_anywhere || !continues(line, end));
+                if let Some((value, has_dot, end)) = fast {
                     words.push(Word {
                         letter,
                         value,
@@ -253,7 +327,7 @@ pub fn lex_line_in(
                     });
                     i = end;
                 } else {
-                    i = word_slow(line, i, line_no, offset, words, bare)?;
+                    i = word_slow(line, i, line_no, offset, words, syntax)?;
                 }
             }
             BLANK => i += 1,
@@ -263,7 +337,14 @@ pub fn lex_line_in(
                 i += 1;
             }
             OPEN => match memchr::memchr(b')', &line[i + 1..]) {
-                Some(close) => i += close + 2,
+                Some(close) => {
+                    if syntax.nested_comment_error {
+                        if let Some(inner) = memchr::memchr(b'(', &line[i + 1..i + 1 + close]) {
+                            return Err(nested_comment(span_at(offset, line_no, i + 1 + inner, 1)));
+                        }
+                    }
+                    i += close + 2
+                }
                 None => return Err(unclosed_comment(span_at(offset, line_no, i, n - i))),
             },
             _ => {
@@ -293,8 +374,8 @@ pub(crate) struct BufferedLine {
 /// This is only a fast path: it returns `None` for anything that is not a plain line of short
 /// words, blanks and closed comments ending in `\n` inside `input` (a line cut off by the end of
 /// the buffer, `%`, `/`, blanks after a letter, bare flags, long numbers, every error). The caller
-/// then finds the line's end and calls [`lex_line_with`], the reference. When it returns a line,
-/// `words` and the shape are exactly what [`lex_line_with`] gives for the line's text: `\r` is a
+/// then finds the line's end and calls [`lex_line_syntax`], the reference. When it returns a line,
+/// `words` and the shape are exactly what [`lex_line_syntax`] gives for the line's text: `\r` is a
 /// blank to both, and every number stops at `\r` or `\n` as it stops at the end of the text.
 /// How many words a line may have for [`lex_buffered_line`]; a line with more goes the reference way.
 pub(crate) const FAST_WORDS: usize = 32;
@@ -352,9 +433,10 @@ pub(crate) fn lex_buffered_line(
             if parens_not_comments {
                 return None;
             }
-            // The comment must close before the line ends.
-            let close = i + 1 + memchr::memchr2(b')', b'\n', &input[i + 1..])?;
-            if input[close] == b'\n' {
+            // The comment must close before the line ends; a `(` inside it is for the reference
+            // lexer to judge (an error where the syntax says so).
+            let close = i + 1 + memchr::memchr3(b')', b'\n', b'(', &input[i + 1..])?;
+            if input[close] != b')' {
                 return None;
             }
             i = close + 1;
@@ -409,7 +491,7 @@ const BLANK: u8 = 1;
 const LETTER: u8 = 2;
 const OPEN: u8 = 3;
 const SEMICOLON: u8 = 4;
-/// Only [`lex_buffered_line`] sees line ends; to [`lex_line_with`] a stray `\n` is an error.
+/// Only [`lex_buffered_line`] sees line ends; to [`lex_line_syntax`] a stray `\n` is an error.
 const NEWLINE: u8 = 5;
 
 static CLASS: [u8; 256] = {
@@ -429,6 +511,26 @@ static CLASS: [u8; 256] = {
     }
     t
 };
+
+/// Whether a number that ends at `end` goes on after blanks (a digit or a decimal point follows
+/// them), where blanks mean nothing ([`Syntax::blanks_anywhere`]).
+fn continues(line: &[u8], end: usize) -> bool {
+    line[end..]
+        .iter()
+        .find(|&&b| !is_blank(b))
+        .is_some_and(|b| matches!(b, b'0'..=b'9' | b'.'))
+}
+
+/// A blank to [`Syntax::blanks_anywhere`]: what LinuxCNC drops before reading a line.
+fn is_blank(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r')
+}
+
+#[cold]
+fn nested_comment(span: Span) -> Diagnostic {
+    Diagnostic::error(Code::Syntax, span, "Nested comment found")
+        .with_hint("a comment ends at the first `)`: close it before opening another")
+}
 
 #[cold]
 fn unclosed_comment(span: Span) -> Diagnostic {
@@ -593,10 +695,10 @@ fn word_slow(
     line_no: u32,
     offset: u64,
     words: &mut Vec<Word>,
-    bare: &[u8],
+    syntax: &Syntax,
 ) -> Result<usize, Diagnostic> {
     let letter = line[i].to_ascii_uppercase();
-    if bare.contains(&letter) && !starts_number(&line[i + 1..]) {
+    if syntax.bare.contains(&letter) && !starts_number(&line[i + 1..]) {
         words.push(Word {
             letter,
             value: 0.0,
@@ -606,7 +708,12 @@ fn word_slow(
         });
         return Ok(i + 1);
     }
-    let number = lex_number(line, i + 1).map_err(|(at, len, what)| {
+    let lexed = if syntax.blanks_anywhere {
+        lex_number_blanks(line, i + 1)
+    } else {
+        lex_number(line, i + 1)
+    };
+    let number = lexed.map_err(|(at, len, what)| {
         Diagnostic::error(
             Code::Syntax,
             span_at(offset, line_no, at, len),
@@ -648,7 +755,7 @@ pub(crate) fn lex_word(
     offset: u64,
     words: &mut Vec<Word>,
 ) -> Result<usize, Diagnostic> {
-    word_slow(line, i, line_no, offset, words, b"")
+    word_slow(line, i, line_no, offset, words, &Syntax::default())
 }
 
 /// Whether a number follows (after blanks): a digit, a sign or a decimal point.
@@ -745,6 +852,57 @@ fn lex_number(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static 
     })
 }
 
+/// [`lex_number`] where blanks mean nothing ([`Syntax::blanks_anywhere`]): the number's bytes
+/// with the blanks among them dropped, read as one number. Positions in errors and in the result
+/// are the line's.
+fn lex_number_blanks(line: &[u8], at: usize) -> Result<Number, (usize, usize, &'static str)> {
+    // The bytes of the number (signs, then digits and decimal points) and where each one lies,
+    // after a stand-in for the letter, so that `lex_number` reads them from index 1 as it reads a
+    // line after its letter.
+    let mut text = vec![b'L'];
+    let mut place = vec![at - 1];
+    let mut i = at;
+    let mut signs = true;
+    while i < line.len() {
+        let b = line[i];
+        let part = match b {
+            b'+' | b'-' => signs,
+            b'0'..=b'9' | b'.' => {
+                signs = false;
+                true
+            }
+            _ => is_blank(b),
+        };
+        if !part {
+            break;
+        }
+        if !is_blank(b) {
+            text.push(b);
+            place.push(i);
+        }
+        i += 1;
+    }
+    if text.len() == 1 {
+        // No number: the same errors as `lex_number`, at the byte that is not one.
+        return Err(match line.get(i) {
+            Some(_) => (i, 1, "a number was expected after the letter"),
+            None => (at - 1, 1, "a number was expected after the letter"),
+        });
+    }
+    // One past the number's last byte; the blanks after it belong to what follows.
+    let end = place[place.len() - 1] + 1;
+    let mapped = |k: usize| place.get(k).copied().unwrap_or(end);
+    match lex_number(&text, 1) {
+        Ok(n) => Ok(Number {
+            value: n.value,
+            has_dot: n.has_dot,
+            start: mapped(n.start),
+            end: mapped(n.end),
+        }),
+        Err((k, len, what)) => Err((mapped(k), len, what)),
+    }
+}
+
 const POW10: [f64; 23] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
     1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
@@ -816,7 +974,7 @@ mod tests {
         // Blanks between the letter and the number are not part of the lexeme, nor of a bare
         // flag's (which has none); the span covers the whole word.
         let line = b"G33 X 1.5 P Z\t-2";
-        lex_line_with(line, 1, 0, &mut words, b"P").unwrap();
+        lex_line_syntax(line, 1, 0, &mut words, &bare(b"P")).unwrap();
         let raw: Vec<&[u8]> = words.iter().map(|w| w.raw(line)).collect();
         assert_eq!(raw, [&b"33"[..], b"1.5", b"", b"-2"]);
         let spans: Vec<(u32, u32)> = words.iter().map(|w| (w.span.column, w.span.len)).collect();
@@ -894,7 +1052,7 @@ mod tests {
     fn bare_letters_only_where_declared() {
         let line = b"G33X.212Z-.5I.012K.05PC O(flags) C27";
         let mut words = Vec::new();
-        lex_line_with(line, 1, 0, &mut words, b"PCO").unwrap();
+        lex_line_syntax(line, 1, 0, &mut words, &bare(b"PCO")).unwrap();
         let got: Vec<(char, f64, bool)> = words
             .iter()
             .map(|w| (w.letter as char, w.value, w.is_bare()))
@@ -912,7 +1070,109 @@ mod tests {
         // Without the declaration a bare letter stays an error; a declared letter with a lone
         // sign is still malformed.
         assert!(lex_line(line, 1, 0, &mut words).is_err());
-        assert!(lex_line_with(b"G33 P-", 1, 0, &mut words, b"P").is_err());
+        assert!(lex_line_syntax(b"G33 P-", 1, 0, &mut words, &bare(b"P")).is_err());
+    }
+
+    /// A syntax whose only difference from RS274 is these bare letters (OmniTurn's).
+    fn bare(letters: &'static [u8]) -> Syntax {
+        Syntax {
+            bare: letters,
+            ..Syntax::default()
+        }
+    }
+
+    /// LinuxCNC's reading rules.
+    const BLANKS: Syntax = Syntax {
+        bare: b"",
+        blanks_anywhere: true,
+        nested_comment_error: true,
+        parens_not_comments: false,
+        hand_over_unread: false,
+    };
+
+    /// Letter, value, decimal point, column and length of each word.
+    type Lexed = Vec<(char, f64, bool, u32, u32)>;
+
+    fn lex_blanks(s: &str) -> Result<Lexed, Diagnostic> {
+        let mut words = Vec::new();
+        lex_line_syntax(s.as_bytes(), 1, 0, &mut words, &BLANKS)?;
+        Ok(words
+            .iter()
+            .map(|w| {
+                (
+                    w.letter as char,
+                    w.value,
+                    w.has_dot,
+                    w.span.column,
+                    w.span.len,
+                )
+            })
+            .collect())
+    }
+
+    #[test]
+    fn blanks_anywhere_inside_words_and_numbers() {
+        // `G 7 6 P2 . 5` is `G76 P2.5`; the span covers the word with its blanks.
+        assert_eq!(
+            lex_blanks("G 7 6 P2 . 5 Z - 3 0").unwrap(),
+            vec![
+                ('G', 76.0, false, 1, 5),
+                ('P', 2.5, true, 7, 6),
+                ('Z', -30.0, false, 14, 7)
+            ]
+        );
+        // Tabs and carriage returns too; a number goes on after them.
+        assert_eq!(
+            lex_blanks("X1\t2 .\r5\tK1").unwrap(),
+            vec![('X', 12.5, true, 1, 8), ('K', 1.0, false, 10, 2)]
+        );
+        // LinuxCNC's documentation: "G0X +0. 12 34Y 7" is "G0 x+0.1234 Y7".
+        assert_eq!(
+            lex_blanks("G0X +0. 12 34Y 7").unwrap(),
+            vec![
+                ('G', 0.0, false, 1, 2),
+                ('X', 0.1234, true, 3, 11),
+                ('Y', 7.0, false, 14, 3)
+            ]
+        );
+        // The lexeme keeps what was written.
+        let line = b"P 2 . 5";
+        let mut words = Vec::new();
+        lex_line_syntax(line, 1, 0, &mut words, &BLANKS).unwrap();
+        assert_eq!(words[0].raw(line), b"2 . 5");
+        // Blanks inside a comment are the comment's; a comment ends a number.
+        assert_eq!(
+            lex_blanks("X1 ( a  b ) Z2").unwrap(),
+            vec![('X', 1.0, false, 1, 2), ('Z', 2.0, false, 13, 2)]
+        );
+        let e = lex_blanks("X1 (c) 2").unwrap_err();
+        assert_eq!((e.code, e.span.column), (Code::Syntax, 8));
+        // A sign only before the digits; a second decimal point at its own column.
+        let e = lex_blanks("X1 - 2").unwrap_err();
+        assert_eq!(e.span.column, 4);
+        let e = lex_blanks("P2 . 5 .").unwrap_err();
+        assert_eq!(e.span.column, 8);
+        assert!(e.message.contains("second decimal point"), "{}", e.message);
+        let e = lex_blanks("G0 X  ").unwrap_err();
+        assert!(e.message.contains("number was expected"), "{}", e.message);
+        // Without the rule a blank ends the number, and what follows is no word.
+        assert!(lex("G 7 6").is_err());
+        assert_eq!(
+            lex("G 76 X1").unwrap(),
+            vec![('G', 76.0, false), ('X', 1.0, false)]
+        );
+    }
+
+    #[test]
+    fn a_comment_inside_a_comment() {
+        let e = lex_blanks("G0 (outer (inner) X1").unwrap_err();
+        assert_eq!((e.code, e.span.column), (Code::Syntax, 11));
+        assert_eq!(e.message, "Nested comment found");
+        // Elsewhere the comment ends at its first `)`.
+        assert_eq!(
+            lex("G0 (outer (inner) X1").unwrap(),
+            vec![('G', 0.0, false), ('X', 1.0, false)]
+        );
     }
 
     #[test]
@@ -924,11 +1184,12 @@ mod tests {
         let sinumerik = Syntax {
             parens_not_comments: true,
             hand_over_unread: true,
+            ..Syntax::default()
         };
-        let e = lex_line_in(line, 1, 0, &mut words, b"", sinumerik).unwrap_err();
+        let e = lex_line_syntax(line, 1, 0, &mut words, &sinumerik).unwrap_err();
         assert_eq!((e.code, e.span.column), (Code::Syntax, 8));
         // `;` comments are comments under both.
-        lex_line_in(b"G0 X10 ; (approach)", 1, 0, &mut words, b"", sinumerik).unwrap();
+        lex_line_syntax(b"G0 X10 ; (approach)", 1, 0, &mut words, &sinumerik).unwrap();
         assert_eq!(words.len(), 2);
     }
 

@@ -5,6 +5,6 @@ pub mod lexer;
 pub mod modal;
 pub mod reader;
 
-pub use lexer::{lex_line, lex_line_in, lex_line_with, LineShape, Syntax, Word, WordSummary};
-pub use modal::{Conventions, Modal, MotionMode, PlainMove};
+pub use lexer::{lex_line, lex_line_syntax, LineShape, Syntax, Word, WordSummary};
+pub use modal::{Conventions, Modal, MotionMode, PlainMove, Position, PositionCodes, Reference};
 pub use reader::{Line, Reader};

@@ -3,10 +3,11 @@
 //! Each dialect states its conventions (which G code threads, whether U/W are incremental words,
 //! whether G90/G91 select the distance mode); the bookkeeping itself is shared.
 
-use super::lexer::{is_plain_motion, Word};
+use super::lexer::{is_plain_motion, Syntax, Word};
 use super::reader::{g_code, Line};
 use crate::diag::{Code, Diagnostic, Result, Span};
-use crate::units::{lead_from_tpi, Pos, Units};
+use crate::machine::{AxisPoint, Machine};
+use crate::units::{lead_from_tpi, Pos, Resolution, Units};
 
 /// What a dialect's plain blocks mean. Codes are G numbers ×10.
 #[derive(Clone, Debug)]
@@ -33,6 +34,176 @@ pub struct Conventions {
     /// The G codes (×10) that select inch and millimetre input: [`G20_G21`] nearly everywhere,
     /// `G70`/`G71` in Fanuc's G-code system C (where G20 and G21 are turning cycles).
     pub units_codes: [u16; 2],
+    /// G codes that send axes where the program's coordinates do not say (reference returns,
+    /// machine coordinates, another work coordinate system).
+    pub positions: PositionCodes,
+    /// How the controller writes its lines (bare letters, blanks, comments, lines in its own
+    /// syntax): the one place a dialect states it; the reader lexes every line with it.
+    pub syntax: Syntax,
+}
+
+/// A reference point of the machine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Reference {
+    /// The first reference point (`G28`; Sinumerik's `G74`).
+    First = 0,
+    /// The second reference point (`G30`).
+    Second = 1,
+}
+
+/// The G codes (×10) after which an axis's position is known only from the machine profile, or
+/// not at all. Each dialect lists its own (`docs/dialects/README.md`, "Reference returns"); the
+/// bookkeeping is [`Modal`]'s. Only blocks with a G code that [`Modal`] does not otherwise know
+/// look here: plain moves never do.
+#[derive(Clone, Copy, Debug)]
+pub struct PositionCodes {
+    /// Returns to a reference point through an intermediate point (`G28`, `G30`, Sinumerik's
+    /// `G74`): the named axes end at the reference point, which the profile's `[reference]` table
+    /// may state.
+    pub returns: &'static [(u16, Reference)],
+    /// A return without axis words returns every axis (LinuxCNC, Haas); where false it returns
+    /// none (Fanuc and its family: "only the axes commanded return").
+    pub all_without_axes: bool,
+    /// Store the current position as a reference point (LinuxCNC's `G28.1`, `G30.1`).
+    pub stores: &'static [(u16, Reference)],
+    /// Moves whose named axes end where the program's coordinates do not say: in machine
+    /// coordinates (`G53`, Sinumerik's `G153`), or at a point no profile states (Fanuc's floating
+    /// reference `G30.1`, Sinumerik's fixed points `G75`).
+    pub machine_moves: &'static [u16],
+    /// A return from the reference point (`G29`; 0: none): absolute words are its end point;
+    /// incremental words count from the intermediate point, which is not tracked.
+    pub from_reference: u16,
+    /// Work coordinate systems (`G54`…): selecting another one than the one in force moves the
+    /// program's coordinates by an offset this reader does not know.
+    pub work_systems: &'static [u16],
+    /// The work coordinate system in force at power-on (`G54`; Sinumerik's `G500`).
+    pub power_on_work_system: u16,
+    /// Codes that change the coordinate offsets by amounts this reader does not track (`G10`,
+    /// `G52`, Fanuc's workpiece coordinate preset, LinuxCNC's `G92.1`–`G92.3`, Sinumerik's
+    /// programmable offsets `G58`/`G59`): every axis becomes unknown, and the block's axis words
+    /// are no move.
+    pub offset_changes: &'static [u16],
+    /// Codes whose axis words are data, not a move: the position stays (Sinumerik's working-area
+    /// limits `G25`/`G26`).
+    pub not_moves: &'static [u16],
+}
+
+/// G54–G59 (×10): the work coordinate systems of Fanuc's lathe G code list, in every G-code system.
+const G54_G59: &[u16] = &[540, 550, 560, 570, 580, 590];
+
+/// G54–G59, G59.1–G59.3 (×10): LinuxCNC's nine coordinate systems.
+const G54_G59_3: &[u16] = &[540, 550, 560, 570, 580, 590, 591, 592, 593];
+
+/// G28 and G30 (P2, the default of G30's P): the first and second reference points.
+const G28_G30: &[(u16, Reference)] = &[(280, Reference::First), (300, Reference::Second)];
+
+impl PositionCodes {
+    /// Fanuc's lathe G code list in G-code system A, and the controls that follow it (GSK,
+    /// Allen-Bradley, OmniTurn): G28, G30 (P2, its default), G29, G53, G30.1 (the floating
+    /// reference point, which no profile states), G54–G59; G10 (data setting: work offsets
+    /// among them), G52 (a local coordinate system) and G50.3 (the workpiece coordinate system
+    /// preset) change offsets by amounts not kept. The other G-code systems renumber only the
+    /// preset (`fanuc_family::GCodes::positions`).
+    pub const FANUC: PositionCodes = PositionCodes {
+        returns: G28_G30,
+        all_without_axes: false,
+        stores: &[],
+        machine_moves: &[530, 301],
+        from_reference: 290,
+        work_systems: G54_G59,
+        power_on_work_system: 540,
+        offset_changes: &[100, 520, 503],
+        not_moves: &[],
+    };
+
+    /// LinuxCNC: G28/G30 (every axis without axis words), G28.1/G30.1, G53, G54–G59.3; G10
+    /// (offsets and tool data), G52 and G92.1–G92.3 change offsets by amounts not kept.
+    pub const LINUXCNC: PositionCodes = PositionCodes {
+        returns: G28_G30,
+        all_without_axes: true,
+        stores: &[(281, Reference::First), (301, Reference::Second)],
+        machine_moves: &[530],
+        from_reference: 0,
+        work_systems: G54_G59_3,
+        power_on_work_system: 540,
+        offset_changes: &[100, 520, 921, 922, 923],
+        not_moves: &[],
+    };
+
+    /// What `code` does to the position, if anything.
+    fn classify(&self, code: u16) -> Option<Special> {
+        if let Some(&(_, r)) = self.returns.iter().find(|(c, _)| *c == code) {
+            Some(Special::Return(r))
+        } else if let Some(&(_, r)) = self.stores.iter().find(|(c, _)| *c == code) {
+            Some(Special::Store(r))
+        } else if self.machine_moves.contains(&code) {
+            Some(Special::MachineMove)
+        } else if code == self.from_reference && code != 0 {
+            Some(Special::FromReference)
+        } else if self.work_systems.contains(&code) {
+            Some(Special::WorkSystem(code))
+        } else if self.offset_changes.contains(&code) {
+            Some(Special::OffsetChange)
+        } else if self.not_moves.contains(&code) {
+            Some(Special::NotAMove)
+        } else {
+            None
+        }
+    }
+}
+
+/// A block that puts axes where the program's coordinates do not say.
+#[derive(Clone, Copy, Debug)]
+enum Special {
+    Return(Reference),
+    Store(Reference),
+    MachineMove,
+    FromReference,
+    WorkSystem(u16),
+    OffsetChange,
+    NotAMove,
+}
+
+/// Where the tool is, axis by axis (mm, X as a radius, absolute): each axis is known or not on its
+/// own. Both are unknown at power-on; an axis becomes known when a block names it with an absolute
+/// value, and unknown again after a reference return the profile does not place, a move in machine
+/// coordinates, or a change of coordinate system.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Position {
+    pub x: Option<f64>,
+    pub z: Option<f64>,
+}
+
+impl Position {
+    /// Neither axis known.
+    pub const UNKNOWN: Position = Position { x: None, z: None };
+
+    /// Both axes known, at `p`.
+    pub const fn at(p: Pos) -> Position {
+        Position {
+            x: Some(p.x),
+            z: Some(p.z),
+        }
+    }
+
+    /// The point, when both axes are known.
+    #[inline(always)]
+    pub fn known(self) -> Option<Pos> {
+        match (self.x, self.z) {
+            (Some(x), Some(z)) => Some(Pos::new(x, z)),
+            _ => None,
+        }
+    }
+
+    /// The axes that are not known, as the program names them (`"X"`, `"Z"`).
+    pub fn unknown_axes(self) -> &'static [&'static str] {
+        match (self.x.is_some(), self.z.is_some()) {
+            (true, true) => &[],
+            (false, true) => &["X"],
+            (true, false) => &["Z"],
+            (false, false) => &["X", "Z"],
+        }
+    }
 }
 
 /// `G20` inch, `G21` millimetre input.
@@ -88,6 +259,12 @@ pub struct Vocabulary {
     /// The controller's alarm for a G code it does not have (its number and wording).
     pub alarm: &'static str,
     pub g_codes: &'static [GCode],
+    /// Fractional codes the controller does not have although [`g_codes`](Self::g_codes) has
+    /// their whole number: the numbers its other G-code systems give a function (Fanuc's
+    /// workpiece coordinate preset is `G92.1` in systems B and C, where `G92` is system A's
+    /// threading cycle; `G50.3` in A, where `G50` is B's and C's polygon turning). Without them a
+    /// code would be a preset in one system and pass as nothing in another.
+    pub foreign: &'static [u16],
     /// A hint naming the controllers that have a code (with a block of these letters), added to
     /// the alarm; the dialects' module supplies it, since only it knows the other controllers.
     pub others: fn(code: u16, letters: &[u8], except: &Vocabulary) -> Option<String>,
@@ -101,7 +278,8 @@ impl std::fmt::Debug for Vocabulary {
 }
 
 impl Vocabulary {
-    /// The entry of a code: the code itself, else (for `G5.1`) its whole number. The list is
+    /// The entry of a code: the code itself, else (for `G5.1`) its whole number unless the code
+    /// is [`foreign`](Self::foreign). The list is
     /// sorted by code (a test keeps every dialect's so).
     pub fn get(&self, code: u16) -> Option<&GCode> {
         let find = |c: u16| {
@@ -110,7 +288,13 @@ impl Vocabulary {
                 .ok()
                 .map(|i| &self.g_codes[i])
         };
-        find(code).or_else(|| find(code / 10 * 10))
+        find(code).or_else(|| {
+            if self.foreign.contains(&code) {
+                None
+            } else {
+                find(code / 10 * 10)
+            }
+        })
     }
 
     /// The alarm for the G word `w` of `line`, whose code this controller does not have.
@@ -164,11 +348,14 @@ pub enum MotionMode {
     Cycle,
 }
 
-/// A plain move decoded from one block, in millimetres and radius.
+/// A plain move decoded from one block, in millimetres and radius. A block is a move when it
+/// ends at a known point; where the tool was before it may be unknown on either axis (the first
+/// `G0 X.. Z..` of a program, a move after a reference return).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlainMove {
     pub mode: MotionMode,
-    pub from: Pos,
+    /// Where the move starts, as far as it is known.
+    pub from: Position,
     pub to: Pos,
     /// Lead in mm per revolution, for thread moves.
     pub lead: Option<f64>,
@@ -182,8 +369,8 @@ pub struct Modal {
     pub units: Units,
     pub absolute: bool,
     pub diameter_x: bool,
-    /// Where the tool is, if known: unknown at power-on and after a reference return.
-    pub position: Option<Pos>,
+    /// Where the tool is, axis by axis (see [`Position`]).
+    pub position: Position,
     pub motion: MotionMode,
     /// The last thread lead programmed (mm/rev), kept apart from the feed rate on purpose.
     pub lead: Option<f64>,
@@ -192,6 +379,14 @@ pub struct Modal {
     pub f_word: Option<f64>,
     /// What a number without a decimal point is worth in mm and in inch programs.
     pub no_point: [f64; 2],
+    /// The least input increment in mm and in inch programs (program units): the program's
+    /// [`resolution`](Modal::resolution).
+    pub increment: [f64; 2],
+    /// Where the first and second reference returns leave the tool ([`Reference`]): from the
+    /// profile's `[reference]` table, or stored by the program (LinuxCNC's `G28.1`).
+    pub references: [Position; 2],
+    /// The work coordinate system in force (×10; G54 at power-on).
+    pub work_system: u16,
     /// The G codes the controller has; `None`: every code is accepted (a reader that only reads
     /// back text threadcut wrote).
     pub vocabulary: Option<&'static Vocabulary>,
@@ -200,18 +395,58 @@ pub struct Modal {
 impl Modal {
     /// `no_point`: the worth of a number written without a decimal point, in mm and in inch
     /// programs (1.0 for "calculator" input, the least increment otherwise).
+    /// The program's resolution is IS-B's (0.001 mm, 0.0001 inch) and no reference point is known:
+    /// [`for_machine`](Modal::for_machine) takes both from a machine profile.
     pub fn new(conv: &Conventions, units: Units, no_point: [f64; 2]) -> Modal {
         Modal {
             units,
             absolute: true,
             diameter_x: conv.diameter_x,
-            position: None,
+            position: Position::UNKNOWN,
             motion: MotionMode::Rapid,
             lead: None,
             f_word: None,
             no_point,
+            increment: [0.001, 0.0001],
+            references: [Position::UNKNOWN; 2],
+            work_system: conv.positions.power_on_work_system,
             vocabulary: None,
         }
+    }
+
+    /// The modal state at power-on of `machine`: its units, decimal-point convention, resolution
+    /// and reference points.
+    pub fn for_machine(conv: &Conventions, machine: &Machine) -> Modal {
+        let mut m = Modal::new(
+            conv,
+            machine.units,
+            [
+                machine.no_point_scale(Units::Mm),
+                machine.no_point_scale(Units::Inch),
+            ],
+        );
+        m.increment = [
+            machine.resolution(Units::Mm),
+            machine.resolution(Units::Inch),
+        ];
+        if let Some(r) = &machine.reference {
+            // Stated as the program writes at power-on: the profile's units and X convention.
+            let at = |p: AxisPoint| Position {
+                x: p.x.map(|x| m.x_to_mm(x)),
+                z: p.z.map(|z| m.units.to_mm(z)),
+            };
+            m.references = [at(r.g28), at(r.g30)];
+        }
+        m
+    }
+
+    /// The program's resolution as it stands (units and X convention may change mid-program).
+    pub fn resolution(&self) -> Resolution {
+        Resolution::new(
+            self.increment[(self.units == Units::Inch) as usize],
+            self.units,
+            self.diameter_x,
+        )
     }
 
     /// A word's value in program units, applying the decimal-point convention.
@@ -319,10 +554,13 @@ impl Modal {
         } else {
             (x, z, false)
         };
-        let (Some(from), true, false) = (self.position, plain_motion, named_twice) else {
+        let (Some(fx), Some(fz), true, false) =
+            (self.position.x, self.position.z, plain_motion, named_twice)
+        else {
             // (G0–G3 applied above are applied again there, in their place: the same result.)
             return self.apply_words(conv, line);
         };
+        let from = Pos::new(fx, fz);
         if let Some(f) = line.unique_word(b'F') {
             self.f_word = Some(self.value(f));
         }
@@ -330,10 +568,10 @@ impl Modal {
             return Ok(None);
         }
         let to = self.end_point(x, z, from);
-        self.position = Some(to);
+        self.position = Position::at(to);
         Ok(Some(PlainMove {
             mode: self.motion,
-            from,
+            from: Position::at(from),
             to,
             lead: None,
             phase_deg: 0.0,
@@ -345,7 +583,9 @@ impl Modal {
     fn apply_words(&mut self, conv: &Conventions, line: &Line) -> Result<Option<PlainMove>> {
         let mut dwell = false;
         let mut set_position = false;
-        let mut home = false;
+        let mut special = None;
+        let mut work_system = None;
+        let mut store = None;
         let mut f_word = None;
         // One pass over the words: the axis words are remembered here, so that the end point is
         // computed without a second scan (`axes` gives exactly what `target` would).
@@ -377,7 +617,6 @@ impl Modal {
                         40 => dwell = true,
                         c if c == conv.units_codes[0] => self.units = Units::Inch,
                         c if c == conv.units_codes[1] => self.units = Units::Mm,
-                        280 | 300 => home = true,
                         900 if conv.g90_g91_distance => self.absolute = true,
                         910 if conv.g90_g91_distance => self.absolute = false,
                         c if c == conv.thread_move => self.motion = MotionMode::Thread,
@@ -388,6 +627,12 @@ impl Modal {
                                 if v.get(c).is_none() {
                                     return Err(v.unknown(w, c, line));
                                 }
+                            }
+                            match conv.positions.classify(c) {
+                                Some(Special::WorkSystem(code)) => work_system = Some(code),
+                                Some(Special::Store(r)) => store = Some(r),
+                                Some(s) => special = Some(s),
+                                None => {}
                             }
                         }
                     }
@@ -402,38 +647,49 @@ impl Modal {
         if let Some(f) = f_word {
             self.f_word = Some(self.value(f));
         }
-        if home {
-            // A reference return goes through the named point to a place this reader does not know.
-            self.position = None;
+        // A change of coordinate system and a stored reference point take effect before the
+        // block's motion (`G55 G0 X20 Z5` moves in G55's coordinates).
+        if let Some(code) = work_system {
+            if code != self.work_system {
+                self.work_system = code;
+                self.position = Position::UNKNOWN;
+            }
+        }
+        if let Some(r) = store {
+            self.references[r as usize] = self.position;
+        }
+        if let Some(special) = special {
+            self.apply_special(conv, special, &axes)?;
             return Ok(None);
         }
         if dwell || (axes.x.is_none() && axes.z.is_none()) {
             return Ok(None);
         }
         if set_position {
-            let base = self.position.unwrap_or_default();
-            self.position = Some(self.target_of(&axes, base)?);
+            self.position = self.end_of(&axes, self.position)?;
             return Ok(None);
         }
         if self.motion == MotionMode::Cycle {
             return Ok(None);
         }
-        let Some(from) = self.position else {
-            // Absolute moves establish the position; an incremental one from nowhere stays unknown.
-            if self.absolute && line.word(b'X').is_some() && line.word(b'Z').is_some() {
-                let to = self.target_of(&axes, Pos::default())?;
-                self.position = Some(to);
-            }
+        let from = self.position;
+        let end = self.end_of(&axes, from)?;
+        self.position = end;
+        // A block that ends where the program cannot say is no move to report.
+        let Some(to) = end.known() else {
             return Ok(None);
         };
-        let to = self.target_of(&axes, from)?;
-        self.position = Some(to);
         let lead = if self.motion == MotionMode::Thread {
             let Some(lead) = self.lead else {
                 return Err(no_lead(line.span()));
             };
             Some(if conv.lead_along_path {
-                crate::post::long_axis_lead(lead, to.minus(from))
+                // The lead along the path needs the path: where the move starts on each axis
+                // it moves along.
+                let Some(start) = self.path_start(from, to, &axes) else {
+                    return Err(thread_from_unknown(line.span(), from));
+                };
+                crate::post::long_axis_lead(lead, to.minus(start))
             } else {
                 lead
             })
@@ -449,13 +705,94 @@ impl Modal {
         }))
     }
 
-    /// [`target`](Modal::target) from axis words already picked out of the block.
-    #[inline]
-    fn target_of(&self, axes: &AxisWords, from: Pos) -> Result<Pos> {
+    /// Where a move to `to` starts, when the start is known on every axis the move runs along:
+    /// an axis the block does not name does not move, whether its position is known or not
+    /// (it is known here: `to` is).
+    fn path_start(&self, from: Position, to: Pos, axes: &AxisWords) -> Option<Pos> {
+        let x = if axes.x.is_some() { from.x? } else { to.x };
+        let z = if axes.z.is_some() { from.z? } else { to.z };
+        Some(Pos::new(x, z))
+    }
+
+    /// A block of [`PositionCodes`]: reference returns, machine coordinates, coordinate systems.
+    fn apply_special(
+        &mut self,
+        conv: &Conventions,
+        special: Special,
+        axes: &AxisWords,
+    ) -> Result<()> {
         if let Some(second) = axes.conflict {
             return Err(axis_twice(axes.first_on_axis_of(second), second));
         }
-        Ok(self.end_point(axes.x, axes.z, from))
+        let named = (axes.x.is_some(), axes.z.is_some());
+        match special {
+            Special::Return(r) => {
+                // The named axes (or every axis, where a bare return returns all) go through the
+                // intermediate point to the reference point.
+                let (x, z) = if named == (false, false) && conv.positions.all_without_axes {
+                    (true, true)
+                } else {
+                    named
+                };
+                let at = self.references[r as usize];
+                if x {
+                    self.position.x = at.x;
+                }
+                if z {
+                    self.position.z = at.z;
+                }
+            }
+            Special::MachineMove => {
+                if named.0 {
+                    self.position.x = None;
+                }
+                if named.1 {
+                    self.position.z = None;
+                }
+            }
+            Special::FromReference => {
+                // Absolute words are the end point; incremental ones count from the intermediate
+                // point, which this reader does not keep.
+                let end = self.end_of(axes, Position::UNKNOWN)?;
+                if named.0 {
+                    self.position.x = end.x;
+                }
+                if named.1 {
+                    self.position.z = end.z;
+                }
+            }
+            Special::OffsetChange => self.position = Position::UNKNOWN,
+            Special::NotAMove => {}
+            // Taken before the block's motion, in `apply_words`.
+            Special::WorkSystem(_) | Special::Store(_) => {}
+        }
+        Ok(())
+    }
+
+    /// The end of a block's axis words from `from`, axis by axis: an absolute word makes its axis
+    /// known, an incremental one keeps it as known as it was, an axis not named stays as it is.
+    fn end_of(&self, axes: &AxisWords, from: Position) -> Result<Position> {
+        if let Some(second) = axes.conflict {
+            return Err(axis_twice(axes.first_on_axis_of(second), second));
+        }
+        let mut to = from;
+        if let Some(w) = axes.x {
+            let v = self.x_to_mm(self.value(w));
+            to.x = if w.letter == b'U' || !self.absolute {
+                from.x.map(|x| x + v)
+            } else {
+                Some(v)
+            };
+        }
+        if let Some(w) = axes.z {
+            let v = self.length_mm(w);
+            to.z = if w.letter == b'W' || !self.absolute {
+                from.z.map(|z| z + v)
+            } else {
+                Some(v)
+            };
+        }
+        Ok(to)
     }
 
     /// The end point named by one X (or U) and one Z (or W) word, either or both absent.
@@ -499,7 +836,8 @@ impl Modal {
                 conv.lead_letter as char, f.value
             ))),
             (Some(f), None) => {
-                if f.value <= 0.0 {
+                // A lead below the program's resolution is no lead.
+                if !self.resolution().length().gt(self.length_mm(f), 0.0) {
                     return Err(Diagnostic::error(
                         Code::OutOfRange,
                         f.span,
@@ -600,6 +938,19 @@ fn no_lead(line: Span) -> Diagnostic {
 }
 
 #[cold]
+fn thread_from_unknown(line: Span, from: Position) -> Diagnostic {
+    Diagnostic::error(
+        Code::UnknownPosition,
+        line,
+        format!(
+            "the thread move's lead is along its path, and the tool's {} before it is not known here",
+            from.unknown_axes().join(" and ")
+        ),
+    )
+    .with_hint("position the tool with G0 X.. Z.. before the thread move")
+}
+
+#[cold]
 fn axis_twice(first: &Word, second: &Word) -> Diagnostic {
     Diagnostic::error(
         Code::Conflict,
@@ -637,6 +988,8 @@ mod tests {
             set_position: 500,
             canned_cycles: &[900, 920, 940, 710, 720, 730, 700, 760, 780],
             units_codes: G20_G21,
+            positions: PositionCodes::FANUC,
+            syntax: Syntax::default(),
         }
     }
 
@@ -657,11 +1010,16 @@ mod tests {
     #[test]
     fn diameter_x_and_incremental_uw() {
         let (m, moves) = run("G0 X80 Z10\nG1 U-10 W-5\nG32 Z-20 F2\n");
-        assert_eq!(m.position, Some(Pos::new(35.0, -20.0)));
-        assert_eq!(moves.len(), 2);
-        assert_eq!(moves[0].to, Pos::new(35.0, 5.0));
+        assert_eq!(m.position, Position::at(Pos::new(35.0, -20.0)));
+        // The first positioning starts nowhere known and ends at a known point: it is a move.
+        assert_eq!(moves.len(), 3);
         assert_eq!(
-            (moves[1].mode, moves[1].lead),
+            (moves[0].from, moves[0].to),
+            (Position::UNKNOWN, Pos::new(40.0, 10.0))
+        );
+        assert_eq!(moves[1].to, Pos::new(35.0, 5.0));
+        assert_eq!(
+            (moves[2].mode, moves[2].lead),
             (MotionMode::Thread, Some(2.0))
         );
     }
@@ -669,16 +1027,16 @@ mod tests {
     #[test]
     fn inch_and_tpi() {
         let (m, moves) = run("G20\nG0 X2 Z1\nG32 Z0 I8\n");
-        assert_eq!(m.position, Some(Pos::new(25.4, 0.0)));
-        assert_eq!(moves[0].lead, Some(3.175));
+        assert_eq!(m.position, Position::at(Pos::new(25.4, 0.0)));
+        assert_eq!(moves[1].lead, Some(3.175));
     }
 
     #[test]
     fn dwell_cycles_and_home_do_not_move() {
         let (m, _) = run("G0 X50 Z5\nG04 X2\nG90 X40 Z-20 F0.2\nX38\n");
-        assert_eq!(m.position, Some(Pos::new(25.0, 5.0)));
+        assert_eq!(m.position, Position::at(Pos::new(25.0, 5.0)));
         let (m, _) = run("G0 X50 Z5\nG28 U0 W0\n");
-        assert_eq!(m.position, None);
+        assert_eq!(m.position, Position::UNKNOWN);
     }
 
     #[test]
@@ -701,15 +1059,15 @@ mod tests {
                 let mut r = Reader::new(src.as_bytes());
                 m.apply(&conv, &r.next_line().unwrap().unwrap()).unwrap();
                 let line = r.next_line().unwrap().unwrap();
-                let from = m.position.unwrap();
+                let from = m.position.known().unwrap();
                 let want = m.target(&conv, &line, from).unwrap();
                 let mv = m.apply(&conv, &line).unwrap();
-                assert_eq!(m.position, Some(want), "{text}");
+                assert_eq!(m.position, Position::at(want), "{text}");
                 let names_axis = line.words.iter().any(|w| {
                     matches!(w.letter, b'X' | b'Z')
                         || (conv.uw_incremental && matches!(w.letter, b'U' | b'W'))
                 });
-                let got = mv.map(|mv| (mv.from, mv.to));
+                let got = mv.map(|mv| (mv.from.known().unwrap(), mv.to));
                 assert_eq!(got, names_axis.then_some((from, want)), "{text}");
             }
         }
@@ -720,7 +1078,7 @@ mod tests {
             .unwrap();
         m.apply(&plain_conv(), &r.next_line().unwrap().unwrap())
             .unwrap();
-        assert_eq!(m.position, Some(Pos::new(25.0, 2.0)));
+        assert_eq!(m.position, Position::at(Pos::new(25.0, 2.0)));
     }
 
     #[test]
@@ -785,7 +1143,8 @@ mod tests {
                 proptest::collection::vec(
                     proptest::sample::select(vec![
                         "G0", "G1", "G01", "G2", "G3", "G4", "G04", "G20", "G21", "G28", "G32",
-                        "G50", "G90", "G91", "G1.5", "G1.0", "X10", "X-2.5", "X7", "Z3", "Z-1.25",
+                        "G50", "G90", "G91", "G1.5", "G1.0", "G29", "G30", "G53", "G54", "G55",
+                        "G10", "X10", "X-2.5", "X7", "Z3", "Z-1.25",
                         "Z.5", "U-0.4", "U2", "W2", "W-0.75", "F0.2", "F1.5", "I8", "N10",
                         "T0101", "M08", "R2.5",
                     ]),

@@ -3,8 +3,8 @@
 use std::io::BufRead;
 
 use super::lexer::{
-    letter_slot, lex_buffered_line, lex_line_in, BufferedLine, LineShape, Syntax, Word, WordIndex,
-    WordSummary, FAST_WORDS,
+    letter_slot, lex_buffered_line, lex_line_syntax, BufferedLine, LineShape, Syntax, Word,
+    WordIndex, WordSummary, FAST_WORDS,
 };
 use crate::diag::{Code, Diagnostic, Span};
 
@@ -131,8 +131,11 @@ pub struct Reader<R> {
     line_no: u32,
     offset: u64,
     done: bool,
-    bare: &'static [u8],
     syntax: Syntax,
+    /// The input consumed so far is still in the buffer, from its first byte (`buf[0]` is the
+    /// input's first byte), for the macro interpreter: see [`keep_prefix`](Self::keep_prefix).
+    keeping: bool,
+    keep_limit: usize,
 }
 
 impl<R: BufRead> Reader<R> {
@@ -150,18 +153,103 @@ impl<R: BufRead> Reader<R> {
             line_no: 0,
             offset: 0,
             done: false,
-            bare: b"",
             syntax: Syntax::default(),
+            keeping: false,
+            keep_limit: 0,
         }
     }
 
-    /// Lets these letters stand without a number (see [`lex_line_with`](super::lexer::lex_line_with)).
-    pub fn with_bare_letters(mut self, bare: &'static [u8]) -> Reader<R> {
-        self.bare = bare;
-        self
+    /// Keeps the input from its start while at most `limit` bytes of it have been consumed: a
+    /// program that turns out to have control flow may jump back into it. Nothing is copied for
+    /// it: the buffer is made `limit` and a read larger at once (zeroed pages the system hands
+    /// out as they are touched), and the consumed input stays where it was read until the buffer
+    /// is full or more than `limit` bytes were consumed; from then on the buffer is used as
+    /// always.
+    /// Called before the first line is read (otherwise nothing is kept).
+    pub(crate) fn keep_prefix(&mut self, limit: usize) {
+        if self.offset > 0 || self.end > 0 {
+            return;
+        }
+        self.buf = vec![0; limit + CHUNK];
+        self.keeping = true;
+        self.keep_limit = limit;
     }
 
-    /// Reads lines as a controller writes them (see [`Syntax`]).
+    /// The program from the line at `from` (an offset of the line just handed out, still in the
+    /// buffer) to the end of the input, read whole, with the input kept before it when all of it
+    /// was ([`keep_prefix`](Self::keep_prefix)): the bytes and the offset of their first byte.
+    /// `Ok(None)` when the part from `from` on is longer than `cap` bytes.
+    pub(crate) fn take_rest(
+        &mut self,
+        from: u64,
+        cap: usize,
+    ) -> std::io::Result<Option<(Vec<u8>, u64)>> {
+        let back = (self.offset - from) as usize;
+        let at = self.start - back;
+        // Where the kept beginning still starts the buffer, the text starts at the input's start.
+        let kept = self.keeping && at <= self.keep_limit;
+        let first = if kept { 0 } else { at };
+        let base = if kept { 0 } else { from };
+        self.keeping = false;
+        let mut bytes = Vec::with_capacity(self.end - first + CHUNK);
+        let rest_from = at - first;
+        bytes.extend_from_slice(&self.buf[first..self.end]);
+        self.start = self.end;
+        if !self.eof {
+            // The rest, up to one byte past the cap (to tell a longer program), as it comes:
+            // `read_to_end` grows the vector as needed, whatever the size of each read.
+            let room = (cap + 1).saturating_sub(bytes.len() - rest_from) as u64;
+            let mut rest = std::io::Read::take(&mut self.source, room);
+            std::io::Read::read_to_end(&mut rest, &mut bytes)?;
+            self.eof = true;
+        }
+        self.done = true;
+        if bytes.len() - rest_from > cap {
+            return Ok(None);
+        }
+        Ok(Some((bytes, base)))
+    }
+
+    /// Hands the rest of the input, unread, to `f` in pieces (the lines after a program's end,
+    /// which no one runs); returns how many line ends it held.
+    pub(crate) fn pass_rest<E: From<std::io::Error>>(
+        &mut self,
+        mut f: impl FnMut(&[u8]) -> Result<(), E>,
+    ) -> Result<usize, E> {
+        let mut lines = 0;
+        loop {
+            let piece = &self.buf[self.start..self.end];
+            lines += memchr::memchr_iter(b'\n', piece).count();
+            if !piece.is_empty() {
+                f(piece)?;
+            }
+            self.start = self.end;
+            if self.eof {
+                break;
+            }
+            self.start = 0;
+            self.end = 0;
+            self.complete = 0;
+            if self.buf.len() < CHUNK {
+                self.buf.resize(CHUNK, 0);
+            }
+            let read = loop {
+                match self.source.read(&mut self.buf[..]) {
+                    Ok(n) => break n,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
+                    Err(e) => return Err(e.into()),
+                }
+            };
+            self.end = read;
+            self.eof = read == 0;
+        }
+        self.done = true;
+        Ok(lines)
+    }
+
+    /// Reads every line as a controller writes it: its [`Syntax`], which a dialect states in its
+    /// [`Conventions::syntax`](super::Conventions::syntax). The fast path takes only lines that
+    /// read the same whatever the syntax.
     pub fn with_syntax(mut self, syntax: Syntax) -> Reader<R> {
         self.syntax = syntax;
         self
@@ -200,7 +288,7 @@ impl<R: BufRead> Reader<R> {
         self.next_line_by_reference()
     }
 
-    /// The next line, lexed by the reference lexer ([`lex_line_in`]) whatever it holds: for a
+    /// The next line, lexed by the reference lexer ([`lex_line_syntax`]) whatever it holds: for a
     /// caller that took the lines the fast path reads with
     /// [`next_plain_line`](Self::next_plain_line) already (the two lexers give the same words).
     #[inline(never)]
@@ -231,13 +319,12 @@ impl<R: BufRead> Reader<R> {
                 text_len -= 1;
             }
         }
-        match lex_line_in(
+        match lex_line_syntax(
             &raw[..text_len],
             line_no,
             offset,
             &mut self.words,
-            self.bare,
-            self.syntax,
+            &self.syntax,
         ) {
             Ok(shape) => {
                 let summary = WordSummary::of(&self.words);
@@ -397,7 +484,12 @@ impl<R: BufRead> Reader<R> {
 
     /// Moves the unconsumed input to the front of the buffer and reads more after it.
     fn refill(&mut self) -> std::io::Result<()> {
-        if self.start > 0 {
+        // The kept beginning stays in place while the buffer has room after it; a read that
+        // would need more is the end of keeping it.
+        let keep_in_place =
+            self.keeping && self.start <= self.keep_limit && self.end < self.buf.len();
+        if self.start > 0 && !keep_in_place {
+            self.keeping = false;
             self.buf.copy_within(self.start..self.end, 0);
             self.end -= self.start;
             self.complete = self.complete.saturating_sub(self.start);
@@ -408,8 +500,11 @@ impl<R: BufRead> Reader<R> {
             let len = (self.buf.len() * 2).clamp(CHUNK, MAX_LINE_BYTES + 2 + CHUNK);
             self.buf.resize(len, 0);
         }
+        // At most a chunk a read, also into the larger buffer of a kept beginning: a caller that
+        // counts what was read (a progress bar) sees the input come in steps.
+        let stop = (self.end + CHUNK).min(self.buf.len());
         let read = loop {
-            match self.source.read(&mut self.buf[self.end..]) {
+            match self.source.read(&mut self.buf[self.end..stop]) {
                 Ok(n) => break n,
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => continue,
                 Err(e) => return Err(e),
@@ -482,15 +577,8 @@ mod tests {
 
     /// What the reader gives for every line. `before` and `handed_out` must be the input right
     /// before the line and right after the last one: `input` is the whole input, to check them.
-    fn read_all(
-        source: impl BufRead,
-        bare: &'static [u8],
-        syntax: Syntax,
-        input: &[u8],
-    ) -> Vec<Lexed> {
-        let mut r = Reader::new(source)
-            .with_bare_letters(bare)
-            .with_syntax(syntax);
+    fn read_all(source: impl BufRead, syntax: Syntax, input: &[u8]) -> Vec<Lexed> {
+        let mut r = Reader::new(source).with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -568,13 +656,10 @@ mod tests {
     /// fast path does not read is read with `next_line_by_reference`.
     fn read_plain_first(
         source: impl BufRead,
-        bare: &'static [u8],
         syntax: Syntax,
         put_back: impl Fn(u32) -> bool,
     ) -> Vec<Lexed> {
-        let mut r = Reader::new(source)
-            .with_bare_letters(bare)
-            .with_syntax(syntax);
+        let mut r = Reader::new(source).with_syntax(syntax);
         let mut got = vec![];
         let mut last = 0;
         loop {
@@ -621,7 +706,7 @@ mod tests {
 
     /// The same, line by line with the reference lexer: split at `\n`, drop the terminator. Under
     /// `hand_over_unread`, a line the lexer refuses comes without words, marked unread.
-    fn reference(src: &[u8], bare: &[u8], syntax: Syntax) -> Vec<Lexed> {
+    fn reference(src: &[u8], syntax: Syntax) -> Vec<Lexed> {
         let mut got = vec![];
         let mut offset = 0u64;
         for (i, raw) in src.split_inclusive(|&b| b == b'\n').enumerate() {
@@ -632,7 +717,7 @@ mod tests {
             let mut words = vec![];
             let n = i as u32 + 1;
             got.push(
-                match lex_line_in(text, n, offset, &mut words, bare, syntax) {
+                match lex_line_syntax(text, n, offset, &mut words, &syntax) {
                     Ok(shape) => {
                         let summary = WordSummary::of(&words);
                         (
@@ -676,26 +761,28 @@ mod tests {
             ),
             step in 1usize..40,
             flags in proptest::bool::ANY,
+            blanks in proptest::bool::ANY,
             sinumerik in proptest::bool::ANY,
         ) {
-            let bare: &'static [u8] = if flags { b"PC" } else { b"" };
-            // Sinumerik's: parentheses are no comments, and unreadable lines are handed over.
+            // Bare flags (OmniTurn); blanks that mean nothing and nested comments refused
+            // (LinuxCNC); parentheses that are no comments and unreadable lines handed over
+            // (Sinumerik); or none of them.
             let syntax = Syntax {
-                parens_not_comments: sinumerik,
-                hand_over_unread: sinumerik,
+                bare: if flags { b"PC" } else { b"" },
+                blanks_anywhere: blanks && !flags,
+                nested_comment_error: blanks && !flags,
+                parens_not_comments: sinumerik && !flags && !blanks,
+                hand_over_unread: sinumerik && !flags && !blanks,
             };
-            let want = reference(&text, bare, syntax);
-            proptest::prop_assert_eq!(read_all(&text[..], bare, syntax, &text), want.clone());
-            proptest::prop_assert_eq!(
-                read_all(Trickle { data: &text, step }, bare, syntax, &text),
-                want.clone()
-            );
+            let want = reference(&text, syntax);
+            proptest::prop_assert_eq!(read_all(&text[..], syntax, &text), want.clone());
+            proptest::prop_assert_eq!(read_all(Trickle { data: &text, step }, syntax, &text), want.clone());
             let none = |_| false;
             let some = |n: u32| n % 3 == 1;
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, syntax, none), want.clone());
-            proptest::prop_assert_eq!(read_plain_first(&text[..], bare, syntax, some), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], syntax, none), want.clone());
+            proptest::prop_assert_eq!(read_plain_first(&text[..], syntax, some), want.clone());
             proptest::prop_assert_eq!(
-                read_plain_first(Trickle { data: &text, step }, bare, syntax, some),
+                read_plain_first(Trickle { data: &text, step }, syntax, some),
                 want
             );
         }
@@ -705,10 +792,10 @@ mod tests {
     fn lines_across_reads_and_longer_than_the_buffer() {
         let long = format!("G1 X1 ({})\r\n", "c".repeat(3 * CHUNK));
         let src = format!("G0 X10 Z5\n{long}G1 Z-2.5 (FACE)\nU-0.4 ; rest\nM30");
-        let want = reference(src.as_bytes(), b"", Syntax::default());
+        let want = reference(src.as_bytes(), Syntax::default());
         assert_eq!(want.len(), 5);
         assert_eq!(
-            read_all(src.as_bytes(), b"", Syntax::default(), src.as_bytes()),
+            read_all(src.as_bytes(), Syntax::default(), src.as_bytes()),
             want
         );
         for step in [1, 7, 4096, CHUNK - 3, CHUNK + 5] {
@@ -717,7 +804,7 @@ mod tests {
                 step,
             };
             assert_eq!(
-                read_all(trickle, b"", Syntax::default(), src.as_bytes()),
+                read_all(trickle, Syntax::default(), src.as_bytes()),
                 want,
                 "step {step}"
             );
@@ -729,7 +816,7 @@ mod tests {
         // A line of MAX_LINE_BYTES bytes with `\r\n` is read; one byte more is refused, with or
         // without a terminator.
         let ok = format!("({})\r\nG0 X1\n", "c".repeat(MAX_LINE_BYTES - 2));
-        let got = read_all(ok.as_bytes(), b"", Syntax::default(), ok.as_bytes());
+        let got = read_all(ok.as_bytes(), Syntax::default(), ok.as_bytes());
         assert_eq!(got.len(), 2);
         assert!(got.iter().all(|l| l.4.is_ok()));
         for tail in ["\r\n", ""] {
@@ -838,5 +925,63 @@ mod tests {
         assert_eq!(g_code(0.0), Some(0));
         assert_eq!(g_code(1.25), None);
         assert_eq!(g_code(-1.0), None);
+    }
+
+    /// The beginning a reader keeps for a jump back: while at most `limit` bytes were consumed
+    /// the rest handed to the interpreter starts at the input's first byte; past the limit it
+    /// starts at the line handed over. Reads stay a chunk at most (a progress bar sees them).
+    #[test]
+    fn a_kept_beginning_stays_in_place_up_to_its_limit() {
+        let line = b"G1 X1.234 Z-5.678 F0.2\n"; // 23 bytes
+        let src: Vec<u8> = line.repeat(20_000); // 460,000 bytes: several chunks
+        for step in [7, 4096, CHUNK, 3 * CHUNK] {
+            for (limit, want_base) in [(300_000usize, 0u64), (100_000, 1)] {
+                let mut r = Reader::new(Trickle { data: &src, step });
+                r.keep_prefix(limit);
+                // The line at offset 200,008 (line 8,697): within the first limit, past the second.
+                let mut offset = 0;
+                while let Some(l) = r.next_line() {
+                    let l = l.unwrap();
+                    if l.number == 8_697 {
+                        offset = l.offset;
+                        break;
+                    }
+                }
+                assert_eq!(offset, 8_696 * 23);
+                let (bytes, base) = r.take_rest(offset, 1 << 20).unwrap().unwrap();
+                let base_want = if want_base == 0 { 0 } else { offset };
+                assert_eq!(base, base_want, "step {step} limit {limit}");
+                assert_eq!(
+                    &bytes[..],
+                    &src[base as usize..],
+                    "step {step} limit {limit}"
+                );
+            }
+        }
+        // Reads into the kept beginning's buffer take a chunk at most.
+        struct Counting<'a>(&'a [u8], usize);
+        impl std::io::Read for Counting<'_> {
+            fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+                self.1 = self.1.max(out.len());
+                let n = out.len().min(self.0.len());
+                out[..n].copy_from_slice(&self.0[..n]);
+                self.0 = &self.0[n..];
+                Ok(n)
+            }
+        }
+        impl BufRead for Counting<'_> {
+            fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+                Ok(self.0)
+            }
+            fn consume(&mut self, n: usize) {
+                self.0 = &self.0[n..];
+            }
+        }
+        let mut source = Counting(&src, 0);
+        let mut r = Reader::new(&mut source);
+        r.keep_prefix(1 << 20);
+        while r.next_line().is_some() {}
+        drop(r);
+        assert!(source.1 <= CHUNK, "{}", source.1);
     }
 }

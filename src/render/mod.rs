@@ -8,7 +8,7 @@ pub use svg::{svg, CyclePlot};
 use std::io::BufRead;
 
 use crate::machine::Machine;
-use crate::program::{Error, Summary};
+use crate::program::{self, Error, Summary};
 use crate::sim::{self, tip_in_mm, Tip, Tool};
 use crate::threads::{self, Thread};
 
@@ -62,7 +62,18 @@ pub fn program_svg<R: BufRead>(
     machine: &Machine,
     tip: Tip,
 ) -> Result<(String, Summary, usize), Error> {
-    let p = program_plot(input, machine, tip, Selection::default())?;
+    program_svg_with(input, machine, tip, &program::Options::default())
+}
+
+/// [`program_svg`] with the run's options: a program with control flow draws every thread it
+/// executes (a cycle run three times is three threads).
+pub fn program_svg_with<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    tip: Tip,
+    options: &program::Options,
+) -> Result<(String, Summary, usize), Error> {
+    let p = program_plot_with(input, machine, tip, Selection::default(), options)?;
     Ok((p.svg, p.summary, p.threads))
 }
 
@@ -74,9 +85,20 @@ pub fn program_plot<R: BufRead>(
     tip: Tip,
     selection: Selection,
 ) -> Result<Plot, Error> {
+    program_plot_with(input, machine, tip, selection, &program::Options::default())
+}
+
+/// [`program_plot`] with the run's options.
+pub fn program_plot_with<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    tip: Tip,
+    selection: Selection,
+    options: &program::Options,
+) -> Result<Plot, Error> {
     let mut found = Vec::new();
     let mut total = 0;
-    let summary = threads::each_gcode(input, machine, None, |t| {
+    let summary = threads::each_gcode_with(input, machine, None, options, |t| {
         total += 1;
         if selection.wants(total, found.len()) {
             found.push((total, t));

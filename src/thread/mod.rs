@@ -68,14 +68,13 @@ impl Side {
     }
 
     /// The side of a cycle that starts at radius `start_x` and cuts toward radius `toward_x`:
-    /// external when it cuts down, internal when it cuts up, `None` when it does not move.
-    pub fn of_cut(start_x: f64, toward_x: f64) -> Option<Side> {
-        if start_x > toward_x {
-            Some(Side::External)
-        } else if start_x < toward_x {
-            Some(Side::Internal)
-        } else {
-            None
+    /// external when it cuts down, internal when it cuts up, `None` when it does not move at the
+    /// program's resolution (`x_tol`, [`Resolution::x`](crate::units::Resolution::x)).
+    pub fn of_cut(start_x: f64, toward_x: f64, x_tol: crate::units::Tolerance) -> Option<Side> {
+        match x_tol.sign(start_x - toward_x) {
+            1 => Some(Side::External),
+            -1 => Some(Side::Internal),
+            _ => None,
         }
     }
 }

@@ -22,6 +22,8 @@ pub struct Args<'a> {
     pub thread: Option<&'a str>,
     pub format: ReportFormat,
     pub output: Option<&'a Path>,
+    /// The run's options (`--max-blocks`).
+    pub run: &'a threadcut::program::Options,
 }
 
 pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, Failure> {
@@ -34,6 +36,7 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         stock_start: args.stock_start,
         tip: args.tool.given_tip()?,
         thread,
+        max_blocks: args.run.max_blocks,
     };
     let (mut input, content) = input::open(file)?;
     let report = if is_apt(file, &mut input) {

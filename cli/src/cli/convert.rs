@@ -94,6 +94,7 @@ pub fn convert(
     out: &mut dyn Write,
     from: &Machine,
     to: &Machine,
+    options: &program::Options,
 ) -> Result<Summary, Error> {
     let target = dialect::open(to).map_err(Error::Setup)?;
     let tformat = target.format();
@@ -129,80 +130,222 @@ pub fn convert(
     if tf == Family::LinuxCnc && !same {
         header.push(format!("G90 {}", if to.diameter_x { "G7" } else { "G8" }));
     }
-    let mut header = Some(header);
-    // Where the target's thread move writes its lead with F (Fanuc, GSK), F is also the feed rate:
-    // after thread moves whose F differs from the source's F register, the next other block gets
-    // the source's F back, so a later G1 does not feed at the lead.
-    let mut pending_f: Option<String> = None;
-    program::run(input, from, |modal, ev| {
+    let mut converter = Converter {
+        out,
+        to,
+        same,
+        ff,
+        tf,
+        tformat,
+        tname,
+        flatten: options.flatten,
+        header: Some(header),
+        pending_f: None,
+        unrun: Vec::new(),
+    };
+    let summary = program::run_output(input, from, options, &mut converter)?;
+    converter.after_end()?;
+    Ok(summary)
+}
+
+/// `convert`'s side of a run.
+struct Converter<'o> {
+    out: &'o mut dyn Write,
+    to: &'o Machine,
+    same: bool,
+    ff: Family,
+    tf: Family,
+    tformat: Format,
+    tname: &'static str,
+    flatten: bool,
+    header: Option<Vec<String>>,
+    /// Where the target's thread move writes its lead with F (Fanuc, GSK), F is also the feed
+    /// rate: after thread moves whose F differs from the source's F register, the next other
+    /// block gets the source's F back, so a later G1 does not feed at the lead.
+    pending_f: Option<String>,
+    /// The lines after the program's end (not run).
+    unrun: Vec<u8>,
+}
+
+impl Converter<'_> {
+    fn header(&mut self, line: &Line) -> Result<(), Error> {
+        if !line.shape.percent {
+            if let Some(h) = self.header.take() {
+                for l in h {
+                    writeln!(self.out, "{l}")?;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The lines after the program's end: the same controller's copied; for another
+    /// controller, blank lines, comments and `%` are copied, a line with words is an error (with
+    /// `--flatten`, which writes what runs, it is left out).
+    fn after_end(&mut self) -> Result<(), Error> {
+        if self.same {
+            self.out.write_all(&self.unrun)?;
+            return Ok(());
+        }
+        for raw in self.unrun.split_inclusive(|&b| b == b'\n') {
+            let text: Vec<u8> = strip_comments(raw);
+            let t = text.trim_ascii();
+            if t.is_empty() || t == b"%" {
+                self.out.write_all(raw)?;
+            } else if !self.flatten {
+                return Err(Error::Input(
+                    Diagnostic::error(
+                        Code::Unsupported,
+                        threadcut::diag::Span::new(0, 0, 0, 0),
+                        format!(
+                            "`{}` follows the program's end (M2/M30): it is not run, and threadcut does not rewrite it for {}",
+                            String::from_utf8_lossy(raw.trim_ascii()),
+                            self.tname
+                        ),
+                    )
+                    .with_hint("--flatten writes only what the program runs"),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn plain(&mut self, modal: &Modal, line: &Line, mv: Option<PlainMove>) -> Result<(), Error> {
+        if line.words.is_empty() {
+            self.out.write_all(line.raw)?;
+            return Ok(());
+        }
+        let threading = mv.is_some_and(|m| m.mode == MotionMode::Thread);
+        if !threading {
+            if let Some(f) = self.pending_f.take() {
+                if line.word(b'F').is_none() {
+                    writeln!(self.out, "{f}")?;
+                }
+            }
+        }
+        let (text, lead) = block(line, mv, modal, self.ff, self.tf, &self.tformat, self.tname)?;
+        writeln!(self.out, "{text}")?;
+        if let Some(lead) = lead {
+            self.pending_f = restore_f(&self.tformat, modal, lead);
+        }
+        Ok(())
+    }
+
+    fn cycle(&mut self, modal: &Modal, job: &threadcut::thread::Job) -> Result<(), Error> {
+        if let Some(f) = self.pending_f.take() {
+            writeln!(self.out, "{f}")?;
+        }
+        let written = translate::write_job(self.out, self.to, job)?;
+        // The F register after the cycle: the native cycle's F, or the last plain thread move's.
+        let last = match written {
+            translate::Written::Native => Some(job.lead.lead),
+            translate::Written::Plain(_) => toolpath::build(job)?
+                .segments()
+                .filter_map(|(from, m)| match m.kind {
+                    MotionKind::Thread { lead, .. } => Some(if self.tformat.lead_along_path {
+                        path_lead(lead, m.to.minus(from))
+                    } else {
+                        lead
+                    }),
+                    _ => None,
+                })
+                .last(),
+        };
+        if let Some(lead) = last {
+            self.pending_f = restore_f(&self.tformat, modal, modal.units.from_mm(lead));
+        }
+        Ok(())
+    }
+}
+
+impl program::Output for Converter<'_> {
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
         let line = match &ev {
             Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
                 line
             }
         };
-        if !line.shape.percent {
-            if let Some(h) = header.take() {
-                for l in h {
-                    writeln!(out, "{l}")?;
-                }
-            }
-        }
+        self.header(line)?;
         match ev {
             // Same controller: every line, cycles included, is already right.
             Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. }
-                if same =>
+                if self.same =>
             {
-                out.write_all(line.raw)?;
+                self.out.write_all(line.raw)?;
                 Ok(())
             }
-            Event::Plain { line, mv } => {
-                if line.words.is_empty() {
-                    out.write_all(line.raw)?;
-                    return Ok(());
-                }
-                let threading = mv.is_some_and(|m| m.mode == MotionMode::Thread);
-                if !threading {
-                    if let Some(f) = pending_f.take() {
-                        if line.word(b'F').is_none() {
-                            writeln!(out, "{f}")?;
-                        }
-                    }
-                }
-                let (text, lead) = block(line, mv, modal, ff, tf, &tformat, tname)?;
-                writeln!(out, "{text}")?;
-                if let Some(lead) = lead {
-                    pending_f = restore_f(&tformat, modal, lead);
-                }
-                Ok(())
-            }
+            Event::Plain { line, mv } => self.plain(modal, line, mv),
             Event::Settings { .. } => Ok(()),
-            Event::Cycle { job, .. } => {
-                if let Some(f) = pending_f.take() {
-                    writeln!(out, "{f}")?;
-                }
-                let written = translate::write_job(out, to, &job)?;
-                // The F register after the cycle: the native cycle's F, or the last plain thread move's.
-                let last = match written {
-                    translate::Written::Native => Some(job.lead.lead),
-                    translate::Written::Plain(_) => toolpath::build(&job)?
-                        .segments()
-                        .filter_map(|(from, m)| match m.kind {
-                            MotionKind::Thread { lead, .. } => Some(if tformat.lead_along_path {
-                                path_lead(lead, m.to.minus(from))
-                            } else {
-                                lead
-                            }),
-                            _ => None,
-                        })
-                        .last(),
-                };
-                if let Some(lead) = last {
-                    pending_f = restore_f(&tformat, modal, modal.units.from_mm(lead));
-                }
-                Ok(())
-            }
+            Event::Cycle { job, .. } => self.cycle(modal, &job),
         }
-    })
+    }
+
+    fn unrun(&mut self, text: &[u8]) -> Result<(), Error> {
+        self.unrun.extend_from_slice(text);
+        Ok(())
+    }
+
+    fn interpreting(&mut self, line: u32) -> Result<(), Error> {
+        if self.same || self.flatten {
+            return Ok(());
+        }
+        Err(Error::Input(
+            Diagnostic::error(
+                Code::Unsupported,
+                threadcut::diag::Span::new(0, 0, line, 1),
+                format!(
+                    "the program has control flow from line {line} on (subroutines, loops or parameters), which threadcut does not rewrite for {}",
+                    self.tname
+                ),
+            )
+            .with_hint("--flatten writes the executed program as straight-line code for the target"),
+        ))
+    }
+
+    fn interpreted(&mut self, modal: &Modal, ev: Event, at: &program::Where) -> Result<(), Error> {
+        if !self.flatten {
+            // The same controller's program is copied as it is (interpreted_end).
+            return Ok(());
+        }
+        if self.same {
+            let line = match &ev {
+                Event::Plain { line, .. }
+                | Event::Settings { line }
+                | Event::Cycle { line, .. } => line,
+            };
+            self.header(line)?;
+            program::write_executed_block(self.out, line, at.verbatim, modal)?;
+            return Ok(());
+        }
+        self.event(modal, ev)
+    }
+
+    fn interpreted_end(
+        &mut self,
+        text: &threadcut::interp::Text,
+        from: usize,
+    ) -> Result<(), Error> {
+        if self.same && !self.flatten {
+            self.out.write_all(text.bytes_from(from))?;
+        }
+        Ok(())
+    }
+}
+
+/// A line's text without its comments.
+fn strip_comments(raw: &[u8]) -> Vec<u8> {
+    let mut out = Vec::with_capacity(raw.len());
+    let mut depth = false;
+    for &b in raw {
+        match b {
+            b'(' => depth = true,
+            b')' => depth = false,
+            b';' if !depth => break,
+            _ if !depth => out.push(b),
+            _ => {}
+        }
+    }
+    out
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -227,6 +370,7 @@ fn block(
     let mut words: Vec<String> = Vec::new();
     let mut thread = false;
     let mut dwell = false;
+    let mut home = false;
     for w in line.words.iter().filter(|w| w.letter == b'G') {
         let code = g_code(w.value)
             .ok_or_else(|| cannot(w.span, format!("G{} is not a G code", w.value)))?;
@@ -234,6 +378,7 @@ fn block(
             Ok(Some(c)) => {
                 thread |= c == 320 || c == 330;
                 dwell |= c == 40;
+                home |= c == 280;
                 words.push(g_text(c));
             }
             Ok(None) => {}
@@ -301,35 +446,44 @@ fn block(
                 Family::LinuxCnc => format!("P{}", post::number(s, 3, false)),
             });
         }
-    } else if x_written || z_written {
-        match modal.position {
-            Some(p) => {
-                if x_written {
-                    words.push(format!("X{}", num(tformat.x_word(p.x, units))));
-                }
-                if z_written {
-                    words.push(format!("Z{}", num(units.from_mm(p.z))));
-                }
+    } else if home {
+        // A reference return's words are its intermediate point, written as the source wrote
+        // them (the target is of the same family).
+        for w in line.words {
+            if matches!(w.letter, b'X' | b'Z' | b'U' | b'W') {
+                words.push(format!(
+                    "{}{}",
+                    w.letter as char,
+                    threadcut::gcode::lexer::show(w.raw(line.text))
+                ));
             }
-            None => {
-                // Position unknown: only absolute words can be rewritten.
-                for w in line.words {
-                    match w.letter {
-                        b'X' if modal.absolute => words.push(format!(
-                            "X{}",
-                            num(tformat.x_word(modal.x_to_mm(modal.value(w)), units))
-                        )),
-                        b'Z' if modal.absolute => {
-                            words.push(format!("Z{}", num(modal.value(w))))
-                        }
-                        b'X' | b'Z' | b'U' | b'W' => {
-                            return Err(cannot(
-                                w.span,
-                                "an incremental move from an unknown position cannot be rewritten as an absolute one".into(),
-                            ))
-                        }
-                        _ => {}
-                    }
+        }
+    } else if x_written || z_written {
+        // The position after the block, axis by axis: an axis the block names is known unless
+        // the block moved it by an increment from an unknown position.
+        for (written, known, letters) in [
+            (
+                x_written,
+                modal.position.x.map(|x| tformat.x_word(x, units)),
+                b"XU",
+            ),
+            (z_written, modal.position.z.map(|z| units.from_mm(z)), b"ZW"),
+        ] {
+            if !written {
+                continue;
+            }
+            match known {
+                Some(v) => words.push(format!("{}{}", letters[0] as char, num(v))),
+                None => {
+                    let w = line
+                        .words
+                        .iter()
+                        .find(|w| letters.contains(&w.letter))
+                        .expect("the block names the axis");
+                    return Err(cannot(
+                        w.span,
+                        "an incremental move from an unknown position cannot be rewritten as an absolute one".into(),
+                    ));
                 }
             }
         }
@@ -337,7 +491,23 @@ fn block(
     let mut lead_written = None;
     if in_thread {
         if let (Some(mv), Some(lead)) = (mv, mv.and_then(|m| m.lead)) {
-            let d = mv.to.minus(mv.from);
+            // A target whose lead runs along the path needs the path: the start on every axis
+            // the block moves.
+            if tformat.lead_along_path
+                && ((x_written && mv.from.x.is_none()) || (z_written && mv.from.z.is_none()))
+            {
+                return Err(cannot(
+                    line.span(),
+                    "a thread move from an unknown position: its lead along the path is not known"
+                        .into(),
+                ));
+            }
+            // An axis the block does not name does not move.
+            let from = threadcut::units::Pos::new(
+                mv.from.x.unwrap_or(mv.to.x),
+                mv.from.z.unwrap_or(mv.to.z),
+            );
+            let d = mv.to.minus(from);
             // `Modal::apply` already gives the lead along the longer axis.
             let model = lead;
             let written = if tformat.lead_along_path {
@@ -355,11 +525,22 @@ fn block(
         }
     }
     for w in line.words {
+        // The number as written, without the blanks LinuxCNC allows inside it (`S 1 2 0 0`).
         let text = || {
+            if w.is_computed() {
+                // A value the program computed (`M#1`): the word as the run used it.
+                return format!("{}{}", w.letter as char, post::number(w.value, 6, false));
+            }
+            let raw: Vec<u8> = w
+                .raw(line.text)
+                .iter()
+                .copied()
+                .filter(|b| !matches!(b, b' ' | b'\t' | b'\r'))
+                .collect();
             format!(
                 "{}{}",
                 w.letter as char,
-                threadcut::gcode::lexer::show(w.raw(line.text))
+                threadcut::gcode::lexer::show(&raw)
             )
         };
         match w.letter {

@@ -111,6 +111,29 @@ impl ToolArgs {
     }
 }
 
+/// How a program with control flow (subroutines, loops, parameters) is run.
+#[derive(clap::Args, Clone, Copy)]
+struct RunArgs {
+    /// Stop a program with control flow after N executed blocks (an endless loop ends with an
+    /// error naming it).
+    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    max_blocks: u64,
+}
+
+impl RunArgs {
+    fn options(&self, flatten: bool) -> Result<program::Options, Failure> {
+        if self.max_blocks == 0 {
+            return Err(Failure::Usage(
+                "--max-blocks 0: expected at least 1".to_string(),
+            ));
+        }
+        Ok(program::Options {
+            max_blocks: self.max_blocks,
+            flatten,
+        })
+    }
+}
+
 /// `expand` and `post`: a program, or its motions.
 #[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
 enum ProgramFormat {
@@ -167,6 +190,12 @@ enum Command {
         /// The program (gcode), or one JSON object per motion (jsonl).
         #[arg(long, value_enum, default_value = "gcode")]
         format: ProgramFormat,
+        /// A program with control flow: write the executed program as straight-line code (loops
+        /// unrolled, calls inlined, expressions evaluated) instead of keeping its text.
+        #[arg(long)]
+        flatten: bool,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Print each cycle's pass table: depth, increment, infeed point, chip area.
     Passes {
@@ -184,6 +213,8 @@ enum Command {
         output: OutputArg,
         #[command(flatten)]
         tool: ToolArgs,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
     /// feed and lead limits, run-up and run-out, depth and form, and with --thread the thread
@@ -212,6 +243,8 @@ enum Command {
         format: ReportFormat,
         #[command(flatten)]
         output: OutputArg,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Draw each thread's pass diagram and XZ toolpath into one SVG: the first 50 threads, or the
     /// one --cycle names; the picture and standard error say what was left out.
@@ -230,6 +263,8 @@ enum Command {
         format: SvgFormat,
         #[command(flatten)]
         tool: ToolArgs,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// Post an APT/CL file (THREAD, COUPLE, GOTO …) to a controller: native threading cycles where
     /// they reproduce the toolpath exactly, plain moves otherwise.
@@ -267,6 +302,12 @@ enum Command {
         /// The converted program.
         #[arg(long, value_enum, default_value = "gcode")]
         format: GcodeFormat,
+        /// A program with control flow: write the executed program as straight-line code (needed
+        /// to convert such a program to another controller's language).
+        #[arg(long)]
+        flatten: bool,
+        #[command(flatten)]
+        run: RunArgs,
     },
     /// List the built-in controller profiles (lathe, then milling).
     Controllers {
@@ -484,7 +525,10 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             machine,
             output,
             format,
+            flatten,
+            run,
         } => {
+            let options = run.options(flatten)?;
             let file = &input.file;
             let (mut reader, content) = input::open(file)?;
             if post::is_apt(file, &mut reader) {
@@ -502,8 +546,12 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             let machine = load_machine(&machine)?;
             let summary = output::write(file, output.output.as_deref(), |out| {
                 let summary = match format {
-                    ProgramFormat::Gcode => program::expand_gcode(reader, out, &machine),
-                    ProgramFormat::Jsonl => program::expand_jsonl(reader, out, &machine),
+                    ProgramFormat::Gcode => {
+                        program::expand_gcode_with(reader, out, &machine, &options)
+                    }
+                    ProgramFormat::Jsonl => {
+                        program::expand_jsonl_with(reader, out, &machine, &options)
+                    }
                 }
                 .map_err(lib(file))?;
                 not_empty(file, &content)?;
@@ -538,7 +586,10 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             to_machine,
             output,
             format: GcodeFormat::Gcode,
+            flatten,
+            run,
         } => {
+            let options = run.options(flatten)?;
             let from = load_machine(&MachineArgs {
                 controller: from,
                 machine: from_machine,
@@ -559,7 +610,8 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             })?;
             let summary = output::write(file, output.output.as_deref(), |out| {
                 let mut out = threadcut::eol::Writer::new(out, ending);
-                let summary = convert::convert(reader, &mut out, &from, &to).map_err(lib(file))?;
+                let summary =
+                    convert::convert(reader, &mut out, &from, &to, &options).map_err(lib(file))?;
                 not_empty(file, &content)?;
                 Ok(summary)
             })?;
@@ -575,6 +627,7 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             thread,
             format,
             output,
+            run,
         } => check::run(
             &input.file,
             &machine,
@@ -585,6 +638,7 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
                 thread: thread.as_deref(),
                 format,
                 output: output.output.as_deref(),
+                run: &run.options(false)?,
             },
         ),
         Command::Plot {
@@ -594,12 +648,14 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             cycle,
             format: SvgFormat::Svg,
             tool,
+            run,
         } => plot::run(
             &input.file,
             &machine,
             output.output.as_deref(),
             cycle.map(|n| n as usize),
             &tool,
+            &run.options(false)?,
         ),
         Command::Passes {
             input,
@@ -608,7 +664,9 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             json,
             output,
             tool,
+            run,
         } => {
+            let options = run.options(false)?;
             let format = if json { ReportFormat::Json } else { format };
             let file = &input.file;
             let (mut reader, content) = input::open(file)?;
@@ -626,7 +684,8 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             let machine = load_machine(&machine)?;
             let tip = tool.tip()?;
             let (summary, count) = output::write(file, output.output.as_deref(), |out| {
-                let done = passes(reader, out, &machine, format, tip).map_err(lib(file))?;
+                let done =
+                    passes(reader, out, &machine, format, tip, &options).map_err(lib(file))?;
                 not_empty(file, &content)?;
                 Ok(done)
             })?;
@@ -789,10 +848,11 @@ fn passes(
     machine: &Machine,
     format: ReportFormat,
     tip: threadcut::sim::Tip,
+    options: &program::Options,
 ) -> Result<(Summary, u32), Error> {
     let mut writer = passes::PassesWriter::begin(out, format, tip)?;
     let mut count = 0;
-    let summary = threadcut::threads::each_gcode(input, machine, None, |t| {
+    let summary = threadcut::threads::each_gcode_with(input, machine, None, options, |t| {
         count += 1;
         let decimals = machine.decimals(t.job.units) as usize + 1;
         writer.thread(out, &t, decimals, "")

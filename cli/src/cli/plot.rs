@@ -18,6 +18,7 @@ pub fn run(
     out: Option<&Path>,
     cycle: Option<usize>,
     tool: &ToolArgs,
+    options: &threadcut::program::Options,
 ) -> Result<ExitCode, Failure> {
     let tip = tool.tip()?;
     let (mut reader, content) = input::open(file)?;
@@ -36,7 +37,7 @@ pub fn run(
     let plot = output::write(file, out, |w| {
         let plot = match &apt {
             None => render::apt_plot(reader, tip, selection),
-            Some(machine) => render::program_plot(reader, machine, tip, selection),
+            Some(machine) => render::program_plot_with(reader, machine, tip, selection, options),
         }
         .map_err(lib(file))?;
         not_empty(file, &content)?;

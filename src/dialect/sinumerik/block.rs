@@ -173,8 +173,19 @@ impl Parser<'_> {
                             items.push(self.def()?);
                             continue;
                         }
+                        // Program flow (`WHILE R1<3`, `IF R1>2 GOTOB M1`, `FOR R1=1 TO 3`): the
+                        // dialect refuses the keyword itself; what follows it is not read.
+                        if super::FLOW.contains(&name.as_str()) {
+                            items.push(item);
+                            break;
+                        }
                     }
                     items.push(item);
+                }
+                b'#' => {
+                    return Err(self.unexpected(self.i).with_hint(
+                        "`#` variables are Fanuc's Custom Macro B, not Sinumerik's language (its variables are R parameters and DEF names, which threadcut reads as values; its program flow is refused): a program written for a Fanuc-style control is read with --controller fanuc",
+                    ));
                 }
                 b'(' => {
                     return Err(self

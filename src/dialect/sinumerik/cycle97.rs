@@ -127,6 +127,9 @@ pub(super) fn lower(
     }
     let units = modal.units;
     let mm = |v: f64| units.to_mm(v);
+    // Programmed lengths compare at the program's resolution (docs/dialects/README.md): one
+    // increment of the written value (DM1 and DM2 are diameters whatever X's mode).
+    let tol = modal.resolution().length();
     let lead = pitch(call, modal)?;
     let side = match call.value(VARI) {
         v if v == 1.0 || v == 3.0 => Side::External,
@@ -146,7 +149,7 @@ pub(super) fn lower(
     let (spl, fpl) = (mm(call.value(SPL)), mm(call.value(FPL)));
     let diameter = |i: usize| -> Result<f64> {
         let v = call.value(i);
-        if v <= 0.0 {
+        if !tol.gt(mm(v), 0.0) {
             return Err(call
                 .error(
                     i,
@@ -159,7 +162,7 @@ pub(super) fn lower(
     };
     let (r1, r2) = (diameter(DM1)?, diameter(DM2)?);
     let length = fpl - spl;
-    if length == 0.0 {
+    if tol.is_zero(length) {
         return Err(call.error(
             FPL,
             Code::Geometry,
@@ -169,7 +172,7 @@ pub(super) fn lower(
             ),
         ));
     }
-    if (r2 - r1).abs() > length.abs() {
+    if tol.gt((r2 - r1).abs(), length.abs()) {
         return Err(call
             .error(
                 DM2,
@@ -185,7 +188,7 @@ pub(super) fn lower(
     }
     let (app, rop) = (mm(call.unsigned(APP)?), mm(call.unsigned(ROP)?));
     let tdep = mm(call.unsigned(TDEP)?);
-    if tdep == 0.0 {
+    if tol.is_zero(tdep) {
         return Err(call.error(
             TDEP,
             Code::MissingWord,
@@ -193,7 +196,7 @@ pub(super) fn lower(
         ));
     }
     let fal = mm(call.unsigned(FAL)?);
-    if fal >= tdep {
+    if !tol.lt(fal, tdep) {
         return Err(call.error(
             FAL,
             Code::Geometry,
@@ -220,9 +223,10 @@ pub(super) fn lower(
             ));
     }
     let lift = match mm(call.unsigned(VRT)?) {
-        v if v > 0.0 => v,
+        v if tol.gt(v, 0.0) => v,
         _ => DEFAULT_LIFT_MM,
     };
+    // DM1 and DM2 as written: even one increment between them is a taper the program states.
     let infeed = infeed(call, length, r1 != r2, warnings)?;
 
     // The thread runs from the run-in path APP before SPL to the run-out path ROP past FPL,
@@ -268,18 +272,23 @@ pub(super) fn lower(
         lead,
         z1 - z0,
         units,
+        tol,
         call.span(PIT),
         "check PIT (the lead, in program units)",
         warnings,
     );
-    let start = match modal.position {
+    let start = match modal.position.known() {
         Some(p) => p,
         None => {
             warnings.push(
                 Diagnostic::warning(
                     Code::UnknownPosition,
                     call.name,
-                    "the tool's position is not known before CYCLE97: its G0 to the cycle's start point is shown from that start point",
+                    format!(
+                        "the tool's {} before CYCLE97 {} not known: its G0 to the cycle's start point is shown from that start point",
+                        modal.position.unknown_axes().join(" and "),
+                        if modal.position.unknown_axes().len() == 1 { "is" } else { "are" }
+                    ),
                 )
                 .with_hint("position the tool with G0 X.. Z.. before the cycle to see the whole approach"),
             );

@@ -1,0 +1,9 @@
+(GSK 980TDi: three G78 passes of a thread, the X of each computed by G65 macro operations)
+G00 X80 Z10
+G65 H01 P#100 Q62
+N10 G78 P010060 Q0.1 R0.05
+G78 X#100 Z-30 P1.2 Q0.4 F2
+G65 H03 P#100 Q#100 R1
+G65 H85 P10 Q#100 R60
+G00 X100 Z50
+M30

@@ -1,0 +1,188 @@
+//! The macro interpreter: programs with control flow (subroutines and subprograms, loops,
+//! conditions, parameters and expressions), run the way the control runs them.
+//!
+//! A straight-line program never comes here: `program`'s run loop streams it. When that loop meets
+//! a line of control flow, it hands the rest of the program to this module, which compiles it
+//! once ([`compile`]: statements and expressions parsed into flat instructions with jumps, see
+//! [`code`]) and runs it ([`vm`]), handing every executed block back to the run loop as a line
+//! whose words carry evaluated values and whose spans point at the source text. Two front ends
+//! feed the one evaluator: LinuxCNC's o-words and parameters ([`ngc`]) and Fanuc's Custom Macro B
+//! ([`fanuc`], which GSK shares with its own `G65 H` operations). The dialect says which
+//! ([`crate::dialect::Dialect::macros`]); this module knows no controller by name.
+//!
+//! Every run is bounded: a number of executed blocks (`--max-blocks`), a budget of expression
+//! steps, call depths as the controls limit them, bracket nesting, and the size of the program
+//! held in memory ([`MAX_PROGRAM_BYTES`]). The design: docs/architecture.md, "The interpreter".
+
+pub(crate) mod code;
+pub(crate) mod expr;
+pub(crate) mod fanuc;
+pub(crate) mod ngc;
+pub(crate) mod scan;
+pub mod text;
+pub(crate) mod vm;
+
+pub use expr::Lang;
+pub use text::{Text, TextLine};
+pub(crate) use vm::{Context, Host, Outcome};
+
+use crate::gcode::Line;
+
+/// A control's macro language, as its dialect describes it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Syntax {
+    pub lang: Lang,
+    /// How deep calls nest: LinuxCNC's subroutine levels with the main program counted
+    /// (o-word calls), or the Fanuc-style subprogram nesting (M98).
+    pub max_call_depth: u32,
+    /// How deep Fanuc macro calls (G65) nest.
+    pub max_macro_depth: u32,
+    /// `G65 Hm P#i Q#j R#k` is an operation (GSK), not a macro call (Fanuc).
+    pub g65_operations: bool,
+    /// `M98` takes the call count in L (Fanuc); without, only packed in P (`P00031000`, GSK).
+    pub m98_l_word: bool,
+    /// `M97 P… L…` calls the block with that sequence number in the same program as a
+    /// subprogram (Haas's local subprogram call).
+    pub m97_local_calls: bool,
+    /// `M99 P…` jumps to that sequence number in the program it is in, without returning, and
+    /// `[condition] M99 P…` jumps when the condition holds (Haas); otherwise `M99 P…` returns to
+    /// the caller's block of that number (Fanuc).
+    pub m99_p_jumps: bool,
+    /// `#10000`–`#10999` are common variables too (Haas's NGC numbering of its general-purpose
+    /// variables), besides `#100`–`#199` and `#500`–`#999`.
+    pub wide_commons: bool,
+}
+
+impl Syntax {
+    /// Fanuc's Custom Macro B with Fanuc's nesting (four levels of M98, four of G65), G65 a
+    /// call, M98's count in L: the base the Fanuc-style controls state their differences from.
+    pub const MACRO_B: Syntax = Syntax {
+        lang: Lang::MacroB,
+        max_call_depth: 4,
+        max_macro_depth: 4,
+        g65_operations: false,
+        m98_l_word: true,
+        m97_local_calls: false,
+        m99_p_jumps: false,
+        wide_commons: false,
+    };
+}
+
+/// What a run may take.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Executed blocks and statements, the program's whole run (`--max-blocks`).
+    pub max_blocks: u64,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_blocks: 1_000_000,
+        }
+    }
+}
+
+/// The largest program the interpreter holds in memory (the part from its first line of control
+/// flow on): far more than any program written with macros, and a bound on what a run costs.
+pub const MAX_PROGRAM_BYTES: usize = 16 << 20;
+
+/// How much of a program's plain beginning the run loop keeps, for Fanuc-style programs whose
+/// `GOTO` may jump back into it (a `GOTO 10` to an `N10` before the first macro statement).
+pub const PREFIX_KEPT: usize = 1 << 20;
+
+/// What the run loop does with a line it read as a plain block.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Control {
+    /// A plain block: streamed.
+    No,
+    /// A call, a return or a numbered program: the interpreter takes over from this line.
+    Interpret,
+    /// The main program ends after this block (M2, M30): later lines are not run.
+    End,
+}
+
+impl Syntax {
+    /// Whether a line the lexer refused is written in this macro language (the interpreter then
+    /// takes over from it; otherwise the lexer's error stands).
+    pub fn looks_like_macro(&self, text: &[u8]) -> bool {
+        match self.lang {
+            Lang::Ngc => ngc::looks_like_macro(text),
+            Lang::MacroB => fanuc::looks_like_macro(text),
+        }
+    }
+
+    /// What a lexed line is to the interpreter. Cheap for most lines (the word summary answers).
+    #[inline]
+    pub fn control(&self, line: &Line) -> Control {
+        if !line.summary.may_be_control() {
+            return Control::No;
+        }
+        self.control_words(line)
+    }
+
+    /// (Whole codes compare exactly as doubles: no rounding on the way, which the fast path would
+    /// pay for on every M and G line.)
+    #[inline(always)]
+    fn control_words(&self, line: &Line) -> Control {
+        let mut end = false;
+        for w in line.words {
+            let v = w.value;
+            match w.letter {
+                b'M' => match self.m_code(v) {
+                    Control::Interpret => return Control::Interpret,
+                    Control::End => end = true,
+                    Control::No => {}
+                },
+                b'G' if v == 65.0 && self.lang == Lang::MacroB => return Control::Interpret,
+                b'O' if self.lang == Lang::Ngc => return Control::Interpret,
+                _ => {}
+            }
+        }
+        if end {
+            Control::End
+        } else {
+            Control::No
+        }
+    }
+
+    /// What an M code is to the interpreter: a call or a return (M98, M99, and M97 where the
+    /// control has local subprograms), the program's end (M2, M30), or nothing.
+    #[inline(always)]
+    fn m_code(&self, v: f64) -> Control {
+        if v == 98.0 || v == 99.0 || (v == 97.0 && self.m97_local_calls) {
+            Control::Interpret
+        } else if v == 2.0 || v == 30.0 {
+            Control::End
+        } else {
+            Control::No
+        }
+    }
+}
+
+/// Compiles a program's text (held from some line on) for `syntax`. Never fails: a line that
+/// cannot run becomes an instruction that raises its error when the run reaches it, as the
+/// control raises it.
+pub(crate) fn compile(text: Text, syntax: &Syntax, lexer: crate::gcode::Syntax) -> code::Code {
+    match syntax.lang {
+        Lang::Ngc => ngc::compile(text, lexer),
+        Lang::MacroB => fanuc::compile(text, syntax, lexer),
+    }
+}
+
+/// Runs a compiled program from line number `from` (the first line of control flow; the lines
+/// before it have run already).
+pub(crate) fn run<H: Host>(
+    code: &code::Code,
+    syntax: &Syntax,
+    limits: Limits,
+    from: u32,
+    host: &mut H,
+) -> Result<Outcome, H::Error> {
+    let start = code
+        .text
+        .index_of(from)
+        .and_then(|i| code.line_inst.get(i).copied())
+        .unwrap_or(code.insts.len() as u32);
+    vm::Vm::new(code, *syntax, limits).run(start, host)
+}

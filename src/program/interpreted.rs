@@ -1,0 +1,570 @@
+//! The run loop's side of a program with control flow: handing the rest of the program to the
+//! interpreter, executing the blocks it hands back exactly as streamed lines are executed (the
+//! dialect, then the modal state), and what `expand` writes for such a program.
+
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+use std::io::{BufRead, Write};
+
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{self, Read};
+use crate::gcode::lexer::{letter_slot, WordIndex};
+use crate::gcode::{Conventions, Line, LineShape, Modal, Position, Reader, Word, WordSummary};
+use crate::interp::{self, Syntax, Text};
+use crate::machine::Machine;
+use crate::units::Units;
+
+use super::{expand_ending, Error, Event, ExpandSink, Options, Sink, Summary};
+
+/// Where an executed block of an interpreted program runs.
+pub struct Where<'a> {
+    /// The lines of the calls it runs inside, outermost first.
+    pub callers: &'a [u32],
+    /// The block is its source line exactly as written: its text may be copied as it is (else
+    /// its words carry computed values, or the line held words of the interpreter's).
+    pub verbatim: bool,
+}
+
+/// What a run hands to a caller that needs more than the events (`convert`).
+pub trait Output {
+    /// A line of the program (see [`super::run`]).
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error>;
+    /// The input after the program's end (M2, M30): not run, handed over as it is.
+    fn unrun(&mut self, _text: &[u8]) -> Result<(), Error> {
+        Ok(())
+    }
+    /// The program has control flow: the interpreter runs it from line `line` on.
+    fn interpreting(&mut self, _line: u32) -> Result<(), Error> {
+        Ok(())
+    }
+    /// A block the interpreter executed.
+    fn interpreted(&mut self, modal: &Modal, ev: Event, _at: &Where) -> Result<(), Error> {
+        self.event(modal, ev)
+    }
+    /// The interpreter ran to the end: the program's text, from the line it took over
+    /// (`text.line(from)`) to the end of the input.
+    fn interpreted_end(&mut self, _text: &Text, _from: usize) -> Result<(), Error> {
+        Ok(())
+    }
+}
+
+/// An [`Output`] as the run loop's sink.
+pub(super) struct OutputSink<'o, O>(pub &'o mut O);
+
+impl<O: Output> Sink for OutputSink<'_, O> {
+    const BATCH: bool = false;
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
+        self.0.event(modal, ev)
+    }
+    fn pass(&mut self, _: &[u8]) -> Result<(), Error> {
+        Ok(())
+    }
+    fn unrun(&mut self, bytes: &[u8]) -> Result<(), Error> {
+        self.0.unrun(bytes)
+    }
+    fn interpreting(&mut self, line: u32) -> Result<(), Error> {
+        self.0.interpreting(line)
+    }
+    fn interpreted(&mut self, modal: &Modal, ev: Event, at: &Where) -> Result<(), Error> {
+        self.0.interpreted(modal, ev, at)
+    }
+    fn interpreted_end(&mut self, text: &Text, from: usize) -> Result<(), Error> {
+        self.0.interpreted_end(text, from)
+    }
+}
+
+/// Where the run loop hands over: the first line of control flow.
+pub(super) struct Switch {
+    /// Offset of the line's first byte.
+    pub offset: u64,
+    pub line: u32,
+    pub syntax: Syntax,
+}
+
+/// Runs the rest of the program, from the switch line on, with the interpreter: the program's
+/// text is read whole (from the line on, and the lines before it that the reader kept), compiled
+/// once, and run with the modal and dialect state as the run loop leaves them.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
+    mut reader: Reader<R>,
+    at: Switch,
+    machine: &Machine,
+    options: &Options,
+    dialect: D,
+    modal: Modal,
+    mut sink: S,
+    mut summary: Summary,
+) -> Result<Summary, Error> {
+    let here = Diagnostic::error(
+        Code::Input,
+        crate::diag::Span::new(at.offset, 0, at.line, 1),
+        "",
+    );
+    let rest = reader
+        .take_rest(at.offset, interp::MAX_PROGRAM_BYTES)
+        .map_err(|e| Diagnostic {
+            message: format!("cannot read the input: {e}"),
+            ..here.clone()
+        })?;
+    let Some((bytes, base)) = rest else {
+        return Err(Diagnostic {
+            message: format!(
+                "the program has control flow from line {} on, and is longer than {} MiB from there",
+                at.line,
+                interp::MAX_PROGRAM_BYTES >> 20
+            ),
+            ..here
+        }
+        .with_hint("threadcut holds a program it interprets in memory, up to this size")
+        .into());
+    };
+    let first_line = if base == 0 { 1 } else { at.line };
+    let code = interp::compile(
+        Text::new(bytes, first_line, base),
+        &at.syntax,
+        dialect.conventions().syntax,
+    );
+    summary.interpreted_from = Some(at.line);
+    sink.interpreting(at.line)?;
+    let conv = dialect.conventions().clone();
+    let mut host = RunHost {
+        dialect,
+        modal,
+        conv,
+        sink,
+        summary,
+        machine,
+    };
+    let limits = interp::Limits {
+        max_blocks: options.max_blocks,
+    };
+    let outcome = interp::run(&code, &at.syntax, limits, at.line, &mut host)?;
+    let RunHost {
+        mut sink,
+        mut summary,
+        ..
+    } = host;
+    summary.executed = outcome.executed;
+    let from = code.text.index_of(at.line).unwrap_or(0);
+    sink.interpreted_end(&code.text, from)?;
+    Ok(summary)
+}
+
+/// The interpreter's host: executes each block as the run loop executes a line.
+struct RunHost<'m, D, S> {
+    dialect: D,
+    modal: Modal,
+    conv: Conventions,
+    sink: S,
+    summary: Summary,
+    machine: &'m Machine,
+}
+
+impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
+    type Error = Error;
+
+    fn block(
+        &mut self,
+        text: interp::text::TextLine<'_>,
+        words: &[Word],
+        block_delete: bool,
+        ctx: &interp::Context,
+    ) -> Result<(), Error> {
+        let mut index: WordIndex = [0; 32];
+        for (at, w) in words.iter().enumerate() {
+            index[letter_slot(w.letter)] = at as u32;
+        }
+        let line = Line {
+            number: text.number,
+            offset: text.offset,
+            text: text.text,
+            raw: text.raw,
+            words,
+            shape: LineShape {
+                block_delete,
+                percent: false,
+                unread: false,
+            },
+            before: &[],
+            summary: WordSummary::of(words),
+            index: &index,
+        };
+        let at = Where {
+            callers: ctx.callers,
+            verbatim: ctx.verbatim,
+        };
+        self.summary.lines = self.summary.lines.max(line.number);
+        if !self.dialect.prefilter(&line) {
+            let mv = self.modal.apply(&self.conv, &line)?;
+            return self
+                .sink
+                .interpreted(&self.modal, Event::Plain { line: &line, mv }, &at);
+        }
+        let before = self.summary.warnings.len();
+        let read = self
+            .dialect
+            .read(&line, &mut self.modal, &mut self.summary.warnings)?;
+        for w in &mut self.summary.warnings[before..] {
+            if w.span.line == 0 {
+                w.span = line.span();
+            }
+        }
+        match read {
+            Read::Plain => {
+                let mv = self.modal.apply(&self.conv, &line)?;
+                self.sink
+                    .interpreted(&self.modal, Event::Plain { line: &line, mv }, &at)
+            }
+            // A block the dialect applied itself (a thread move with its start angle): a plain
+            // block with the move it made, as the streamed run passes it on.
+            Read::Applied(mv) => {
+                self.sink
+                    .interpreted(&self.modal, Event::Plain { line: &line, mv }, &at)
+            }
+            Read::Settings => {
+                self.sink
+                    .interpreted(&self.modal, Event::Settings { line: &line }, &at)
+            }
+            Read::Cycle(job) => {
+                self.summary.cycles += 1;
+                self.modal.position = Position::at(job.end_point());
+                self.sink.interpreted(
+                    &self.modal,
+                    Event::Cycle {
+                        line: &line,
+                        job,
+                        dialect: &self.dialect,
+                    },
+                    &at,
+                )
+            }
+        }
+    }
+
+    fn modal(&self) -> &Modal {
+        &self.modal
+    }
+
+    fn resolution(&self, units: Units) -> f64 {
+        self.machine.resolution(units)
+    }
+
+    fn warn(&mut self, d: Diagnostic) {
+        self.summary.warnings.push(d);
+    }
+}
+
+/// `expand`'s state for a program with control flow.
+pub(super) struct ExpandState {
+    flatten: bool,
+    /// While the beginning of a Fanuc-style program streams: a digest of each cycle's expansion,
+    /// for a jump back that runs the cycle again (it must expand the same).
+    prefix: Option<HashMap<u32, u64>>,
+    /// The line the interpreter took over.
+    from: Option<u32>,
+    /// Each cycle line the interpreter ran: its expansion, how often it ran and where first.
+    runs: HashMap<u32, Expansion>,
+}
+
+struct Expansion {
+    bytes: Vec<u8>,
+    count: u32,
+    first: String,
+}
+
+impl ExpandState {
+    pub(super) fn new(flatten: bool, keeps_prefix: bool) -> ExpandState {
+        ExpandState {
+            flatten,
+            prefix: keeps_prefix.then(HashMap::new),
+            from: None,
+            runs: HashMap::new(),
+        }
+    }
+
+    /// Whether cycles must be recorded while the program's beginning streams.
+    #[inline]
+    pub(super) fn records_prefix(&self) -> bool {
+        self.prefix.is_some() && self.from.is_none()
+    }
+
+    pub(super) fn start(&mut self, line: u32) {
+        self.from = Some(line);
+    }
+}
+
+fn digest(bytes: &[u8]) -> u64 {
+    let mut h = std::collections::hash_map::DefaultHasher::new();
+    bytes.hash(&mut h);
+    h.finish()
+}
+
+/// A streamed cycle of a Fanuc-style program's beginning: expanded as always, and its expansion
+/// remembered (as a digest) while the reader keeps the lines for a jump back.
+pub(super) fn expand_recorded(
+    sink: &mut ExpandSink,
+    modal: &Modal,
+    ev: Event,
+) -> Result<(), Error> {
+    let line = match &ev {
+        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
+            (line.number, line.offset)
+        }
+    };
+    if line.1 >= interp::PREFIX_KEPT as u64 {
+        sink.interp.prefix = None;
+        return expand_ending(
+            sink.out,
+            &sink.format,
+            sink.distance_words,
+            sink.ending,
+            modal,
+            ev,
+        );
+    }
+    let mut buf = Vec::new();
+    expand_ending(
+        &mut buf,
+        &sink.format,
+        sink.distance_words,
+        sink.ending,
+        modal,
+        ev,
+    )?;
+    if let Some(p) = &mut sink.interp.prefix {
+        p.insert(line.0, digest(&buf));
+    }
+    Ok(sink.out.write_all(&buf)?)
+}
+
+/// A block the interpreter executed, for `expand`.
+pub(super) fn expand_interpreted(
+    sink: &mut ExpandSink,
+    modal: &Modal,
+    ev: Event,
+    at: &Where,
+) -> Result<(), Error> {
+    if sink.interp.flatten {
+        return match ev {
+            Event::Plain { line, .. } => {
+                write_executed_block(
+                    &mut crate::eol::Writer::new(&mut *sink.out, sink.ending),
+                    line,
+                    at.verbatim,
+                    modal,
+                )?;
+                Ok(())
+            }
+            ev => expand_ending(
+                sink.out,
+                &sink.format,
+                sink.distance_words,
+                sink.ending,
+                modal,
+                ev,
+            ),
+        };
+    }
+    let (line, start) = match &ev {
+        Event::Plain { .. } => return Ok(()),
+        Event::Settings { line } => (line.number, None),
+        Event::Cycle { line, job, .. } => (line.number, Some(job.start)),
+    };
+    let span = match &ev {
+        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
+            line.span()
+        }
+    };
+    let mut place = describe(at, start, modal);
+    if let Event::Settings { line } | Event::Cycle { line, .. } = &ev {
+        computed_words(&mut place, line);
+    }
+    let mut buf = Vec::new();
+    expand_ending(
+        &mut buf,
+        &sink.format,
+        sink.distance_words,
+        sink.ending,
+        modal,
+        ev,
+    )?;
+    let from = sink.interp.from.unwrap_or(0);
+    if line < from {
+        // A cycle of the streamed beginning, run again by a jump back.
+        let same = sink
+            .interp
+            .prefix
+            .as_ref()
+            .and_then(|p| p.get(&line))
+            .is_some_and(|d| *d == digest(&buf));
+        if same {
+            return Ok(());
+        }
+        return Err(differs(
+            span,
+            line,
+            "its run before the program's first macro statement",
+            &format!("a later run {place}"),
+        ));
+    }
+    match sink.interp.runs.get_mut(&line) {
+        None => {
+            sink.interp.runs.insert(
+                line,
+                Expansion {
+                    bytes: buf,
+                    count: 1,
+                    first: place,
+                },
+            );
+            Ok(())
+        }
+        Some(e) => {
+            e.count += 1;
+            if e.bytes == buf {
+                return Ok(());
+            }
+            Err(differs(
+                span,
+                line,
+                &format!("its first run {}", e.first),
+                &format!("run {} {place}", e.count),
+            ))
+        }
+    }
+}
+
+/// Where a run of a cycle happened, for a message: the call it ran in and its start point.
+fn describe(at: &Where, start: Option<crate::units::Pos>, modal: &Modal) -> String {
+    let mut s = match at.callers.last() {
+        Some(call) => format!("(called at line {call}"),
+        None => "(in the main program".to_string(),
+    };
+    if let Some(p) = start {
+        s.push_str(&format!(
+            ", starting at X{} Z{}",
+            shown(modal.x_from_mm(p.x)),
+            shown(modal.units.from_mm(p.z))
+        ));
+    }
+    s.push(')');
+    s
+}
+
+/// Adds the values the run gave the line's computed words (`X#6 = 23.249`) to a description.
+fn computed_words(place: &mut String, line: &Line) {
+    let words: Vec<String> = line
+        .words
+        .iter()
+        .filter(|w| w.is_computed())
+        .map(|w| {
+            format!(
+                "{}{} = {}",
+                w.letter as char,
+                String::from_utf8_lossy(w.raw(line.text)),
+                shown(w.value)
+            )
+        })
+        .collect();
+    if !words.is_empty() {
+        place.pop();
+        place.push_str(&format!(", with {})", words.join(", ")));
+    }
+}
+
+/// A number for a message: up to four decimals, no trailing zeros or point.
+fn shown(v: f64) -> String {
+    let s = crate::post::number(v, 4, false);
+    s.strip_suffix('.').map(str::to_string).unwrap_or(s)
+}
+
+fn differs(span: crate::diag::Span, line: u32, first: &str, other: &str) -> Error {
+    Diagnostic::error(
+        Code::Conflict,
+        span,
+        format!(
+            "the cycle of line {line} does not expand to the same moves every time it runs: {first} and {other} differ"
+        ),
+    )
+    .with_hint("expand replaces a cycle in place only when every run of it makes the same moves; --flatten writes the executed program as straight-line code")
+    .into()
+}
+
+/// The interpreter ran to the end: `expand` writes the program's text from the line it took
+/// over, each cycle line replaced by its expansion (the straight-line part before it was written
+/// as it streamed). With `--flatten` everything was written as it ran.
+pub(super) fn expand_end(sink: &mut ExpandSink, text: &Text, from: usize) -> Result<(), Error> {
+    if sink.interp.flatten {
+        // A tape's closing `%`, which the run does not reach.
+        let last = (0..text.len())
+            .rev()
+            .map(|i| text.line(i))
+            .find(|l| !l.text.iter().all(u8::is_ascii_whitespace));
+        if let Some(l) = last.filter(|l| l.text.trim_ascii() == b"%") {
+            sink.out.write_all(b"%")?;
+            sink.out.write_all(sink.ending.as_str().as_bytes())?;
+            let _ = l;
+        }
+        return Ok(());
+    }
+    for i in from..text.len() {
+        let line = text.line(i);
+        match sink.interp.runs.get(&line.number) {
+            Some(e) => sink.out.write_all(&e.bytes)?,
+            None => sink.out.write_all(line.raw)?,
+        }
+    }
+    Ok(())
+}
+
+/// A block of the executed program, as straight-line code: the line as written when it is a
+/// plain line (`verbatim`), else its words with their values (`--flatten`).
+pub fn write_executed_block(
+    out: &mut dyn Write,
+    line: &Line,
+    verbatim: bool,
+    modal: &Modal,
+) -> std::io::Result<()> {
+    if verbatim {
+        out.write_all(line.raw)?;
+        if !line.raw.ends_with(b"\n") {
+            out.write_all(b"\n")?;
+        }
+        return Ok(());
+    }
+    let mut text = Vec::with_capacity(line.words.len() * 8);
+    for (k, w) in line.words.iter().enumerate() {
+        if k > 0 {
+            text.push(b' ');
+        }
+        text.push(w.letter);
+        if w.is_computed() {
+            text.extend_from_slice(flat_number(w.letter, w.value, modal).as_bytes());
+        } else {
+            text.extend_from_slice(w.raw(line.text));
+        }
+    }
+    text.push(b'\n');
+    out.write_all(&text)
+}
+
+/// A computed value as a word's number: whole numbers without a decimal point where that means
+/// the same (codes and counts, and every word on a machine that reads numbers as written), else
+/// with one, so that a least-increment machine reads a length, not a count of increments.
+fn flat_number(letter: u8, v: f64, modal: &Modal) -> String {
+    let v = if v == 0.0 { 0.0 } else { v };
+    let calculator = modal.no_point[(modal.units == Units::Inch) as usize] == 1.0;
+    let integer_letter = matches!(
+        letter,
+        b'G' | b'M' | b'N' | b'O' | b'T' | b'S' | b'P' | b'Q' | b'L' | b'H' | b'D'
+    );
+    if v.fract() == 0.0 && (calculator || integer_letter) {
+        return format!("{v}");
+    }
+    let s = format!("{v}");
+    if s.contains('.') {
+        s
+    } else {
+        s + "."
+    }
+}

@@ -1,0 +1,1 @@
+G8 G21 (metric (mm)) G18
