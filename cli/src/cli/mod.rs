@@ -549,19 +549,19 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             })?;
             let file = &input.file;
             let (mut reader, content) = input::open(file)?;
-            // The converted program ends its lines as the source does (CRLF in, CRLF out).
-            let ending = threadcut::eol::LineEnding::peek(&mut reader).map_err(|e| {
+            // A file that cannot be read says so before anything is written.
+            reader.fill_buf().map_err(|e| {
                 Failure::Usage(format!(
                     "cannot read {}: {}",
                     input::display(file),
                     reason(&e)
                 ))
             })?;
+            // The converted program ends its lines as the source does (CRLF in, CRLF out).
             let summary = output::write(file, output.output.as_deref(), |out| {
-                let mut out = threadcut::eol::Writer::new(out, ending);
-                let summary = convert::convert(reader, &mut out, &from, &to).map_err(lib(file))?;
+                let report = convert::convert(reader, out, &from, &to).map_err(lib(file))?;
                 not_empty(file, &content)?;
-                Ok(summary)
+                Ok(report.summary)
             })?;
             warn(file, &summary);
             Ok(ExitCode::SUCCESS)

@@ -1,0 +1,316 @@
+//! Conversion between controllers over the whole matrix of bundled examples × lathe controllers:
+//! every converted program reads back on the target with the source's motion, or the conversion
+//! is refused with a reason that names the target's limit. The outcome of every pair — native
+//! cycles, plain cycles and each refusal's reason — is the table in `docs/translation.md`, which
+//! this test keeps current.
+
+use std::path::Path;
+
+use threadcut::convert::{self, Report};
+use threadcut::dialect;
+use threadcut::machine::{Machine, BUILT_IN};
+use threadcut::program::{self, Event};
+use threadcut::toolpath::{self, MotionKind};
+use threadcut::translate::same_angle;
+use threadcut::units::{Pos, Units};
+
+/// Each bundled G-code example and the controller it is written for (its name's prefix).
+fn examples() -> Vec<(String, &'static str, String)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut out = Vec::new();
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".nc") || n.ends_with(".ngc") || n.ends_with(".mpf"))
+        .collect();
+    names.sort();
+    for name in names {
+        // The longest profile name that prefixes the file's name.
+        let controller = BUILT_IN
+            .iter()
+            .map(|(n, _)| *n)
+            .filter(|n| name.starts_with(n) || (*n == "gsk980" && name.starts_with("gsk")))
+            .max_by_key(|n| n.len())
+            .unwrap_or_else(|| panic!("{name}: no controller"));
+        let text = std::fs::read_to_string(dir.join(&name)).unwrap();
+        out.push((name, controller, text));
+    }
+    out
+}
+
+/// A move: kind, start, end, lead (mm along the longer axis) and start angle.
+#[derive(Clone, Copy, Debug)]
+struct Move {
+    rapid: bool,
+    thread: Option<(f64, f64)>,
+    from: Pos,
+    to: Pos,
+}
+
+/// Every move `text` makes on `m`: plain moves and each cycle's toolpath, moves of no length left
+/// out (a cycle's rapid to where the tool already is).
+fn motion(text: &str, m: &Machine) -> Result<Vec<Move>, program::Error> {
+    let mut moves = Vec::new();
+    program::run(text.as_bytes(), m, |_, ev| {
+        match ev {
+            Event::Plain { mv: Some(mv), .. } => moves.push(Move {
+                rapid: mv.mode == threadcut::gcode::MotionMode::Rapid,
+                thread: mv.lead.map(|l| (l, mv.phase_deg)),
+                from: mv.from,
+                to: mv.to,
+            }),
+            Event::Cycle { job, .. } => {
+                let path = toolpath::build(&job)?;
+                for (from, mo) in path.segments() {
+                    moves.push(Move {
+                        rapid: mo.kind == MotionKind::Rapid,
+                        thread: match mo.kind {
+                            MotionKind::Thread {
+                                lead, phase_deg, ..
+                            } => Some((lead, phase_deg)),
+                            _ => None,
+                        },
+                        from,
+                        to: mo.to,
+                    });
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    })?;
+    moves.retain(|m| m.from.distance(m.to) > 1e-12);
+    Ok(moves)
+}
+
+/// The first difference between two motions, within `pos` (mm) and `lead` (mm per revolution).
+fn differs(a: &[Move], b: &[Move], pos: f64, lead: f64) -> Option<String> {
+    if a.len() != b.len() {
+        return Some(format!("{} moves instead of {}", b.len(), a.len()));
+    }
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        let same_kind = x.rapid == y.rapid
+            && match (x.thread, y.thread) {
+                (None, None) => true,
+                (Some((la, pa)), Some((lb, pb))) => (la - lb).abs() <= lead && same_angle(pa, pb),
+                _ => false,
+            };
+        let d = x.to.minus(y.to);
+        if !same_kind || d.x.abs() > pos || d.z.abs() > pos {
+            return Some(format!("move {}: {x:?} became {y:?}", i + 1));
+        }
+    }
+    None
+}
+
+/// Half the coarsest output resolution of `to` (mm, a program may switch units), and half its
+/// coarsest lead step.
+fn tolerances(to: &Machine) -> (f64, f64) {
+    let d = dialect::open(to).unwrap();
+    let lex = d.lexicon();
+    let units = [Units::Mm, Units::Inch]
+        .into_iter()
+        .filter(|u| lex.has_units(*u));
+    let res = units
+        .clone()
+        .map(|u| u.to_mm(d.output_step(1.0, u).unwrap_or(to.resolution(u))))
+        .fold(0.0, f64::max);
+    let digits = d.format().lead_decimals;
+    let lead = units
+        .map(|u| {
+            u.to_mm(
+                d.output_step(1.0, u)
+                    .unwrap_or(10f64.powi(-(digits[(u == Units::Inch) as usize] as i32))),
+            )
+        })
+        .fold(0.0, f64::max);
+    (res * 0.5 + 1e-9, lead * 0.5 + 1e-9)
+}
+
+/// One pair's outcome, as the table in docs/translation.md writes it.
+fn outcome(name: &str, from: &Machine, to: &Machine, text: &str) -> String {
+    let mut out = Vec::new();
+    match convert::convert(text.as_bytes(), &mut out, from, to) {
+        Ok(Report { native, plain, .. }) => {
+            let converted = String::from_utf8(out).unwrap();
+            let want = motion(text, from).unwrap();
+            let got = motion(&converted, to).unwrap_or_else(|e| {
+                panic!(
+                    "{name} → {}: the converted program does not read back: {e}\n{converted}",
+                    to.name
+                )
+            });
+            let (pos, lead) = tolerances(to);
+            if let Some(why) = differs(&want, &got, pos, lead) {
+                panic!("{name} → {}: {why}\n{converted}", to.name);
+            }
+            let cycles = native as usize + plain.len();
+            if cycles == 0 {
+                "converted (no cycle)".to_string()
+            } else if plain.is_empty() {
+                format!("native {native}")
+            } else {
+                let mut why: Vec<&str> = plain.iter().map(|(_, w)| w.as_str()).collect();
+                why.dedup();
+                format!("native {native}, plain {}: {}", plain.len(), why.join("; "))
+            }
+        }
+        Err(program::Error::Input(d)) => {
+            format!("refused at line {}: {}", d.span.line, d.message)
+        }
+        Err(e) => panic!("{name} → {}: {e}", to.name),
+    }
+}
+
+const BEGIN: &str = "<!-- matrix:begin (tests/convert.rs writes this table) -->";
+const END: &str = "<!-- matrix:end -->";
+
+#[test]
+fn every_example_converts_to_every_lathe_controller_or_is_refused_for_a_reason() {
+    let mut rows = vec![
+        "| example | to | outcome |".to_string(),
+        "|---|---|---|".to_string(),
+    ];
+    let (mut pairs, mut refused, mut native, mut plain) = (0, 0, 0, 0);
+    for (name, controller, text) in examples() {
+        let from = Machine::built_in(controller).unwrap();
+        for (target, _) in BUILT_IN {
+            if *target == controller {
+                continue;
+            }
+            pairs += 1;
+            let to = Machine::built_in(target).unwrap();
+            let o = outcome(&name, &from, &to, &text);
+            if o.starts_with("refused") {
+                refused += 1;
+            }
+            if let Some(n) = o.strip_prefix("native ") {
+                let mut parts = n.split(", plain ");
+                native += parts.next().unwrap().parse::<u32>().unwrap();
+                plain += parts
+                    .next()
+                    .map_or(0, |p| p.split(':').next().unwrap().parse::<u32>().unwrap());
+            }
+            rows.push(format!("| {name} | {target} | {} |", o.replace('|', "\\|")));
+        }
+    }
+    rows.push(String::new());
+    rows.push(format!(
+        "{pairs} pairs: {} converted ({native} cycles native, {plain} as plain moves), {refused} refused.",
+        pairs - refused
+    ));
+    let table = rows.join("\n");
+    let doc_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/translation.md");
+    let doc = std::fs::read_to_string(&doc_path).unwrap();
+    let (Some(b), Some(e)) = (doc.find(BEGIN), doc.find(END)) else {
+        panic!("docs/translation.md has no matrix block; it should be:\n{BEGIN}\n{table}\n{END}");
+    };
+    let current = doc[b + BEGIN.len()..e].trim();
+    if current != table.trim() {
+        if std::env::var_os("THREADCUT_BLESS").is_some() {
+            let new = format!("{}{BEGIN}\n{table}\n{}", &doc[..b], &doc[e..]);
+            std::fs::write(&doc_path, new).unwrap();
+        } else {
+            panic!("docs/translation.md's matrix is out of date (THREADCUT_BLESS=1 rewrites it):\n{table}");
+        }
+    }
+}
+
+/// A metric program for the inch-only OmniTurn is written in inches: positions, feeds and the
+/// cycle's words converted, the lead's rounding over the thread stated. (An OmniTurn profile in
+/// mm reads the same cycle in mm: its K1.27 mm is .05" exactly.)
+#[test]
+fn metric_programs_are_converted_to_inch_for_the_omniturn() {
+    let mut metric = Machine::built_in("omniturn").unwrap();
+    metric.units = Units::Mm;
+    let inch = Machine::built_in("omniturn").unwrap();
+    let src = "T4F200\nX0Z5.08\nX6.0198\nG33X5.3848Z-12.7I0.3048K1.27PC\n";
+    let out = convert::convert_text(src, &metric, &inch).unwrap();
+    assert_eq!(
+        out,
+        "(threadcut convert: omniturn to omniturn, inch, feed per minute)\n\
+         G90 G73 G94\n\
+         F7.87402 T4\n\
+         G0 X0. Z0.2\n\
+         G0 X0.237\n\
+         (threadcut: in inch: lead 1.27 mm written as 0.05 inch: 0. inch per turn, 0. inch over the thread's 0.7 inch)\n\
+         G33 X0.212 Z-0.5 I0.012 K0.05 C29. P\n"
+    );
+    // Plain moves from a metric Fanuc program: radius, inches, F in inches per revolution.
+    let fanuc = Machine::built_in("fanuc").unwrap();
+    let src = "G21 G99\nG0 X20. Z5.\nG1 Z-10. F0.254\nM30\n";
+    let out = convert::convert_text(src, &fanuc, &inch).unwrap();
+    assert!(
+        out.ends_with("G95\nG0 X0.3937 Z0.19685\nG1 Z-0.3937 F0.01\nM30\n"),
+        "{out}"
+    );
+    // A metric lead the grid cannot hold is refused with the drift (the matrix lists the
+    // bundled examples refused so).
+    let src = "G0 X0 Z5.08\nX6.0198\nG33X5.3848Z-12.7I0.3048K1.5PC\n";
+    let e = convert::convert_text(src, &metric, &inch).unwrap_err();
+    assert!(e.message.contains("drifts"), "{}", e.message);
+    assert_eq!(e.span.line, 3);
+}
+
+/// `post` states what its program relies on, for every lathe controller: the units (the code, or
+/// for a control with one unit system its name), feed per revolution at the start and each
+/// FEDRAT's mode before its F, X on diameter or radius where the control has a code for it —
+/// never the control's power-on state. Every posted program reads back on its controller.
+#[test]
+fn posted_programs_state_units_and_feed_mode_for_every_controller() {
+    use threadcut::convert::lexicon::{Function, Plane};
+    let cl = "UNITS/MM\nSPINDL/500,RPM,CLW\nRAPID\nGOTO/20,0,5\nFEDRAT/100,MMPM\nGOTO/18,0,5\nFEDRAT/0.2,MMPR\nGOTO/18,0,-20\nFINI\n";
+    for (name, _) in BUILT_IN {
+        let m = Machine::built_in(name).unwrap();
+        let d = dialect::open(&m).unwrap();
+        let lex = d.lexicon();
+        let mut out = Vec::new();
+        threadcut::apt::post::write(cl.as_bytes(), &mut out, &m).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let code = |f: Function| lex.code(f).map(|c| c.text());
+        // The first block that is not a comment states the modes.
+        let header = lines
+            .iter()
+            .find(|l| !l.starts_with('(') && !l.starts_with(';'))
+            .unwrap();
+        let words: Vec<&str> = header.split_whitespace().collect();
+        match code(Function::Units(m.units)) {
+            Some(c) => assert!(words.contains(&c.as_str()), "{name}: {header}"),
+            None => {
+                assert_eq!(lex.only_units, Some(m.units), "{name}");
+                assert!(lines[0].contains(m.units.name()), "{name}: {}", lines[0]);
+            }
+        }
+        let per_rev = code(Function::FeedPerRevolution).unwrap();
+        let per_min = code(Function::FeedPerMinute).unwrap();
+        assert!(words.contains(&per_rev.as_str()), "{name}: {header}");
+        for f in [Function::Diameter, Function::Radius] {
+            if let (Some(c), true) = (code(f), (f == Function::Diameter) == m.diameter_x) {
+                assert!(words.contains(&c.as_str()), "{name}: {header}");
+            }
+        }
+        if let Some(c) = code(Function::Plane(Plane::Zx)) {
+            assert!(words.contains(&c.as_str()), "{name}: {header}");
+        }
+        // Each FEDRAT that changes the mode states it before the F it gives.
+        let at = |needle: &str| {
+            lines
+                .iter()
+                .position(|l| l.split_whitespace().any(|w| w == needle))
+        };
+        let first_f = lines.iter().position(|l| l.contains(" F")).unwrap();
+        let min_at = at(&per_min).unwrap_or_else(|| panic!("{name}: {text}"));
+        assert!(min_at < first_f, "{name}: {text}");
+        let rev_again = lines[min_at..]
+            .iter()
+            .position(|l| l.split_whitespace().any(|w| w == per_rev))
+            .unwrap();
+        assert!(
+            lines[min_at + rev_again..].iter().any(|l| l.contains(" F")),
+            "{name}: {text}"
+        );
+        threadcut::program::run(text.as_bytes(), &m, |_, _| Ok(()))
+            .unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
+    }
+}
