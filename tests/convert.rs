@@ -43,6 +43,8 @@ fn examples() -> Vec<(String, &'static str, String)> {
 struct Move {
     rapid: bool,
     thread: Option<(f64, f64)>,
+    /// A cutting move's feed (the F register, mm per minute or per revolution).
+    feed: Option<f64>,
     from: Pos,
     to: Pos,
 }
@@ -51,11 +53,14 @@ struct Move {
 /// out (a cycle's rapid to where the tool already is).
 fn motion(text: &str, m: &Machine) -> Result<Vec<Move>, program::Error> {
     let mut moves = Vec::new();
-    program::run(text.as_bytes(), m, |_, ev| {
+    program::run(text.as_bytes(), m, |modal, ev| {
         match ev {
             Event::Plain { mv: Some(mv), .. } => moves.push(Move {
                 rapid: mv.mode == threadcut::gcode::MotionMode::Rapid,
                 thread: mv.lead.map(|l| (l, mv.phase_deg)),
+                feed: (mv.mode != threadcut::gcode::MotionMode::Rapid && mv.lead.is_none())
+                    .then(|| modal.f_word.map(|f| modal.units.to_mm(f)))
+                    .flatten(),
                 from: mv.from,
                 to: mv.to,
             }),
@@ -70,6 +75,7 @@ fn motion(text: &str, m: &Machine) -> Result<Vec<Move>, program::Error> {
                             } => Some((lead, phase_deg)),
                             _ => None,
                         },
+                        feed: None,
                         from,
                         to: mo.to,
                     });
@@ -96,7 +102,11 @@ fn differs(a: &[Move], b: &[Move], pos: f64, lead: f64) -> Option<String> {
                 _ => false,
             };
         let d = x.to.minus(y.to);
-        if !same_kind || d.x.abs() > pos || d.z.abs() > pos {
+        let same_feed = match (x.feed, y.feed) {
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-6 * a.abs().max(1.0),
+            (a, b) => a.is_none() == b.is_none(),
+        };
+        if !same_kind || !same_feed || d.x.abs() > pos || d.z.abs() > pos {
             return Some(format!("move {}: {x:?} became {y:?}", i + 1));
         }
     }

@@ -766,7 +766,7 @@ impl<'o, 'm> Writer<'o, 'm> {
             Some(LimitForm::OnSurfaceSpeed(_)) => {
                 self.pending_limit = Some(v);
                 notes.push(format!(
-                    "spindle limit {} rpm: written on the constant-surface-speed block",
+                    "spindle limit {} rpm: written on the next constant-surface-speed block, if any",
                     Self::speed(v)
                 ));
             }
