@@ -324,3 +324,198 @@ fn posted_programs_state_units_and_feed_mode_for_every_controller() {
             .unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
     }
 }
+
+/// One controller's words for a row of the lexicon table.
+fn lexicon_cell(lex: &threadcut::convert::lexicon::Lexicon, row: &str) -> String {
+    use threadcut::convert::lexicon::{
+        DwellForm, Function as F, LimitForm, Plane, ReturnForm, ToolForm,
+    };
+    let codes = |fs: &[F]| -> String {
+        let all: Vec<String> = fs
+            .iter()
+            .map(|f| {
+                lex.codes
+                    .iter()
+                    .flat_map(|g| g.iter())
+                    .filter(|(_, g)| g == f)
+                    .map(|(c, _)| c.text())
+                    .collect::<Vec<_>>()
+                    .join("/")
+            })
+            .collect();
+        if all.iter().all(|c| c.is_empty()) {
+            "—".into()
+        } else {
+            all.iter()
+                .map(|c| if c.is_empty() { "—" } else { c.as_str() })
+                .collect::<Vec<_>>()
+                .join(" ")
+        }
+    };
+    match row {
+        "inch / mm" => match lex.only_units {
+            Some(u) => format!("{} only", u.name()),
+            None => codes(&[F::Units(Units::Inch), F::Units(Units::Mm)]),
+        },
+        "absolute / incremental" => codes(&[F::Absolute, F::Incremental]),
+        "X diameter / radius" => codes(&[F::Diameter, F::Radius]),
+        "planes XY / ZX / YZ" => codes(&[
+            F::Plane(Plane::Xy),
+            F::Plane(Plane::Zx),
+            F::Plane(Plane::Yz),
+        ]),
+        "feed per minute / revolution" => codes(&[F::FeedPerMinute, F::FeedPerRevolution]),
+        "feed mode at power-on" => match lex.power_on_feed {
+            F::FeedPerMinute => "per minute".into(),
+            _ => "per revolution".into(),
+        },
+        "surface speed / rpm" => codes(&[F::SurfaceSpeed, F::Rpm]),
+        "compensation off / left / right" => codes(&[
+            F::CompensationOff,
+            F::CompensationLeft,
+            F::CompensationRight,
+        ]),
+        "work offsets" => codes(&[
+            F::WorkOffset(1),
+            F::WorkOffset(2),
+            F::WorkOffset(3),
+            F::WorkOffset(4),
+            F::WorkOffset(5),
+            F::WorkOffset(6),
+        ]),
+        "thread move" => codes(&[F::Thread]),
+        "dwell" => match lex.dwell {
+            Some(DwellForm::XSecondsOrPMilliseconds) => format!("{} X(s) P(ms)", codes(&[F::Dwell])),
+            Some(DwellForm::PSeconds) => format!("{} P(s)", codes(&[F::Dwell])),
+            Some(DwellForm::PSecondsOrMilliseconds) => format!("{} P(s.)/P(ms)", codes(&[F::Dwell])),
+            Some(DwellForm::FSeconds) => format!("{} F(s)", codes(&[F::Dwell])),
+            None => "—".into(),
+        },
+        "set position" => codes(&[F::SetPosition, F::RestatePosition]),
+        "spindle limit" => match lex.spindle_limit {
+            Some(LimitForm::Code) => format!("{} S", codes(&[F::SpindleLimit])),
+            Some(LimitForm::Setting(s)) => format!("{s}="),
+            Some(LimitForm::OnSurfaceSpeed(l)) => format!("{} … {}", codes(&[F::SurfaceSpeed]), l as char),
+            None => "—".into(),
+        },
+        "reference return" => match lex.reference {
+            Some(ReturnForm::IncrementalWords { x, z }) => format!(
+                "{} {}0 {}0{}",
+                codes(&[F::ReferenceReturn]),
+                x as char,
+                z as char,
+                if lex.return_all_without_axes { " (bare: all)" } else { "" }
+            ),
+            Some(ReturnForm::IncrementalMode) => format!(
+                "{} {} X0 Z0, {}{}",
+                codes(&[F::Incremental]),
+                codes(&[F::ReferenceReturn]),
+                codes(&[F::Absolute]),
+                if lex.return_all_without_axes { " (bare: all)" } else { "" }
+            ),
+            Some(ReturnForm::MachineAxes { x, z }) => {
+                format!("{} {x}=0 {z}=0", codes(&[F::ReferenceReturn]))
+            }
+            None => "—".into(),
+        },
+        "tool" => match lex.tool {
+            ToolForm::Combined { .. } => "T0101 (tool, offset)".into(),
+            ToolForm::Single => "T4 (its own offset)".into(),
+            ToolForm::ToolAndEdge => "T7 D1 (edge 1: its offset)".into(),
+            ToolForm::ChangeAndOffset => format!(
+                "T1 {} {} [H] / {}",
+                codes(&[F::ToolChange]),
+                codes(&[F::ToolOffset]),
+                codes(&[F::ToolOffsetOff])
+            ),
+        },
+        "spindle cw / ccw / stop" => codes(&[F::SpindleCw, F::SpindleCcw, F::SpindleStop]),
+        "coolant on / mist / off" => codes(&[F::CoolantOn, F::MistOn, F::CoolantOff]),
+        "end / end and rewind" => codes(&[F::End, F::EndRewind]),
+        "stop / optional stop" => codes(&[F::Stop, F::OptionalStop]),
+        "cycle settings (carried by the jobs)" => codes(&[F::CycleSetting]),
+        "thread move's lead words" => {
+            let w = String::from_utf8_lossy(lex.thread_words).to_string();
+            let mut all: Vec<String> = w.chars().map(|c| c.to_string()).collect();
+            all.extend(lex.thread_settings.iter().map(|s| format!("{s}=")));
+            if all.is_empty() {
+                "—".into()
+            } else {
+                all.join(" ")
+            }
+        }
+        "O program numbers / N / %" => format!(
+            "{} / {} / {}",
+            if lex.program_number { "yes" } else { "no" },
+            if lex.sequence_numbers { "yes" } else { "no" },
+            if lex.delimiters { "yes" } else { "no" }
+        ),
+        _ => unreachable!(),
+    }
+}
+
+const LEXICON_BEGIN: &str = "<!-- lexicon:begin (tests/convert.rs writes this table) -->";
+const LEXICON_END: &str = "<!-- lexicon:end -->";
+
+/// The table of every controller's lexicon in docs/translation.md is the lexicons themselves.
+#[test]
+fn the_lexicon_table_is_the_dialects_lexicons() {
+    let rows = [
+        "inch / mm",
+        "absolute / incremental",
+        "X diameter / radius",
+        "planes XY / ZX / YZ",
+        "feed per minute / revolution",
+        "feed mode at power-on",
+        "surface speed / rpm",
+        "spindle limit",
+        "compensation off / left / right",
+        "work offsets",
+        "thread move",
+        "thread move's lead words",
+        "dwell",
+        "set position",
+        "reference return",
+        "tool",
+        "spindle cw / ccw / stop",
+        "coolant on / mist / off",
+        "end / end and rewind",
+        "stop / optional stop",
+        "cycle settings (carried by the jobs)",
+        "O program numbers / N / %",
+    ];
+    let machines: Vec<Machine> = BUILT_IN
+        .iter()
+        .map(|(n, _)| Machine::built_in(n).unwrap())
+        .collect();
+    let dialects: Vec<_> = machines.iter().map(|m| dialect::open(m).unwrap()).collect();
+    let mut table = format!(
+        "| | {} |\n|---|{}\n",
+        machines
+            .iter()
+            .map(|m| m.name.as_str())
+            .collect::<Vec<_>>()
+            .join(" | "),
+        "---|".repeat(machines.len())
+    );
+    for row in rows {
+        let cells: Vec<String> = dialects
+            .iter()
+            .map(|d| lexicon_cell(d.lexicon(), row))
+            .collect();
+        table.push_str(&format!("| {row} | {} |\n", cells.join(" | ")));
+    }
+    let doc_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/translation.md");
+    let doc = std::fs::read_to_string(&doc_path).unwrap();
+    let (Some(b), Some(e)) = (doc.find(LEXICON_BEGIN), doc.find(LEXICON_END)) else {
+        panic!("docs/translation.md has no lexicon block:\n{LEXICON_BEGIN}\n{table}{LEXICON_END}");
+    };
+    if doc[b + LEXICON_BEGIN.len()..e].trim() != table.trim() {
+        if std::env::var_os("THREADCUT_BLESS").is_some() {
+            let new = format!("{}{LEXICON_BEGIN}\n{table}{}", &doc[..b], &doc[e..]);
+            std::fs::write(&doc_path, new).unwrap();
+        } else {
+            panic!("docs/translation.md's lexicon table is out of date (THREADCUT_BLESS=1 rewrites it):\n{table}");
+        }
+    }
+}

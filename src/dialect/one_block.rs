@@ -592,9 +592,9 @@ fn choices(
         return Err(format!(
             "{name} takes its finishing allowance and passes from the machine ({}: {} mm, {}), and this job has {} mm, {}",
             setup.allowance_name,
-            post::number(setup.allowance, 4, false),
+            post::number(setup.allowance, 4, false).trim_end_matches('.'),
             crate::text::count(setup.finish_passes as usize, "finishing pass", "finishing passes"),
-            post::number(job.plan.finish_allowance, 4, false),
+            post::number(job.plan.finish_allowance, 4, false).trim_end_matches('.'),
             crate::text::count(job.plan.finish_passes as usize, "finishing pass", "finishing passes")
         ));
     }
