@@ -385,9 +385,13 @@ fn lexicon_cell(lex: &threadcut::convert::lexicon::Lexicon, row: &str) -> String
         ]),
         "thread move" => codes(&[F::Thread]),
         "dwell" => match lex.dwell {
-            Some(DwellForm::XSecondsOrPMilliseconds) => format!("{} X(s) P(ms)", codes(&[F::Dwell])),
+            Some(DwellForm::XSecondsOrPMilliseconds) => {
+                format!("{} X(s) P(ms)", codes(&[F::Dwell]))
+            }
             Some(DwellForm::PSeconds) => format!("{} P(s)", codes(&[F::Dwell])),
-            Some(DwellForm::PSecondsOrMilliseconds) => format!("{} P(s.)/P(ms)", codes(&[F::Dwell])),
+            Some(DwellForm::PSecondsOrMilliseconds) => {
+                format!("{} P(s.)/P(ms)", codes(&[F::Dwell]))
+            }
             Some(DwellForm::FSeconds) => format!("{} F(s)", codes(&[F::Dwell])),
             None => "—".into(),
         },
@@ -395,7 +399,9 @@ fn lexicon_cell(lex: &threadcut::convert::lexicon::Lexicon, row: &str) -> String
         "spindle limit" => match lex.spindle_limit {
             Some(LimitForm::Code) => format!("{} S", codes(&[F::SpindleLimit])),
             Some(LimitForm::Setting(s)) => format!("{s}="),
-            Some(LimitForm::OnSurfaceSpeed(l)) => format!("{} … {}", codes(&[F::SurfaceSpeed]), l as char),
+            Some(LimitForm::OnSurfaceSpeed(l)) => {
+                format!("{} … {}", codes(&[F::SurfaceSpeed]), l as char)
+            }
             None => "—".into(),
         },
         "reference return" => match lex.reference {
@@ -404,14 +410,22 @@ fn lexicon_cell(lex: &threadcut::convert::lexicon::Lexicon, row: &str) -> String
                 codes(&[F::ReferenceReturn]),
                 x as char,
                 z as char,
-                if lex.return_all_without_axes { " (bare: all)" } else { "" }
+                if lex.return_all_without_axes {
+                    " (bare: all)"
+                } else {
+                    ""
+                }
             ),
             Some(ReturnForm::IncrementalMode) => format!(
                 "{} {} X0 Z0, {}{}",
                 codes(&[F::Incremental]),
                 codes(&[F::ReferenceReturn]),
                 codes(&[F::Absolute]),
-                if lex.return_all_without_axes { " (bare: all)" } else { "" }
+                if lex.return_all_without_axes {
+                    " (bare: all)"
+                } else {
+                    ""
+                }
             ),
             Some(ReturnForm::MachineAxes { x, z }) => {
                 format!("{} {x}=0 {z}=0", codes(&[F::ReferenceReturn]))
@@ -518,4 +532,159 @@ fn the_lexicon_table_is_the_dialects_lexicons() {
             panic!("docs/translation.md's lexicon table is out of date (THREADCUT_BLESS=1 rewrites it):\n{table}");
         }
     }
+}
+
+fn conv(src: &str, from: &str, to: &str) -> Result<String, threadcut::diag::Diagnostic> {
+    convert::convert_text(
+        src,
+        &Machine::built_in(from).unwrap(),
+        &Machine::built_in(to).unwrap(),
+    )
+}
+
+/// The converted program without its header (the comment and the block of modes).
+fn body(text: &str) -> String {
+    text.lines()
+        .skip_while(|l| l.starts_with('%'))
+        .skip(2)
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Tools in each controller's form: (tool, offset) read from the source's, written in the target's.
+#[test]
+fn tools_are_rewritten_in_the_targets_form() {
+    let src = "G0 X40. Z5.\nT0303\nT0102\nT0100\n";
+    assert_eq!(
+        body(&conv(src, "fanuc", "linuxcnc").unwrap()),
+        "G0 X20. Z5.\nT3 M6 G43\nT1 M6 G43 H2\nT1 M6 G49"
+    );
+    // Sinumerik: the tool's first cutting edge is its own offset; D0 cancels it.
+    assert_eq!(
+        body(&conv("G0 X40. Z5.\nT0303\nT0300\n", "fanuc", "sinumerik").unwrap()),
+        "G0 X40.000 Z5.000\nT3 D1\nT3 D0"
+    );
+    let e = conv(src, "fanuc", "sinumerik").unwrap_err();
+    assert_eq!((e.span.line, e.span.column), (3, 1), "{}", e.message);
+    assert!(e.message.contains("tool 1 with offset 2"), "{}", e.message);
+    // LinuxCNC's T prepares, M6 changes, G43 applies: one Fanuc call.
+    assert_eq!(
+        body(&conv("G8\nG0 X20 Z5\nT3\nM6\nG43\nG49\n", "linuxcnc", "fanuc").unwrap()),
+        "G0 X40. Z5.\nT0300\nT0303\nT0300"
+    );
+    // Sinumerik T7 D1 and Haas T505 are Fanuc's T0707 and T0505; OmniTurn's T4 is T0404.
+    assert!(conv("N20 T7 D1\n", "sinumerik", "fanuc")
+        .unwrap()
+        .contains("\nN20 T0707\n"));
+    assert!(conv("T505\n", "haas", "fanuc")
+        .unwrap()
+        .contains("\nT0505\n"));
+    assert!(conv("T4\n", "omniturn", "fanuc")
+        .unwrap()
+        .contains("\nT0404\n"));
+}
+
+/// Dwells, spindle limits, surface speeds and units: each in the target's words.
+#[test]
+fn dwell_spindle_and_units_in_the_targets_words() {
+    // Fanuc's G4 X (seconds) or P (milliseconds) is LinuxCNC's G4 P (seconds), Sinumerik's G4 F.
+    let src = "G4 X1.5\nG4 P2500\n";
+    assert_eq!(
+        body(&conv(src, "fanuc", "linuxcnc").unwrap()),
+        "G4 P1.5\nG4 P2.5"
+    );
+    assert_eq!(
+        body(&conv(src, "fanuc", "sinumerik").unwrap()),
+        "G4 F1.5\nG4 F2.5"
+    );
+    // The spindle limit: a code with S, a setting, or D on LinuxCNC's next G96.
+    let src = "G50 S2000\nG96 S180 M3\n";
+    assert_eq!(
+        body(&conv(src, "fanuc", "fanuc-b").unwrap()),
+        "G92 S2000\nG96 S180 M3"
+    );
+    assert_eq!(
+        body(&conv(src, "fanuc", "sinumerik").unwrap()),
+        "LIMS=2000\nG96 S180 M3"
+    );
+    assert_eq!(
+        body(&conv(src, "fanuc", "linuxcnc").unwrap()),
+        "(spindle limit 2000 rpm: written on the next constant-surface-speed block, if any)\nG96 D2000 S180 M3"
+    );
+    // Allen-Bradley has no spindle-limit word in threadcut's lexicon: a comment, and a faster
+    // speed (or constant surface speed) after it is refused.
+    let ab = conv("G50 S2000\nG97 S1500 M3\n", "fanuc", "ab9").unwrap();
+    assert!(ab.contains("(spindle limit 2000 rpm not written"), "{ab}");
+    let e = conv("G50 S2000\nG97 S2500 M3\n", "fanuc", "ab9").unwrap_err();
+    assert_eq!((e.span.line, e.span.column), (2, 5), "{}", e.message);
+    let e = conv("G50 S2000\nG96 S200 M3\n", "fanuc", "ab9").unwrap_err();
+    assert_eq!(e.span.line, 2, "{}", e.message);
+    // A surface speed stays in the program's units where the target has them.
+    let css = conv("G21\nG96 S200\n", "fanuc", "linuxcnc").unwrap();
+    assert!(css.ends_with("G21\nG96 S200\n"), "{css}");
+    // Units switch where the target has them.
+    let out = conv("G20\nG0 X1. Z0.5\nG21\nG0 X20. Z5.\n", "fanuc", "linuxcnc").unwrap();
+    assert!(
+        out.ends_with("G20\nG0 X0.5 Z0.5\nG21\nG0 X10. Z5.\n"),
+        "{out}"
+    );
+}
+
+/// Reference returns straight from the tool, set positions that change something, arcs by their
+/// radius; comments and data lines in the target's style.
+#[test]
+fn positions_returns_arcs_and_comments() {
+    // Haas's bare G28 returns every axis (its lexicon says so): Fanuc names both.
+    assert_eq!(
+        body(&conv("G28\n", "haas", "fanuc").unwrap()),
+        "G28 U0. W0."
+    );
+    assert_eq!(
+        body(&conv("G28 U0. W0.\n", "fanuc", "sinumerik").unwrap()),
+        "G74 X1=0 Z1=0"
+    );
+    // A Fanuc G28 with no axis returns none: nothing to write.
+    assert_eq!(body(&conv("G28\n", "fanuc", "haas").unwrap()), "");
+    // An absolute intermediate point where the tool is counts as straight from it.
+    assert_eq!(
+        body(&conv("G0 X40. Z5.\nG28 X40.\n", "fanuc", "gsk980").unwrap()),
+        "G0 X40. Z5.\nG28 U0."
+    );
+    // Setting the coordinates the tool already has is no change; others are written.
+    assert_eq!(
+        body(
+            &conv(
+                "G0 X40. Z5.\nG50 X40. Z5.\nG50 X50. Z5.\n",
+                "fanuc",
+                "linuxcnc"
+            )
+            .unwrap()
+        ),
+        "G0 X20. Z5.\nG92 X25. Z5."
+    );
+    // Arcs by radius; centre words are refused at the word.
+    assert_eq!(
+        body(&conv("G0 X20. Z0.\nG2 X24. Z-2. R2. F0.1\n", "fanuc", "linuxcnc").unwrap()),
+        "G0 X10. Z0.\nG2 X12. Z-2. R2. F0.1"
+    );
+    let e = conv("G0 X20. Z0.\nG2 X24. Z-2. I2. K0\n", "fanuc", "linuxcnc").unwrap_err();
+    assert_eq!((e.span.line, e.span.column), (2, 14));
+    // Sinumerik's parameters become comments; their values are in the converted cycle.
+    let out = conv(
+        "R1=2 ; lead\nDEF REAL D=1.2\nT1 D1\nG0 X40 Z5\nCYCLE97(R1,,0,-20,30,30,2,2,D,0,0,0,4,0,1,1)\n",
+        "sinumerik",
+        "fanuc",
+    )
+    .unwrap();
+    assert!(
+        out.contains("\n(R1=2 ; lead)\n(DEF REAL D=1.2)\nT0101\n"),
+        "{out}"
+    );
+    // A canned cycle other than threading is not converted.
+    let e = conv("G0 X40. Z5.\nG90 X38. Z-20. F0.2\n", "fanuc", "linuxcnc").unwrap_err();
+    assert!(
+        e.message.contains("canned cycle other than threading"),
+        "{}",
+        e.message
+    );
 }

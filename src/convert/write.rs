@@ -50,6 +50,8 @@ pub(super) struct Writer<'o, 'm> {
     pending_limit: Option<f64>,
     /// How the source selects tools.
     source_tool: ToolForm,
+    /// A source's return code without axis words returns every axis.
+    source_returns_all: bool,
     report: Report,
 }
 
@@ -125,6 +127,7 @@ impl<'o, 'm> Writer<'o, 'm> {
             unstated_limit: None,
             pending_limit: None,
             source_tool: source_lexicon.tool,
+            source_returns_all: source_lexicon.return_all_without_axes,
             report: Report::default(),
         })
     }
@@ -605,8 +608,10 @@ impl<'o, 'm> Writer<'o, 'm> {
         }
         let axes = if named.iter().any(|n| *n) {
             named
+        } else if self.source_returns_all {
+            // A bare return: every axis where that is the source's rule (its lexicon's).
+            [true, true]
         } else {
-            // A bare return: every axis where that is the source's rule (the lexicon's), else none.
             return Ok(());
         };
         let code = self.code(Function::ReferenceReturn).ok_or_else(|| {

@@ -246,7 +246,9 @@ enum Command {
         format: ProgramFormat,
     },
     /// Rewrite a program for another controller: each threading cycle as the target's native cycle
-    /// when reading it back gives the same motion, otherwise as plain moves with a comment saying why.
+    /// when some choice of its words reads back as the same motion, otherwise as plain moves with a
+    /// comment saying why; the other blocks in the target's words, its units and modes stated at
+    /// the start. A block the target cannot express is an error naming the target's limit.
     Convert {
         #[command(flatten)]
         input: InputArg,
