@@ -126,7 +126,10 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
                 g_code(w.value)
                     .ok_or_else(|| meaningless(w.span, format!("G{}", w.value), src.name))?,
             ),
-            b'M' if w.value.fract() == 0.0 && w.value >= 0.0 => Code::M(w.value as u16),
+            b'M' if w.value.fract() == 0.0 && (0.0..=9999.0).contains(&w.value) => {
+                Code::M(w.value as u16)
+            }
+            b'M' => return Err(meaningless(w.span, format!("M{}", w.value), src.name)),
             _ => continue,
         };
         let fs: Vec<Function> = lex.functions(code).collect();

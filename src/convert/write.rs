@@ -55,6 +55,23 @@ pub(super) struct Writer<'o, 'm> {
     report: Report,
 }
 
+/// The words of one output block, in the groups they are written in.
+#[derive(Default)]
+struct Out {
+    /// The sequence number and program number.
+    head: Vec<String>,
+    /// Mode codes, the move and its words.
+    g: Vec<String>,
+    /// S and the tool.
+    tail: Vec<String>,
+    /// M functions.
+    m: Vec<String>,
+    /// Comments, after the words.
+    notes: Vec<String>,
+    /// Whole lines written before the block (LinuxCNC's `G91 G28 …` / `G90`).
+    extra: Vec<String>,
+}
+
 /// A refusal: the target has no counterpart of what the source wrote at `span`.
 fn refuse(span: Span, message: String) -> Error {
     Error::Input(
@@ -242,22 +259,57 @@ impl<'o, 'm> Writer<'o, 'm> {
         if b.data {
             return self.comment_only(String::from_utf8_lossy(line.text).trim());
         }
-        let mut g: Vec<String> = Vec::new();
-        let mut tail: Vec<String> = Vec::new();
-        let mut m: Vec<String> = Vec::new();
-        let mut extra_lines: Vec<String> = Vec::new();
-        let mut notes: Vec<String> = Vec::new();
-        let mut head: Vec<String> = Vec::new();
+        let mut o = Out::default();
         if let Some(n) = b.n.filter(|_| self.tlex.sequence_numbers) {
-            head.push(format!("N{n}"));
+            o.head.push(format!("N{n}"));
         }
         if let Some(p) = &b.program {
             if self.tlex.program_number {
-                head.push(p.clone());
+                o.head.push(p.clone());
             } else {
-                notes.push(format!("program {p}"));
+                o.notes.push(format!("program {p}"));
             }
         }
+        let css_here = self.codes(b, &mut o)?;
+        let fspan = |f: Function| {
+            b.functions
+                .iter()
+                .find(|(g, _, _)| *g == f)
+                .map(|(_, s, t)| (*s, t.clone()))
+        };
+        // Blocks that are no move: a reference return, a new position, a dwell.
+        if let Some((span, text)) = fspan(Function::ReferenceReturn) {
+            self.reference_return(b, before, modal, (span, &text), &mut o)?;
+        } else if let Some((span, text)) = fspan(Function::SetPosition) {
+            self.set_position(b, before, modal, span, &text, &mut o.g)?;
+        } else if let Some((span, text)) = fspan(Function::Dwell) {
+            self.dwell(b, span, &text, &mut o.g)?;
+        } else if b.has(Function::RestatePosition) {
+            // The coordinates the tool has (the source's reader checked): nothing to write.
+        } else {
+            self.motion(b, mv, modal, &mut o.g)?;
+        }
+        if let Some((v, span)) = b.limit {
+            self.limit(v, span, &mut o.g, &mut o.notes)?;
+        }
+        if css_here {
+            if let (Some(v), Some(LimitForm::OnSurfaceSpeed(l))) =
+                (self.pending_limit.take(), self.tlex.spindle_limit)
+            {
+                o.g.push(format!("{}{}", l as char, Self::speed(v)));
+            }
+        }
+        self.spindle_speed(b, modal, &mut o.tail)?;
+        self.tools(b, &mut o.tail)?;
+        if !b.comment.is_empty() {
+            o.notes.push(b.comment.clone());
+        }
+        self.emit(line, o)
+    }
+
+    /// The codes of a block's modes and M functions, in the target's words (`o.g`, `o.m`); the
+    /// output state they change. Whether the block turns constant surface speed on.
+    fn codes(&mut self, b: &Block, o: &mut Out) -> Result<bool, Error> {
         let mut css_here = false;
         for (f, span, text) in &b.functions {
             match *f {
@@ -266,10 +318,12 @@ impl<'o, 'm> Writer<'o, 'm> {
                     if self.tlex.has_units(u) {
                         self.out_units = u;
                         if let Some(c) = self.code(*f) {
-                            g.push(c);
+                            o.g.push(c);
                         }
                     }
                 }
+                // Absorbed (positions are absolute in the target's X mode), carried by the
+                // cycles' jobs, or written with the block's move or its other words.
                 Function::Absolute
                 | Function::Incremental
                 | Function::Diameter
@@ -290,7 +344,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                 | Function::ToolOffsetOff => {}
                 Function::FeedPerMinute | Function::FeedPerRevolution => {
                     self.target_f = None;
-                    g.extend(self.required(*f, *span, text)?);
+                    o.g.extend(self.required(*f, *span, text)?);
                 }
                 Function::SurfaceSpeed => {
                     if let Some(limit) = self.unstated_limit {
@@ -305,17 +359,17 @@ impl<'o, 'm> Writer<'o, 'm> {
                     }
                     self.css = true;
                     css_here = true;
-                    g.extend(self.required(*f, *span, text)?);
+                    o.g.extend(self.required(*f, *span, text)?);
                 }
                 Function::Rpm => {
                     self.css = false;
-                    g.extend(self.required(*f, *span, text)?);
+                    o.g.extend(self.required(*f, *span, text)?);
                 }
                 Function::Plane(_)
                 | Function::CompensationOff
                 | Function::CompensationLeft
                 | Function::CompensationRight
-                | Function::WorkOffset(_) => g.extend(self.required(*f, *span, text)?),
+                | Function::WorkOffset(_) => o.g.extend(self.required(*f, *span, text)?),
                 Function::SpindleCw
                 | Function::SpindleCcw
                 | Function::SpindleStop
@@ -325,73 +379,54 @@ impl<'o, 'm> Writer<'o, 'm> {
                 | Function::End
                 | Function::EndRewind
                 | Function::Stop
-                | Function::OptionalStop => m.extend(self.required(*f, *span, text)?),
+                | Function::OptionalStop => o.m.extend(self.required(*f, *span, text)?),
             }
         }
-        let fspan = |f: Function| {
-            b.functions
-                .iter()
-                .find(|(g, _, _)| *g == f)
-                .map(|(_, s, t)| (*s, t.clone()))
+        Ok(css_here)
+    }
+
+    /// S: the spindle speed, or a surface speed converted between m/min and ft/min where the
+    /// output's units are not the program's; refused above a limit the target cannot state.
+    fn spindle_speed(&self, b: &Block, modal: &Modal, tail: &mut Vec<String>) -> Result<(), Error> {
+        let Some((s, span)) = b.speed else {
+            return Ok(());
         };
-        // Blocks that are no move: a reference return, a new position, a dwell.
-        if let Some((span, text)) = fspan(Function::ReferenceReturn) {
-            self.reference_return(b, before, modal, span, &text, &mut extra_lines, &mut g)?;
-        } else if let Some((span, text)) = fspan(Function::SetPosition) {
-            self.set_position(b, before, modal, span, &text, &mut g)?;
-        } else if let Some((span, text)) = fspan(Function::Dwell) {
-            self.dwell(b, span, &text, &mut g)?;
-        } else if b.has(Function::RestatePosition) {
-            // The coordinates the tool has (the source's reader checked): nothing to write.
+        let v = if self.css && modal.units != self.out_units {
+            match self.out_units {
+                Units::Inch => s * FEET_PER_METRE,
+                Units::Mm => s / FEET_PER_METRE,
+            }
         } else {
-            self.motion(b, mv, modal, &mut g)?;
-        }
-        if let Some((v, span)) = b.limit {
-            self.limit(v, span, &mut g, &mut notes)?;
-        }
-        if css_here {
-            if let (Some(v), Some(LimitForm::OnSurfaceSpeed(l))) =
-                (self.pending_limit.take(), self.tlex.spindle_limit)
-            {
-                g.push(format!("{}{}", l as char, Self::speed(v)));
+            s
+        };
+        if let (false, Some(limit)) = (self.css, self.unstated_limit) {
+            if s > limit {
+                return Err(refuse(
+                    span,
+                    format!(
+                        "S{}: the program limits the spindle to {} rpm, and {} has no spindle-limit word in threadcut's lexicon",
+                        Self::speed(s),
+                        Self::speed(limit),
+                        self.to.name
+                    ),
+                ));
             }
         }
-        if let Some((s, span)) = b.speed {
-            let v = if self.css && modal.units != self.out_units {
-                match self.out_units {
-                    Units::Inch => s * FEET_PER_METRE,
-                    Units::Mm => s / FEET_PER_METRE,
-                }
-            } else {
-                s
-            };
-            if let (false, Some(limit)) = (self.css, self.unstated_limit) {
-                if s > limit {
-                    return Err(refuse(
-                        span,
-                        format!(
-                            "S{}: the program limits the spindle to {} rpm, and {} has no spindle-limit word in threadcut's lexicon",
-                            Self::speed(s),
-                            Self::speed(limit),
-                            self.to.name
-                        ),
-                    ));
-                }
-            }
-            tail.push(format!("S{}", Self::speed(v)));
-        }
-        self.tools(b, &mut tail)?;
-        let mut words = head;
-        words.extend(g);
-        words.extend(tail);
-        words.extend(m);
-        if !b.comment.is_empty() {
-            notes.push(b.comment.clone());
-        }
-        let note = (!notes.is_empty())
-            .then(|| self.format.comment(&notes.join("; ")))
+        tail.push(format!("S{}", Self::speed(v)));
+        Ok(())
+    }
+
+    /// Writes a block's lines: the extra lines before it, then its words in order (sequence
+    /// number and program number, modes and the move, S, T, M), the comment last.
+    fn emit(&mut self, line: &Line, o: Out) -> Result<(), Error> {
+        let mut words = o.head;
+        words.extend(o.g);
+        words.extend(o.tail);
+        words.extend(o.m);
+        let note = (!o.notes.is_empty())
+            .then(|| self.format.comment(&o.notes.join("; ")))
             .flatten();
-        for l in extra_lines {
+        for l in o.extra {
             writeln!(self.out, "{l}")?;
         }
         if words.is_empty() {
@@ -568,17 +603,15 @@ impl<'o, 'm> Writer<'o, 'm> {
 
     /// A return straight to the reference point, of the axes the block names (all, where a bare
     /// return means every axis). The source's intermediate point must be where the tool is.
-    #[allow(clippy::too_many_arguments)]
     fn reference_return(
         &mut self,
         b: &Block,
         before: Option<Pos>,
         modal: &Modal,
-        span: Span,
-        text: &str,
-        extra: &mut Vec<String>,
-        g: &mut Vec<String>,
+        (span, text): (Span, &str),
+        o: &mut Out,
     ) -> Result<(), Error> {
+        let (extra, g) = (&mut o.extra, &mut o.g);
         self.in_run = false;
         let named = [
             b.x.is_some() || b.machine_axes[0].is_some(),
