@@ -25,6 +25,7 @@
 
 pub mod apt;
 pub mod check;
+pub mod convert;
 pub mod diag;
 pub mod dialect;
 pub mod eol;

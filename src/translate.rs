@@ -1,18 +1,23 @@
-//! Writing a job for a target controller: as the target's native cycle when that cycle expresses
-//! exactly the same motion, otherwise as plain moves with a comment saying why.
+//! Writing a job for a target controller: as the target's native cycle when some choice of its
+//! words expresses exactly the same motion, otherwise as plain moves with a comment saying which
+//! property of the job the native cycle cannot express.
 //!
-//! "Exactly the same" is checked, never assumed: the native text is read back by threadcut's own
-//! reader for the target, built into a toolpath, and compared move by move with the job's toolpath
-//! within the target's output resolution.
+//! "Exactly the same" is checked, never assumed: the target's dialect proposes candidates
+//! ([`Dialect::native_candidates`]: a search over the words whose values the job leaves open, such
+//! as the tool angle of a radial infeed), each is read back by threadcut's own reader for the
+//! target, built into a toolpath, and compared move by move with the job's toolpath within the
+//! target's output resolution. The first that matches is written.
 
 use std::io::{self, Write};
 
-use crate::dialect::{self, Read};
-use crate::gcode::{Modal, Reader};
+use crate::convert::lexicon::Function;
+use crate::diag::{Code, Diagnostic};
+use crate::dialect::{self, Dialect, Read};
+use crate::gcode::{Modal, MotionMode, Reader};
 use crate::machine::Machine;
 use crate::post;
 use crate::thread::Job;
-use crate::toolpath::{self, MotionKind, Toolpath};
+use crate::toolpath::{self, Motion, MotionKind, Toolpath};
 use crate::units::Units;
 
 /// How a job was written.
@@ -23,7 +28,12 @@ pub enum Written {
     Plain(String),
 }
 
-/// Writes `job` for `target`.
+/// Writes `job` for `target`: its native cycle when a candidate reads back as the job's motion,
+/// else plain moves after a comment with the reason. Refused (an error at the job's block) when
+/// the lead written in the target's words drifts over the thread's length by more than the output
+/// resolution ([`lead_rounding`]), and when the target has no plain synchronised move to fall back
+/// on (its threading code is always the cycle) or its plain moves cannot state the job's start
+/// angle.
 pub fn write_job(
     out: &mut dyn Write,
     target: &Machine,
@@ -31,19 +41,32 @@ pub fn write_job(
 ) -> Result<Written, crate::program::Error> {
     let path = toolpath::build(job)?;
     let d = dialect::open(target).map_err(crate::program::Error::Setup)?;
-    let format = d.format();
-    let reason = match d.emit_native(job) {
-        Ok(lines) => match verify(target, job, &path, &lines) {
-            Ok(()) => {
-                for l in &lines {
-                    writeln!(out, "{l}")?;
-                }
-                return Ok(Written::Native);
+    let rounding = lead_rounding(target, d.as_ref(), job);
+    if rounding.over_length > rounding.resolution {
+        return Err(lead_drift(target, job, &rounding).into());
+    }
+    let reason = match native(target, d.as_ref(), job, &path) {
+        Ok(lines) => {
+            for l in &lines {
+                writeln!(out, "{l}")?;
             }
-            Err(why) => why,
-        },
+            return Ok(Written::Native);
+        }
         Err(why) => why,
     };
+    let format = d.format();
+    if !d.lexicon().has(Function::Thread) {
+        return Err(Diagnostic::error(
+            Code::Unsupported,
+            job.span,
+            format!(
+                "{} has no plain synchronised move ({} is always its threading cycle), and its cycle cannot cut this thread: {reason}",
+                target.name, format.thread
+            ),
+        )
+        .with_hint("convert to a controller with a plain thread move (G32, G33), or reprogram the thread with this controller's cycle")
+        .into());
+    }
     post::expressible(&format, job)?;
     if let Some(c) = format.comment(&format!(
         "threadcut: plain moves, not the native cycle: {reason}"
@@ -54,7 +77,116 @@ pub fn write_job(
     Ok(Written::Plain(reason))
 }
 
-/// Reads `lines` back as `target` would, from the job's start point, and compares the motion.
+/// The first of the target's native candidates for `job` that reads back as `expected` (the
+/// job's toolpath), or the reason none does: the first candidate's (each dialect lists its most
+/// telling candidate first).
+pub fn native(
+    target: &Machine,
+    d: &dyn Dialect,
+    job: &Job,
+    expected: &Toolpath,
+) -> Result<Vec<String>, String> {
+    let mut reason = None;
+    for candidate in d.native_candidates(job) {
+        let why = match candidate {
+            Ok(lines) => match verify(target, job, expected, &lines) {
+                Ok(()) => return Ok(lines),
+                Err(why) => why,
+            },
+            Err(why) => why,
+        };
+        reason.get_or_insert(why);
+    }
+    Err(reason.unwrap_or_else(|| format!("{} has no native threading cycle", d.name())))
+}
+
+/// How far a lead written in the target's words drifts from the job's over the thread.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LeadRounding {
+    /// The job's lead and the lead as written, in the job's units.
+    pub lead: f64,
+    pub written: f64,
+    /// The thread's length along its axis (the job's units).
+    pub length: f64,
+    /// |written − lead| × length / lead: how far the last turn lands from where it should.
+    pub over_length: f64,
+    /// The target's output resolution in the job's units: the largest drift accepted.
+    pub resolution: f64,
+    pub units: Units,
+}
+
+/// The lead of `job` rounded to the step `target` writes it in (its lead word's decimals, or the
+/// grid of a control that has one, [`Dialect::output_step`]), and the drift over the thread.
+pub fn lead_rounding(target: &Machine, d: &dyn Dialect, job: &Job) -> LeadRounding {
+    let u = job.units;
+    let lead = u.from_mm(job.lead.lead);
+    let format = d.format();
+    let grid = d.output_step(job.lead.lead, u);
+    let step = grid
+        .unwrap_or_else(|| 10f64.powi(-(format.lead_decimals[(u == Units::Inch) as usize] as i32)));
+    let written = (lead / step).round() * step;
+    let g = &job.geometry;
+    let length = u.from_mm(g.side.along(g.travel()).abs());
+    let over_length = if lead > 0.0 {
+        (written - lead).abs() * length / lead
+    } else {
+        0.0
+    };
+    LeadRounding {
+        lead,
+        written,
+        length,
+        over_length,
+        resolution: grid.unwrap_or_else(|| target.resolution(u)),
+        units: u,
+    }
+}
+
+impl LeadRounding {
+    /// `lead 1.5 mm written as 0.05905 inch: 0.0000051 inch per turn, 0.000068 inch over the
+    /// thread's 0.7874 inch`.
+    pub fn describe(&self, source_units: Units) -> String {
+        let u = self.units;
+        let from = source_units.from_mm(u.to_mm(self.lead));
+        format!(
+            "lead {} {} written as {} {}: {} {} per turn, {} {} over the thread's {} {}",
+            post::number(from, 6, false),
+            source_units.name(),
+            post::number(self.written, 6, false),
+            u.name(),
+            post::number((self.written - self.lead).abs(), 7, false),
+            u.name(),
+            post::number(self.over_length, 7, false),
+            u.name(),
+            post::number(self.length, 4, false),
+            u.name()
+        )
+    }
+}
+
+fn lead_drift(target: &Machine, job: &Job, r: &LeadRounding) -> Diagnostic {
+    Diagnostic::error(
+        Code::Unsupported,
+        job.span,
+        format!(
+            "{} writes this lead as {} {}: over the thread's {} {} it drifts {} {}, more than its resolution {} {}",
+            target.name,
+            post::number(r.written, 6, false),
+            r.units.name(),
+            post::number(r.length, 4, false),
+            r.units.name(),
+            post::number(r.over_length, 7, false),
+            r.units.name(),
+            post::number(r.resolution, 6, false),
+            r.units.name()
+        ),
+    )
+    .with_hint("the thread's lead cannot be written exactly in this controller's words and units: choose a controller that writes it, or shorten the thread")
+}
+
+/// Reads `lines` back as `target` would, from the job's start point, and compares the motion
+/// (plain moves and cycles alike: a native text may position the tool before its cycle). At least
+/// one cycle must be read.
 pub fn verify(
     target: &Machine,
     job: &Job,
@@ -70,54 +202,94 @@ pub fn verify(
     let text = lines.join("\n") + "\n";
     let mut reader = Reader::new(text.as_bytes()).with_syntax(conv.syntax);
     let mut warnings = Vec::new();
-    let mut read_back = None;
+    let mut got = Toolpath {
+        start: job.start,
+        motions: Vec::new(),
+    };
+    let mut cycles = 0;
+    let name = lines
+        .iter()
+        .find_map(|l| l.split_whitespace().find(|w| !w.starts_with('N')))
+        .map(|w| w.split('(').next().unwrap_or(w).to_string())
+        .unwrap_or_default();
+    let unreadable = |m: &str| format!("{name} does not read back: {m}");
     while let Some(line) = reader.next_line() {
-        let line =
-            line.map_err(|e| format!("the native cycle does not read back: {}", e.message))?;
-        match d.read(&line, &mut modal, &mut warnings) {
-            Ok(Read::Cycle(job)) => read_back = Some(job),
-            Ok(Read::Settings | Read::Applied(_)) => {}
-            Ok(Read::Plain) => {
-                modal
-                    .apply(&conv, &line)
-                    .map_err(|e| format!("the native cycle does not read back: {}", e.message))?;
+        let line = line.map_err(|e| unreadable(&e.message))?;
+        let mv = match d.read(&line, &mut modal, &mut warnings) {
+            Ok(Read::Cycle(back)) => {
+                cycles += 1;
+                modal.position = crate::gcode::Position::at(back.end_point());
+                let path = toolpath::build(&back).map_err(|e| e.message)?;
+                got.motions.extend(path.motions);
+                None
             }
-            Err(e) => {
-                return Err(format!(
-                    "the native cycle does not read back: {}",
-                    e.message
-                ))
-            }
+            Ok(Read::Settings) => None,
+            Ok(Read::Applied(mv)) => mv,
+            Ok(Read::Plain) => modal
+                .apply(&conv, &line)
+                .map_err(|e| unreadable(&e.message))?,
+            Err(e) => return Err(unreadable(&e.message)),
+        };
+        if let Some(mv) = mv {
+            got.motions.push(Motion {
+                kind: match mv.mode {
+                    MotionMode::Rapid => MotionKind::Rapid,
+                    MotionMode::Thread => MotionKind::Thread {
+                        lead: mv.lead.unwrap_or(0.0),
+                        dlead: 0.0,
+                        phase_deg: mv.phase_deg,
+                    },
+                    _ => MotionKind::Feed,
+                },
+                to: mv.to,
+                pass: 0,
+                line: line.number,
+            });
         }
     }
-    let back = read_back.ok_or("the native text holds no cycle")?;
-    let got = toolpath::build(&back).map_err(|e| e.message)?;
-    same_motion(expected, &got, tolerance(target, job.units))
+    if cycles == 0 {
+        return Err(format!("{name} holds no cycle"));
+    }
+    same_motion(expected, &got, tolerance(target, d.as_ref(), job))
+        .map_err(|why| format!("{name} would move otherwise: {why}"))
 }
 
 /// Half the output resolution, in mm: X is written on diameter on most lathes, so the radius may
-/// differ by half a diameter increment; leads get their own resolution.
-fn tolerance(target: &Machine, units: Units) -> (f64, f64) {
-    let pos = units.to_mm(target.resolution(units)) * 0.5 + 1e-9;
+/// differ by half a diameter increment; leads get their own resolution, or the control's grid
+/// where it writes everything on one ([`Dialect::output_step`]).
+fn tolerance(target: &Machine, d: &dyn Dialect, job: &Job) -> (f64, f64) {
+    let units = job.units;
+    let grid = d.output_step(job.lead.lead, units);
+    let pos = units.to_mm(grid.unwrap_or_else(|| target.resolution(units))) * 0.5 + 1e-9;
     let lead_digits = if units == Units::Inch { 5 } else { 4 };
-    let lead = units.to_mm(10f64.powi(-lead_digits)) * 0.5 + 1e-9;
+    let lead_step = grid.unwrap_or(10f64.powi(-lead_digits));
+    let lead = units.to_mm(lead_step) * 0.5 + 1e-9;
     (pos, lead)
 }
 
-/// Compares two toolpaths move by move; the first difference is the reason.
+/// Compares two toolpaths move by move; the first difference is the reason. A move that ends where
+/// it starts is no motion and is left out on both sides (a cycle's rapid to a start point the tool
+/// is already at).
 pub fn same_motion(
     a: &Toolpath,
     b: &Toolpath,
     (pos_tol, lead_tol): (f64, f64),
 ) -> Result<(), String> {
-    if a.motions.len() != b.motions.len() {
+    let moving = |p: &Toolpath| -> Vec<Motion> {
+        p.segments()
+            .filter(|(from, m)| from.distance(m.to) > 1e-12)
+            .map(|(_, m)| *m)
+            .collect()
+    };
+    let (a, b) = (moving(a), moving(b));
+    if a.len() != b.len() {
         return Err(format!(
             "reading it back gives {} moves instead of {}",
-            b.motions.len(),
-            a.motions.len()
+            b.len(),
+            a.len()
         ));
     }
-    for (i, (ma, mb)) in a.motions.iter().zip(&b.motions).enumerate() {
+    for (i, (ma, mb)) in a.iter().zip(&b).enumerate() {
         let kinds_match = match (ma.kind, mb.kind) {
             (MotionKind::Rapid, MotionKind::Rapid) | (MotionKind::Feed, MotionKind::Feed) => true,
             (

@@ -697,7 +697,11 @@ fn a_start_angle_is_never_dropped_by_a_controller_that_cannot_write_it() {
     let q = |count: &str| text.lines().filter(|l| l.ends_with(count)).count();
     assert!(runs > 0 && q(" Q120000") > 0, "{text}");
     assert_eq!(q(" Q120000"), q(" Q240000"), "{text}");
-    assert_eq!(text.matches(" Q").count(), 2 * q(" Q120000"), "{text}");
+    let qs = text
+        .lines()
+        .filter(|l| !l.starts_with('('))
+        .map(|l| l.matches(" Q").count());
+    assert_eq!(qs.sum::<usize>(), 2 * q(" Q120000"), "{text}");
     // A single start at angle 0 translates.
     let job = self::job("G0 X40 Z10\nCYCLE97(2,,0,-20,30,30,2,2,1.2,0,0,0,4,0,1,1)\n");
     let (text, _) = threadcut::translate::job_to_string(&fanuc, &job).unwrap();

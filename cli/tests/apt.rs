@@ -616,9 +616,20 @@ fn native_output_reads_back_to_the_same_toolpath() {
     let apt_job = job(src);
     for (name, _) in threadcut::machine::BUILT_IN {
         let m = Machine::built_in(name).unwrap();
-        let text = post(src, name);
+        let mut out = Vec::new();
+        if let Err(e) = apt::post::write(src.as_bytes(), &mut out, &m) {
+            // The inch-only OmniTurn writes a 2.5 mm lead as K0.09845": 0.0003 in too short
+            // over the thread, more than its resolution. Refused rather than drifting.
+            assert_eq!(*name, "omniturn", "{e}");
+            assert!(e.to_string().contains("drifts"), "{e}");
+            continue;
+        }
+        let text = String::from_utf8(out).unwrap();
         let d = threadcut::dialect::open(&m).unwrap();
-        let Ok(native) = d.emit_native(&apt_job) else {
+        let mut in_units = apt_job.clone();
+        in_units.units = m.units;
+        let path = toolpath::build(&in_units).unwrap();
+        let Ok(native) = translate::native(&m, d.as_ref(), &in_units, &path) else {
             continue;
         };
         for l in &native {
@@ -679,7 +690,7 @@ fn plain_motion_feeds_spindle_and_inch_cl_on_a_mm_machine() {
     let text = post(src, "gsk980");
     assert_eq!(
         text,
-        "(threadcut post for gsk980, mm)\n(SHAFT 12)\nS800 M4\n(FEDRAT: F0.1016 mm per revolution)\nG0 X50.8 Z2.54\nG1 X25.4 Z2.54 F0.1016\nG1 X25.4 Z-25.4\nM5\nM30\n"
+        "(threadcut post for gsk980, mm, feed per revolution)\nG21 G18 G99 G97\n(SHAFT 12)\nS800 M4\n(FEDRAT: F0.1016 mm per revolution)\nG0 X50.8 Z2.54\nG1 X25.4 Z2.54 F0.1016\nG1 X25.4 Z-25.4\nM5\nM30\n"
     );
     let m = Machine::built_in("gsk980").unwrap();
     let e = apt::post::write("UNITS/MM\nGOTO/1,0,1\n".as_bytes(), &mut Vec::new(), &m).unwrap_err();

@@ -150,7 +150,9 @@ fn fanuc_to_linuxcnc_writes_g33_k_along_the_path() {
         "{out}"
     );
     assert!(
-        out.starts_with("(threadcut convert: fanuc to linuxcnc)\nG90 G8\n"),
+        out.starts_with(
+            "(threadcut convert: fanuc to linuxcnc, mm, feed per revolution)\nG21 G90 G8 G18 G95 G97\n"
+        ),
         "{out}"
     );
     same_motion(&motion(src, "fanuc"), &motion(&out, "linuxcnc"), 1e-4);
@@ -198,14 +200,25 @@ fn same_controller_is_a_copy() {
 
 #[test]
 fn blocks_without_a_counterpart_are_errors_at_their_word() {
-    let src = "G21\nG0 X32. Z5.\nT0101\n";
-    let o = convert("t.nc", src, "fanuc", "linuxcnc");
+    // Tools, set positions and reference returns are converted where the target has them …
+    let src = "G21\nG0 X32. Z5.\nT0102\nG50 X100. Z100.\nG28 U0.\n";
+    let out = ok(convert("t.nc", src, "fanuc", "linuxcnc"));
+    assert!(
+        out.contains("\nT1 M6 G43 H2\nG92 X50. Z100.\nG91 G28 X0.\nG90\n"),
+        "{out}"
+    );
+    // … and refused at their word where it does not: OmniTurn's T is the tool with its own offset.
+    let o = convert("t.nc", src, "fanuc", "omniturn");
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("t.nc:3:1") && err.contains("T0101"), "{err}");
-    let o = convert("g50.nc", "G50 X100. Z100.\n", "fanuc", "linuxcnc");
+    assert!(
+        err.contains("t.nc:3:1") && err.contains("offset 2"),
+        "{err}"
+    );
+    // A reference return through an intermediate point away from the tool is not converted.
+    let o = convert("g28.nc", "G0 X40. Z5.\nG28 U10.\n", "fanuc", "linuxcnc");
     assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("G50"));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("g28.nc:2:5"));
     // G2 with centre words: not rewritten rather than guessed.
     let o = convert(
         "arc.ngc",
@@ -227,13 +240,10 @@ fn the_feed_rate_comes_back_after_thread_moves_on_an_f_lead_target() {
     // source's modal F0.2 would feed at the lead. The converter restores it before the next block.
     let src = "G8 G21 G95\nS500 M3\nG1 X11 Z5 F0.2\nG76 P2.5 Z-30 I-0.5 J0.15 K0.76675 H1\nG1 X12 Z-31\nG33 X11 Z-40 K2\nG33 X11 Z-45 K2\nG1 X13\n";
     let out = ok(convert("feed.ngc", src, "linuxcnc", "fanuc"));
-    assert!(
-        out.contains("G0 X22. Z-30.\nF0.2\nG1 X24. Z-31.\n"),
-        "{out}"
-    );
+    assert!(out.contains("G0 X22. Z-30.\nG1 X24. Z-31. F0.2\n"), "{out}");
     assert!(
         // The first G33 is a taper from X12 Z-31: F is its lead along Z, 2·9/√82.
-        out.contains("G32 X22. Z-40. F1.9878\nG32 X22. Z-45. F2.\nF0.2\nG1 X26.\n"),
+        out.contains("G32 X22. Z-40. F1.9878\nG32 X22. Z-45. F2.\nG1 X26. F0.2\n"),
         "{out}"
     );
 }
@@ -253,6 +263,6 @@ fn reference_returns_keep_their_intermediate_point() {
     // rewritten as absolute coordinates; the program positions again after it.
     let src = "G21 G99\nG97 S600 M3\nG0 X32. Z5.\nG92 X29.2 Z-30. F2.\nG28 U0 W0\nG0 X32.\nZ5.\nG92 X28.8 Z-30. F2.\nM30\n";
     let out = ok(convert("g28.nc", src, "fanuc", "gsk980"));
-    assert!(out.contains("G28 U0 W0"), "{out}");
+    assert!(out.contains("G28 U0. W0."), "{out}");
     same_motion(&motion(src, "fanuc"), &motion(&out, "gsk980"), 0.0006);
 }

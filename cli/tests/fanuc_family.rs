@@ -108,17 +108,38 @@ fn a_haas_program_on_fanuc_names_the_right_controllers() {
 }
 
 #[test]
-fn convert_refuses_g_code_systems_it_cannot_rewrite_yet() {
-    let out = threadcut(&[
+fn convert_rewrites_between_g_code_systems() {
+    // System A to B: G99 is G95, the two-block G76 the same, the header in B's words (G90 for
+    // absolute distances, which system A has no code for).
+    let text = ok(threadcut(&[
         "convert",
         &example("fanuc-m30x2-g76.nc"),
         "--from",
         "fanuc",
         "--to",
         "fanuc-b",
-    ]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("G-code system B"));
+    ]));
+    assert!(
+        text.starts_with("%\n(threadcut convert: fanuc to fanuc-b, mm, feed per revolution)\nG21 G90 G18 G95 G97\nO0001"),
+        "{text}"
+    );
+    assert!(
+        text.contains("G21 G95\nT0101\nG97 S600 M3\nG0 X32. Z5.\nG76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\n"),
+        "{text}"
+    );
+    // B to A: the single-pass G78 is G92, G92 S (the spindle limit) is G50 S.
+    let text = ok(threadcut(&[
+        "convert",
+        &example("fanuc-b-m20x1.5-g78.nc"),
+        "--from",
+        "fanuc-b",
+        "--to",
+        "fanuc",
+    ]));
+    assert!(
+        text.contains("\nG50 S2500\n") && text.contains("\nG92 X19.4 Z-25. F1.5\n"),
+        "{text}"
+    );
     // Haas and the FS15 format are system A: their cycles convert through the model.
     let dir = std::env::temp_dir().join(format!("threadcut-ff-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -1,10 +1,15 @@
 //! Posting a CL file to a controller: every THREAD/ON cycle through
 //! [`crate::translate::write_job`] (the target's native cycle when reading it back reproduces the
 //! toolpath, plain moves otherwise), every other move as a plain block in the target's
-//! [`crate::post::Format`]. Nothing here knows a controller: the target's dialect and profile do.
+//! [`crate::post::Format`]. The program states at its start what it relies on — its units,
+//! absolute distances, X on diameter or radius, the ZX plane, feed per revolution and rpm — in the
+//! target's words where the target has them ([`Lexicon`]), never the control's power-on state;
+//! each FEDRAT that changes the feed mode writes the mode's code. Nothing here knows a controller:
+//! the target's dialect, lexicon and profile do.
 
 use std::io::{BufRead, Write};
 
+use crate::convert::lexicon::{Code as LexCode, Function, Lexicon, Plane};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect;
 use crate::machine::Machine;
@@ -17,8 +22,8 @@ use crate::units::{Pos, Units};
 
 use super::{run, Event};
 
-/// Writes the program for `target`. Numbers are written in the target profile's units (the
-/// controller's power-on units), whatever the CL units: no unit code is written.
+/// Writes the program for `target`. Numbers are written in the target profile's units, whatever
+/// the CL units, and the program's first block states them ([`header`]).
 pub fn write<R: BufRead>(
     mut input: R,
     out: &mut dyn Write,
@@ -27,19 +32,35 @@ pub fn write<R: BufRead>(
     // The posted program ends its lines as the CL file does (CRLF in, CRLF out).
     let ending = crate::eol::LineEnding::peek(&mut input)?;
     let out = &mut crate::eol::Writer::new(out, ending);
-    let format = dialect::open(target).map_err(Error::Setup)?.format();
+    let d = dialect::open(target).map_err(Error::Setup)?;
+    let format = d.format();
+    let lexicon = d.lexicon();
     let units = target.units;
     let mut at: Option<Pos> = None;
     // The feed (target units per minute or per revolution) and whether the F register holds it.
     let mut feed: Option<(f64, bool)> = None;
     let mut f_current = false;
+    // The feed mode stated: per revolution at the start.
+    let mut per_rev_mode = true;
     if let Some(c) = format.comment(&format!(
-        "threadcut post for {}, {}",
+        "threadcut post for {}, {}, feed per revolution",
         target.name,
         units.name()
     )) {
         writeln!(out, "{c}")?;
     }
+    if let Some(h) = header(lexicon, target) {
+        writeln!(out, "{h}")?;
+    }
+    let m_code = |f: Function| -> std::result::Result<String, Error> {
+        lexicon.code(f).map(LexCode::text).ok_or_else(|| {
+            Error::Setup(format!(
+                "{} has no code for the {} in threadcut's lexicon",
+                target.name,
+                f.describe()
+            ))
+        })
+    };
     run(input, |interp, ev| {
         match ev {
             Event::Comment(text) => {
@@ -51,6 +72,17 @@ pub fn write<R: BufRead>(
                 let v = units.from_mm(interp.units().to_mm(value));
                 feed = Some((v, per_rev));
                 f_current = false;
+                if per_rev != per_rev_mode {
+                    // Every built-in lathe control has both modes; one without would need F
+                    // converted with the spindle speed, which a CL file need not hold constant.
+                    let mode = if per_rev {
+                        Function::FeedPerRevolution
+                    } else {
+                        Function::FeedPerMinute
+                    };
+                    writeln!(out, "{}", m_code(mode)?)?;
+                    per_rev_mode = per_rev;
+                }
                 if let Some(c) = format.comment(&format!(
                     "FEDRAT: F{} {} per {}",
                     post::number(v, 4, false),
@@ -63,13 +95,17 @@ pub fn write<R: BufRead>(
             Event::Spindle(Some((rpm, cw))) => {
                 writeln!(
                     out,
-                    "S{} M{}",
+                    "S{} {}",
                     post::number(rpm, 0, false).trim_end_matches('.'),
-                    if cw { 3 } else { 4 }
+                    m_code(if cw {
+                        Function::SpindleCw
+                    } else {
+                        Function::SpindleCcw
+                    })?
                 )?;
             }
-            Event::Spindle(None) => writeln!(out, "M5")?,
-            Event::End => writeln!(out, "M30")?,
+            Event::Spindle(None) => writeln!(out, "{}", m_code(Function::SpindleStop)?)?,
+            Event::End => writeln!(out, "{}", m_code(Function::EndRewind)?)?,
             Event::Move(m) => {
                 let line = plain_move(&format, units, at, &m)?;
                 match m.kind {
@@ -127,6 +163,30 @@ pub fn write<R: BufRead>(
     })
 }
 
+/// The block that states what a posted program relies on, in the target's codes: its units (the
+/// profile's), absolute distances, X on diameter or radius (the profile's), the ZX plane, feed per
+/// revolution and the spindle speed in rpm. `None` for a control with none of these codes.
+pub fn header(lexicon: &Lexicon, target: &Machine) -> Option<String> {
+    let states = [
+        Function::Units(target.units),
+        Function::Absolute,
+        if target.diameter_x {
+            Function::Diameter
+        } else {
+            Function::Radius
+        },
+        Function::Plane(Plane::Zx),
+        Function::FeedPerRevolution,
+        Function::Rpm,
+    ];
+    let codes: Vec<String> = states
+        .iter()
+        .filter_map(|f| lexicon.code(*f))
+        .map(LexCode::text)
+        .collect();
+    (!codes.is_empty()).then(|| codes.join(" "))
+}
+
 /// One move as a block in the target's format (rounded once, from the absolute position).
 fn plain_move(
     format: &Format,
@@ -166,16 +226,9 @@ fn check_lead(format: &Format, job: &Job, target: &Machine) -> Result<(), Error>
     if job.lead.dlead == 0.0 || format.variable_thread.is_some() {
         return Ok(());
     }
-    let native = match dialect::open(target)
-        .map_err(Error::Setup)?
-        .emit_native(job)
-    {
-        Ok(lines) => {
-            let path = crate::toolpath::build(job)?;
-            translate::verify(target, job, &path, &lines).is_ok()
-        }
-        Err(_) => false,
-    };
+    let d = dialect::open(target).map_err(Error::Setup)?;
+    let path = crate::toolpath::build(job)?;
+    let native = translate::native(target, d.as_ref(), job, &path).is_ok();
     if native {
         return Ok(());
     }

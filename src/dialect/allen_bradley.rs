@@ -9,6 +9,7 @@
 //! and FS15's G76); this module reads Allen-Bradley's own words. Every decision on an ambiguity of
 //! the seed is a row of `docs/dialects/allen-bradley-g78.md`.
 
+use crate::convert::lexicon::{self, Code as C, Function as F, Lexicon, ToolForm};
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
@@ -23,6 +24,37 @@ use super::{one_block, Dialect, Read};
 const G33: u16 = 330;
 const G78: u16 = 780;
 const G92: u16 = 920;
+
+/// What a 9/Series lathe's codes mean, from the pages of its user manual (8520-LUM) that public
+/// copies hold (`docs/translation.md`): G20/G21 and G33/G78 (chapter 25), G90/G91 (14-9), G94/G95
+/// (18-4), G41/G42/G40 (21-5), the T-word's format 2 `T` tool + two-digit offset (20-3), G92 setting
+/// the position; G0–G3, G96/G97 and M0–M30 as ISO 6983-1 assigns them (the manual's lists are not
+/// public). No dwell, spindle-limit or reference-return word is known: G28 is the 7300-compatible
+/// thread cycle on this control. Feed per revolution at power-on is assumed (an AMP setting).
+pub static LEXICON: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::G20_G21,
+        &[(C::G(330), F::Thread), (C::G(920), F::SetPosition)],
+        lexicon::COMPENSATION,
+        lexicon::G90_G91,
+        lexicon::G94_G95,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+    ],
+    tool: ToolForm::Combined { digits: 2 },
+    dwell: None,
+    spindle_limit: None,
+    reference: None,
+    return_all_without_axes: false,
+    program_number: false,
+    sequence_numbers: true,
+    delimiters: false,
+    power_on_feed: F::FeedPerRevolution,
+    thread_words: b"FE",
+    thread_settings: &[],
+    only_units: None,
+};
 
 /// The G codes of an Allen-Bradley 9/Series lathe. The seed's chapter (25, thread cutting) names
 /// G33, G34, G35 and G78 and the 7300-compatible G28/G29; the rest of the manual's list is not in
@@ -240,6 +272,10 @@ impl Dialect for AllenBradley {
         &VOCABULARY
     }
 
+    fn lexicon(&self) -> &'static Lexicon {
+        &LEXICON
+    }
+
     fn read(
         &mut self,
         line: &Line,
@@ -280,5 +316,16 @@ impl Dialect for AllenBradley {
 
     fn format(&self) -> Format {
         Format::lathe(&self.machine, "G33", 'F')
+    }
+
+    fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        self.native_candidates(job).remove(0)
+    }
+
+    /// G78, the one-block cycle FS15's and Haas's G76 share, with every choice of A and P that
+    /// gives the job's infeed; its finishing allowance, passes, minimum cut and pull-out are the
+    /// AMP values of the profile, and it has no start angle.
+    fn native_candidates(&self, job: &Job) -> Vec<std::result::Result<Vec<String>, String>> {
+        one_block::g76_candidates(&self.machine, "G78", &self.setup(), false, job)
     }
 }

@@ -115,6 +115,10 @@ impl Dialect for Fanuc {
         self.family.vocabulary
     }
 
+    fn lexicon(&self) -> &'static crate::convert::lexicon::Lexicon {
+        fanuc_family::lexicon(self.family.codes.system)
+    }
+
     /// The family's blocks (cycle blocks, any block while the single-pass cycle is modal, blocks
     /// with a start angle Q) and blocks with an E word (a lead on thread moves, an exponent to
     /// refuse elsewhere).
@@ -161,17 +165,26 @@ impl Dialect for Fanuc {
     }
 
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        self.native_candidates(job).remove(0)
+    }
+
+    /// The single-pass cycle for a single pass, the multiple-pass cycle (two-block or one-block,
+    /// as the program format has it) with every choice of its open words; the other one after.
+    fn native_candidates(&self, job: &Job) -> Vec<std::result::Result<Vec<String>, String>> {
         let f = &self.family;
-        fanuc_family::native_g92(&self.machine, &f.codes, &f.flavour, job).or_else(|_| {
-            match f.flavour.g76 {
-                G76Form::TwoBlock => fanuc_family::native_g76(&self.machine, &f.codes, job),
-                G76Form::OneBlock(_) => one_block::native_g76(
-                    &self.machine,
-                    &format!("G{}", f.codes.multiple / 10),
-                    &f.one_block_setup(),
-                    job,
-                ),
+        let single = fanuc_family::native_g92(&self.machine, &f.codes, &f.flavour, job);
+        let multiple = match f.flavour.g76 {
+            G76Form::TwoBlock => {
+                fanuc_family::g76_candidates(&self.machine, &f.codes, &f.params, job)
             }
-        })
+            G76Form::OneBlock(_) => one_block::g76_candidates(
+                &self.machine,
+                &format!("G{}", f.codes.multiple / 10),
+                &f.one_block_setup(),
+                true,
+                job,
+            ),
+        };
+        fanuc_family::single_or_multiple(single, multiple, job)
     }
 }

@@ -14,6 +14,9 @@
 //! thread's start angle, in 0.001°. Each member's words are its own dialect's ([`Flavour`]); each
 //! decision is a row of `docs/dialects/fanuc.md` (or `haas.md`).
 
+use crate::convert::lexicon::{
+    self, Code as G, DwellForm, Function, Lexicon, LimitForm, ReturnForm, ToolForm,
+};
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
@@ -1381,16 +1384,51 @@ fn alarm_missing(span: Span, name: &str, word: &str, what: &str) -> Diagnostic {
     .with_hint(format!("{word} has no default on the second {name} block"))
 }
 
-/// The two G76 blocks (G78 in system C) that express `job`, when G76 can (the read-back check
-/// decides in the end).
+/// The two G76 blocks (G78 in system C) that may express `job`, one per choice of the words the
+/// job leaves open (the read-back check decides): the tool angle `a` is chosen for the infeed the
+/// job makes, not copied from the tool the job names for its chip areas — a radial infeed is `a`
+/// 0 whatever the tool, a single-flank infeed at θ is the angle 2θ of the list. `params` are the
+/// target's (the chamfer's angle is its parameter 5131, which no block rewrites).
+pub fn g76_candidates(
+    machine: &Machine,
+    codes: &GCodes,
+    params: &ThreadParameters,
+    job: &Job,
+) -> Vec<std::result::Result<Vec<String>, String>> {
+    match g76_words(codes, params, job) {
+        Ok((angles, r)) => angles
+            .into_iter()
+            .map(|a| Ok(g76_text(machine, codes, job, a, r)))
+            .collect(),
+        Err(why) => vec![Err(why)],
+    }
+}
+
+/// The first of [`g76_candidates`].
 pub fn native_g76(
     machine: &Machine,
     codes: &GCodes,
+    params: &ThreadParameters,
     job: &Job,
 ) -> std::result::Result<Vec<String>, String> {
+    g76_candidates(machine, codes, params, job).remove(0)
+}
+
+/// The tool angles whose infeed is the job's, and the chamfer's r; or the property of the job the
+/// cycle cannot express.
+fn g76_words(
+    codes: &GCodes,
+    params: &ThreadParameters,
+    job: &Job,
+) -> std::result::Result<(Vec<u32>, u32), String> {
     let name = g_name(codes.multiple);
     let g = &job.geometry;
-    if job.lead.phase_deg != 0.0 {
+    if g.side.is_face() {
+        return Err(format!("{name} threads along Z, and this is a face thread"));
+    }
+    if job.lead.phase_deg != 0.0
+        || (job.lead.starts > 1 && job.lead.indexing == StartIndexing::Angle)
+    {
         return Err(format!(
             "the two-block {name} has no start angle: its Q is the first depth"
         ));
@@ -1413,39 +1451,100 @@ pub fn native_g76(
         return Err(format!("{name} cuts one start of a constant lead"));
     }
     if !(1..=99).contains(&job.plan.finish_passes) {
-        return Err(format!("{name} has 1 to 99 finishing passes"));
+        return Err(format!(
+            "{name} cuts 1 to 99 finishing passes, and this job cuts {}",
+            crate::text::count(
+                job.plan.finish_passes as usize,
+                "finishing pass",
+                "finishing passes"
+            )
+        ));
     }
-    let (first, min_cut) = match job.plan.law {
-        DepthLaw::Power {
-            first,
-            degression: 2.0,
-            min_step,
-        } => (first, min_step),
-        _ => return Err(format!("{name} cuts the constant-area law d·√n only")),
-    };
-    let a = job.tool_angle_deg;
-    let angle = TOOL_ANGLES
-        .iter()
-        .copied()
-        .find(|&t| f64::from(t) == a)
-        .ok_or_else(|| format!("{name}'s tool angle is 80, 60, 55, 30, 29 or 0, not {a}"))?;
+    if !matches!(job.plan.law, DepthLaw::Power { degression, .. } if degression == 2.0) {
+        return Err(format!(
+            "{name} cuts the constant-area law d·√n (each cut at least Δdmin), and this job's depths follow another law"
+        ));
+    }
     let lead = job.lead.lead;
     let r = match job.exit {
         Exit::Straight => 0,
-        Exit::PullOut { length, .. } => {
+        Exit::PullOut {
+            start_before,
+            length,
+            outward,
+        } if start_before == length => {
             let tenths = length / (0.1 * lead);
             if (tenths - tenths.round()).abs() > 1e-6 || tenths.round() > 99.0 {
                 return Err(format!(
-                    "{name}'s chamfer is a whole number of tenths of a lead, 0 to 99"
+                    "{name}'s chamfer is a whole number of tenths of a lead, 0 to 99, and this job's pull-out is {} leads long",
+                    crate::post::number(length / lead, 4, false)
+                ));
+            }
+            let angle = tan_deg(params.chamfer_angle_deg);
+            if (outward - length * angle).abs() > 1e-6 {
+                return Err(format!(
+                    "{name}'s chamfer runs at parameter 5131's angle ({}° from Z), and this job's pull-out at {}°",
+                    params.chamfer_angle_deg,
+                    crate::post::number(outward.atan2(length).to_degrees(), 3, false)
                 ));
             }
             tenths.round() as u32
         }
-        Exit::ToRetract { .. } | Exit::FeedOut { .. } => {
+        Exit::PullOut { .. } | Exit::ToRetract { .. } | Exit::FeedOut { .. } => {
             return Err(format!(
-                "{name}'s chamfer is a synchronised pull-out ending at the thread's end"
+                "{name}'s chamfer is a synchronised pull-out ending at the thread's end, and this job's exit is not"
             ))
         }
+    };
+    let leading = if g.side.along(g.travel()) < 0.0 {
+        Flank::Right
+    } else {
+        Flank::Left
+    };
+    let angles: Vec<u32> = match job.infeed {
+        Infeed::Radial => vec![0],
+        Infeed::Flank { flank, angle_deg } if flank == leading => {
+            let fits: Vec<u32> = TOOL_ANGLES
+                .iter()
+                .copied()
+                .filter(|&a| (f64::from(a) / 2.0 - angle_deg).abs() < 1e-9)
+                .collect();
+            if fits.is_empty() {
+                return Err(format!(
+                    "{name} infeeds along the flank at half its tool angle a (80, 60, 55, 30, 29 or 0), and this job at {}°",
+                    crate::post::number(angle_deg, 4, false)
+                ));
+            }
+            if job.plan.finish_allowance > 0.0 && job.finish_at == FinishPosition::LastRough {
+                return Err(format!(
+                    "{name} cuts its finishing passes at the full-depth flank position, and this job at the last rough pass's"
+                ));
+            }
+            fits
+        }
+        Infeed::Flank { .. } => {
+            return Err(format!(
+                "{name} infeeds along the leading flank (the tool moves toward the thread's end as it goes deeper), and this job along the trailing one"
+            ))
+        }
+        Infeed::Alternating { .. } => {
+            return Err(format!(
+                "the two-block {name} infeeds along one flank, and this job alternates between flanks"
+            ))
+        }
+    };
+    Ok((angles, r))
+}
+
+/// The two blocks with tool angle `angle` and chamfer `r`.
+fn g76_text(machine: &Machine, codes: &GCodes, job: &Job, angle: u32, r: u32) -> Vec<String> {
+    let name = g_name(codes.multiple);
+    let g = &job.geometry;
+    let (first, min_cut) = match job.plan.law {
+        DepthLaw::Power {
+            first, min_step, ..
+        } => (first, min_step),
+        _ => (0.0, 0.0),
     };
     let u = job.units;
     let inc = machine.resolution(u);
@@ -1475,9 +1574,13 @@ pub fn native_g76(
         " P{} Q{} F{}",
         count(g.depth),
         count(first),
-        crate::post::number(u.from_mm(lead), if u == Units::Inch { 5 } else { 4 }, false)
+        crate::post::number(
+            u.from_mm(job.lead.lead),
+            if u == Units::Inch { 5 } else { 4 },
+            false
+        )
     ));
-    Ok(vec![
+    vec![
         format!(
             "{name} P{:02}{r:02}{angle:02} Q{} R{}",
             job.plan.finish_passes,
@@ -1485,7 +1588,31 @@ pub fn native_g76(
             num(job.plan.finish_allowance)
         ),
         second,
-    ])
+    ]
+}
+
+/// The candidates of a control with a single-pass and a multiple-pass cycle, the one that fits the
+/// job's number of passes first (so that its reason is the one given when none reads back).
+pub fn single_or_multiple(
+    single: std::result::Result<Vec<String>, String>,
+    multiple: Vec<std::result::Result<Vec<String>, String>>,
+    job: &Job,
+) -> Vec<std::result::Result<Vec<String>, String>> {
+    if is_single_pass(job) {
+        std::iter::once(single).chain(multiple).collect()
+    } else {
+        multiple
+            .into_iter()
+            .chain(std::iter::once(single))
+            .collect()
+    }
+}
+
+/// One pass at the crest line: what a single-pass cycle (G92) cuts.
+pub fn is_single_pass(job: &Job) -> bool {
+    job.geometry.depth == 0.0
+        && job.plan.finish_passes == 1
+        && matches!(&job.plan.law, DepthLaw::Explicit { depths } if depths.is_empty())
 }
 
 /// The G92 block (G78 in system B, G21 in C) that expresses a single-pass `job`, when G92 can.
@@ -1500,11 +1627,11 @@ pub fn native_g92(
     let name = g_name(codes.single);
     let tail_words = flavour.gsk_g92_words;
     let g = &job.geometry;
-    let single = g.depth == 0.0
-        && job.plan.finish_passes == 1
-        && matches!(&job.plan.law, DepthLaw::Explicit { depths } if depths.is_empty());
-    if !single {
-        return Err("not a single pass".into());
+    if !is_single_pass(job) {
+        return Err(format!(
+            "{name} cuts one pass, and this job cuts {}",
+            crate::text::count(job.passes().map_or(0, |p| p.len()), "pass", "passes")
+        ));
     }
     if job.return_path != ReturnPath::Box || job.entry != Entry::Direct || job.lead.dlead != 0.0 {
         return Err(format!("{name} has no entry ramp or variable lead"));
@@ -1574,4 +1701,107 @@ pub fn native_g92(
         ));
     }
     Ok(vec![block])
+}
+
+/// What the codes of a Fanuc-format lathe control mean in G-code system A (the operator's
+/// manual's G code list, `docs/dialects/fanuc.md`, "Vocabulary"; `docs/translation.md`): G32
+/// threads, G50 sets the position or (with S) the spindle limit, G98/G99 select the feed mode, U/W
+/// are the incremental words. Shared by `fanuc` and `fanuc15`.
+pub static LEXICON_A: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::DWELL,
+        lexicon::PLANES,
+        lexicon::G20_G21,
+        &[
+            (G::G(280), Function::ReferenceReturn),
+            (G::G(320), Function::Thread),
+            (G::G(500), Function::SetPosition),
+            (G::G(500), Function::SpindleLimit),
+            (G::G(980), Function::FeedPerMinute),
+            (G::G(990), Function::FeedPerRevolution),
+        ],
+        lexicon::COMPENSATION,
+        lexicon::WORK_OFFSETS,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+    ],
+    ..FANUC_LEXICON
+};
+
+/// … in G-code system B: G33 threads, G92 sets the position or the spindle limit, G90/G91 select
+/// the distance mode, G94/G95 the feed mode (G98/G99 are canned-cycle return levels).
+pub static LEXICON_B: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::DWELL,
+        lexicon::PLANES,
+        lexicon::G20_G21,
+        SYSTEM_B_C,
+        lexicon::COMPENSATION,
+        lexicon::WORK_OFFSETS,
+        lexicon::G90_G91,
+        lexicon::G94_G95,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+    ],
+    ..FANUC_LEXICON
+};
+
+/// … in G-code system C: as B, with G70/G71 for inch and mm (G20 and G21 are cycles there).
+pub static LEXICON_C: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::DWELL,
+        lexicon::PLANES,
+        &[
+            (G::G(700), Function::Units(Units::Inch)),
+            (G::G(710), Function::Units(Units::Mm)),
+        ],
+        SYSTEM_B_C,
+        lexicon::COMPENSATION,
+        lexicon::WORK_OFFSETS,
+        lexicon::G90_G91,
+        lexicon::G94_G95,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+    ],
+    ..FANUC_LEXICON
+};
+
+/// The codes systems B and C share that differ from A's.
+const SYSTEM_B_C: &[(G, Function)] = &[
+    (G::G(280), Function::ReferenceReturn),
+    (G::G(330), Function::Thread),
+    (G::G(920), Function::SetPosition),
+    (G::G(920), Function::SpindleLimit),
+];
+
+/// What every Fanuc-format control's blocks share: `T0101` (tool and offset, two digits each),
+/// `G4 X(s)`/`P(ms)`, the spindle limit as a code with S, `G28 U0 W0` (only the axes named
+/// return), `O` program numbers, `%` delimiters, feed per revolution at power-on (parameter
+/// 3402's lathe default), the thread move's `F` lead and `Q` start angle.
+pub const FANUC_LEXICON: Lexicon = Lexicon {
+    codes: &[],
+    tool: ToolForm::Combined { digits: 2 },
+    dwell: Some(DwellForm::XSecondsOrPMilliseconds),
+    spindle_limit: Some(LimitForm::Code),
+    reference: Some(ReturnForm::IncrementalWords { x: b'U', z: b'W' }),
+    return_all_without_axes: false,
+    program_number: true,
+    sequence_numbers: true,
+    delimiters: true,
+    power_on_feed: Function::FeedPerRevolution,
+    thread_words: b"FQ",
+    thread_settings: &[],
+    only_units: None,
+};
+
+/// The lexicon of a Fanuc-format control in `system`.
+pub fn lexicon(system: GCodeSystem) -> &'static Lexicon {
+    match system {
+        GCodeSystem::A => &LEXICON_A,
+        GCodeSystem::B => &LEXICON_B,
+        GCodeSystem::C => &LEXICON_C,
+    }
 }

@@ -20,6 +20,7 @@ use crate::units::{Pos, Resolution, Tolerance, Units};
 
 use super::fanuc_family::{self, FanucFamily, Flavour, GCodes, ThreadParameters};
 use super::{g, only_words, Dialect, Read};
+use crate::convert::lexicon::{self, Code as C, Function as F, Lexicon};
 
 /// The G codes of a GSK 980TDi-class lathe control (its manual's G code table: docs/dialects/gsk-g78.md,
 /// "Vocabulary"). G33 is GSK's Z-axis tapping cycle, not a thread move; G32 threads, and G76, G78 and
@@ -137,6 +138,33 @@ impl Settings {
         }
     }
 }
+
+/// What a GSK 980TDi's codes mean: Fanuc's system A (GSK copies it: `docs/dialects/gsk-g78.md`,
+/// "Vocabulary"), with feed per minute (G98) at power-on and the thread move's lead as F or
+/// threads per inch as I (`docs/translation.md`).
+pub static LEXICON: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::DWELL,
+        lexicon::PLANES,
+        lexicon::G20_G21,
+        &[
+            (C::G(280), F::ReferenceReturn),
+            (C::G(320), F::Thread),
+            (C::G(500), F::SetPosition),
+            (C::G(500), F::SpindleLimit),
+            (C::G(980), F::FeedPerMinute),
+            (C::G(990), F::FeedPerRevolution),
+        ],
+        lexicon::COMPENSATION,
+        lexicon::WORK_OFFSETS,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+    ],
+    power_on_feed: F::FeedPerMinute,
+    thread_words: b"FI",
+    ..fanuc_family::FANUC_LEXICON
+};
 
 pub struct Gsk {
     conv: Conventions,
@@ -626,6 +654,10 @@ impl Dialect for Gsk {
         &VOCABULARY
     }
 
+    fn lexicon(&self) -> &'static Lexicon {
+        &LEXICON
+    }
+
     fn read(
         &mut self,
         line: &Line,
@@ -676,17 +708,46 @@ impl Dialect for Gsk {
     }
 
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
-        // G78 first; the Fanuc-family cycles when G78 cannot; G78's reason when none can.
-        native_g78(&self.machine, job).or_else(|why| {
-            fanuc_family::native_g92(&self.machine, &self.family.codes, &self.family.flavour, job)
-                .or_else(|_| fanuc_family::native_g76(&self.machine, &self.family.codes, job))
-                .map_err(|_| why)
-        })
+        self.native_candidates(job).remove(0)
+    }
+
+    /// G78 first, with every choice of its open words; then G92 and G76 (the reason given when
+    /// none reads back is G78's).
+    fn native_candidates(&self, job: &Job) -> Vec<std::result::Result<Vec<String>, String>> {
+        let f = &self.family;
+        let mut out = g78_candidates(&self.machine, job);
+        out.push(fanuc_family::native_g92(
+            &self.machine,
+            &f.codes,
+            &f.flavour,
+            job,
+        ));
+        out.extend(fanuc_family::g76_candidates(
+            &self.machine,
+            &f.codes,
+            &f.params,
+            job,
+        ));
+        out
     }
 }
 
-/// The two G78 blocks that express `job`, when G78 can: the checks mirror what [`lower`] builds.
-fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, String> {
+/// The two G78 blocks that may express `job`, one per choice of the infeed mode r and tool angle a
+/// that gives the job's infeed (the read-back check decides): a radial infeed is r = 0 with the
+/// job's tool angle, or any r with a = 0; a flank at θ is a = 2θ; the checks mirror what [`lower`]
+/// builds.
+fn g78_candidates(machine: &Machine, job: &Job) -> Vec<std::result::Result<Vec<String>, String>> {
+    match g78_choices(job) {
+        Ok(choices) => choices
+            .into_iter()
+            .map(|(r, a)| g78_text(machine, job, r, a))
+            .collect(),
+        Err(why) => vec![Err(why)],
+    }
+}
+
+/// The (r, a) pairs whose infeed is the job's, or the property G78 cannot express.
+fn g78_choices(job: &Job) -> std::result::Result<Vec<(u32, u32)>, String> {
     let g = &job.geometry;
     if g.side.is_face() {
         return Err("G78 cuts along Z and cannot cut a face thread".into());
@@ -699,11 +760,8 @@ fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
             })
     {
         return Err(
-            "G78 starts and ends each pass at its start point, and this job does not".into(),
+            "G78 starts and ends each pass at its start point, its passes moving away from its Z as they go deeper, and this job does not".into(),
         );
-    }
-    if job.finish_at != FinishPosition::LastRough {
-        return Err("G78 finishes at the last rough pass's Z".into());
     }
     if job.lead.dlead != 0.0 {
         return Err("G78 cuts constant leads only".into());
@@ -720,50 +778,84 @@ fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
     if !(1..=99).contains(&job.lead.starts) || !(1..=99).contains(&job.plan.finish_passes) {
         return Err("G78 allows 1 to 99 starts and 1 to 99 finishing passes".into());
     }
-    let a = job.tool_angle_deg;
-    if a.fract() != 0.0 || !(0.0..=99.0).contains(&a) {
-        return Err(format!(
-            "G78's tool angle is a whole number 0 to 99, not {a}"
-        ));
+    if !matches!(
+        job.plan.law,
+        DepthLaw::Power { degression, .. } if degression == 2.0
+    ) && !matches!(
+        job.plan.law,
+        DepthLaw::Power { degression, min_step, .. } if degression == 1.0 && min_step == 0.0
+    ) {
+        return Err("G78 knows the √n law with a minimum cut and the constant step only".into());
     }
-    let half = |angle: f64| (angle - a / 2.0).abs() < 1e-9;
-    let r = match job.infeed {
-        Infeed::Radial => 0,
+    let whole_angle = |half: f64| {
+        let a = 2.0 * half;
+        ((a - a.round()).abs() < 1e-9 && (0.0..=99.0).contains(&a.round()))
+            .then(|| a.round() as u32)
+    };
+    let flank = |angle_deg: f64| {
+        whole_angle(angle_deg).ok_or_else(|| {
+            format!(
+                "G78 infeeds along a flank at half its tool angle a, a whole number 0 to 99, and this job at {}°",
+                crate::post::number(angle_deg, 4, false)
+            )
+        })
+    };
+    let last_rough = job.plan.finish_allowance == 0.0 || job.finish_at == FinishPosition::LastRough;
+    let choices = match job.infeed {
+        Infeed::Radial => {
+            let tool = job.tool_angle_deg;
+            let named = (tool.fract() == 0.0 && (0.0..=99.0).contains(&tool)).then_some(tool as u32);
+            let mut v: Vec<(u32, u32)> = named.into_iter().map(|a| (0, a)).collect();
+            if named != Some(0) {
+                v.push((0, 0));
+            }
+            v
+        }
+        _ if !last_rough => {
+            return Err("G78 cuts its finishing passes at the last rough pass's Z, and this job on the groove's axis".into())
+        }
         Infeed::Flank {
             flank: Flank::Left,
             angle_deg,
-        } if half(angle_deg) => 1,
+        } => vec![(1, flank(angle_deg)?)],
         Infeed::Flank {
             flank: Flank::Right,
             angle_deg,
-        } if half(angle_deg) => 2,
+        } => vec![(2, flank(angle_deg)?)],
         Infeed::Alternating {
             first: Flank::Right,
             second: Flank::Centre,
             angle_deg,
-        } if half(angle_deg) => 3,
+        } => vec![(3, flank(angle_deg)?)],
         Infeed::Alternating {
             first: Flank::Left,
             second: Flank::Right,
             angle_deg,
-        } if half(angle_deg) => 4,
+        } => vec![(4, flank(angle_deg)?)],
         _ => {
             return Err(
-                "G78 infeeds along the centre line or a flank at half the tool angle".into(),
+                "G78 infeeds along the centre line, one flank, right and centre or left and right alternately, and this job otherwise".into(),
             )
         }
     };
+    Ok(choices)
+}
+
+/// The two blocks with infeed mode `r` and tool angle `a`.
+fn g78_text(
+    machine: &Machine,
+    job: &Job,
+    r: u32,
+    a: u32,
+) -> std::result::Result<Vec<String>, String> {
+    let g = &job.geometry;
     let (first, depth_mode, min_cut) = match job.plan.law {
         DepthLaw::Power {
             first,
             degression: 2.0,
             min_step,
         } => (first, 1, min_step),
-        DepthLaw::Power {
-            first,
-            degression,
-            min_step,
-        } if degression == 1.0 && min_step == 0.0 => (first, 0, 0.0),
+        DepthLaw::Power { first, .. } => (first, 0, 0.0),
         _ => {
             return Err("G78 knows the √n law with a minimum cut and the constant step only".into())
         }
@@ -803,9 +895,8 @@ fn native_g78(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
         root_end.x
     };
     let mut first_block = format!(
-        "G78 P{:02}{r:02}{:02} Q{} R{} D{depth_mode}",
+        "G78 P{:02}{r:02}{a:02} Q{} R{} D{depth_mode}",
         job.plan.finish_passes,
-        a as u32,
         num(min_cut),
         num(job.plan.finish_allowance)
     );

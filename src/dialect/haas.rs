@@ -5,6 +5,7 @@
 //! M23/M24), 99 (thread minimum cut). Sources (Haas's G76, G32 and settings pages) and every
 //! inference: `docs/dialects/haas.md`.
 
+use crate::convert::lexicon::{self, Code as C, DwellForm, Function as F, Lexicon};
 use crate::diag::{Code, Diagnostic, Result};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
@@ -101,6 +102,36 @@ const RANGES: &[(u16, u16)] = &[
     (268, 269),
     (390, 391),
 ];
+
+/// What a Haas lathe's codes mean: Fanuc's system A (`docs/dialects/haas.md`), with `G4 P` in
+/// seconds (or milliseconds without a decimal point), a bare `G28` returning every axis, `M23`/`M24`
+/// (the thread chamfer, carried by the cycles' jobs) and the thread move's lead as F or E.
+pub static LEXICON: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::DWELL,
+        lexicon::PLANES,
+        lexicon::G20_G21,
+        &[
+            (C::G(280), F::ReferenceReturn),
+            (C::G(320), F::Thread),
+            (C::G(500), F::SetPosition),
+            (C::G(500), F::SpindleLimit),
+            (C::G(980), F::FeedPerMinute),
+            (C::G(990), F::FeedPerRevolution),
+            (C::M(23), F::CycleSetting),
+            (C::M(24), F::CycleSetting),
+        ],
+        lexicon::COMPENSATION,
+        lexicon::WORK_OFFSETS,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+    ],
+    dwell: Some(DwellForm::PSecondsOrMilliseconds),
+    return_all_without_axes: true,
+    thread_words: b"FEQ",
+    ..fanuc_family::FANUC_LEXICON
+};
 
 /// Haas's G codes; the threading codes with their words: G32 `X Z U W F Q`, the one-block G76
 /// [`G76_WORDS`], G92 `X Z U W I F E Q`.
@@ -212,6 +243,10 @@ impl Dialect for Haas {
         &VOCABULARY
     }
 
+    fn lexicon(&self) -> &'static Lexicon {
+        &LEXICON
+    }
+
     /// The family's blocks, and blocks with M23/M24 or an E (a lead on G76/G92, refused on G32
     /// and as an exponent elsewhere). Most M blocks (M3, M8) are not offered: `read` would leave
     /// them as they are.
@@ -275,14 +310,22 @@ impl Dialect for Haas {
     }
 
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        self.native_candidates(job).remove(0)
+    }
+
+    /// G92 for a single pass, the one-block G76 with every choice of its open words (read back
+    /// with the chamfer on, M23).
+    fn native_candidates(&self, job: &Job) -> Vec<std::result::Result<Vec<String>, String>> {
         let f = &self.family;
-        fanuc_family::native_g92(&self.machine, &f.codes, &f.flavour, job).or_else(|_| {
-            let mut setup = f.one_block_setup();
-            setup.pull_out = Some(one_block::PullOut {
-                leads: f.params.chamfer_leads,
-                angle_deg: f.params.chamfer_angle_deg,
-            });
-            one_block::native_g76(&self.machine, "G76", &setup, job)
-        })
+        let mut setup = f.one_block_setup();
+        setup.pull_out = Some(one_block::PullOut {
+            leads: f.params.chamfer_leads,
+            angle_deg: f.params.chamfer_angle_deg,
+        });
+        fanuc_family::single_or_multiple(
+            fanuc_family::native_g92(&self.machine, &f.codes, &f.flavour, job),
+            one_block::g76_candidates(&self.machine, "G76", &setup, true, job),
+            job,
+        )
     }
 }

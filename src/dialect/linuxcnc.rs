@@ -5,6 +5,9 @@
 //! Where LinuxCNC's code has a bug the notes list, threadcut follows LinuxCNC's documentation; each
 //! deviation is a row of `docs/dialects/linuxcnc-g76.md`.
 
+use crate::convert::lexicon::{
+    self, Code as C, DwellForm, Function as F, Lexicon, LimitForm, ReturnForm, ToolForm,
+};
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
@@ -18,6 +21,46 @@ use crate::thread::{
 use crate::units::Pos;
 
 use super::{g, Dialect, Read};
+
+/// What LinuxCNC's codes mean (its G-code and M-code reference; `docs/translation.md`): G7/G8
+/// diameter and radius mode, G33 K threads, G43/G49 and `T… M6` for tools, `G4 P` in seconds, the
+/// spindle limit as D on G96, G28 returning to the position stored in parameters 5161–5166, feed
+/// per minute (G94) at start-up, O words as program flow.
+pub static LEXICON: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::DWELL,
+        &[(C::G(70), F::Diameter), (C::G(80), F::Radius)],
+        lexicon::PLANES,
+        lexicon::G20_G21,
+        &[
+            (C::G(280), F::ReferenceReturn),
+            (C::G(330), F::Thread),
+            (C::G(430), F::ToolOffset),
+            (C::G(490), F::ToolOffsetOff),
+            (C::G(920), F::SetPosition),
+        ],
+        lexicon::COMPENSATION,
+        lexicon::WORK_OFFSETS,
+        lexicon::G90_G91,
+        lexicon::G94_G95,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+        &[(C::M(6), F::ToolChange), (C::M(7), F::MistOn)],
+    ],
+    tool: ToolForm::ChangeAndOffset,
+    dwell: Some(DwellForm::PSeconds),
+    spindle_limit: Some(LimitForm::OnSurfaceSpeed(b'D')),
+    reference: Some(ReturnForm::IncrementalMode),
+    return_all_without_axes: true,
+    program_number: false,
+    sequence_numbers: true,
+    delimiters: true,
+    power_on_feed: F::FeedPerMinute,
+    thread_words: b"K",
+    thread_settings: &[],
+    only_units: None,
+};
 
 /// The G codes of LinuxCNC's rs274ngc interpreter (its G-code reference, 2.9/2.10: docs/dialects/linuxcnc-g76.md,
 /// "Vocabulary"); a fractional code (G33.1, G38.2, G64 P, G92.1) is known by its whole number.
@@ -446,6 +489,10 @@ impl Dialect for LinuxCnc {
 
     fn vocabulary(&self) -> &'static Vocabulary {
         &VOCABULARY
+    }
+
+    fn lexicon(&self) -> &'static Lexicon {
+        &LEXICON
     }
 
     fn read(

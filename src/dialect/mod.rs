@@ -85,6 +85,9 @@ pub trait Dialect {
     /// refuses any other code with the controller's alarm, and the hint of that alarm names the
     /// built-in controllers that have it ([`others_with`]).
     fn vocabulary(&self) -> &'static Vocabulary;
+    /// What this controller's codes and words mean ([`crate::convert`] reads a block through the
+    /// source's lexicon and writes it through the target's).
+    fn lexicon(&self) -> &'static crate::convert::lexicon::Lexicon;
     /// A cheap look at a line before [`read`](Dialect::read): `false` promises that `read` would
     /// return `Read::Plain` without changing any state (its own or the modal state) and without a
     /// warning, so the caller may skip it. The default offers every line.
@@ -111,6 +114,27 @@ pub trait Dialect {
             "{} has no native threading cycle in threadcut",
             self.name()
         ))
+    }
+    /// The native texts that may express `job`, most telling first: a search over the words whose
+    /// values the job leaves open (a radial infeed is any cycle's tool angle 0; a tool angle the
+    /// job states only for its chip areas). Each is read back and compared with the job's motion
+    /// ([`crate::translate::native`]); an `Err` says which property of the job the cycle cannot
+    /// express. The default: [`emit_native`](Dialect::emit_native)'s one proposal.
+    fn native_candidates(&self, job: &Job) -> Vec<std::result::Result<Vec<String>, String>> {
+        vec![self.emit_native(job)]
+    }
+    /// The step this controller writes positions and leads on where it is coarser than its
+    /// profile's resolution and depends on the lead (OmniTurn's feed modes: .00005\" up to a .2\"
+    /// lead, .00025\" in G35, .0005\" in G35F2), in `units`. `None`: the profile's resolution,
+    /// leads to the lead word's decimals.
+    fn output_step(&self, _lead_mm: f64, _units: crate::units::Units) -> Option<f64> {
+        None
+    }
+    /// A line in this controller's own syntax, which the lexer handed over unread
+    /// ([`crate::gcode::LineShape::unread`]), as terms conversion understands. `None`: the
+    /// controller has no syntax of its own.
+    fn terms(&self, _line: &Line) -> Option<Result<Vec<crate::convert::lexicon::Term>>> {
+        None
     }
     /// The word that tapers this controller's threading cycle, if it has one (`None` as well for
     /// a cycle that takes two diameters instead: see [`cycle_taper`](Dialect::cycle_taper)).

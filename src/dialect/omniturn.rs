@@ -9,6 +9,7 @@
 
 use std::io::{self, Write};
 
+use crate::convert::lexicon::{self, Code as C, Function as F, Lexicon, ToolForm};
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
@@ -23,6 +24,41 @@ use crate::toolpath::Toolpath;
 use crate::units::{Pos, Units, MM_PER_INCH};
 
 use super::{all_but, Dialect, Read};
+
+/// What an OmniTurn's codes mean, from seed 002 (`docs/dialects/omniturn-g33.md`,
+/// `docs/translation.md`): G0/G1, G90, G94/G95, G72/G73 diameter and radius, G35/G36 (the coarse
+/// lead modes, carried by the cycles' jobs) with the G92 that restates the position after them,
+/// `T4` (the tool with its own offset), inch only, feed per minute at power-on (the seed's `T4F300`
+/// is 300 ipm: its largest feed per revolution is 2"), M codes as ISO 6983-1 assigns them (the
+/// seed writes none). G33 is the threading cycle: there is no plain synchronised move.
+pub static LEXICON: Lexicon = Lexicon {
+    codes: &[
+        &[
+            (C::G(0), F::Rapid),
+            (C::G(10), F::Feed),
+            (C::G(720), F::Diameter),
+            (C::G(730), F::Radius),
+            (C::G(350), F::CycleSetting),
+            (C::G(360), F::CycleSetting),
+            (C::G(920), F::RestatePosition),
+        ],
+        &[(C::G(900), F::Absolute)],
+        lexicon::G94_G95,
+        lexicon::ISO_M,
+    ],
+    tool: ToolForm::Single,
+    dwell: None,
+    spindle_limit: None,
+    reference: None,
+    return_all_without_axes: false,
+    program_number: false,
+    sequence_numbers: false,
+    delimiters: false,
+    power_on_feed: F::FeedPerMinute,
+    thread_words: b"",
+    thread_settings: &[],
+    only_units: Some(Units::Inch),
+};
 
 /// The G codes of an OmniTurn control. The seed documents only G33, G35, G36, G72, G73, G90, G92,
 /// G94 and G95, so every whole code G0–G99 is accepted except the threading codes of other controls
@@ -585,6 +621,10 @@ impl Dialect for OmniTurn {
         &VOCABULARY
     }
 
+    fn lexicon(&self) -> &'static Lexicon {
+        &LEXICON
+    }
+
     fn read(
         &mut self,
         line: &Line,
@@ -644,6 +684,19 @@ impl Dialect for OmniTurn {
         }
     }
 
+    fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        self.native_g33(job)
+    }
+
+    /// Positions and leads are written on the grid of the feed mode the lead needs ("Resolution
+    /// limits … .00005\" normal, .00025\" G35, .0005\" G35F2").
+    fn output_step(&self, lead_mm: f64, units: Units) -> Option<f64> {
+        let mode = self
+            .mode_for(lead_mm / MM_PER_INCH)
+            .unwrap_or(FeedMode::G35F2);
+        Some(units.from_mm(self.params.resolution_in[mode as usize] * MM_PER_INCH))
+    }
+
     /// OmniTurn has no plain synchronised move: G33 is always the cycle. Its documented single-pass
     /// option O ("can be used to have greater control over the amount to be removed with each
     /// pass") writes any pass at depth > 0 exactly, from the same start point. The pass at the
@@ -661,6 +714,162 @@ impl Dialect for OmniTurn {
 }
 
 impl OmniTurn {
+    /// The feed mode whose largest lead holds `lead_in` (inch), if one does.
+    fn mode_for(&self, lead_in: f64) -> Option<FeedMode> {
+        [FeedMode::Normal, FeedMode::G35, FeedMode::G35F2]
+            .into_iter()
+            .find(|m| lead_in <= self.params.max_lead_in[*m as usize] + 1e-12)
+    }
+
+    /// The G33 cycle that expresses `job`, with the coarse feed mode it needs around it (`G35`
+    /// or `G35F2` and the `G92` that restates the start point, `G36` and `G92` after: the cycle
+    /// ends where it began, where G35 was used). The words follow the reader
+    /// ([`OmniTurn::read_cycle`]): the first pass at the start point, then `I·√(n−1)` deeper to
+    /// X; the retract 3·I beyond the start; C the flank angle of a leading-flank infeed; P the
+    /// 45° pull-out; O a single pass at X.
+    fn native_g33(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
+        let g = &job.geometry;
+        if job.units != Units::Inch {
+            return Err("OmniTurn programs are written in inches".into());
+        }
+        if g.side.is_face() {
+            return Err("G33 threads along Z, and this is a face thread".into());
+        }
+        if job.lead.dlead != 0.0 {
+            return Err("G33 cuts a constant lead".into());
+        }
+        if job.lead.phase_deg != 0.0 || job.lead.starts != 1 {
+            return Err(
+                "G33 cuts one start from the spindle's index (each further start is a G33 of its own, from a start point shifted along Z)".into(),
+            );
+        }
+        if job.entry != Entry::Direct
+            || job.return_path != ReturnPath::Box
+            || g.crest_start != job.start
+            || job.retract.z != job.start.z
+        {
+            return Err(
+                "G33 cuts its first pass from the tool's position and returns there along Z after every pass, and this job does not".into(),
+            );
+        }
+        let pull_out = match job.exit {
+            Exit::ToRetract { run_on: 0.0 } => false,
+            Exit::ToRetract { run_on: 1.0 } => true,
+            _ => {
+                return Err(
+                    "G33 ends every pass at Z and leaves for its retract point straight out or pulling out at 45° (P), and this job's exit differs".into(),
+                )
+            }
+        };
+        let outward = g.side.outward().x;
+        let beyond = (job.retract.x - job.start.x) * outward;
+        let (i_radius, single) = match &job.plan.law {
+            DepthLaw::FromStart { step, degression }
+                if *degression == 2.0
+                    && job.plan.finish_passes == 0
+                    && job.plan.finish_allowance == 0.0 =>
+            {
+                (*step, false)
+            }
+            DepthLaw::Explicit { depths }
+                if depths.is_empty()
+                    && job.plan.finish_passes == 1
+                    && job.plan.finish_allowance == 0.0 =>
+            {
+                (beyond / RETRACT_TIMES_I, true)
+            }
+            _ => {
+                return Err(
+                    "G33 cuts its first pass at the start point, then each pass I·√(n−1) deeper to X (or one pass at X with O), and this job's depths follow another law".into(),
+                )
+            }
+        };
+        if i_radius <= 0.0 || (beyond - RETRACT_TIMES_I * i_radius).abs() > 1e-9 {
+            return Err(
+                "G33 retracts to 3·I beyond its start point after every pass, and this job elsewhere".into(),
+            );
+        }
+        let travel = job.geometry.crest_end.z - job.start.z;
+        let leading = if travel < 0.0 {
+            Flank::Right
+        } else {
+            Flank::Left
+        };
+        let c = match job.infeed {
+            Infeed::Radial => None,
+            Infeed::Flank { flank, angle_deg }
+                if flank == leading && (0.0..=MAX_INFEED_ANGLE).contains(&angle_deg) =>
+            {
+                Some(angle_deg)
+            }
+            _ => {
+                return Err(
+                    "G33 infeeds straight in, or along the leading flank at C 0 to 30°, and this job otherwise".into(),
+                )
+            }
+        };
+        let lead_in = job.lead.lead / MM_PER_INCH;
+        let mode = self.mode_for(lead_in).ok_or_else(|| {
+            format!(
+                "OmniTurn's largest lead is {} inch (G35F2), and this job's is {} inch",
+                self.params.max_lead_in[FeedMode::G35F2 as usize],
+                post::number(lead_in, 5, false)
+            )
+        })?;
+        let step = self.params.resolution_in[mode as usize];
+        let tz = self.machine.output.trailing_zeros;
+        let x_amount = |radius_mm: f64| {
+            let v = radius_mm / MM_PER_INCH;
+            if self.machine.diameter_x {
+                v * 2.0
+            } else {
+                v
+            }
+        };
+        let grid = |v: f64| post::number_on_grid(v, step, tz);
+        let x_end = job.start.x + g.side.infeed().x * g.depth;
+        let mut cycle = format!(
+            "G33 X{} Z{} I{} K{}",
+            grid(x_amount(x_end)),
+            grid(g.crest_end.z / MM_PER_INCH),
+            grid(x_amount(i_radius)),
+            grid(lead_in)
+        );
+        let taper = g.crest_end.x - g.crest_start.x;
+        if taper != 0.0 {
+            cycle.push_str(&format!(" A{}", grid(x_amount(taper))));
+        }
+        if let Some(c) = c {
+            cycle.push_str(&format!(" C{}", post::number(c, 3, false)));
+        }
+        if pull_out {
+            cycle.push_str(" P");
+        }
+        if single {
+            cycle.push_str(" O");
+        }
+        let here = format!(
+            "G92 X{} Z{}",
+            grid(x_amount(job.start.x)),
+            grid(job.start.z / MM_PER_INCH)
+        );
+        Ok(match mode {
+            FeedMode::Normal => vec![cycle],
+            coarse => vec![
+                if coarse == FeedMode::G35 {
+                    "G35"
+                } else {
+                    "G35F2"
+                }
+                .to_string(),
+                here.clone(),
+                cycle,
+                "G36".to_string(),
+                here,
+            ],
+        })
+    }
+
     fn write_single_passes(
         &self,
         out: &mut dyn Write,

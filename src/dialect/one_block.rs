@@ -530,17 +530,47 @@ fn lead(line: &Line, modal: &mut Modal, g76: Span, name: &str, e_is_lead: bool) 
     Ok(lead)
 }
 
-/// The one-block `G76` that expresses `job` on a machine whose parameters are `setup`, when it
-/// can (the read-back check decides in the end).
+/// The one-block cycle (`G76`, Allen-Bradley's `G78`) that may express `job` on a machine whose
+/// parameters are `setup`, one per choice of the tool angle A and infeed P that gives the job's
+/// infeed (the read-back check decides): a radial infeed is A0, a flank at θ is A = 2θ with P1/P3
+/// (one edge) or P2/P4 (alternating), constant area or constant depth as the job's law.
+/// `start_angle`: the block takes Q.
+pub fn g76_candidates(
+    machine: &Machine,
+    name: &str,
+    setup: &Setup,
+    start_angle: bool,
+    job: &Job,
+) -> Vec<std::result::Result<Vec<String>, String>> {
+    match choices(name, setup, start_angle, job) {
+        Ok((first, list)) => list
+            .into_iter()
+            .map(|(a, p)| Ok(vec![text(machine, name, job, first, a, p)]))
+            .collect(),
+        Err(why) => vec![Err(why)],
+    }
+}
+
+/// The first of [`g76_candidates`].
 pub fn native_g76(
     machine: &Machine,
     name: &str,
     setup: &Setup,
     job: &Job,
 ) -> std::result::Result<Vec<String>, String> {
+    g76_candidates(machine, name, setup, true, job).remove(0)
+}
+
+/// The first depth D and the (A, P) choices, or the property of the job the cycle cannot express.
+fn choices(
+    name: &str,
+    setup: &Setup,
+    start_angle: bool,
+    job: &Job,
+) -> std::result::Result<(f64, Vec<(u32, Infeed)>), String> {
     let g = &job.geometry;
     if g.side.is_face() {
-        return Err(format!("{name} threads along Z"));
+        return Err(format!("{name} threads along Z, and this is a face thread"));
     }
     if job.return_path != ReturnPath::Box
         || job.retract
@@ -557,54 +587,140 @@ pub fn native_g76(
         return Err(format!("{name} has no entry ramp"));
     }
     if job.lead.dlead != 0.0 || job.lead.starts != 1 {
-        return Err(format!(
-            "{name} cuts one start of a constant lead (a start angle Q shifts it)"
-        ));
+        return Err(if start_angle {
+            format!("{name} cuts one start of a constant lead (a start angle Q shifts it)")
+        } else {
+            format!("{name} cuts one start of a constant lead")
+        });
     }
-    if job.finish_at != FinishPosition::Axis {
-        return Err(format!("{name} finishes on the groove's axis"));
+    if job.lead.phase_deg != 0.0 && !start_angle {
+        return Err(format!("{name} has no start angle"));
     }
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-9;
     if !close(job.plan.finish_allowance, setup.allowance)
         || job.plan.finish_passes != setup.finish_passes
     {
         return Err(format!(
-            "{name} takes its finishing allowance and passes from the machine ({}: {} mm, {} passes), and this job has {} mm, {} passes",
+            "{name} takes its finishing allowance and passes from the machine ({}: {} mm, {}), and this job has {} mm, {}",
             setup.allowance_name,
-            setup.allowance,
-            setup.finish_passes,
-            job.plan.finish_allowance,
-            job.plan.finish_passes
+            post::number(setup.allowance, 4, false).trim_end_matches('.'),
+            crate::text::count(setup.finish_passes as usize, "finishing pass", "finishing passes"),
+            post::number(job.plan.finish_allowance, 4, false).trim_end_matches('.'),
+            crate::text::count(job.plan.finish_passes as usize, "finishing pass", "finishing passes")
         ));
     }
     let (first, constant_depth) = match job.plan.law {
         DepthLaw::Power {
             first,
-            degression,
-            min_step,
-        } if degression == 2.0 && close(min_step, setup.min_cut) => (first, false),
+            degression: 2.0,
+            ..
+        } => (first, false),
         DepthLaw::Power {
             first,
             degression,
             min_step,
         } if degression == 1.0 && min_step == 0.0 => (first, true),
         _ => {
-            return Err(
+            return Err(format!(
                 "{name} cuts a constant area (d·√n, the machine's minimum cut) or a constant depth only"
-                    .into(),
-            )
+            ))
         }
     };
-    let (angle, alternating) = match job.infeed {
-        ModelInfeed::Radial => (0.0, false),
-        ModelInfeed::Flank { angle_deg, .. } => (2.0 * angle_deg, false),
-        ModelInfeed::Alternating { angle_deg, .. } => (2.0 * angle_deg, true),
-    };
-    if angle.fract().abs() > 1e-9 || angle > MAX_TOOL_ANGLE {
-        return Err(format!(
-            "{name}'s tool angle A is a whole number of degrees up to 120, not {angle}"
-        ));
+    let pull_out = s_pull_out(setup, job.lead.lead);
+    if !same_exit(&job.exit, &pull_out) {
+        return Err(match setup.pull_out.filter(|p| p.leads > 0.0) {
+            Some(p) => format!(
+                "{name}'s pull-out is {} ({} leads at {}° from Z), and this job's exit differs",
+                setup.pull_out_name, p.leads, p.angle_deg
+            ),
+            None => format!(
+                "{name} ends every pass straight at Z ({} is 0), and this job pulls out",
+                setup.pull_out_name
+            ),
+        });
     }
+    if job.finish_at != FinishPosition::Axis
+        && setup.allowance > 0.0
+        && !matches!(job.infeed, ModelInfeed::Radial)
+    {
+        return Err(format!("{name} finishes on the groove's axis"));
+    }
+    let travel = g.side.along(g.travel());
+    let (leading, trailing) = if travel < 0.0 {
+        (Flank::Right, Flank::Left)
+    } else {
+        (Flank::Left, Flank::Right)
+    };
+    let whole = |half: f64| -> std::result::Result<u32, String> {
+        let a = 2.0 * half;
+        if (a - a.round()).abs() > 1e-9 || a.round() > MAX_TOOL_ANGLE {
+            return Err(format!(
+                "{name}'s tool angle A is a whole number of degrees up to 120, and this job infeeds at {}° (a {}° tool)",
+                post::number(half, 4, false),
+                post::number(a, 4, false)
+            ));
+        }
+        Ok(a.round() as u32)
+    };
+    let list = match job.infeed {
+        ModelInfeed::Radial => vec![(0, Infeed::of(false, constant_depth))],
+        ModelInfeed::Flank { flank, angle_deg } if flank == leading => {
+            vec![(whole(angle_deg)?, Infeed::of(false, constant_depth))]
+        }
+        ModelInfeed::Alternating {
+            first,
+            second,
+            angle_deg,
+        } if first == leading && second == trailing => {
+            vec![(whole(angle_deg)?, Infeed::of(true, constant_depth))]
+        }
+        _ => {
+            return Err(format!(
+                "{name} infeeds along the leading flank (P1/P3) or alternately on both (P2/P4), starting on the leading one, and this job otherwise"
+            ))
+        }
+    };
+    Ok((first, list))
+}
+
+/// The exit a setup's pull-out gives for `lead`.
+fn s_pull_out(setup: &Setup, lead: f64) -> Exit {
+    match setup.pull_out.filter(|p| p.leads > 0.0) {
+        None => Exit::Straight,
+        Some(p) => {
+            let length = p.leads * lead;
+            Exit::PullOut {
+                start_before: length,
+                length,
+                outward: length * tan_deg(p.angle_deg),
+            }
+        }
+    }
+}
+
+fn same_exit(a: &Exit, b: &Exit) -> bool {
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-9;
+    match (a, b) {
+        (Exit::Straight, Exit::Straight) => true,
+        (
+            Exit::PullOut {
+                start_before: s1,
+                length: l1,
+                outward: o1,
+            },
+            Exit::PullOut {
+                start_before: s2,
+                length: l2,
+                outward: o2,
+            },
+        ) => close(*s1, *s2) && close(*l1, *l2) && close(*o1, *o2),
+        _ => false,
+    }
+}
+
+/// The block with tool angle `angle` and infeed `p`.
+fn text(machine: &Machine, name: &str, job: &Job, first: f64, angle: u32, p: Infeed) -> String {
+    let g = &job.geometry;
     let u = job.units;
     let nd = machine.decimals(u);
     let num = |mm: f64| post::number(u.from_mm(mm), nd, false);
@@ -627,7 +743,7 @@ pub fn native_g76(
         block.push_str(&format!(" I{}", num(g.taper())));
     }
     block.push_str(&format!(
-        " K{} D{} F{} A{} P{}",
+        " K{} D{} F{} A{angle} P{}",
         num(g.depth),
         num(first),
         post::number(
@@ -635,8 +751,7 @@ pub fn native_g76(
             if u == Units::Inch { 5 } else { 4 },
             false
         ),
-        angle as u32,
-        Infeed::of(alternating, constant_depth).number()
+        p.number()
     ));
     if job.lead.phase_deg != 0.0 {
         block.push_str(&format!(
@@ -644,5 +759,5 @@ pub fn native_g76(
             post::start_angle_count(job.lead.phase_deg)
         ));
     }
-    Ok(vec![block])
+    block
 }

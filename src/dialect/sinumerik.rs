@@ -12,6 +12,9 @@ mod cycle97;
 
 use std::collections::HashMap;
 
+use crate::convert::lexicon::{
+    self, Code as C, DwellForm, Function as F, Lexicon, LimitForm, ReturnForm, Term, ToolForm,
+};
 use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::lexer::{letter_slot, WordIndex};
 use crate::gcode::modal::{GCode, Vocabulary};
@@ -181,6 +184,53 @@ const RANGES: &[(u16, u16)] = &[
     (961, 962),
     (971, 973),
 ];
+
+/// What Sinumerik's codes and keywords mean (the Fundamentals manual, `docs/dialects/sinumerik.md`,
+/// `docs/translation.md`): G70/G71 (G700/G710) units, DIAMON/DIAMOF (DIAM90: diameter under
+/// G90, where conversion writes), `G4 F` in seconds, G74 to the reference point with machine-axis
+/// words, `LIMS=` the spindle limit, `T… D…` tool and cutting edge, G33 K (I) with `SF=`, G54–G57
+/// (G58/G59 are frames), feed per minute (G94) as delivered, no `%` delimiters or O numbers.
+pub static LEXICON: Lexicon = Lexicon {
+    codes: &[
+        lexicon::MOTION,
+        lexicon::DWELL,
+        lexicon::PLANES,
+        &[
+            (C::G(700), F::Units(Units::Inch)),
+            (C::G(710), F::Units(Units::Mm)),
+            (C::G(7000), F::Units(Units::Inch)),
+            (C::G(7100), F::Units(Units::Mm)),
+            (C::G(740), F::ReferenceReturn),
+            (C::G(330), F::Thread),
+            (C::Keyword("DIAMON"), F::Diameter),
+            (C::Keyword("DIAMOF"), F::Radius),
+            (C::Keyword("DIAM90"), F::Diameter),
+        ],
+        lexicon::COMPENSATION,
+        &[
+            (C::G(540), F::WorkOffset(1)),
+            (C::G(550), F::WorkOffset(2)),
+            (C::G(560), F::WorkOffset(3)),
+            (C::G(570), F::WorkOffset(4)),
+        ],
+        lexicon::G90_G91,
+        lexicon::G94_G95,
+        lexicon::SPINDLE_MODES,
+        lexicon::ISO_M,
+    ],
+    tool: ToolForm::ToolAndEdge,
+    dwell: Some(DwellForm::FSeconds),
+    spindle_limit: Some(LimitForm::Setting("LIMS")),
+    reference: Some(ReturnForm::MachineAxes { x: "X1", z: "Z1" }),
+    return_all_without_axes: false,
+    program_number: false,
+    sequence_numbers: true,
+    delimiters: false,
+    power_on_feed: F::FeedPerMinute,
+    thread_words: b"KI",
+    thread_settings: &["SF"],
+    only_units: None,
+};
 
 /// Sinumerik's G functions; G33 with its words `X Z I K` (SF= is a named word).
 pub static VOCABULARY: Vocabulary = Vocabulary {
@@ -698,6 +748,63 @@ fn frame_refused(name: &str, span: Span) -> Diagnostic {
     .with_hint("write the positions in the workpiece coordinates the frame gives")
 }
 
+/// The terms of a block in Sinumerik's syntax ([`Dialect::terms`]).
+fn own_terms(items: Vec<Item>) -> Vec<Term> {
+    let number = |op: &Operand| match op {
+        Operand::Number { value, .. } => Some(*value),
+        _ => None,
+    };
+    items
+        .into_iter()
+        .map(|item| match item {
+            Item::Word(w) => Term::Word(w),
+            Item::Assign { name, span, value } => {
+                let letter = name.as_bytes()[0];
+                let indexed = name.len() > 1 && name[1..].bytes().all(|b| b.is_ascii_digit());
+                match (&value, name.len(), indexed) {
+                    (Operand::Text { text, .. }, 1, _) if letter == b'T' => Term::ToolName {
+                        name: text.clone(),
+                        span,
+                    },
+                    (_, 1, _) => match number(&value) {
+                        Some(v) => Term::Word(Word::assigned(letter, v, span)),
+                        None => Term::Assigned { letter, span },
+                    },
+                    (_, _, true) if letter == b'R' => Term::Data {
+                        declares: Vec::new(),
+                    },
+                    (_, _, true) if matches!(letter, b'X' | b'Z') => {
+                        Term::MachineAxis { name, span }
+                    }
+                    (_, _, true) => Term::Unknown {
+                        what: format!("{name}= (an address of a numbered spindle or axis)"),
+                        span,
+                    },
+                    _ => Term::Setting {
+                        value: number(&value),
+                        name,
+                        span,
+                    },
+                }
+            }
+            Item::Keyword { name, span } => Term::Keyword { name, span },
+            Item::Call { name, span, .. } if PASSIVE_CALLS.contains(&name.as_str()) => {
+                Term::Passive { span }
+            }
+            Item::Call { name, span, .. } => Term::Unknown {
+                what: format!("{name}(…)"),
+                span,
+            },
+            Item::Def { vars, .. } => Term::Data {
+                declares: vars.into_iter().map(|(n, _, _)| n).collect(),
+            },
+            Item::Header | Item::Label => Term::Data {
+                declares: Vec::new(),
+            },
+        })
+        .collect()
+}
+
 /// Where each letter's last word is, as the lexer fills it for its own lines.
 fn word_index(words: &[Word]) -> WordIndex {
     let mut index = [0; 32];
@@ -718,6 +825,10 @@ impl Dialect for Sinumerik {
 
     fn vocabulary(&self) -> &'static Vocabulary {
         &VOCABULARY
+    }
+
+    fn lexicon(&self) -> &'static Lexicon {
+        &LEXICON
     }
 
     /// Lines in Sinumerik's own syntax, G codes other than G0–G3, and the letters `read` looks at
@@ -759,6 +870,27 @@ impl Dialect for Sinumerik {
             end_point: "FPL",
             run_in: "APP",
         }))
+    }
+
+    fn emit_native(&self, job: &crate::thread::Job) -> std::result::Result<Vec<String>, String> {
+        self.native_candidates(job).remove(0)
+    }
+
+    /// Sinumerik's own syntax as conversion's terms: address words (an address given a number is
+    /// a word), keywords, `T="NAME"`, settings (`LIMS=`, `SF=`, a DEF variable), machine axes
+    /// (`X1=0`), R parameters and DEF lines as data (the converted blocks carry their values),
+    /// passive calls (MSG) and the program header. What threadcut reads only to refuse (frames,
+    /// program flow) is unknown to conversion as well.
+    fn terms(&self, line: &Line) -> Option<Result<Vec<Term>>> {
+        Some(block::parse(line.text, line.number, line.offset).map(own_terms))
+    }
+
+    /// CYCLE97 with the NRC the job's law makes (`cycle97::native`).
+    fn native_candidates(
+        &self,
+        job: &crate::thread::Job,
+    ) -> Vec<std::result::Result<Vec<String>, String>> {
+        cycle97::native(&self.machine, job)
     }
 
     fn format(&self) -> Format {

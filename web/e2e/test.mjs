@@ -172,7 +172,34 @@ try {
   assert.doesNotMatch(body, /threadcut thread (--|NAME)|--list|--controller/, 'no command-line advice on the page');
   await page.screenshot({ path: join(here, 'screenshot-unknown.png'), fullPage: true });
 
-  // 7. A 30,000-line program pasted, then three keystrokes at its end: the analysis runs in the
+  // 7. Convert: a Fanuc G76 program to GSK (its own G76, native), to LinuxCNC (plain G33 moves with
+  // the reason), to the inch-only OmniTurn (refused: a 2 mm lead drifts over the thread on its
+  // .00005" grid). The right-hand side analyses the converted program on the target.
+  await page.fill('#thread', 'M20x2.5');
+  await analysed(() => page.selectOption('#controller', 'fanuc'));
+  await analysed(() => page.click('#tab-convert'));
+  // The tab starts from the program last analysed (step 3's).
+  assert.match(await page.inputValue('#convert-source'), /G78 P020545/);
+  const fanucProgram = 'G21 G99\nG97 S600 M3\nG0 X32. Z5.\nG76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\nG0 X100. Z100.\nM30\n';
+  await page.selectOption('#target', 'gsk980');
+  await page.fill('#convert-source', fanucProgram);
+  await page.waitForFunction(() => document.getElementById('converted').textContent.includes('G76 P020060 Q100 R0.05'));
+  assert.match(await page.textContent('#converted'), /G76 X27\.546 Z-30\. P1227 Q400 F2\./);
+  assert.match(await page.textContent('#convert-status li.ok'), /1 of 1 threading cycle as gsk980’s own cycle/);
+  await page.waitForFunction(() => /G76 P020060/.test(document.getElementById('listing').textContent) &&
+    /No errors or warnings/.test(document.getElementById('diagnostics').textContent));
+  await page.selectOption('#target', 'linuxcnc');
+  await page.waitForFunction(() => document.getElementById('converted').textContent.includes('G33 '));
+  assert.match(await page.textContent('#convert-status li.plain'), /line 5: plain moves, not the native cycle: LinuxCNC's G76/);
+  assert.match(await page.textContent('#converted'), /^\(threadcut convert: fanuc to linuxcnc, mm, feed per revolution\)\nG21 G90 G8 G18 G95 G97\n/);
+  await page.screenshot({ path: join(here, 'screenshot-convert.png'), fullPage: true });
+  await page.selectOption('#target', 'omniturn');
+  await page.waitForSelector('#convert-status li.error');
+  assert.match(await page.textContent('#convert-status li.error'), /line 5, column \d+: omniturn writes this lead as 0\.07875 inch.*drifts/);
+  assert.match(await page.textContent('#converted'), /no output/);
+  assert.ok(await page.isDisabled('#download-converted'), 'nothing to download');
+
+  // 8. A 30,000-line program pasted, then three keystrokes at its end: the analysis runs in the
   // worker once typing pauses, and is on screen within a second of the last keystroke; the page
   // never blocks for long meanwhile (long tasks, measured from the paste's input event on; the
   // paste itself, Chromium inserting 650 KB into a textarea, is the browser's own work).

@@ -318,3 +318,79 @@ fn analyse_with(
         "notes": notes,
     })
 }
+
+#[derive(Deserialize)]
+struct ConvertRequest {
+    /// The controller the program is written for.
+    from: String,
+    /// The controller to write it for.
+    to: String,
+    program: String,
+    /// A program with control flow: convert the executed program (`threadcut convert --flatten`).
+    #[serde(default)]
+    flatten: bool,
+}
+
+/// A program converted for another controller, as `threadcut convert` writes it
+/// ([`threadcut::convert::convert`]): `{ok, from, to, program, native, plain: [{line, reason}],
+/// warnings}`, or `{ok: false, error, diagnostics}` with the block that cannot be converted.
+pub fn convert(request: &str) -> Value {
+    let r: ConvertRequest = match serde_json::from_str(request) {
+        Ok(r) => r,
+        Err(e) => return error(format!("bad request: {e}")),
+    };
+    let machine = |name: &str| {
+        Machine::built_in(name).ok_or_else(|| {
+            let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+            error(format!(
+                "unknown controller `{name}` (built in: {})",
+                names.join(", ")
+            ))
+        })
+    };
+    let (from, to) = match (machine(&r.from), machine(&r.to)) {
+        (Ok(f), Ok(t)) => (f, t),
+        (Err(e), _) | (_, Err(e)) => return e,
+    };
+    let mut out = Vec::new();
+    let options = threadcut::program::Options {
+        flatten: r.flatten,
+        ..Default::default()
+    };
+    match threadcut::convert::convert(r.program.as_bytes(), &mut out, &from, &to, &options) {
+        Ok(report) => json!({
+            "ok": true,
+            "from": r.from,
+            "to": r.to,
+            "program": String::from_utf8_lossy(&out),
+            "native": report.native,
+            "plain": report
+                .plain
+                .iter()
+                .map(|(line, reason)| json!({"line": line, "reason": reason}))
+                .collect::<Vec<_>>(),
+            "warnings": report
+                .summary
+                .warnings
+                .iter()
+                .map(|d| diagnostic(d, None))
+                .collect::<Vec<_>>(),
+        }),
+        Err(e) => {
+            let d = match e {
+                Error::Input(d) => diagnostic(&d, None),
+                other => json!({
+                    "severity": "error", "code": null, "message": other.to_string(),
+                    "hint": null, "line": 0, "column": 0, "len": 0, "start": 0, "field": null,
+                }),
+            };
+            json!({
+                "ok": false,
+                "from": r.from,
+                "to": r.to,
+                "error": d["message"],
+                "diagnostics": [d],
+            })
+        }
+    }
+}

@@ -31,6 +31,12 @@ pub fn plan(request: &str) -> String {
     api::plan(request).to_string()
 }
 
+/// `{"from", "to", "program"}` → the program converted for `to`, or the block that cannot be.
+#[wasm_bindgen]
+pub fn convert(request: &str) -> String {
+    api::convert(request).to_string()
+}
+
 /// `{"controller", "program"}` → the program analysed: passes, G-code, motions, plots, diagnostics.
 #[wasm_bindgen]
 pub fn analyse(request: &str) -> String {

@@ -399,3 +399,38 @@ fn unknown_threads_say_so_without_command_lines() {
         assert!(!r.to_string().contains("threadcut"), "{r}");
     }
 }
+
+/// The Convert tab's call: the library's conversion, its native and plain cycles, and the block
+/// that cannot be converted with its place.
+#[test]
+fn convert_gives_the_program_its_cycles_and_the_refusal_with_its_place() {
+    let fanuc =
+        "G21 G99\nG0 X32. Z5.\nG76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\nM30\n";
+    let r = api::convert(&json!({"from": "fanuc", "to": "gsk980", "program": fanuc}).to_string());
+    assert_eq!(r["ok"], true, "{r}");
+    assert_eq!(r["native"], 1);
+    assert!(r["program"]
+        .as_str()
+        .unwrap()
+        .contains("G76 P020060 Q100 R0.05\nG76 X27.546 Z-30. P1227 Q400 F2.\n"));
+    let r = api::convert(&json!({"from": "fanuc", "to": "linuxcnc", "program": fanuc}).to_string());
+    assert_eq!(
+        (r["ok"].clone(), r["native"].clone()),
+        (json!(true), json!(0)),
+        "{r}"
+    );
+    assert_eq!(r["plain"][0]["line"], 4);
+    assert!(r["plain"][0]["reason"]
+        .as_str()
+        .unwrap()
+        .contains("LinuxCNC's G76"));
+    let r = api::convert(&json!({"from": "fanuc", "to": "omniturn", "program": fanuc}).to_string());
+    assert_eq!(r["ok"], false, "{r}");
+    assert_eq!(r["diagnostics"][0]["line"], 4);
+    assert!(r["error"].as_str().unwrap().contains("drifts"), "{r}");
+    let r = api::convert(&json!({"from": "fanuc", "to": "nope", "program": ""}).to_string());
+    assert!(r["error"]
+        .as_str()
+        .unwrap()
+        .contains("unknown controller `nope`"));
+}

@@ -61,6 +61,7 @@ let mode = 'plan';
 let values = {};
 let lastGcode = '';
 let lastPlanned = '';
+let lastConverted = '';
 // The analysis being run (a number; 0: none) and the time of the edit it answers.
 let running = 0;
 let requested = 0;
@@ -199,6 +200,52 @@ function plan() {
   const c = current();
   if (!c.form) return;
   run('plan', { controller: c.name, values }, (r) => { lastPlanned = r.program || ''; });
+}
+
+/**
+ * Converts the Convert tab's program for the target with the library's conversion, then analyses
+ * the converted program on the target (the right-hand side shows that analysis).
+ */
+async function convert() {
+  const from = current().name;
+  const to = $('target').value;
+  const id = ++requested;
+  if (running) engine.restart();
+  running = 0;
+  status('converting…');
+  const r = await engine.call('convert', { from, to, program: $('convert-source').value });
+  if (id !== requested) return;
+  showConversion(r);
+  if (r.ok) {
+    run('analyse', { controller: to, program: r.program, motions: false, max_cycles: SHOWN_CYCLES });
+  } else {
+    show({ ok: false, program: $('convert-source').value, cycles: [], diagnostics: r.diagnostics || [], error: r.diagnostics ? undefined : r.error });
+    status('');
+  }
+}
+
+function showConversion(r) {
+  const list = $('convert-status');
+  list.innerHTML = '';
+  document.body.dataset.converted = String(Number(document.body.dataset.converted || '0') + 1);
+  lastConverted = r.ok ? r.program : '';
+  $('copy-converted').disabled = $('download-converted').disabled = !r.ok;
+  if (!r.ok) {
+    for (const d of r.diagnostics || [{ message: r.error, line: 0 }]) {
+      const where = d.line ? `line ${d.line}, column ${d.column}: ` : '';
+      list.insertAdjacentHTML('beforeend', `<li class="error"><b>not converted</b> ${esc(where)}${esc(d.message)}` +
+        (d.hint ? `<div class="hint">hint: ${esc(d.hint)}</div>` : '') + '</li>');
+    }
+    $('converted').textContent = '(no output: the program cannot be converted)';
+    return;
+  }
+  const cycles = r.native + r.plain.length;
+  list.insertAdjacentHTML('beforeend', `<li class="ok">Converted from ${esc(r.from)} to ${esc(r.to)}: ` +
+    (cycles ? `${r.native} of ${cycles} threading cycle${cycles === 1 ? '' : 's'} as ${esc(r.to)}’s own cycle.` : 'no threading cycle.') + '</li>');
+  for (const p of r.plain) {
+    list.insertAdjacentHTML('beforeend', `<li class="plain">line ${p.line}: plain moves, not the native cycle: ${esc(p.reason)}</li>`);
+  }
+  $('converted').textContent = head(r.program, SHOWN_LINES, 'Copy and Download give the whole program');
 }
 
 function analyse() {
@@ -399,17 +446,20 @@ function listed(line, number, width, marks) {
 
 function setMode(m) {
   mode = m;
-  $('tab-plan').classList.toggle('active', m === 'plan');
-  $('tab-paste').classList.toggle('active', m === 'paste');
-  $('tab-plan').setAttribute('aria-selected', m === 'plan');
-  $('tab-paste').setAttribute('aria-selected', m === 'paste');
-  $('plan-pane').hidden = m !== 'plan';
-  $('paste-pane').hidden = m !== 'paste';
+  for (const [tab, pane, name] of [['tab-plan', 'plan-pane', 'plan'], ['tab-paste', 'paste-pane', 'paste'], ['tab-convert', 'convert-pane', 'convert']]) {
+    $(tab).classList.toggle('active', m === name);
+    $(tab).setAttribute('aria-selected', m === name);
+    $(pane).hidden = m !== name;
+  }
   if (m === 'plan') plan();
-  else {
+  else if (m === 'paste') {
     // Start from the planned program, so that it can be edited as a whole.
     if (!$('source').value.trim()) $('source').value = lastPlanned;
     analyse();
+  } else {
+    // Start from the program last analysed or planned.
+    if (!$('convert-source').value.trim()) $('convert-source').value = $('source').value.trim() ? $('source').value : lastPlanned;
+    convert();
   }
 }
 
@@ -421,7 +471,8 @@ async function controllerChanged() {
     renderForm();
     await fill();
     if (!c.form) show({ ok: true, program: '', cycles: [], diagnostics: [] });
-  } else analyse();
+  } else if (mode === 'paste') analyse();
+  else convert();
 }
 
 async function main() {
@@ -434,6 +485,13 @@ async function main() {
     o.textContent = c.name + (c.form ? ` — ${c.form.cycle}` : '');
     $('controller').append(o);
   }
+  for (const c of controllers) {
+    const o = document.createElement('option');
+    o.value = c.name;
+    o.textContent = c.name;
+    $('target').append(o);
+  }
+  $('target').value = 'linuxcnc';
   for (const name of r.threads || []) {
     const o = document.createElement('option');
     o.value = name;
@@ -447,6 +505,28 @@ async function main() {
   $('internal').addEventListener('change', fill);
   $('tab-plan').addEventListener('click', () => setMode('plan'));
   $('tab-paste').addEventListener('click', () => setMode('paste'));
+  $('tab-convert').addEventListener('click', () => setMode('convert'));
+  $('convert').addEventListener('click', () => { editedAt = 0; convert(); });
+  $('target').addEventListener('change', () => { editedAt = 0; convert(); });
+  $('convert-source').addEventListener('input', () => schedule(convert));
+  $('copy-converted').addEventListener('click', async () => {
+    try {
+      await navigator.clipboard.writeText(lastConverted);
+      $('copied-converted').textContent = 'copied';
+    } catch {
+      window.getSelection().selectAllChildren($('converted'));
+      $('copied-converted').textContent = 'selected: press Ctrl+C';
+    }
+    setTimeout(() => { $('copied-converted').textContent = ''; }, 2000);
+  });
+  $('download-converted').addEventListener('click', () => {
+    const blob = new Blob([lastConverted], { type: 'text/plain' });
+    const a = document.createElement('a');
+    a.href = URL.createObjectURL(blob);
+    a.download = `threadcut-${current().name}-to-${$('target').value}.nc`;
+    a.click();
+    setTimeout(() => URL.revokeObjectURL(a.href), 0);
+  });
   $('analyse').addEventListener('click', () => { editedAt = 0; analyse(); });
   $('source').addEventListener('input', () => schedule(analyse));
   $('copy').addEventListener('click', async () => {

@@ -281,7 +281,9 @@ enum Command {
         format: ProgramFormat,
     },
     /// Rewrite a program for another controller: each threading cycle as the target's native cycle
-    /// when reading it back gives the same motion, otherwise as plain moves with a comment saying why.
+    /// when some choice of its words reads back as the same motion, otherwise as plain moves with a
+    /// comment saying why; the other blocks in the target's words, its units and modes stated at
+    /// the start. A block the target cannot express is an error naming the target's limit.
     Convert {
         #[command(flatten)]
         input: InputArg,
@@ -600,20 +602,20 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             })?;
             let file = &input.file;
             let (mut reader, content) = input::open(file)?;
-            // The converted program ends its lines as the source does (CRLF in, CRLF out).
-            let ending = threadcut::eol::LineEnding::peek(&mut reader).map_err(|e| {
+            // A file that cannot be read says so before anything is written.
+            reader.fill_buf().map_err(|e| {
                 Failure::Usage(format!(
                     "cannot read {}: {}",
                     input::display(file),
                     reason(&e)
                 ))
             })?;
+            // The converted program ends its lines as the source does (CRLF in, CRLF out).
             let summary = output::write(file, output.output.as_deref(), |out| {
-                let mut out = threadcut::eol::Writer::new(out, ending);
-                let summary =
-                    convert::convert(reader, &mut out, &from, &to, &options).map_err(lib(file))?;
+                let report =
+                    convert::convert(reader, out, &from, &to, &options).map_err(lib(file))?;
                 not_empty(file, &content)?;
-                Ok(summary)
+                Ok(report.summary)
             })?;
             warn(file, &summary);
             Ok(ExitCode::SUCCESS)

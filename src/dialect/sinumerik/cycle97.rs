@@ -429,3 +429,169 @@ fn infeed(call: &Call, length: f64, taper: bool, warnings: &mut Vec<Diagnostic>)
         }
     })
 }
+
+/// The CYCLE97 calls that may express `job` (the read-back check decides): the thread from SPL to
+/// FPL without run-in or run-out paths (APP = ROP = 0), the crest diameters DM1/DM2 at its ends,
+/// TDEP and FAL from the job's depth and allowance, NRC the number of rough cuts whose equal
+/// steps (VARI 1/2) or equal areas (VARI 3/4) the job's law makes, NID its further finishing
+/// passes, IANG its flank angle (negative: alternating), NSP its start angle, NUMT its starts,
+/// `_VRT` the lift of its start point above the crest.
+pub(super) fn native(
+    machine: &crate::machine::Machine,
+    job: &Job,
+) -> Vec<std::result::Result<Vec<String>, String>> {
+    match words(job) {
+        Ok(w) => w
+            .nrc
+            .iter()
+            .map(|&nrc| Ok(vec![w.call(machine, job, nrc)]))
+            .collect(),
+        Err(why) => vec![Err(why)],
+    }
+}
+
+/// The words of a CYCLE97 call other than NRC, in mm; the NRC that may fit.
+struct Words {
+    spl: f64,
+    fpl: f64,
+    iang: f64,
+    vari: u32,
+    lift: f64,
+    nrc: Vec<u32>,
+}
+
+impl Words {
+    fn call(&self, machine: &crate::machine::Machine, job: &Job, nrc: u32) -> String {
+        let u = job.units;
+        let g = &job.geometry;
+        let nd = machine.decimals(u);
+        let tz = machine.output.trailing_zeros;
+        let len = |mm: f64| crate::post::number(u.from_mm(mm), nd, tz);
+        let lead_digits = if u == crate::units::Units::Inch { 5 } else { 4 };
+        format!(
+            "CYCLE97({},,{},{},{},{},0,0,{},{},{},{},{},{},{},{},{})",
+            crate::post::number(u.from_mm(job.lead.lead), lead_digits, tz),
+            len(self.spl),
+            len(self.fpl),
+            len(2.0 * g.crest_start.x),
+            len(2.0 * g.crest_end.x),
+            len(g.depth),
+            len(job.plan.finish_allowance),
+            crate::post::number(self.iang, 4, tz),
+            crate::post::number(job.lead.phase_deg, 4, tz),
+            nrc,
+            job.plan.finish_passes - 1,
+            self.vari,
+            job.lead.starts,
+            len(self.lift)
+        )
+    }
+}
+
+/// The call's words, or the property of the job CYCLE97 cannot express.
+fn words(job: &Job) -> std::result::Result<Words, String> {
+    let g = &job.geometry;
+    if g.side.is_face() {
+        return Err("threadcut writes CYCLE97's longitudinal threads only".into());
+    }
+    if job.entry != Entry::Direct {
+        return Err("CYCLE97 has no entry ramp".into());
+    }
+    if job.exit != Exit::Straight {
+        return Err(
+            "CYCLE97 ends every pass at the end of its run-out, straight, and this job pulls out"
+                .into(),
+        );
+    }
+    if job.lead.dlead != 0.0 {
+        return Err("CYCLE97 cuts a constant lead".into());
+    }
+    if job.lead.starts > 1 && job.lead.indexing != StartIndexing::Angle {
+        return Err("CYCLE97 cuts each start whole, reached by turning the spindle (NUMT), and this job cuts every start at each depth".into());
+    }
+    if job.plan.finish_passes == 0 {
+        return Err(
+            "CYCLE97 always ends with a finishing cut at TDEP, and this job has none".into(),
+        );
+    }
+    let box_at_start = job.return_path == ReturnPath::Box
+        && job.retract
+            == (Retract {
+                x: job.start.x,
+                z: job.start.z,
+            });
+    if job.return_path != ReturnPath::BoxAtRetract && !box_at_start {
+        return Err("CYCLE97 retracts to its start point after every pass and stays there, and this job does not".into());
+    }
+    let full_offset = job.infeed.axis(g.depth);
+    let (z0, z1) = (g.crest_start.z + full_offset, g.crest_end.z + full_offset);
+    if (job.retract.z - z0).abs() > 1e-9 {
+        return Err(
+            "CYCLE97 returns along Z to the start of the thread, and this job elsewhere".into(),
+        );
+    }
+    let length = z1 - z0;
+    let (r1, r2) = (g.crest_start.x, g.crest_end.x);
+    if (r2 - r1).abs() > length.abs() {
+        return Err("CYCLE97 cuts a taper of 45° or less along Z".into());
+    }
+    let outward = g.side.outward().x;
+    let crest_out = if outward > 0.0 {
+        r1.max(r2)
+    } else {
+        r1.min(r2)
+    };
+    let lift = (job.retract.x - crest_out) * outward;
+    if lift <= 0.0 {
+        return Err("CYCLE97's start point lies outside the thread's crest (by _VRT), and this job's retract does not".into());
+    }
+    let (leading, trailing) = if length < 0.0 {
+        (Flank::Right, Flank::Left)
+    } else {
+        (Flank::Left, Flank::Right)
+    };
+    let iang = match job.infeed {
+        Infeed::Radial => 0.0,
+        Infeed::Flank { flank, angle_deg } if flank == leading && angle_deg < 90.0 => angle_deg,
+        Infeed::Alternating {
+            first,
+            second,
+            angle_deg,
+        } if first == leading && second == trailing && r1 == r2 && angle_deg < 90.0 => -angle_deg,
+        _ => return Err("CYCLE97 infeeds straight in, along the leading flank (IANG > 0) or alternately from it (IANG < 0, cylinders only), and this job otherwise".into()),
+    };
+    if job.plan.finish_allowance > 0.0
+        && job.finish_at != FinishPosition::Axis
+        && !matches!(job.infeed, Infeed::Radial)
+    {
+        return Err("CYCLE97 cuts its finishing passes on the groove's axis".into());
+    }
+    let rough = g.depth - job.plan.finish_allowance;
+    let whole =
+        |v: f64| ((v - v.round()).abs() < 1e-6 && v.round() >= 1.0).then(|| v.round() as u32);
+    let (vari, nrc) = match job.plan.law {
+        DepthLaw::Power {
+            first,
+            degression,
+            min_step,
+        } if degression == 1.0 && min_step == 0.0 => (1, whole(rough / first)),
+        DepthLaw::Power {
+            first,
+            degression: 2.0,
+            ..
+        } => (3, whole((rough / first).powi(2))),
+        _ => (0, None),
+    };
+    let Some(nrc) = nrc else {
+        return Err("CYCLE97 divides TDEP − FAL into NRC cuts of equal depth or of equal area, the last exactly at TDEP − FAL, and this job's depths follow another law".into());
+    };
+    let vari = vari + if g.side == Side::Internal { 1 } else { 0 };
+    Ok(Words {
+        spl: z0,
+        fpl: z1,
+        iang,
+        vari,
+        lift,
+        nrc: vec![nrc],
+    })
+}

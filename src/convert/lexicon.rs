@@ -1,0 +1,438 @@
+//! What a controller's codes and words mean, machine-neutral: each dialect states its own
+//! [`Lexicon`] ([`crate::dialect::Dialect::lexicon`]), and conversion reads a block through the
+//! source's lexicon into [`Function`]s and writes them back through the target's. The converter
+//! itself names no controller.
+//!
+//! A lexicon lists only what threadcut knows a code to mean on that controller (its manual, or
+//! ISO 6983-1 where the controller's list is not public and the dialect's page says so). A
+//! function a target's lexicon does not have is a refusal naming the target, never a guess.
+
+use crate::units::Units;
+
+/// A code as written: `G21`, `M30`, or a word of its own (`DIAMON`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Code {
+    /// ×10: `G33.1` is 331.
+    G(u16),
+    M(u16),
+    Keyword(&'static str),
+}
+
+impl Code {
+    /// The code as a program writes it.
+    pub fn text(self) -> String {
+        match self {
+            Code::G(c) => crate::gcode::modal::g_name(c),
+            Code::M(c) => format!("M{c}"),
+            Code::Keyword(k) => k.to_string(),
+        }
+    }
+}
+
+/// The working plane.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Plane {
+    Xy,
+    Zx,
+    Yz,
+}
+
+/// What a code does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Function {
+    Rapid,
+    Feed,
+    ArcCw,
+    ArcCcw,
+    /// The single synchronised move (`G32`, `G33`).
+    Thread,
+    Dwell,
+    Units(Units),
+    Absolute,
+    Incremental,
+    /// X words are diameters.
+    Diameter,
+    /// X words are radii.
+    Radius,
+    FeedPerMinute,
+    FeedPerRevolution,
+    /// S is a surface speed (m/min, ft/min).
+    SurfaceSpeed,
+    /// S is the spindle speed in rpm.
+    Rpm,
+    Plane(Plane),
+    CompensationOff,
+    CompensationLeft,
+    CompensationRight,
+    /// A work coordinate system: 1 for `G54` … 6 for `G59`.
+    WorkOffset(u8),
+    /// The block's X and Z become the current position's coordinates (`G50`, `G92`).
+    SetPosition,
+    /// The block restates the current coordinates and must equal them (OmniTurn's `G92` after
+    /// `G35`/`G36`): no effect on motion.
+    RestatePosition,
+    /// The block's S is the largest spindle speed (`G50 S`, `G92 S` in G-code systems B and C).
+    SpindleLimit,
+    /// The named axes return to the reference point.
+    ReferenceReturn,
+    SpindleCw,
+    SpindleCcw,
+    SpindleStop,
+    CoolantOn,
+    MistOn,
+    CoolantOff,
+    /// End of program (`M2`).
+    End,
+    /// End of program and rewind (`M30`).
+    EndRewind,
+    Stop,
+    OptionalStop,
+    /// The prepared tool goes to the spindle (`M6`).
+    ToolChange,
+    /// The tool's offset is applied (LinuxCNC's `G43`, with `H` or the tool's own).
+    ToolOffset,
+    /// The tool's offset is cancelled (`G49`).
+    ToolOffsetOff,
+    /// A code that changes only how this controller reads its own threading cycles (Haas's
+    /// `M23`/`M24` chamfer, OmniTurn's `G35`/`G36` coarse leads): its effect is in the cycles'
+    /// jobs, which conversion writes whole.
+    CycleSetting,
+}
+
+impl Function {
+    /// What the function does, in the words of messages.
+    pub fn describe(self) -> String {
+        match self {
+            Function::Rapid => "rapid move".into(),
+            Function::Feed => "feed move".into(),
+            Function::ArcCw => "clockwise arc".into(),
+            Function::ArcCcw => "counter-clockwise arc".into(),
+            Function::Thread => "synchronised thread move".into(),
+            Function::Dwell => "dwell".into(),
+            Function::Units(u) => format!("{} input", u.name()),
+            Function::Absolute => "absolute distances".into(),
+            Function::Incremental => "incremental distances".into(),
+            Function::Diameter => "X on diameter".into(),
+            Function::Radius => "X on radius".into(),
+            Function::FeedPerMinute => "feed per minute".into(),
+            Function::FeedPerRevolution => "feed per revolution".into(),
+            Function::SurfaceSpeed => "constant surface speed".into(),
+            Function::Rpm => "spindle speed in rpm".into(),
+            Function::Plane(Plane::Xy) => "XY plane".into(),
+            Function::Plane(Plane::Zx) => "ZX plane".into(),
+            Function::Plane(Plane::Yz) => "YZ plane".into(),
+            Function::CompensationOff => "tool nose radius compensation off".into(),
+            Function::CompensationLeft => "tool nose radius compensation left".into(),
+            Function::CompensationRight => "tool nose radius compensation right".into(),
+            Function::WorkOffset(n) => format!("work coordinate system {n} (G{})", 53 + n),
+            Function::SetPosition => "setting the current position's coordinates".into(),
+            Function::RestatePosition => "restating the current coordinates".into(),
+            Function::SpindleLimit => "spindle speed limit".into(),
+            Function::ReferenceReturn => "return to the reference point".into(),
+            Function::SpindleCw => "spindle on clockwise".into(),
+            Function::SpindleCcw => "spindle on counter-clockwise".into(),
+            Function::SpindleStop => "spindle stop".into(),
+            Function::CoolantOn => "coolant on".into(),
+            Function::MistOn => "mist coolant on".into(),
+            Function::CoolantOff => "coolant off".into(),
+            Function::End => "end of program".into(),
+            Function::EndRewind => "end of program with rewind".into(),
+            Function::Stop => "program stop".into(),
+            Function::OptionalStop => "optional stop".into(),
+            Function::ToolChange => "tool change".into(),
+            Function::ToolOffset => "tool offset".into(),
+            Function::ToolOffsetOff => "tool offset cancel".into(),
+            Function::CycleSetting => "a setting of this controller's threading cycles".into(),
+        }
+    }
+
+    /// A function that cancels a state which a target without the state's codes cannot be in:
+    /// dropped there rather than refused (`G40` where no compensation exists, `G97` where S is
+    /// always rpm, `G49`).
+    pub fn cancelled_family(self) -> Option<&'static [Function]> {
+        match self {
+            Function::CompensationOff => {
+                Some(&[Function::CompensationLeft, Function::CompensationRight])
+            }
+            Function::Rpm => Some(&[Function::SurfaceSpeed]),
+            Function::ToolOffsetOff => Some(&[Function::ToolOffset]),
+            _ => None,
+        }
+    }
+
+    /// The motion a code selects, if it selects one.
+    pub fn is_motion(self) -> bool {
+        matches!(
+            self,
+            Function::Rapid
+                | Function::Feed
+                | Function::ArcCw
+                | Function::ArcCcw
+                | Function::Thread
+        )
+    }
+}
+
+/// How a block selects a tool and its offset.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ToolForm {
+    /// `T` followed by the tool number and `digits` digits of offset number (`T0101`, `T505`):
+    /// Fanuc and its copies, Allen-Bradley's T-word format 2.
+    Combined { digits: u32 },
+    /// `T4`: the tool, with its own offset (OmniTurn).
+    Single,
+    /// `T7 D1`: the tool and its cutting edge (Sinumerik); `T="NAME"` names the tool.
+    ToolAndEdge,
+    /// `T1 M6 G43 [H2]`: the tool is prepared with T, changed with `M6`, its offset applied with
+    /// `G43` (LinuxCNC).
+    ChangeAndOffset,
+}
+
+/// How a block writes a dwell.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DwellForm {
+    /// `G4 X1.5` or `U1.5` (seconds) or `P1500` (milliseconds, no decimal point): Fanuc, GSK.
+    XSecondsOrPMilliseconds,
+    /// `G4 P1.5`: seconds (LinuxCNC).
+    PSeconds,
+    /// `G4 P1.5` in seconds with a decimal point, `P1500` in milliseconds without (Haas).
+    PSecondsOrMilliseconds,
+    /// `G4 F1.5`: seconds (Sinumerik).
+    FSeconds,
+}
+
+/// How a block states the largest spindle speed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitForm {
+    /// A code with `S` (`G50 S2000`, `G92 S2000`): the entry of [`Function::SpindleLimit`].
+    Code,
+    /// `NAME=value` (Sinumerik's `LIMS=2000`).
+    Setting(&'static str),
+    /// A word on the constant-surface-speed block (LinuxCNC's `G96 S… D2000`).
+    OnSurfaceSpeed(u8),
+}
+
+/// How a block returns axes straight to the reference point.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReturnForm {
+    /// The return code with incremental zero words (`G28 U0. W0.`): the intermediate point is
+    /// where the tool is.
+    IncrementalWords { x: u8, z: u8 },
+    /// The return code in incremental mode, then absolute mode again (`G91 G28 X0. Z0.` /
+    /// `G90`): LinuxCNC, whose U/W are no incremental words.
+    IncrementalMode,
+    /// The return code with machine-axis words whose values are ignored (`G74 X1=0 Z1=0`).
+    MachineAxes { x: &'static str, z: &'static str },
+}
+
+/// What a controller's codes and words mean.
+#[derive(Debug)]
+pub struct Lexicon {
+    /// Every code with its function, in groups (a list shared by several controllers, then each
+    /// controller's own). A code may appear with two functions told apart by the block's words
+    /// (`G50 X Z` sets the position, `G50 S` the spindle limit).
+    pub codes: &'static [&'static [(Code, Function)]],
+    pub tool: ToolForm,
+    pub dwell: Option<DwellForm>,
+    pub spindle_limit: Option<LimitForm>,
+    pub reference: Option<ReturnForm>,
+    /// A return code without axis words returns every axis (LinuxCNC, Haas); otherwise none.
+    pub return_all_without_axes: bool,
+    /// `O…` numbers the program (Fanuc family); elsewhere O is program flow or nothing.
+    pub program_number: bool,
+    /// `N…` sequence numbers.
+    pub sequence_numbers: bool,
+    /// `%` lines delimit the program.
+    pub delimiters: bool,
+    /// The feed mode at power-on: [`Function::FeedPerMinute`] or [`Function::FeedPerRevolution`].
+    pub power_on_feed: Function,
+    /// The letters of the thread move that carry its lead and start angle (`F Q`, `K`, `F E`):
+    /// the move itself carries them through conversion.
+    pub thread_words: &'static [u8],
+    /// `NAME=` settings that state the thread move's start angle (Sinumerik's `SF=`).
+    pub thread_settings: &'static [&'static str],
+    /// The only units the controller is programmed in, where it has one (OmniTurn: inch).
+    pub only_units: Option<Units>,
+}
+
+impl Lexicon {
+    fn entries(&self) -> impl Iterator<Item = &(Code, Function)> {
+        self.codes.iter().flat_map(|g| g.iter())
+    }
+
+    /// The functions of a code, in the order listed.
+    pub fn functions(&self, code: Code) -> impl Iterator<Item = Function> + '_ {
+        self.entries()
+            .filter(move |(c, _)| *c == code)
+            .map(|(_, f)| *f)
+    }
+
+    /// The code that writes `f`, if the controller has one.
+    pub fn code(&self, f: Function) -> Option<Code> {
+        self.entries().find(|(_, g)| *g == f).map(|(c, _)| *c)
+    }
+
+    /// Whether the controller has a code for `f`.
+    pub fn has(&self, f: Function) -> bool {
+        self.code(f).is_some()
+    }
+
+    /// Whether a program can be written in `units`.
+    pub fn has_units(&self, units: Units) -> bool {
+        match self.only_units {
+            Some(only) => only == units,
+            None => self.has(Function::Units(units)),
+        }
+    }
+}
+
+/// One item of a line in a controller's own syntax ([`crate::dialect::Dialect::terms`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Term {
+    /// An address word (`G33`, `X-10.5`), or an address given a number (`X=12`).
+    Word(crate::gcode::Word),
+    /// An address given the value of a parameter (`X=R1`): present, its value not known here.
+    Assigned { letter: u8, span: crate::diag::Span },
+    /// A word of its own (`DIAMON`).
+    Keyword {
+        name: String,
+        span: crate::diag::Span,
+    },
+    /// The tool named rather than numbered (`T="THREAD_EXT"`).
+    ToolName {
+        name: String,
+        span: crate::diag::Span,
+    },
+    /// `NAME=value`: a setting (`LIMS=2500`, `SF=90`) or a variable declared earlier; `value` when
+    /// it is written as a number.
+    Setting {
+        name: String,
+        value: Option<f64>,
+        span: crate::diag::Span,
+    },
+    /// A machine axis (`X1=0`), as the reference return takes them.
+    MachineAxis {
+        name: String,
+        span: crate::diag::Span,
+    },
+    /// Values set for later blocks (`R1=1.5`, `DEF REAL LEAD=3`), and the names it declares: the
+    /// converted blocks carry the values, so the line becomes a comment.
+    Data { declares: Vec<String> },
+    /// A call that changes nothing threadcut follows (`MSG("…")`): a comment.
+    Passive { span: crate::diag::Span },
+    /// A call, keyword or setting conversion has no meaning for.
+    Unknown {
+        what: String,
+        span: crate::diag::Span,
+    },
+}
+
+/// `M0` … `M30` as ISO 6983-1 assigns them, which every lathe control threadcut knows keeps (the
+/// dialects' pages say where this is the manual's list and where it is assumed).
+pub const ISO_M: &[(Code, Function)] = &[
+    (Code::M(0), Function::Stop),
+    (Code::M(1), Function::OptionalStop),
+    (Code::M(2), Function::End),
+    (Code::M(3), Function::SpindleCw),
+    (Code::M(4), Function::SpindleCcw),
+    (Code::M(5), Function::SpindleStop),
+    (Code::M(8), Function::CoolantOn),
+    (Code::M(9), Function::CoolantOff),
+    (Code::M(30), Function::EndRewind),
+];
+
+/// `G0`–`G3`.
+pub const MOTION: &[(Code, Function)] = &[
+    (Code::G(0), Function::Rapid),
+    (Code::G(10), Function::Feed),
+    (Code::G(20), Function::ArcCw),
+    (Code::G(30), Function::ArcCcw),
+];
+
+/// `G4`, the dwell (its time word is the lexicon's [`DwellForm`]).
+pub const DWELL: &[(Code, Function)] = &[(Code::G(40), Function::Dwell)];
+
+/// `G17`–`G19`, `G40`–`G42`, `G54`–`G59`, `G96`/`G97`: the same on every control that has them.
+pub const PLANES: &[(Code, Function)] = &[
+    (Code::G(170), Function::Plane(Plane::Xy)),
+    (Code::G(180), Function::Plane(Plane::Zx)),
+    (Code::G(190), Function::Plane(Plane::Yz)),
+];
+
+/// Tool nose radius compensation.
+pub const COMPENSATION: &[(Code, Function)] = &[
+    (Code::G(400), Function::CompensationOff),
+    (Code::G(410), Function::CompensationLeft),
+    (Code::G(420), Function::CompensationRight),
+];
+
+/// Work coordinate systems G54–G59.
+pub const WORK_OFFSETS: &[(Code, Function)] = &[
+    (Code::G(540), Function::WorkOffset(1)),
+    (Code::G(550), Function::WorkOffset(2)),
+    (Code::G(560), Function::WorkOffset(3)),
+    (Code::G(570), Function::WorkOffset(4)),
+    (Code::G(580), Function::WorkOffset(5)),
+    (Code::G(590), Function::WorkOffset(6)),
+];
+
+/// Constant surface speed and rpm.
+pub const SPINDLE_MODES: &[(Code, Function)] = &[
+    (Code::G(960), Function::SurfaceSpeed),
+    (Code::G(970), Function::Rpm),
+];
+
+/// `G20` inch, `G21` mm.
+pub const G20_G21: &[(Code, Function)] = &[
+    (Code::G(200), Function::Units(Units::Inch)),
+    (Code::G(210), Function::Units(Units::Mm)),
+];
+
+/// `G90` absolute, `G91` incremental.
+pub const G90_G91: &[(Code, Function)] = &[
+    (Code::G(900), Function::Absolute),
+    (Code::G(910), Function::Incremental),
+];
+
+/// `G94` per minute, `G95` per revolution.
+pub const G94_G95: &[(Code, Function)] = &[
+    (Code::G(940), Function::FeedPerMinute),
+    (Code::G(950), Function::FeedPerRevolution),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_controllers_lexicon_agrees_with_its_vocabulary() {
+        // Every G code a lexicon gives a meaning is a code the controller's reader accepts, and
+        // the thread move of a lexicon is its conventions' (so that what is written reads back).
+        for (name, _) in crate::machine::BUILT_IN {
+            let m = crate::machine::Machine::built_in(name).unwrap();
+            let d = crate::dialect::open(&m).unwrap();
+            let lex = d.lexicon();
+            for (code, f) in lex.entries() {
+                if let Code::G(c) = code {
+                    assert!(
+                        d.vocabulary().get(*c).is_some(),
+                        "{name}: {} ({f:?}) is not in its vocabulary",
+                        code.text()
+                    );
+                }
+            }
+            if let Some(Code::G(c)) = lex.code(Function::Thread) {
+                assert_eq!(c, d.conventions().thread_move, "{name}");
+            }
+            assert!(
+                lex.has_units(m.units),
+                "{name}: its power-on units have a code"
+            );
+            assert!(matches!(
+                lex.power_on_feed,
+                Function::FeedPerMinute | Function::FeedPerRevolution
+            ));
+            assert!(lex.has(lex.power_on_feed), "{name}");
+        }
+    }
+}

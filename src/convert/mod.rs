@@ -1,0 +1,302 @@
+//! A program for one controller rewritten for another: dialect → model → dialect.
+//!
+//! * Every threading cycle is read into the model ([`crate::thread::Job`]) by the source's dialect
+//!   and written by [`crate::translate::write_job`]: the target's native cycle when some choice of
+//!   its words reads back as the same motion, plain moves with the reason otherwise, or a refusal
+//!   naming the target's limit.
+//! * Every other block is read through the source's [`lexicon::Lexicon`] into machine-neutral
+//!   meanings ([`block::Block`]: units, feed mode, spindle, tools, positions, …) and written
+//!   through the target's ([`write`]). Positions become absolute, in the target profile's X
+//!   convention; numbers always carry a decimal point; units the target does not have are
+//!   converted (a metric program for the inch-only OmniTurn is written in inches, the lead's
+//!   rounding over each thread stated).
+//! * The converted program states at its start what the source program relied on: its units,
+//!   absolute distances, X on diameter or radius, the ZX plane, its feed mode and rpm, in the
+//!   target's words where the target has them.
+//!
+//! Nothing here names a controller: each dialect states its own lexicon. Decisions and the
+//! results over every bundled example: `docs/translation.md`.
+
+pub mod block;
+pub mod lexicon;
+mod write;
+
+use std::io::{BufRead, Write};
+
+use crate::diag::{Code, Diagnostic, Span};
+use crate::dialect;
+use crate::gcode::{Line, Modal};
+use crate::interp::Text;
+use crate::machine::Machine;
+use crate::program::{self, Error, Event, Options, Summary, Where};
+
+use block::Source;
+
+/// What a conversion did besides writing the program.
+#[derive(Debug, Default)]
+pub struct Report {
+    pub summary: Summary,
+    /// Cycles written as the target's native cycle.
+    pub native: u32,
+    /// Cycles written as plain moves: the line of the cycle and why its native cycle was not used.
+    pub plain: Vec<(u32, String)>,
+}
+
+/// Converts the program `input`, written for `from`, into a program for `to`, written to `out`.
+/// Lines end as the input's first line does. With the same profile on both sides the program is
+/// copied as it is, after a comment naming the conversion. An error is the first block that
+/// cannot be converted, at its word, naming the target's limit (the output up to it has been
+/// written).
+///
+/// A program with control flow (subroutines, loops, parameters) is copied as it is for the same
+/// profile; for another controller it is an error at its first line of control flow unless
+/// `options.flatten`, which converts the executed program (every block the interpreter runs, with
+/// its computed values): threadcut does not translate one macro language into another, and a
+/// block with computed words has no one value to rewrite (docs/translation.md, "Programs with
+/// control flow").
+pub fn convert<R: BufRead>(
+    mut input: R,
+    out: &mut dyn Write,
+    from: &Machine,
+    to: &Machine,
+    options: &Options,
+) -> Result<Report, Error> {
+    let ending = crate::eol::LineEnding::peek(&mut input)?;
+    let out = &mut crate::eol::Writer::new(out, ending);
+    let source_dialect = dialect::open(from).map_err(Error::Setup)?;
+    let target = dialect::open(to).map_err(Error::Setup)?;
+    let conv = source_dialect.conventions().clone();
+    let src = Source {
+        name: &from.name,
+        lexicon: source_dialect.lexicon(),
+        dialect: source_dialect.as_ref(),
+        uw_incremental: conv.uw_incremental,
+        canned_cycles: conv.canned_cycles,
+        paren_comments: !conv.syntax.parens_not_comments,
+        declared: Default::default(),
+    };
+    let side = if from == to {
+        // The program as it is, after a comment naming the conversion (after a leading `%`).
+        Side::Same {
+            out,
+            header: target
+                .format()
+                .comment(&format!("threadcut convert: {} to {}", from.name, to.name)),
+        }
+    } else {
+        Side::Other(Box::new(write::Writer::new(
+            out,
+            from,
+            to,
+            target.as_ref(),
+            src.lexicon,
+        )?))
+    };
+    let mut conversion = Conversion {
+        side,
+        src,
+        flatten: options.flatten,
+        unrun: Vec::new(),
+    };
+    let summary = program::run_output(input, from, options, &mut conversion)?;
+    conversion.after_end()?;
+    let mut report = match conversion.side {
+        Side::Other(w) => w.finish(),
+        Side::Same { .. } => Report::default(),
+    };
+    report.summary = summary;
+    Ok(report)
+}
+
+/// Where the converted program goes.
+enum Side<'o, 'm> {
+    /// The same profile on both sides: the program's own lines, after the header comment.
+    Same {
+        out: &'o mut dyn Write,
+        header: Option<String>,
+    },
+    /// Another controller: every block through the lexicons, every cycle through the model.
+    Other(Box<write::Writer<'o, 'm>>),
+}
+
+/// A conversion's side of a run ([`program::Output`]).
+struct Conversion<'o, 'm, 's> {
+    side: Side<'o, 'm>,
+    src: Source<'s>,
+    flatten: bool,
+    /// The input after the program's end (M2, M30): not run.
+    unrun: Vec<u8>,
+}
+
+impl Conversion<'_, '_, '_> {
+    /// The lines after the program's end. The same profile's are copied; for another
+    /// controller, blank lines, comments (in the target's comment form) and `%` delimiters are
+    /// kept, and a line with words is an error: it is not run, so nothing says what it means
+    /// (with `--flatten`, which writes only what runs, it is left out).
+    fn after_end(&mut self) -> Result<(), Error> {
+        let w = match &mut self.side {
+            Side::Same { out, .. } => {
+                out.write_all(&self.unrun)?;
+                return Ok(());
+            }
+            Side::Other(w) => w,
+        };
+        let parens = self.src.paren_comments;
+        for raw in self.unrun.split_inclusive(|&b| b == b'\n') {
+            let text = block::without_comments(raw, parens);
+            match text.trim_ascii() {
+                b"" if block::comments(raw, parens).is_empty() => w.blank_line()?,
+                b"" => w.comment_only(&block::comments(raw, parens))?,
+                b"%" => w.delimiter()?,
+                _ if self.flatten => {}
+                t => {
+                    return Err(Error::Input(
+                        Diagnostic::error(
+                            Code::Unsupported,
+                            Span::default(),
+                            format!(
+                                "`{}` follows the program's end (M2/M30): it is not run, and threadcut does not rewrite it for {}",
+                                String::from_utf8_lossy(t),
+                                w.target_name()
+                            ),
+                        )
+                        .with_hint("--flatten writes only what the program runs"),
+                    ))
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl program::Output for Conversion<'_, '_, '_> {
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
+        match &mut self.side {
+            Side::Same { out, header } => {
+                let line = event_line(&ev);
+                same_header(out, header, line)?;
+                out.write_all(line.raw)?;
+                Ok(())
+            }
+            Side::Other(w) => match ev {
+                Event::Plain { line, mv } => {
+                    w.header_before(line)?;
+                    if line.shape.percent {
+                        return w.delimiter();
+                    }
+                    let b = block::decode(line, &mut self.src, modal)?;
+                    w.plain(line, &b, mv, modal)
+                }
+                Event::Settings { line } => {
+                    w.header_before(line)?;
+                    w.comment_only(&block::comments(line.text, self.src.paren_comments))
+                }
+                Event::Cycle { line, job, .. } => {
+                    w.header_before(line)?;
+                    w.cycle(
+                        line,
+                        *job,
+                        &block::comments(line.text, self.src.paren_comments),
+                    )
+                }
+            },
+        }
+    }
+
+    fn unrun(&mut self, text: &[u8]) -> Result<(), Error> {
+        self.unrun.extend_from_slice(text);
+        Ok(())
+    }
+
+    fn interpreting(&mut self, line: u32) -> Result<(), Error> {
+        let w = match &self.side {
+            Side::Other(w) if !self.flatten => w,
+            _ => return Ok(()),
+        };
+        Err(Error::Input(
+            Diagnostic::error(
+                Code::Unsupported,
+                Span::new(0, 0, line, 1),
+                format!(
+                    "the program has control flow from line {line} on (subroutines, loops or parameters), which threadcut does not rewrite for {}",
+                    w.target_name()
+                ),
+            )
+            .with_hint("--flatten writes the executed program as straight-line code for the target"),
+        ))
+    }
+
+    fn interpreted(&mut self, modal: &Modal, ev: Event, at: &Where) -> Result<(), Error> {
+        if !self.flatten {
+            // The same profile's program is copied as it is (interpreted_end); another
+            // controller's stopped at `interpreting`.
+            return Ok(());
+        }
+        match &mut self.side {
+            Side::Same { out, header } => {
+                let line = event_line(&ev);
+                same_header(out, header, line)?;
+                program::write_executed_block(*out, line, at.verbatim, modal)?;
+                Ok(())
+            }
+            Side::Other(_) => self.event(modal, ev),
+        }
+    }
+
+    fn interpreted_end(&mut self, text: &Text, from: usize) -> Result<(), Error> {
+        let (Side::Same { out, header }, false) = (&mut self.side, self.flatten) else {
+            return Ok(());
+        };
+        let mut bytes = text.bytes_from(from);
+        if let Some(h) = header.take() {
+            // A program whose first line is control flow: the header after a leading `%`.
+            let first = bytes
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(bytes.len(), |i| i + 1);
+            if bytes[..first].trim_ascii() == b"%" {
+                out.write_all(&bytes[..first])?;
+                bytes = &bytes[first..];
+            }
+            writeln!(out, "{h}")?;
+        }
+        out.write_all(bytes)?;
+        Ok(())
+    }
+}
+
+fn event_line<'a, 'l>(ev: &Event<'a, 'l>) -> &'a Line<'l> {
+    match ev {
+        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => line,
+    }
+}
+
+/// The same profile's header comment, before the first line that is not a `%` delimiter.
+fn same_header(out: &mut dyn Write, header: &mut Option<String>, line: &Line) -> Result<(), Error> {
+    if !line.shape.percent {
+        if let Some(h) = header.take() {
+            writeln!(out, "{h}")?;
+        }
+    }
+    Ok(())
+}
+
+/// [`convert`] on a program held in memory: the converted text, or the first block that cannot be
+/// converted (a profile that cannot be used is an error without a place).
+pub fn convert_text(
+    program: &str,
+    from: &Machine,
+    to: &Machine,
+    options: &Options,
+) -> Result<String, Diagnostic> {
+    let mut out = Vec::new();
+    match convert(program.as_bytes(), &mut out, from, to, options) {
+        Ok(_) => Ok(String::from_utf8_lossy(&out).into_owned()),
+        Err(Error::Input(d)) => Err(d),
+        Err(e) => Err(Diagnostic::error(
+            Code::Unsupported,
+            Span::default(),
+            e.to_string(),
+        )),
+    }
+}

@@ -1,0 +1,709 @@
+//! Conversion between controllers over the whole matrix of bundled examples × lathe controllers:
+//! every converted program reads back on the target with the source's motion, or the conversion
+//! is refused with a reason that names the target's limit. The outcome of every pair — native
+//! cycles, plain cycles and each refusal's reason — is the table in `docs/translation.md`, which
+//! this test keeps current.
+
+use std::path::Path;
+
+use threadcut::convert::{self, Report};
+use threadcut::dialect;
+use threadcut::machine::{Machine, BUILT_IN};
+use threadcut::program::{self, Event};
+use threadcut::toolpath::{self, MotionKind};
+use threadcut::translate::same_angle;
+use threadcut::units::{Pos, Units};
+
+/// Each bundled G-code example and the controller it is written for (its name's prefix).
+fn examples() -> Vec<(String, &'static str, String)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut out = Vec::new();
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .filter(|n| n.ends_with(".nc") || n.ends_with(".ngc") || n.ends_with(".mpf"))
+        .collect();
+    names.sort();
+    for name in names {
+        // The longest profile name that prefixes the file's name.
+        let controller = BUILT_IN
+            .iter()
+            .map(|(n, _)| *n)
+            .filter(|n| name.starts_with(n) || (*n == "gsk980" && name.starts_with("gsk")))
+            .max_by_key(|n| n.len())
+            .unwrap_or_else(|| panic!("{name}: no controller"));
+        let text = std::fs::read_to_string(dir.join(&name)).unwrap();
+        out.push((name, controller, text));
+    }
+    out
+}
+
+/// A move: kind, start, end, lead (mm along the longer axis) and start angle.
+#[derive(Clone, Copy, Debug)]
+struct Move {
+    rapid: bool,
+    thread: Option<(f64, f64)>,
+    /// A cutting move's feed (the F register, mm per minute or per revolution).
+    feed: Option<f64>,
+    from: Pos,
+    to: Pos,
+}
+
+/// Every move `text` makes on `m`: plain moves and each cycle's toolpath, moves of no length left
+/// out (a cycle's rapid to where the tool already is).
+fn motion(text: &str, m: &Machine) -> Result<Vec<Move>, program::Error> {
+    let mut moves = Vec::new();
+    program::run(text.as_bytes(), m, |modal, ev| {
+        match ev {
+            Event::Plain { mv: Some(mv), .. } => moves.push(Move {
+                rapid: mv.mode == threadcut::gcode::MotionMode::Rapid,
+                thread: mv.lead.map(|l| (l, mv.phase_deg)),
+                feed: (mv.mode != threadcut::gcode::MotionMode::Rapid && mv.lead.is_none())
+                    .then(|| modal.f_word.map(|f| modal.units.to_mm(f)))
+                    .flatten(),
+                // An axis whose start is not known: the move is measured from its end there.
+                from: Pos::new(mv.from.x.unwrap_or(mv.to.x), mv.from.z.unwrap_or(mv.to.z)),
+                to: mv.to,
+            }),
+            Event::Cycle { job, .. } => {
+                let path = toolpath::build(&job)?;
+                for (from, mo) in path.segments() {
+                    moves.push(Move {
+                        rapid: mo.kind == MotionKind::Rapid,
+                        thread: match mo.kind {
+                            MotionKind::Thread {
+                                lead, phase_deg, ..
+                            } => Some((lead, phase_deg)),
+                            _ => None,
+                        },
+                        feed: None,
+                        from,
+                        to: mo.to,
+                    });
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    })?;
+    moves.retain(|m| m.from.distance(m.to) > 1e-12);
+    Ok(moves)
+}
+
+/// The first difference between two motions, within `pos` (mm) and `lead` (mm per revolution).
+fn differs(a: &[Move], b: &[Move], pos: f64, lead: f64) -> Option<String> {
+    if a.len() != b.len() {
+        return Some(format!("{} moves instead of {}", b.len(), a.len()));
+    }
+    for (i, (x, y)) in a.iter().zip(b).enumerate() {
+        let same_kind = x.rapid == y.rapid
+            && match (x.thread, y.thread) {
+                (None, None) => true,
+                (Some((la, pa)), Some((lb, pb))) => (la - lb).abs() <= lead && same_angle(pa, pb),
+                _ => false,
+            };
+        let d = x.to.minus(y.to);
+        let same_feed = match (x.feed, y.feed) {
+            (Some(a), Some(b)) => (a - b).abs() <= 1e-6 * a.abs().max(1.0),
+            (a, b) => a.is_none() == b.is_none(),
+        };
+        if !same_kind || !same_feed || d.x.abs() > pos || d.z.abs() > pos {
+            return Some(format!("move {}: {x:?} became {y:?}", i + 1));
+        }
+    }
+    None
+}
+
+/// Half the coarsest output resolution of `to` (mm, a program may switch units), and half its
+/// coarsest lead step.
+fn tolerances(to: &Machine) -> (f64, f64) {
+    let d = dialect::open(to).unwrap();
+    let lex = d.lexicon();
+    let units = [Units::Mm, Units::Inch]
+        .into_iter()
+        .filter(|u| lex.has_units(*u));
+    let res = units
+        .clone()
+        .map(|u| u.to_mm(d.output_step(1.0, u).unwrap_or(to.resolution(u))))
+        .fold(0.0, f64::max);
+    let digits = d.format().lead_decimals;
+    let lead = units
+        .map(|u| {
+            u.to_mm(
+                d.output_step(1.0, u)
+                    .unwrap_or(10f64.powi(-(digits[(u == Units::Inch) as usize] as i32))),
+            )
+        })
+        .fold(0.0, f64::max);
+    (res * 0.5 + 1e-9, lead * 0.5 + 1e-9)
+}
+
+/// One pair's outcome, as the table in docs/translation.md writes it. A program with control flow
+/// is converted as `--flatten` converts it (the executed program; without it the conversion stops
+/// at its first line of control flow, `programs_with_control_flow_need_flatten`), and its row says
+/// so.
+fn outcome(name: &str, from: &Machine, to: &Machine, text: &str) -> String {
+    let mut out = Vec::new();
+    let flatten = program::Options {
+        flatten: true,
+        ..Default::default()
+    };
+    match convert::convert(text.as_bytes(), &mut out, from, to, &flatten) {
+        Ok(Report {
+            native,
+            plain,
+            summary,
+        }) => {
+            let flattened = if summary.interpreted_from.is_some() {
+                "flattened: "
+            } else {
+                ""
+            };
+            let converted = String::from_utf8(out).unwrap();
+            let want = motion(text, from).unwrap();
+            let got = motion(&converted, to).unwrap_or_else(|e| {
+                panic!(
+                    "{name} → {}: the converted program does not read back: {e}\n{converted}",
+                    to.name
+                )
+            });
+            let (pos, lead) = tolerances(to);
+            if let Some(why) = differs(&want, &got, pos, lead) {
+                panic!("{name} → {}: {why}\n{converted}", to.name);
+            }
+            let cycles = native as usize + plain.len();
+            let what = if cycles == 0 {
+                "converted (no cycle)".to_string()
+            } else if plain.is_empty() {
+                format!("native {native}")
+            } else {
+                let mut why: Vec<&str> = plain.iter().map(|(_, w)| w.as_str()).collect();
+                why.dedup();
+                format!("native {native}, plain {}: {}", plain.len(), why.join("; "))
+            };
+            format!("{flattened}{what}")
+        }
+        Err(program::Error::Input(d)) => {
+            format!("refused at line {}: {}", d.span.line, d.message)
+        }
+        Err(e) => panic!("{name} → {}: {e}", to.name),
+    }
+}
+
+const BEGIN: &str = "<!-- matrix:begin (tests/convert.rs writes this table) -->";
+const END: &str = "<!-- matrix:end -->";
+
+#[test]
+fn every_example_converts_to_every_lathe_controller_or_is_refused_for_a_reason() {
+    let mut rows = vec![
+        "| example | to | outcome |".to_string(),
+        "|---|---|---|".to_string(),
+    ];
+    let (mut pairs, mut refused, mut native, mut plain) = (0, 0, 0, 0);
+    for (name, controller, text) in examples() {
+        let from = Machine::built_in(controller).unwrap();
+        for (target, _) in BUILT_IN {
+            if *target == controller {
+                continue;
+            }
+            pairs += 1;
+            let to = Machine::built_in(target).unwrap();
+            let o = outcome(&name, &from, &to, &text);
+            if o.starts_with("refused") {
+                refused += 1;
+            }
+            if let Some(n) = o.trim_start_matches("flattened: ").strip_prefix("native ") {
+                let mut parts = n.split(", plain ");
+                native += parts.next().unwrap().parse::<u32>().unwrap();
+                plain += parts
+                    .next()
+                    .map_or(0, |p| p.split(':').next().unwrap().parse::<u32>().unwrap());
+            }
+            rows.push(format!("| {name} | {target} | {} |", o.replace('|', "\\|")));
+        }
+    }
+    rows.push(String::new());
+    rows.push(format!(
+        "{pairs} pairs: {} converted ({native} cycles native, {plain} as plain moves), {refused} refused.",
+        pairs - refused
+    ));
+    let table = rows.join("\n");
+    let doc_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/translation.md");
+    let doc = std::fs::read_to_string(&doc_path).unwrap();
+    let (Some(b), Some(e)) = (doc.find(BEGIN), doc.find(END)) else {
+        panic!("docs/translation.md has no matrix block; it should be:\n{BEGIN}\n{table}\n{END}");
+    };
+    let current = doc[b + BEGIN.len()..e].trim();
+    if current != table.trim() {
+        if std::env::var_os("THREADCUT_BLESS").is_some() {
+            let new = format!("{}{BEGIN}\n{table}\n{}", &doc[..b], &doc[e..]);
+            std::fs::write(&doc_path, new).unwrap();
+        } else {
+            panic!("docs/translation.md's matrix is out of date (THREADCUT_BLESS=1 rewrites it):\n{table}");
+        }
+    }
+}
+
+/// A metric program for the inch-only OmniTurn is written in inches: positions, feeds and the
+/// cycle's words converted, the lead's rounding over the thread stated. (An OmniTurn profile in
+/// mm reads the same cycle in mm: its K1.27 mm is .05" exactly.)
+#[test]
+fn metric_programs_are_converted_to_inch_for_the_omniturn() {
+    let mut metric = Machine::built_in("omniturn").unwrap();
+    metric.units = Units::Mm;
+    let inch = Machine::built_in("omniturn").unwrap();
+    let src = "T4F200\nX0Z5.08\nX6.0198\nG33X5.3848Z-12.7I0.3048K1.27PC\n";
+    let out = convert::convert_text(src, &metric, &inch, &Default::default()).unwrap();
+    assert_eq!(
+        out,
+        "(threadcut convert: omniturn to omniturn, inch, feed per minute)\n\
+         G90 G73 G94\n\
+         F7.87402 T4\n\
+         G0 X0. Z0.2\n\
+         G0 X0.237\n\
+         (threadcut: in inch: lead 1.27 mm written as 0.05 inch: 0. inch per turn, 0. inch over the thread's 0.7 inch)\n\
+         G33 X0.212 Z-0.5 I0.012 K0.05 C29. P\n"
+    );
+    // Plain moves from a metric Fanuc program: radius, inches, F in inches per revolution.
+    let fanuc = Machine::built_in("fanuc").unwrap();
+    let src = "G21 G99\nG0 X20. Z5.\nG1 Z-10. F0.254\nM30\n";
+    let out = convert::convert_text(src, &fanuc, &inch, &Default::default()).unwrap();
+    assert!(
+        out.ends_with("G95\nG0 X0.3937 Z0.19685\nG1 Z-0.3937 F0.01\nM30\n"),
+        "{out}"
+    );
+    // A metric lead the grid cannot hold is refused with the drift (the matrix lists the
+    // bundled examples refused so).
+    let src = "G0 X0 Z5.08\nX6.0198\nG33X5.3848Z-12.7I0.3048K1.5PC\n";
+    let e = convert::convert_text(src, &metric, &inch, &Default::default()).unwrap_err();
+    assert!(e.message.contains("drifts"), "{}", e.message);
+    assert_eq!(e.span.line, 3);
+}
+
+/// `post` states what its program relies on, for every lathe controller: the units (the code, or
+/// for a control with one unit system its name), feed per revolution at the start and each
+/// FEDRAT's mode before its F, X on diameter or radius where the control has a code for it —
+/// never the control's power-on state. Every posted program reads back on its controller.
+#[test]
+fn posted_programs_state_units_and_feed_mode_for_every_controller() {
+    use threadcut::convert::lexicon::{Function, Plane};
+    let cl = "UNITS/MM\nSPINDL/500,RPM,CLW\nRAPID\nGOTO/20,0,5\nFEDRAT/100,MMPM\nGOTO/18,0,5\nFEDRAT/0.2,MMPR\nGOTO/18,0,-20\nFINI\n";
+    for (name, _) in BUILT_IN {
+        let m = Machine::built_in(name).unwrap();
+        let d = dialect::open(&m).unwrap();
+        let lex = d.lexicon();
+        let mut out = Vec::new();
+        threadcut::apt::post::write(cl.as_bytes(), &mut out, &m).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let code = |f: Function| lex.code(f).map(|c| c.text());
+        // The first block that is not a comment states the modes.
+        let header = lines
+            .iter()
+            .find(|l| !l.starts_with('(') && !l.starts_with(';'))
+            .unwrap();
+        let words: Vec<&str> = header.split_whitespace().collect();
+        match code(Function::Units(m.units)) {
+            Some(c) => assert!(words.contains(&c.as_str()), "{name}: {header}"),
+            None => {
+                assert_eq!(lex.only_units, Some(m.units), "{name}");
+                assert!(lines[0].contains(m.units.name()), "{name}: {}", lines[0]);
+            }
+        }
+        let per_rev = code(Function::FeedPerRevolution).unwrap();
+        let per_min = code(Function::FeedPerMinute).unwrap();
+        assert!(words.contains(&per_rev.as_str()), "{name}: {header}");
+        for f in [Function::Diameter, Function::Radius] {
+            if let (Some(c), true) = (code(f), (f == Function::Diameter) == m.diameter_x) {
+                assert!(words.contains(&c.as_str()), "{name}: {header}");
+            }
+        }
+        if let Some(c) = code(Function::Plane(Plane::Zx)) {
+            assert!(words.contains(&c.as_str()), "{name}: {header}");
+        }
+        // Each FEDRAT that changes the mode states it before the F it gives.
+        let at = |needle: &str| {
+            lines
+                .iter()
+                .position(|l| l.split_whitespace().any(|w| w == needle))
+        };
+        let first_f = lines.iter().position(|l| l.contains(" F")).unwrap();
+        let min_at = at(&per_min).unwrap_or_else(|| panic!("{name}: {text}"));
+        assert!(min_at < first_f, "{name}: {text}");
+        let rev_again = lines[min_at..]
+            .iter()
+            .position(|l| l.split_whitespace().any(|w| w == per_rev))
+            .unwrap();
+        assert!(
+            lines[min_at + rev_again..].iter().any(|l| l.contains(" F")),
+            "{name}: {text}"
+        );
+        threadcut::program::run(text.as_bytes(), &m, |_, _| Ok(()))
+            .unwrap_or_else(|e| panic!("{name}: {e}\n{text}"));
+    }
+}
+
+/// One controller's words for a row of the lexicon table.
+fn lexicon_cell(lex: &threadcut::convert::lexicon::Lexicon, row: &str) -> String {
+    use threadcut::convert::lexicon::{
+        DwellForm, Function as F, LimitForm, Plane, ReturnForm, ToolForm,
+    };
+    let codes = |fs: &[F]| -> String {
+        let all: Vec<String> = fs
+            .iter()
+            .map(|f| {
+                lex.codes
+                    .iter()
+                    .flat_map(|g| g.iter())
+                    .filter(|(_, g)| g == f)
+                    .map(|(c, _)| c.text())
+                    .collect::<Vec<_>>()
+                    .join("/")
+            })
+            .collect();
+        if all.iter().all(|c| c.is_empty()) {
+            "—".into()
+        } else {
+            all.iter()
+                .map(|c| if c.is_empty() { "—" } else { c.as_str() })
+                .collect::<Vec<_>>()
+                .join(" ")
+        }
+    };
+    match row {
+        "inch / mm" => match lex.only_units {
+            Some(u) => format!("{} only", u.name()),
+            None => codes(&[F::Units(Units::Inch), F::Units(Units::Mm)]),
+        },
+        "absolute / incremental" => codes(&[F::Absolute, F::Incremental]),
+        "X diameter / radius" => codes(&[F::Diameter, F::Radius]),
+        "planes XY / ZX / YZ" => codes(&[
+            F::Plane(Plane::Xy),
+            F::Plane(Plane::Zx),
+            F::Plane(Plane::Yz),
+        ]),
+        "feed per minute / revolution" => codes(&[F::FeedPerMinute, F::FeedPerRevolution]),
+        "feed mode at power-on" => match lex.power_on_feed {
+            F::FeedPerMinute => "per minute".into(),
+            _ => "per revolution".into(),
+        },
+        "surface speed / rpm" => codes(&[F::SurfaceSpeed, F::Rpm]),
+        "compensation off / left / right" => codes(&[
+            F::CompensationOff,
+            F::CompensationLeft,
+            F::CompensationRight,
+        ]),
+        "work offsets" => codes(&[
+            F::WorkOffset(1),
+            F::WorkOffset(2),
+            F::WorkOffset(3),
+            F::WorkOffset(4),
+            F::WorkOffset(5),
+            F::WorkOffset(6),
+        ]),
+        "thread move" => codes(&[F::Thread]),
+        "dwell" => match lex.dwell {
+            Some(DwellForm::XSecondsOrPMilliseconds) => {
+                format!("{} X(s) P(ms)", codes(&[F::Dwell]))
+            }
+            Some(DwellForm::PSeconds) => format!("{} P(s)", codes(&[F::Dwell])),
+            Some(DwellForm::PSecondsOrMilliseconds) => {
+                format!("{} P(s.)/P(ms)", codes(&[F::Dwell]))
+            }
+            Some(DwellForm::FSeconds) => format!("{} F(s)", codes(&[F::Dwell])),
+            None => "—".into(),
+        },
+        "set position" => codes(&[F::SetPosition, F::RestatePosition]),
+        "spindle limit" => match lex.spindle_limit {
+            Some(LimitForm::Code) => format!("{} S", codes(&[F::SpindleLimit])),
+            Some(LimitForm::Setting(s)) => format!("{s}="),
+            Some(LimitForm::OnSurfaceSpeed(l)) => {
+                format!("{} … {}", codes(&[F::SurfaceSpeed]), l as char)
+            }
+            None => "—".into(),
+        },
+        "reference return" => match lex.reference {
+            Some(ReturnForm::IncrementalWords { x, z }) => format!(
+                "{} {}0 {}0{}",
+                codes(&[F::ReferenceReturn]),
+                x as char,
+                z as char,
+                if lex.return_all_without_axes {
+                    " (bare: all)"
+                } else {
+                    ""
+                }
+            ),
+            Some(ReturnForm::IncrementalMode) => format!(
+                "{} {} X0 Z0, {}{}",
+                codes(&[F::Incremental]),
+                codes(&[F::ReferenceReturn]),
+                codes(&[F::Absolute]),
+                if lex.return_all_without_axes {
+                    " (bare: all)"
+                } else {
+                    ""
+                }
+            ),
+            Some(ReturnForm::MachineAxes { x, z }) => {
+                format!("{} {x}=0 {z}=0", codes(&[F::ReferenceReturn]))
+            }
+            None => "—".into(),
+        },
+        "tool" => match lex.tool {
+            ToolForm::Combined { .. } => "T0101 (tool, offset)".into(),
+            ToolForm::Single => "T4 (its own offset)".into(),
+            ToolForm::ToolAndEdge => "T7 D1 (edge 1: its offset)".into(),
+            ToolForm::ChangeAndOffset => format!(
+                "T1 {} {} [H] / {}",
+                codes(&[F::ToolChange]),
+                codes(&[F::ToolOffset]),
+                codes(&[F::ToolOffsetOff])
+            ),
+        },
+        "spindle cw / ccw / stop" => codes(&[F::SpindleCw, F::SpindleCcw, F::SpindleStop]),
+        "coolant on / mist / off" => codes(&[F::CoolantOn, F::MistOn, F::CoolantOff]),
+        "end / end and rewind" => codes(&[F::End, F::EndRewind]),
+        "stop / optional stop" => codes(&[F::Stop, F::OptionalStop]),
+        "cycle settings (carried by the jobs)" => codes(&[F::CycleSetting]),
+        "thread move's lead words" => {
+            let w = String::from_utf8_lossy(lex.thread_words).to_string();
+            let mut all: Vec<String> = w.chars().map(|c| c.to_string()).collect();
+            all.extend(lex.thread_settings.iter().map(|s| format!("{s}=")));
+            if all.is_empty() {
+                "—".into()
+            } else {
+                all.join(" ")
+            }
+        }
+        "O program numbers / N / %" => format!(
+            "{} / {} / {}",
+            if lex.program_number { "yes" } else { "no" },
+            if lex.sequence_numbers { "yes" } else { "no" },
+            if lex.delimiters { "yes" } else { "no" }
+        ),
+        _ => unreachable!(),
+    }
+}
+
+const LEXICON_BEGIN: &str = "<!-- lexicon:begin (tests/convert.rs writes this table) -->";
+const LEXICON_END: &str = "<!-- lexicon:end -->";
+
+/// The table of every controller's lexicon in docs/translation.md is the lexicons themselves.
+#[test]
+fn the_lexicon_table_is_the_dialects_lexicons() {
+    let rows = [
+        "inch / mm",
+        "absolute / incremental",
+        "X diameter / radius",
+        "planes XY / ZX / YZ",
+        "feed per minute / revolution",
+        "feed mode at power-on",
+        "surface speed / rpm",
+        "spindle limit",
+        "compensation off / left / right",
+        "work offsets",
+        "thread move",
+        "thread move's lead words",
+        "dwell",
+        "set position",
+        "reference return",
+        "tool",
+        "spindle cw / ccw / stop",
+        "coolant on / mist / off",
+        "end / end and rewind",
+        "stop / optional stop",
+        "cycle settings (carried by the jobs)",
+        "O program numbers / N / %",
+    ];
+    let machines: Vec<Machine> = BUILT_IN
+        .iter()
+        .map(|(n, _)| Machine::built_in(n).unwrap())
+        .collect();
+    let dialects: Vec<_> = machines.iter().map(|m| dialect::open(m).unwrap()).collect();
+    let mut table = format!(
+        "| | {} |\n|---|{}\n",
+        machines
+            .iter()
+            .map(|m| m.name.as_str())
+            .collect::<Vec<_>>()
+            .join(" | "),
+        "---|".repeat(machines.len())
+    );
+    for row in rows {
+        let cells: Vec<String> = dialects
+            .iter()
+            .map(|d| lexicon_cell(d.lexicon(), row))
+            .collect();
+        table.push_str(&format!("| {row} | {} |\n", cells.join(" | ")));
+    }
+    let doc_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/translation.md");
+    let doc = std::fs::read_to_string(&doc_path).unwrap();
+    let (Some(b), Some(e)) = (doc.find(LEXICON_BEGIN), doc.find(LEXICON_END)) else {
+        panic!("docs/translation.md has no lexicon block:\n{LEXICON_BEGIN}\n{table}{LEXICON_END}");
+    };
+    if doc[b + LEXICON_BEGIN.len()..e].trim() != table.trim() {
+        if std::env::var_os("THREADCUT_BLESS").is_some() {
+            let new = format!("{}{LEXICON_BEGIN}\n{table}{}", &doc[..b], &doc[e..]);
+            std::fs::write(&doc_path, new).unwrap();
+        } else {
+            panic!("docs/translation.md's lexicon table is out of date (THREADCUT_BLESS=1 rewrites it):\n{table}");
+        }
+    }
+}
+
+fn conv(src: &str, from: &str, to: &str) -> Result<String, threadcut::diag::Diagnostic> {
+    convert::convert_text(
+        src,
+        &Machine::built_in(from).unwrap(),
+        &Machine::built_in(to).unwrap(),
+        &Default::default(),
+    )
+}
+
+/// The converted program without its header (the comment and the block of modes).
+fn body(text: &str) -> String {
+    text.lines()
+        .skip_while(|l| l.starts_with('%'))
+        .skip(2)
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Tools in each controller's form: (tool, offset) read from the source's, written in the target's.
+#[test]
+fn tools_are_rewritten_in_the_targets_form() {
+    let src = "G0 X40. Z5.\nT0303\nT0102\nT0100\n";
+    assert_eq!(
+        body(&conv(src, "fanuc", "linuxcnc").unwrap()),
+        "G0 X20. Z5.\nT3 M6 G43\nT1 M6 G43 H2\nT1 M6 G49"
+    );
+    // Sinumerik: the tool's first cutting edge is its own offset; D0 cancels it.
+    assert_eq!(
+        body(&conv("G0 X40. Z5.\nT0303\nT0300\n", "fanuc", "sinumerik").unwrap()),
+        "G0 X40.000 Z5.000\nT3 D1\nT3 D0"
+    );
+    let e = conv(src, "fanuc", "sinumerik").unwrap_err();
+    assert_eq!((e.span.line, e.span.column), (3, 1), "{}", e.message);
+    assert!(e.message.contains("tool 1 with offset 2"), "{}", e.message);
+    // LinuxCNC's T prepares, M6 changes, G43 applies: one Fanuc call.
+    assert_eq!(
+        body(&conv("G8\nG0 X20 Z5\nT3\nM6\nG43\nG49\n", "linuxcnc", "fanuc").unwrap()),
+        "G0 X40. Z5.\nT0300\nT0303\nT0300"
+    );
+    // Sinumerik T7 D1 and Haas T505 are Fanuc's T0707 and T0505; OmniTurn's T4 is T0404.
+    assert!(conv("N20 T7 D1\n", "sinumerik", "fanuc")
+        .unwrap()
+        .contains("\nN20 T0707\n"));
+    assert!(conv("T505\n", "haas", "fanuc")
+        .unwrap()
+        .contains("\nT0505\n"));
+    assert!(conv("T4\n", "omniturn", "fanuc")
+        .unwrap()
+        .contains("\nT0404\n"));
+}
+
+/// Dwells, spindle limits, surface speeds and units: each in the target's words.
+#[test]
+fn dwell_spindle_and_units_in_the_targets_words() {
+    // Fanuc's G4 X (seconds) or P (milliseconds) is LinuxCNC's G4 P (seconds), Sinumerik's G4 F.
+    let src = "G4 X1.5\nG4 P2500\n";
+    assert_eq!(
+        body(&conv(src, "fanuc", "linuxcnc").unwrap()),
+        "G4 P1.5\nG4 P2.5"
+    );
+    assert_eq!(
+        body(&conv(src, "fanuc", "sinumerik").unwrap()),
+        "G4 F1.5\nG4 F2.5"
+    );
+    // The spindle limit: a code with S, a setting, or D on LinuxCNC's next G96.
+    let src = "G50 S2000\nG96 S180 M3\n";
+    assert_eq!(
+        body(&conv(src, "fanuc", "fanuc-b").unwrap()),
+        "G92 S2000\nG96 S180 M3"
+    );
+    assert_eq!(
+        body(&conv(src, "fanuc", "sinumerik").unwrap()),
+        "LIMS=2000\nG96 S180 M3"
+    );
+    assert_eq!(
+        body(&conv(src, "fanuc", "linuxcnc").unwrap()),
+        "(spindle limit 2000 rpm: written on the next constant-surface-speed block, if any)\nG96 D2000 S180 M3"
+    );
+    // Allen-Bradley has no spindle-limit word in threadcut's lexicon: a comment, and a faster
+    // speed (or constant surface speed) after it is refused.
+    let ab = conv("G50 S2000\nG97 S1500 M3\n", "fanuc", "ab9").unwrap();
+    assert!(ab.contains("(spindle limit 2000 rpm not written"), "{ab}");
+    let e = conv("G50 S2000\nG97 S2500 M3\n", "fanuc", "ab9").unwrap_err();
+    assert_eq!((e.span.line, e.span.column), (2, 5), "{}", e.message);
+    let e = conv("G50 S2000\nG96 S200 M3\n", "fanuc", "ab9").unwrap_err();
+    assert_eq!(e.span.line, 2, "{}", e.message);
+    // A surface speed stays in the program's units where the target has them.
+    let css = conv("G21\nG96 S200\n", "fanuc", "linuxcnc").unwrap();
+    assert!(css.ends_with("G21\nG96 S200\n"), "{css}");
+    // Units switch where the target has them.
+    let out = conv("G20\nG0 X1. Z0.5\nG21\nG0 X20. Z5.\n", "fanuc", "linuxcnc").unwrap();
+    assert!(
+        out.ends_with("G20\nG0 X0.5 Z0.5\nG21\nG0 X10. Z5.\n"),
+        "{out}"
+    );
+}
+
+/// Reference returns straight from the tool, set positions that change something, arcs by their
+/// radius; comments and data lines in the target's style.
+#[test]
+fn positions_returns_arcs_and_comments() {
+    // Haas's bare G28 returns every axis (its lexicon says so): Fanuc names both.
+    assert_eq!(
+        body(&conv("G28\n", "haas", "fanuc").unwrap()),
+        "G28 U0. W0."
+    );
+    assert_eq!(
+        body(&conv("G28 U0. W0.\n", "fanuc", "sinumerik").unwrap()),
+        "G74 X1=0 Z1=0"
+    );
+    // A Fanuc G28 with no axis returns none: nothing to write.
+    assert_eq!(body(&conv("G28\n", "fanuc", "haas").unwrap()), "");
+    // An absolute intermediate point where the tool is counts as straight from it.
+    assert_eq!(
+        body(&conv("G0 X40. Z5.\nG28 X40.\n", "fanuc", "gsk980").unwrap()),
+        "G0 X40. Z5.\nG28 U0."
+    );
+    // Setting the coordinates the tool already has is no change; others are written.
+    assert_eq!(
+        body(
+            &conv(
+                "G0 X40. Z5.\nG50 X40. Z5.\nG50 X50. Z5.\n",
+                "fanuc",
+                "linuxcnc"
+            )
+            .unwrap()
+        ),
+        "G0 X20. Z5.\nG92 X25. Z5."
+    );
+    // Arcs by radius; centre words are refused at the word.
+    assert_eq!(
+        body(&conv("G0 X20. Z0.\nG2 X24. Z-2. R2. F0.1\n", "fanuc", "linuxcnc").unwrap()),
+        "G0 X10. Z0.\nG2 X12. Z-2. R2. F0.1"
+    );
+    let e = conv("G0 X20. Z0.\nG2 X24. Z-2. I2. K0\n", "fanuc", "linuxcnc").unwrap_err();
+    assert_eq!((e.span.line, e.span.column), (2, 14));
+    // Sinumerik's parameters become comments; their values are in the converted cycle.
+    let out = conv(
+        "R1=2 ; lead\nDEF REAL D=1.2\nT1 D1\nG0 X40 Z5\nCYCLE97(R1,,0,-20,30,30,2,2,D,0,0,0,4,0,1,1)\n",
+        "sinumerik",
+        "fanuc",
+    )
+    .unwrap();
+    assert!(
+        out.contains("\n(R1=2 ; lead)\n(DEF REAL D=1.2)\nT0101\n"),
+        "{out}"
+    );
+    // A canned cycle other than threading is not converted.
+    let e = conv("G0 X40. Z5.\nG90 X38. Z-20. F0.2\n", "fanuc", "linuxcnc").unwrap_err();
+    assert!(
+        e.message.contains("canned cycle other than threading"),
+        "{}",
+        e.message
+    );
+}
