@@ -707,3 +707,104 @@ fn positions_returns_arcs_and_comments() {
         e.message
     );
 }
+
+/// A program with control flow (subroutines, loops, parameters): the same profile keeps its text
+/// as it is; another controller — even one with the same macro language — needs `--flatten`
+/// (`program::Options::flatten`), which converts the executed program (the matrix reads each
+/// such conversion back); without it the conversion stops at the program's first line of
+/// control flow and says why (docs/translation.md, "Programs with control flow").
+#[test]
+fn programs_with_control_flow_need_flatten() {
+    let mut seen = 0;
+    for (name, controller, text) in examples() {
+        let from = Machine::built_in(controller).unwrap();
+        let run = program::run(text.as_bytes(), &from, |_, _| Ok(())).unwrap();
+        let Some(line) = run.interpreted_from else {
+            continue;
+        };
+        seen += 1;
+        let header = format!("(threadcut convert: {controller} to {controller})\n");
+        let same = convert::convert_text(&text, &from, &from, &Default::default()).unwrap();
+        assert_eq!(same.replacen(&header, "", 1), text, "{name}");
+        for (target, _) in BUILT_IN.iter().filter(|(t, _)| *t != controller) {
+            let to = Machine::built_in(target).unwrap();
+            let e = convert::convert_text(&text, &from, &to, &Default::default()).unwrap_err();
+            assert_eq!(e.span.line, line, "{name} → {target}: {}", e.message);
+            assert!(
+                e.message
+                    .contains(&format!("control flow from line {line} on"))
+                    && e.message
+                        .ends_with(&format!("does not rewrite for {target}")),
+                "{name} → {target}: {}",
+                e.message
+            );
+            assert!(e.hint.as_deref().unwrap_or("").contains("--flatten"));
+        }
+    }
+    assert!(seen >= 5, "the bundled macro examples: {seen}");
+    // Control flow from the first line on: the header still comes first (after a `%`).
+    for src in ["#1=20\nG0 X#1 Z1.\nM30\n", "%\n#1=20\nG0 X#1 Z1.\nM30\n%\n"] {
+        let same = conv(src, "fanuc", "fanuc").unwrap();
+        let header = "(threadcut convert: fanuc to fanuc)\n";
+        assert_eq!(
+            same,
+            match src.strip_prefix("%\n") {
+                Some(rest) => format!("%\n{header}{rest}"),
+                None => format!("{header}{src}"),
+            }
+        );
+    }
+    // The same macro language is no exception: Fanuc's loop for Haas, which runs Custom Macro B
+    // too, is converted only as executed.
+    let loop_ = "G21 G99\nG0 X26. Z5.\n#5=1\nWHILE[#5LE3]DO1\nG92 X[24.-#5*0.3] Z-20. F1.5\n#5=#5+1\nEND1\nM30\n";
+    let e = conv(loop_, "fanuc", "haas").unwrap_err();
+    assert_eq!(e.span.line, 3);
+    let flat = convert::convert_text(
+        loop_,
+        &Machine::built_in("fanuc").unwrap(),
+        &Machine::built_in("haas").unwrap(),
+        &program::Options {
+            flatten: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        body(&flat),
+        "G21 G99\nG0 X26. Z5.\nG92 X23.7 Z-20. F1.5\nG92 X23.4 Z-20. F1.5\nG92 X23.1 Z-20. F1.5\nM30",
+        "{flat}"
+    );
+}
+
+/// The lines after the program's end are not run: for another controller its blank lines,
+/// comments (in the target's form) and delimiters are kept, a line with words is an error
+/// (nothing says what it means), and `--flatten`, which writes only what runs, leaves it out.
+#[test]
+fn lines_after_the_end_keep_their_comments_only() {
+    let src = "G0 X20. Z5.\nM30\n\n(SPARE)\n%\n";
+    assert_eq!(
+        body(&conv(src, "fanuc", "sinumerik").unwrap()),
+        "G0 X20.000 Z5.000\nM30\n\n; SPARE"
+    );
+    assert!(conv(src, "fanuc", "linuxcnc")
+        .unwrap()
+        .ends_with("M30\n\n(SPARE)\n%\n"));
+    let after = "G0 X20. Z5.\nM30\nG0 X30.\n";
+    let e = conv(after, "fanuc", "linuxcnc").unwrap_err();
+    assert!(
+        e.message.contains("`G0 X30.` follows the program's end"),
+        "{}",
+        e.message
+    );
+    let flat = convert::convert_text(
+        after,
+        &Machine::built_in("fanuc").unwrap(),
+        &Machine::built_in("linuxcnc").unwrap(),
+        &program::Options {
+            flatten: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(flat.ends_with("M30\n"), "{flat}");
+}
