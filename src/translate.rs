@@ -10,7 +10,7 @@
 
 use std::io::{self, Write};
 
-use crate::convert::lexicon::Function;
+use crate::convert::lexicon::{Function, Meanings};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{self, Dialect, Read};
 use crate::gcode::{Modal, MotionMode, Reader};
@@ -55,7 +55,7 @@ pub fn write_job(
         Err(why) => why,
     };
     let format = d.format();
-    if !d.lexicon().has(Function::Thread) {
+    if !Meanings::of(d.as_ref()).has(Function::Thread) {
         return Err(Diagnostic::error(
             Code::Unsupported,
             job.span,

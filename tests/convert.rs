@@ -118,7 +118,7 @@ fn differs(a: &[Move], b: &[Move], pos: f64, lead: f64) -> Option<String> {
 /// coarsest lead step.
 fn tolerances(to: &Machine) -> (f64, f64) {
     let d = dialect::open(to).unwrap();
-    let lex = d.lexicon();
+    let lex = threadcut::convert::lexicon::Meanings::of(d.as_ref());
     let units = [Units::Mm, Units::Inch]
         .into_iter()
         .filter(|u| lex.has_units(*u));
@@ -291,7 +291,7 @@ fn posted_programs_state_units_and_feed_mode_for_every_controller() {
     for (name, _) in BUILT_IN {
         let m = Machine::built_in(name).unwrap();
         let d = dialect::open(&m).unwrap();
-        let lex = d.lexicon();
+        let lex = threadcut::convert::lexicon::Meanings::of(d.as_ref());
         let mut out = Vec::new();
         threadcut::apt::post::write(cl.as_bytes(), &mut out, &m).unwrap();
         let text = String::from_utf8(out).unwrap();
@@ -344,7 +344,7 @@ fn posted_programs_state_units_and_feed_mode_for_every_controller() {
 }
 
 /// One controller's words for a row of the lexicon table.
-fn lexicon_cell(lex: &threadcut::convert::lexicon::Lexicon, row: &str) -> String {
+fn lexicon_cell(lex: &threadcut::convert::lexicon::Meanings, row: &str) -> String {
     use threadcut::convert::lexicon::{
         DwellForm, Function as F, LimitForm, Plane, ReturnForm, ToolForm,
     };
@@ -352,9 +352,7 @@ fn lexicon_cell(lex: &threadcut::convert::lexicon::Lexicon, row: &str) -> String
         let all: Vec<String> = fs
             .iter()
             .map(|f| {
-                lex.codes
-                    .iter()
-                    .flat_map(|g| g.iter())
+                lex.entries()
                     .filter(|(_, g)| g == f)
                     .map(|(c, _)| c.text())
                     .collect::<Vec<_>>()
@@ -533,7 +531,7 @@ fn the_lexicon_table_is_the_dialects_lexicons() {
     for row in rows {
         let cells: Vec<String> = dialects
             .iter()
-            .map(|d| lexicon_cell(d.lexicon(), row))
+            .map(|d| lexicon_cell(&threadcut::convert::lexicon::Meanings::of(d.as_ref()), row))
             .collect();
         table.push_str(&format!("| {row} | {} |\n", cells.join(" | ")));
     }

@@ -9,7 +9,7 @@
 
 use std::io::{BufRead, Write};
 
-use crate::convert::lexicon::{Code as LexCode, Function, Lexicon, Plane};
+use crate::convert::lexicon::{Code as LexCode, Function, Meanings, Plane};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect;
 use crate::machine::Machine;
@@ -34,7 +34,7 @@ pub fn write<R: BufRead>(
     let out = &mut crate::eol::Writer::new(out, ending);
     let d = dialect::open(target).map_err(Error::Setup)?;
     let format = d.format();
-    let lexicon = d.lexicon();
+    let lexicon = Meanings::of(d.as_ref());
     let units = target.units;
     let mut at: Option<Pos> = None;
     // The feed (target units per minute or per revolution) and whether the F register holds it.
@@ -49,7 +49,7 @@ pub fn write<R: BufRead>(
     )) {
         writeln!(out, "{c}")?;
     }
-    if let Some(h) = header(lexicon, target) {
+    if let Some(h) = header(&lexicon, target) {
         writeln!(out, "{h}")?;
     }
     let m_code = |f: Function| -> std::result::Result<String, Error> {
@@ -166,7 +166,7 @@ pub fn write<R: BufRead>(
 /// The block that states what a posted program relies on, in the target's codes: its units (the
 /// profile's), absolute distances, X on diameter or radius (the profile's), the ZX plane, feed per
 /// revolution and the spindle speed in rpm. `None` for a control with none of these codes.
-pub fn header(lexicon: &Lexicon, target: &Machine) -> Option<String> {
+pub fn header(lexicon: &Meanings, target: &Machine) -> Option<String> {
     let states = [
         Function::Units(target.units),
         Function::Absolute,

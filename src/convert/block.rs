@@ -6,7 +6,7 @@ use crate::dialect::Dialect;
 use crate::gcode::reader::g_code;
 use crate::gcode::{Line, Modal, MotionMode, Word};
 
-use super::lexicon::{Code, DwellForm, Function, Lexicon, LimitForm, Term, ToolForm};
+use super::lexicon::{Code, DwellForm, Function, Lexicon, LimitForm, Meanings, Term, ToolForm};
 
 /// An axis word of the block (its value comes from the modal state, which has applied it).
 #[derive(Clone, Copy, Debug)]
@@ -79,7 +79,7 @@ impl Block {
 /// What conversion needs of the source controller.
 pub struct Source<'a> {
     pub name: &'a str,
-    pub lexicon: &'static Lexicon,
+    pub meanings: Meanings,
     pub dialect: &'a dyn Dialect,
     /// U/W are incremental X/Z.
     pub uw_incremental: bool,
@@ -117,7 +117,7 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
     } else {
         line.words
     };
-    let lex = src.lexicon;
+    let lex = &src.meanings;
     // The block's codes first: a dwell, a thread move and a spindle limit decide what other
     // words mean.
     for w in words {
@@ -315,7 +315,7 @@ fn tool_word(form: ToolForm, w: &Word) -> Result<ToolTerm> {
 /// The terms of a line in the source's own syntax: address words come back for the shared loop;
 /// keywords, named tools, settings and machine axes are read here.
 fn own_terms(terms: Vec<Term>, src: &mut Source, block: &mut Block) -> Result<Vec<Word>> {
-    let lex = src.lexicon;
+    let lex = &src.meanings;
     let mut words = Vec::new();
     for t in terms {
         match t {

@@ -7,6 +7,8 @@
 //! ISO 6983-1 where the controller's list is not public and the dialect's page says so). A
 //! function a target's lexicon does not have is a refusal naming the target, never a guess.
 
+use crate::dialect::Dialect;
+use crate::gcode::modal::Reference;
 use crate::units::Units;
 
 /// A code as written: `G21`, `M30`, or a word of its own (`DIAMON`).
@@ -225,19 +227,25 @@ pub enum ReturnForm {
     MachineAxes { x: &'static str, z: &'static str },
 }
 
-/// What a controller's codes and words mean.
+/// What a controller's codes and words mean, besides what its reader's [`Conventions`](crate::gcode::Conventions) state
+/// already ([`Meanings`] joins the two).
 #[derive(Debug)]
 pub struct Lexicon {
     /// Every code with its function, in groups (a list shared by several controllers, then each
     /// controller's own). A code may appear with two functions told apart by the block's words
-    /// (`G50 X Z` sets the position, `G50 S` the spindle limit).
+    /// (`G50 X Z` sets the position, `G50 S` the spindle limit). The reference return, the work
+    /// coordinate systems and the code that sets the position are not listed: they are the
+    /// dialect's [`Conventions`](crate::gcode::Conventions) (its `positions` and `set_position`), stated once for reading
+    /// and converting alike.
     pub codes: &'static [&'static [(Code, Function)]],
     pub tool: ToolForm,
     pub dwell: Option<DwellForm>,
     pub spindle_limit: Option<LimitForm>,
     pub reference: Option<ReturnForm>,
-    /// A return code without axis words returns every axis (LinuxCNC, Haas); otherwise none.
-    pub return_all_without_axes: bool,
+    /// The code that sets the position ([`Conventions::set_position`](crate::gcode::Conventions::set_position)) only restates the
+    /// coordinates the tool has, which it must equal (OmniTurn's `G92` after `G35`/`G36`): no
+    /// effect on motion, and no code to set the position with.
+    pub restates_position: bool,
     /// `O…` numbers the program (Fanuc family); elsewhere O is program flow or nothing.
     pub program_number: bool,
     /// `N…` sequence numbers.
@@ -255,9 +263,62 @@ pub struct Lexicon {
     pub only_units: Option<Units>,
 }
 
-impl Lexicon {
-    fn entries(&self) -> impl Iterator<Item = &(Code, Function)> {
-        self.codes.iter().flat_map(|g| g.iter())
+/// A controller's meanings for conversion: its [`Lexicon`], with the codes its reader's
+/// [`Conventions`](crate::gcode::Conventions) state — the return to the (first) reference point
+/// ([`PositionCodes::returns`](crate::gcode::modal::PositionCodes)), the work coordinate systems
+/// G54–G59 among its `work_systems`, the code that sets (or restates) the position
+/// ([`Conventions::set_position`](crate::gcode::Conventions::set_position)) — and whether a return without axis words returns every axis
+/// (`PositionCodes::all_without_axes`). So each of these is one statement per dialect, which the
+/// modal reader and conversion both read.
+#[derive(Debug)]
+pub struct Meanings {
+    lexicon: &'static Lexicon,
+    /// The codes the conventions give a function, after the lexicon's own.
+    positions: Vec<(Code, Function)>,
+    /// A return code without axis words returns every axis (LinuxCNC, Haas); otherwise none.
+    pub return_all_without_axes: bool,
+}
+
+impl Meanings {
+    /// The meanings of `dialect`'s codes.
+    pub fn of(dialect: &dyn Dialect) -> Meanings {
+        let lexicon = dialect.lexicon();
+        let conv = dialect.conventions();
+        let p = &conv.positions;
+        let mut positions = Vec::new();
+        if let Some(&(c, _)) = p.returns.iter().find(|(_, r)| *r == Reference::First) {
+            positions.push((Code::G(c), Function::ReferenceReturn));
+        }
+        for n in 1..=6u8 {
+            let c = 530 + 10 * u16::from(n);
+            if p.work_systems.contains(&c) {
+                positions.push((Code::G(c), Function::WorkOffset(n)));
+            }
+        }
+        if conv.set_position != 0 {
+            positions.push((
+                Code::G(conv.set_position),
+                if lexicon.restates_position {
+                    Function::RestatePosition
+                } else {
+                    Function::SetPosition
+                },
+            ));
+        }
+        Meanings {
+            lexicon,
+            positions,
+            return_all_without_axes: p.all_without_axes,
+        }
+    }
+
+    /// Every code with its function: the lexicon's, then the conventions'.
+    pub fn entries(&self) -> impl Iterator<Item = &(Code, Function)> {
+        self.lexicon
+            .codes
+            .iter()
+            .flat_map(|g| g.iter())
+            .chain(self.positions.iter())
     }
 
     /// The functions of a code, in the order listed.
@@ -279,10 +340,18 @@ impl Lexicon {
 
     /// Whether a program can be written in `units`.
     pub fn has_units(&self, units: Units) -> bool {
-        match self.only_units {
+        match self.lexicon.only_units {
             Some(only) => only == units,
             None => self.has(Function::Units(units)),
         }
+    }
+}
+
+/// The lexicon's forms and flags (`tool`, `dwell`, `thread_words` …).
+impl std::ops::Deref for Meanings {
+    type Target = Lexicon;
+    fn deref(&self) -> &Lexicon {
+        self.lexicon
     }
 }
 
@@ -352,7 +421,7 @@ pub const MOTION: &[(Code, Function)] = &[
 /// `G4`, the dwell (its time word is the lexicon's [`DwellForm`]).
 pub const DWELL: &[(Code, Function)] = &[(Code::G(40), Function::Dwell)];
 
-/// `G17`–`G19`, `G40`–`G42`, `G54`–`G59`, `G96`/`G97`: the same on every control that has them.
+/// `G17`–`G19`: the same on every control that has them.
 pub const PLANES: &[(Code, Function)] = &[
     (Code::G(170), Function::Plane(Plane::Xy)),
     (Code::G(180), Function::Plane(Plane::Zx)),
@@ -364,16 +433,6 @@ pub const COMPENSATION: &[(Code, Function)] = &[
     (Code::G(400), Function::CompensationOff),
     (Code::G(410), Function::CompensationLeft),
     (Code::G(420), Function::CompensationRight),
-];
-
-/// Work coordinate systems G54–G59.
-pub const WORK_OFFSETS: &[(Code, Function)] = &[
-    (Code::G(540), Function::WorkOffset(1)),
-    (Code::G(550), Function::WorkOffset(2)),
-    (Code::G(560), Function::WorkOffset(3)),
-    (Code::G(570), Function::WorkOffset(4)),
-    (Code::G(580), Function::WorkOffset(5)),
-    (Code::G(590), Function::WorkOffset(6)),
 ];
 
 /// Constant surface speed and rpm.
@@ -411,7 +470,7 @@ mod tests {
         for (name, _) in crate::machine::BUILT_IN {
             let m = crate::machine::Machine::built_in(name).unwrap();
             let d = crate::dialect::open(&m).unwrap();
-            let lex = d.lexicon();
+            let lex = Meanings::of(d.as_ref());
             for (code, f) in lex.entries() {
                 if let Code::G(c) = code {
                     assert!(

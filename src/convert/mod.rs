@@ -68,7 +68,7 @@ pub fn convert<R: BufRead>(
     let conv = source_dialect.conventions().clone();
     let src = Source {
         name: &from.name,
-        lexicon: source_dialect.lexicon(),
+        meanings: lexicon::Meanings::of(source_dialect.as_ref()),
         dialect: source_dialect.as_ref(),
         uw_incremental: conv.uw_incremental,
         canned_cycles: conv.canned_cycles,
@@ -89,7 +89,7 @@ pub fn convert<R: BufRead>(
             from,
             to,
             target.as_ref(),
-            src.lexicon,
+            &src.meanings,
         )?))
     };
     let mut conversion = Conversion {

@@ -16,7 +16,7 @@ use crate::translate::{self, Written};
 use crate::units::Units;
 
 use super::block::{Axis, Block, ToolTerm};
-use super::lexicon::{Code, DwellForm, Function, Lexicon, LimitForm, Plane, ReturnForm, ToolForm};
+use super::lexicon::{Code, DwellForm, Function, LimitForm, Meanings, Plane, ReturnForm, ToolForm};
 use super::Report;
 
 /// Feet in a metre: a surface speed in m/min is 3.28084 ft/min.
@@ -25,7 +25,7 @@ const FEET_PER_METRE: f64 = 1000.0 / 304.8;
 pub(super) struct Writer<'o, 'm> {
     out: &'o mut dyn Write,
     to: &'m Machine,
-    tlex: &'static Lexicon,
+    tlex: Meanings,
     format: Format,
     /// Lines written before the first line that is not a `%` delimiter.
     header: Option<Vec<String>>,
@@ -87,9 +87,9 @@ impl<'o, 'm> Writer<'o, 'm> {
         from: &'m Machine,
         to: &'m Machine,
         target: &dyn Dialect,
-        source_lexicon: &'static Lexicon,
+        source: &Meanings,
     ) -> Result<Writer<'o, 'm>, Error> {
-        let tlex = target.lexicon();
+        let tlex = Meanings::of(target);
         let format = target.format();
         let out_units = if tlex.has_units(from.units) {
             from.units
@@ -106,7 +106,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                 Function::Radius
             },
             Function::Plane(Plane::Zx),
-            source_lexicon.power_on_feed,
+            source.power_on_feed,
             Function::Rpm,
         ];
         let codes: Vec<String> = states
@@ -120,7 +120,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                 from.name,
                 to.name,
                 out_units.name(),
-                source_lexicon.power_on_feed.describe()
+                source.power_on_feed.describe()
             ))
             .into_iter()
             .collect();
@@ -143,8 +143,8 @@ impl<'o, 'm> Writer<'o, 'm> {
             css: false,
             unstated_limit: None,
             pending_limit: None,
-            source_tool: source_lexicon.tool,
-            source_returns_all: source_lexicon.return_all_without_axes,
+            source_tool: source.tool,
+            source_returns_all: source.return_all_without_axes,
             report: Report::default(),
         })
     }
@@ -671,7 +671,7 @@ impl<'o, 'm> Writer<'o, 'm> {
         let axes = if named.iter().any(|n| *n) {
             named
         } else if self.source_returns_all {
-            // A bare return: every axis where that is the source's rule (its lexicon's).
+            // A bare return: every axis where that is the source's rule (its conventions').
             [true, true]
         } else {
             return Ok(());

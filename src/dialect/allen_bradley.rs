@@ -35,7 +35,7 @@ pub static LEXICON: Lexicon = Lexicon {
     codes: &[
         lexicon::MOTION,
         lexicon::G20_G21,
-        &[(C::G(330), F::Thread), (C::G(920), F::SetPosition)],
+        &[(C::G(330), F::Thread)],
         lexicon::COMPENSATION,
         lexicon::G90_G91,
         lexicon::G94_G95,
@@ -46,7 +46,7 @@ pub static LEXICON: Lexicon = Lexicon {
     dwell: None,
     spindle_limit: None,
     reference: None,
-    return_all_without_axes: false,
+    restates_position: false,
     program_number: false,
     sequence_numbers: true,
     delimiters: false,

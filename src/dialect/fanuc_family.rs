@@ -1714,15 +1714,12 @@ pub static LEXICON_A: Lexicon = Lexicon {
         lexicon::PLANES,
         lexicon::G20_G21,
         &[
-            (G::G(280), Function::ReferenceReturn),
             (G::G(320), Function::Thread),
-            (G::G(500), Function::SetPosition),
             (G::G(500), Function::SpindleLimit),
             (G::G(980), Function::FeedPerMinute),
             (G::G(990), Function::FeedPerRevolution),
         ],
         lexicon::COMPENSATION,
-        lexicon::WORK_OFFSETS,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
     ],
@@ -1739,7 +1736,6 @@ pub static LEXICON_B: Lexicon = Lexicon {
         lexicon::G20_G21,
         SYSTEM_B_C,
         lexicon::COMPENSATION,
-        lexicon::WORK_OFFSETS,
         lexicon::G90_G91,
         lexicon::G94_G95,
         lexicon::SPINDLE_MODES,
@@ -1760,7 +1756,6 @@ pub static LEXICON_C: Lexicon = Lexicon {
         ],
         SYSTEM_B_C,
         lexicon::COMPENSATION,
-        lexicon::WORK_OFFSETS,
         lexicon::G90_G91,
         lexicon::G94_G95,
         lexicon::SPINDLE_MODES,
@@ -1771,9 +1766,7 @@ pub static LEXICON_C: Lexicon = Lexicon {
 
 /// The codes systems B and C share that differ from A's.
 const SYSTEM_B_C: &[(G, Function)] = &[
-    (G::G(280), Function::ReferenceReturn),
     (G::G(330), Function::Thread),
-    (G::G(920), Function::SetPosition),
     (G::G(920), Function::SpindleLimit),
 ];
 
@@ -1787,7 +1780,7 @@ pub const FANUC_LEXICON: Lexicon = Lexicon {
     dwell: Some(DwellForm::XSecondsOrPMilliseconds),
     spindle_limit: Some(LimitForm::Code),
     reference: Some(ReturnForm::IncrementalWords { x: b'U', z: b'W' }),
-    return_all_without_axes: false,
+    restates_position: false,
     program_number: true,
     sequence_numbers: true,
     delimiters: true,

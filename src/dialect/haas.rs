@@ -113,9 +113,7 @@ pub static LEXICON: Lexicon = Lexicon {
         lexicon::PLANES,
         lexicon::G20_G21,
         &[
-            (C::G(280), F::ReferenceReturn),
             (C::G(320), F::Thread),
-            (C::G(500), F::SetPosition),
             (C::G(500), F::SpindleLimit),
             (C::G(980), F::FeedPerMinute),
             (C::G(990), F::FeedPerRevolution),
@@ -123,12 +121,10 @@ pub static LEXICON: Lexicon = Lexicon {
             (C::M(24), F::CycleSetting),
         ],
         lexicon::COMPENSATION,
-        lexicon::WORK_OFFSETS,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
     ],
     dwell: Some(DwellForm::PSecondsOrMilliseconds),
-    return_all_without_axes: true,
     thread_words: b"FEQ",
     ..fanuc_family::FANUC_LEXICON
 };
