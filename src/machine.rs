@@ -229,6 +229,21 @@ impl Machine {
             .map(|(_, text)| Machine::from_toml(text).expect("built-in profiles are tested"))
     }
 
+    /// The names of the built-in profiles, in the order of [`BUILT_IN`].
+    pub fn names() -> Vec<&'static str> {
+        BUILT_IN.iter().map(|(n, _)| *n).collect()
+    }
+
+    /// A built-in profile by name; the error names the built-in ones.
+    pub fn named(name: &str) -> Result<Machine, String> {
+        Machine::built_in(name).ok_or_else(|| {
+            format!(
+                "unknown controller `{name}` (built in: {})",
+                Machine::names().join(", ")
+            )
+        })
+    }
+
     pub fn from_toml(text: &str) -> Result<Machine, toml::de::Error> {
         toml::from_str(text)
     }
@@ -278,6 +293,17 @@ mod tests {
         assert_eq!(m.decimals(Units::Inch), 4);
         m.increment_system = IncrementSystem::Isc;
         assert_eq!(m.resolution(Units::Mm), 1e-4);
+    }
+
+    #[test]
+    fn named_profiles_and_the_error_that_lists_them() {
+        assert_eq!(Machine::named("haas").unwrap().name, "haas");
+        let e = Machine::named("gsk").unwrap_err();
+        assert!(
+            e.starts_with("unknown controller `gsk` (built in: gsk980, "),
+            "{e}"
+        );
+        assert_eq!(Machine::names().len(), BUILT_IN.len());
     }
 
     #[test]

@@ -16,9 +16,10 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+use threadcut::commands::{self, Source};
 use threadcut::diag::Diagnostic;
-use threadcut::machine::{Machine, BUILT_IN};
-use threadcut::program::{self, Error, Summary};
+use threadcut::machine::Machine;
+use threadcut::program::{Error, Summary};
 
 #[derive(Parser)]
 #[command(
@@ -288,14 +289,13 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
         }
         Command::Controllers => {
             let mut out = io::stdout().lock();
-            for (name, _) in BUILT_IN {
-                let m = Machine::built_in(name).expect("built-in profiles parse");
-                writeln!(out, "{name:<12} {}", m.description).map_err(io_failure)?;
-            }
-            for (name, _) in threadcut::mill::profile::BUILT_IN {
-                let m = threadcut::mill::profile::MillProfile::built_in(name)
-                    .expect("built-in profiles parse");
-                writeln!(out, "{name:<14} (mill) {}", m.description).map_err(io_failure)?;
+            for c in commands::controllers() {
+                let (name, description) = (c.name, &c.description);
+                match c.kind {
+                    commands::Kind::Lathe => writeln!(out, "{name:<12} {description}"),
+                    commands::Kind::Mill => writeln!(out, "{name:<14} (mill) {description}"),
+                }
+                .map_err(io_failure)?;
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -306,20 +306,23 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             format,
         } => {
             let mut input = open_input(&file)?;
-            if post::is_apt(&file, &mut input) {
-                match format {
-                    ExpandFormat::Jsonl => post::expand_jsonl(&file, input, output.as_deref())?,
-                    ExpandFormat::Gcode => {
-                        let machine = load_machine(&machine)?;
-                        post::post(&file, input, &machine, output.as_deref())?
-                    }
-                }
-                return Ok(ExitCode::SUCCESS);
-            }
-            let machine = load_machine(&machine)?;
-            let summary = output::write(&file, output.as_deref(), |out| match format {
-                ExpandFormat::Gcode => program::expand_gcode(input, out, &machine),
-                ExpandFormat::Jsonl => program::expand_jsonl(input, out, &machine),
+            let apt = post::is_apt(&file, &mut input);
+            // APT/CL written as JSON lines needs no controller; posted to G-code it does.
+            let machine = if apt && matches!(format, ExpandFormat::Jsonl) {
+                None
+            } else {
+                Some(load_machine(&machine)?)
+            };
+            let source = match (apt, &machine) {
+                (false, Some(m)) => Source::Gcode(m),
+                _ => Source::Apt(machine.as_ref()),
+            };
+            let format = match format {
+                ExpandFormat::Gcode => commands::ExpandFormat::Gcode,
+                ExpandFormat::Jsonl => commands::ExpandFormat::Jsonl,
+            };
+            let summary = output::write(&file, output.as_deref(), |out| {
+                commands::expand(input, source, format, out)
             })?;
             warn(&file, &summary);
             Ok(ExitCode::SUCCESS)
@@ -387,18 +390,24 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             tool,
         } => {
             let mut input = open_input(&file)?;
-            if post::is_apt(&file, &mut input) {
-                post::passes(&file, input, json, output.as_deref(), tool.tip()?)?;
-                return Ok(ExitCode::SUCCESS);
-            }
-            let machine = load_machine(&machine)?;
+            // APT/CL needs no controller; G-code is read by the controller's dialect.
+            let machine = if post::is_apt(&file, &mut input) {
+                None
+            } else {
+                Some(load_machine(&machine)?)
+            };
+            let source = machine.as_ref().map_or(Source::Apt(None), Source::Gcode);
             let tip = tool.tip()?;
-            let (summary, count) = output::write(&file, output.as_deref(), |out| {
-                passes(input, out, &machine, json, tip)
+            let run = output::write(&file, output.as_deref(), |out| {
+                if json {
+                    commands::passes_json(input, source, tip, out)
+                } else {
+                    passes::text(input, source, tip, out)
+                }
             })?;
-            warn(&file, &summary);
-            if count == 0 {
-                no_thread(&file, &thread_codes(&machine));
+            warn(&file, &run.summary);
+            if run.threads == 0 {
+                no_thread(&file, &commands::thread_codes(source));
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -413,18 +422,12 @@ fn io_failure(e: io::Error) -> Failure {
     }
 }
 
-/// The codes a machine's controller threads with, as `G32, G76, G92`.
-fn thread_codes(machine: &Machine) -> String {
-    threadcut::dialect::open(machine)
-        .map(|d| d.vocabulary().thread_codes())
-        .unwrap_or_default()
-}
-
 /// A program with no thread: said on standard error, naming what the controller threads with.
 fn no_thread(file: &Path, codes: &str) {
     eprintln!(
-        "threadcut: {}: no thread found: no threading cycle and no synchronised move (this controller threads with {codes}; is it the right --controller?)",
-        file.display()
+        "threadcut: {}: {}",
+        file.display(),
+        commands::no_thread(codes)
     );
 }
 
@@ -441,23 +444,11 @@ fn load_machine(args: &MachineArgs) -> Result<Machine, Failure> {
         return Machine::from_toml(&text)
             .map_err(|e| Failure::Usage(format!("{}: {e}", path.display())));
     }
-    let names = || {
-        BUILT_IN
-            .iter()
-            .map(|(n, _)| *n)
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
     match &args.controller {
-        Some(name) => Machine::built_in(name).ok_or_else(|| {
-            Failure::Usage(format!(
-                "unknown controller `{name}` (built in: {})",
-                names()
-            ))
-        }),
+        Some(name) => Machine::named(name).map_err(Failure::Usage),
         None => Err(Failure::Usage(format!(
             "name the controller with --controller (built in: {}) or a profile with --machine",
-            names()
+            Machine::names().join(", ")
         ))),
     }
 }
@@ -469,23 +460,4 @@ fn open_input(file: &Path) -> Result<Box<dyn BufRead>, Failure> {
     let f = File::open(file)
         .map_err(|e| Failure::Usage(format!("cannot open {}: {e}", file.display())))?;
     Ok(Box::new(BufReader::with_capacity(1 << 16, f)))
-}
-
-/// `threadcut passes` on G-code.
-fn passes(
-    input: Box<dyn BufRead>,
-    out: &mut dyn Write,
-    machine: &Machine,
-    json: bool,
-    tip: threadcut::sim::Tip,
-) -> Result<(Summary, u32), Error> {
-    let mut writer = passes::PassesWriter::begin(out, json, tip)?;
-    let mut count = 0;
-    let summary = threadcut::threads::each_gcode(input, machine, None, |t| {
-        count += 1;
-        let decimals = machine.decimals(t.job.units) as usize + 1;
-        writer.thread(out, &t, decimals, "")
-    })?;
-    writer.end(out)?;
-    Ok((summary, count))
 }

@@ -3,11 +3,10 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use threadcut::render;
+use threadcut::commands::{self, Source};
 
 use super::{
-    load_machine, no_thread, open_input, output, post::is_apt, thread_codes, warn, Failure,
-    MachineArgs, ToolArgs,
+    load_machine, no_thread, open_input, output, post::is_apt, warn, Failure, MachineArgs, ToolArgs,
 };
 
 pub fn run(
@@ -19,24 +18,20 @@ pub fn run(
     let tip = tool.tip()?;
     let mut input = open_input(file)?;
     // APT/CL needs no controller; G-code is read by the controller's dialect.
-    let (apt, codes) = if is_apt(file, &mut input) {
-        (None, "THREAD/ON, THREAD/TURN, COUPLE/ON".to_string())
+    let machine = if is_apt(file, &mut input) {
+        None
     } else {
-        let machine = load_machine(machine)?;
-        let codes = thread_codes(&machine);
-        (Some(machine), codes)
+        Some(load_machine(machine)?)
     };
-    let (summary, count) = output::write(file, Some(out), |w| {
-        let (svg, summary, count) = match &apt {
-            None => render::apt_svg(input, tip)?,
-            Some(machine) => render::program_svg(input, machine, tip)?,
-        };
+    let source = machine.as_ref().map_or(Source::Apt(None), Source::Gcode);
+    let run = output::write(file, Some(out), |w| {
+        let (svg, run) = commands::plot_svg(input, source, tip)?;
         w.write_all(svg.as_bytes())?;
-        Ok((summary, count))
+        Ok(run)
     })?;
-    warn(file, &summary);
-    if count == 0 {
-        no_thread(file, &codes);
+    warn(file, &run.summary);
+    if run.threads == 0 {
+        no_thread(file, &commands::thread_codes(source));
     }
     Ok(ExitCode::SUCCESS)
 }

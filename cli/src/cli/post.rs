@@ -1,13 +1,11 @@
-//! `threadcut post FILE.apt --controller C`, and the APT side of `passes` and `expand`.
+//! `threadcut post FILE.apt --controller C`, and telling APT/CL input from G-code.
 
-use std::io::{BufRead, Write};
+use std::io::BufRead;
 use std::path::Path;
 
 use threadcut::apt;
 use threadcut::machine::Machine;
-use threadcut::program::{Error, Summary};
 
-use super::passes::PassesWriter;
 use super::{output, warn, Failure};
 
 /// Whether `input` (not yet consumed) holds APT/CL source.
@@ -26,57 +24,4 @@ pub fn post(
     let summary = output::write(file, out, |w| apt::post::write(input, w, machine))?;
     warn(file, &summary);
     Ok(())
-}
-
-/// `threadcut expand FILE.apt --format jsonl`.
-pub fn expand_jsonl(
-    file: &Path,
-    input: Box<dyn BufRead>,
-    out: Option<&Path>,
-) -> Result<(), Failure> {
-    let summary = output::write(file, out, |w| apt::expand_jsonl(input, w))?;
-    warn(file, &summary);
-    Ok(())
-}
-
-/// `threadcut passes FILE.apt`: the same table and JSON schema as for G-code; X is the CL radius.
-pub fn passes(
-    file: &Path,
-    input: Box<dyn BufRead>,
-    json: bool,
-    out: Option<&Path>,
-    tip: threadcut::sim::Tip,
-) -> Result<(), Failure> {
-    let (summary, count) = output::write(file, out, |w| passes_to(input, w, json, tip))?;
-    warn(file, &summary);
-    if count == 0 {
-        super::no_thread(file, "THREAD/ON, THREAD/TURN, COUPLE/ON");
-    }
-    Ok(())
-}
-
-fn passes_to(
-    input: Box<dyn BufRead>,
-    out: &mut dyn Write,
-    json: bool,
-    tip: threadcut::sim::Tip,
-) -> Result<(Summary, u32), Error> {
-    let mut writer = PassesWriter::begin(out, json, tip)?;
-    let mut count = 0;
-    let summary = threadcut::threads::each_apt(input, |t| {
-        count += 1;
-        let decimals = if t.job.units == threadcut::units::Units::Inch {
-            5
-        } else {
-            4
-        };
-        writer.thread(
-            out,
-            &t,
-            decimals,
-            " (APT; depth along the in-feed axis, X a radius)",
-        )
-    })?;
-    writer.end(out)?;
-    Ok((summary, count))
 }
