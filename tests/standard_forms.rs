@@ -795,7 +795,12 @@ fn trapezoidal_e_deviation_and_td1_past_p7() {
     ] {
         let l = lookup(name).unwrap().external.unwrap();
         close(l.deviation, es, 1e-9, &format!("{name} es"));
-        close(l.pitch.max.unwrap(), d2 + es, 1e-9, &format!("{name} d2 max"));
+        close(
+            l.pitch.max.unwrap(),
+            d2 + es,
+            1e-9,
+            &format!("{name} d2 max"),
+        );
     }
     for (name, d1_min, td1) in [
         ("Tr100x12-7H", 88.0, 0.800),
@@ -803,7 +808,12 @@ fn trapezoidal_e_deviation_and_td1_past_p7() {
         ("Tr70x10-7H", 60.0, 0.710),
     ] {
         let l = lookup(name).unwrap().internal.unwrap();
-        close(l.minor.min.unwrap(), d1_min, 1e-9, &format!("{name} D1 min"));
+        close(
+            l.minor.min.unwrap(),
+            d1_min,
+            1e-9,
+            &format!("{name} D1 min"),
+        );
         close(
             l.minor.max.unwrap(),
             d1_min + td1,
