@@ -202,8 +202,8 @@ fn resolve(
     })?;
     if m.name != controller && m.dialect != controller {
         return Err(Problem::usage(format!(
-            "the machine profile {name} is `{}` for the {} dialect, not the controller `{controller}`: name its controller, or leave machine out",
-            m.name, m.dialect
+            "the machine profile {name} is `{}`, for the {} dialect, not the controller `{controller}`: name the profile's controller (`{}`), or leave machine out to use the built-in `{controller}`",
+            m.name, m.dialect, m.dialect
         ))
         .error(py));
     }

@@ -135,6 +135,16 @@ def test_machine_profile_errors():
         threadcut.passes(M30_G76, "fanuc", machine='name = "fanuc"\n')
 
 
+def test_a_profile_whose_dialect_threadcut_does_not_have(tmp_path):
+    text = (ROOT / "profiles" / "fanuc.toml").read_text().replace(
+        'dialect = "fanuc"', 'dialect = "mazak"'
+    )
+    with pytest.raises(threadcut.InputError) as e:
+        threadcut.passes(M30_G76, "fanuc", machine=io.StringIO(text))
+    assert e.value.code is None and e.value.line is None
+    assert "mazak" in str(e.value) and str(e.value).startswith("error: ")
+
+
 def test_a_named_profile_file_names_itself(tmp_path):
     p = tmp_path / "bad.toml"
     p.write_text('name = "x"\n\ndialect = 3\n')

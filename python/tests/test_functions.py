@@ -294,6 +294,14 @@ def test_machine_profile_by_path_and_by_file_object(cli):
     assert cycle["passes"][-1]["depth"] == pytest.approx(1.227, abs=5e-5)
 
 
+def test_check_with_a_machine_profile(cli):
+    # Haas settings in a profile of its own: the findings are the command's with --machine.
+    profile = ROOT / "profiles" / "haas.toml"
+    path = EXAMPLES / "haas-m24x3-two-start.nc"
+    expected = check_cli(cli, path, "--machine", str(profile))
+    assert threadcut.check(path.read_text(), "haas", machine=profile) == expected
+
+
 def test_threads_at_once_get_the_same_results():
     # The functions let go of the interpreter while the library runs: two Python threads analyse
     # at once, and both get what one thread alone gets.
