@@ -18,6 +18,7 @@ use threadcut::check::{self, Report};
 use threadcut::commands::{self, ExpandFormat, Source};
 use threadcut::diag::Diagnostic;
 use threadcut::machine::Machine;
+use threadcut::mill::profile::MillProfile;
 use threadcut::mill::{Comp, Direction, Hand, LeadIn, Request, Side};
 use threadcut::program::{Error, Summary};
 use threadcut::sim::Tip;
@@ -495,6 +496,13 @@ fn mill_py(
     units: Option<&str>,
     d_register: Option<u32>,
 ) -> PyResult<String> {
+    let profile = MillProfile::built_in(controller).ok_or_else(|| {
+        Problem::usage(format!(
+            "`{controller}` is not a milling controller (built in: {})",
+            MillProfile::names().join(", ")
+        ))
+        .error(py)
+    })?;
     let side = if internal {
         Side::Internal
     } else {
@@ -543,7 +551,7 @@ fn mill_py(
         clearance,
         units,
         d_register,
-        ..Request::new(thread, side, length, tool_diameter, feed, controller)
+        ..Request::new(thread, side, length, tool_diameter, feed, profile)
     };
     let milling = request
         .prepare()

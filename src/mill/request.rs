@@ -1,7 +1,8 @@
 //! `threadcut mill`'s options as one value, and what they make: the standard thread looked up, the
-//! milling profile, the plan checked against it, the warnings, and the writers. The command line's
-//! flags and the Python package's keywords fill a [`Request`]; both then call
-//! [`Request::prepare`], so that they mill the same program from the same options.
+//! plan checked against the milling profile, the warnings, and the writers. The command line's
+//! flags and the Python package's keywords fill a [`Request`] (each finding the profile its own
+//! way: a built-in name, a file); both then call [`Request::prepare`], so that they mill the same
+//! program from the same options.
 
 use std::io::{self, Write};
 
@@ -49,8 +50,8 @@ pub struct Request {
     pub units: Option<Units>,
     /// The offset register of G41/G42 (the D word).
     pub d_register: Option<u32>,
-    /// A built-in milling profile ([`super::profile::BUILT_IN`]).
-    pub controller: String,
+    /// The milling controller's profile.
+    pub profile: MillProfile,
 }
 
 impl Request {
@@ -63,7 +64,7 @@ impl Request {
         length: f64,
         tool_diameter: f64,
         feed: f64,
-        controller: &str,
+        profile: MillProfile,
     ) -> Request {
         Request {
             thread: thread.to_string(),
@@ -83,24 +84,14 @@ impl Request {
             clearance: None,
             units: None,
             d_register: None,
-            controller: controller.to_string(),
+            profile,
         }
     }
 
     /// The thread looked up, the plan made and checked against the controller's rules. The
     /// errors name the command line's flags (`--length`), as the plan's own do.
     pub fn prepare(&self) -> Result<Milling> {
-        let profile = MillProfile::built_in(&self.controller).ok_or_else(|| {
-            Diagnostic::error(
-                Code::Unsupported,
-                Span::default(),
-                format!(
-                    "--controller: `{}` is not a milling controller (built in: {})",
-                    self.controller,
-                    MillProfile::names().join(", ")
-                ),
-            )
-        })?;
+        let profile = self.profile.clone();
         let thread = standard::lookup(&self.thread)?;
         let (given_ext, given_int) = (thread.external.is_some(), thread.internal.is_some());
         if given_ext != given_int && given_ext != (self.side == Side::External) {
@@ -212,7 +203,8 @@ mod tests {
     use super::*;
 
     fn m10_nut() -> Request {
-        Request::new("M10x1.5", Side::Internal, 12.0, 6.0, 300.0, "centroid")
+        let centroid = MillProfile::built_in("centroid").unwrap();
+        Request::new("M10x1.5", Side::Internal, 12.0, 6.0, 300.0, centroid)
     }
 
     #[test]
@@ -229,12 +221,29 @@ mod tests {
     }
 
     #[test]
-    fn a_lathe_controller_is_refused() {
+    fn a_tool_wider_than_the_bore_is_refused() {
+        // M10x1.5 internal: the bore is the minor diameter D1 = 10 − 1.0825·1.5 = 8.376 mm.
         let mut r = m10_nut();
-        r.controller = "fanuc".into();
+        r.tool_diameter = 9.0;
         let e = r.prepare().unwrap_err();
-        assert_eq!(e.code, Code::Unsupported);
-        assert!(e.message.contains("`fanuc` is not a milling controller"));
+        assert!(
+            e.message.starts_with(
+                "--tool-diameter: a 9 tool does not fit the M10x1.5 bore (minor diameter 8.3760)"
+            ),
+            "{}",
+            e.message
+        );
+    }
+
+    #[test]
+    fn the_profile_writes_the_program() {
+        let mut r = m10_nut();
+        r.profile = MillProfile::built_in("linuxcnc-mill").unwrap();
+        let mut out = Vec::new();
+        r.prepare().unwrap().write_gcode(&mut out).unwrap();
+        // LinuxCNC's arcs take I/J relative to the start only under G91.1, which its profile
+        // writes once after the units word.
+        assert!(String::from_utf8(out).unwrap().contains("G91.1"));
     }
 
     #[test]

@@ -538,8 +538,16 @@ fn parse_center(text: &str) -> Result<(f64, f64), Failure> {
 
 /// `threadcut mill …`
 pub fn mill(a: MillArgs) -> Result<(), Failure> {
+    use threadcut::mill::profile::MillProfile;
     use threadcut::mill::{Comp, Direction, Hand, LeadIn, Request};
 
+    let profile = MillProfile::built_in(&a.controller).ok_or_else(|| {
+        Failure::Usage(format!(
+            "--controller: `{}` is not a milling controller (built in: {})",
+            a.controller,
+            MillProfile::names().join(", ")
+        ))
+    })?;
     let side = match (a.internal, a.external) {
         (true, false) => Side::Internal,
         (false, true) => Side::External,
@@ -579,14 +587,7 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
         clearance: a.clearance,
         units,
         d_register: a.d_register,
-        ..Request::new(
-            &a.thread,
-            side,
-            a.length,
-            a.tool_diameter,
-            a.feed,
-            &a.controller,
-        )
+        ..Request::new(&a.thread, side, a.length, a.tool_diameter, a.feed, profile)
     };
     let milling = request.prepare().map_err(usage)?;
     for w in &milling.warnings {
