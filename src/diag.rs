@@ -202,6 +202,24 @@ impl Diagnostic {
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
     }
+
+    /// The one-line form of the command line's diagnostics: `file:line:column: error[E004]:
+    /// message`. Without a place (line 0: a thread name, an option) the place is left out
+    /// (`file: error[E004]: message`, or `error[E004]: message` without a file); the hint is not
+    /// part of it.
+    pub fn headline(&self, file: Option<&str>) -> String {
+        let kind = match self.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        };
+        let place = match (file, self.span.line) {
+            (Some(f), 0) => format!("{f}: "),
+            (Some(f), line) => format!("{f}:{line}:{}: ", self.span.column),
+            (None, 0) => String::new(),
+            (None, line) => format!("{line}:{}: ", self.span.column),
+        };
+        format!("{place}{kind}[{}]: {}", self.code, self.message)
+    }
 }
 
 impl fmt::Display for Diagnostic {
@@ -229,6 +247,20 @@ pub type Result<T> = std::result::Result<T, Diagnostic>;
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn headline_is_the_one_line_form() {
+        let d = Diagnostic::error(Code::OutOfRange, Span::new(20, 2, 2, 8), "P(r)=05: bad")
+            .with_hint("0 to 4");
+        assert_eq!(
+            d.headline(Some("<string>")),
+            "<string>:2:8: error[E004]: P(r)=05: bad"
+        );
+        assert_eq!(d.headline(None), "2:8: error[E004]: P(r)=05: bad");
+        let w = Diagnostic::warning(Code::Suspicious, Span::default(), "odd");
+        assert_eq!(w.headline(Some("a.nc")), "a.nc: warning[W001]: odd");
+        assert_eq!(w.headline(None), "warning[W001]: odd");
+    }
 
     /// Codes are stable and unique: branches merged side by side must not reuse a number. `ALL`
     /// lists every variant (the match below fails to compile when a variant is added, and the

@@ -13,6 +13,7 @@
 //! * [`thread`] is the machine-neutral model: geometry, lead, depth law, infeed law, entry and exit.
 //! * [`toolpath`] is the only place that creates motion.
 //! * [`program`] streams a whole program through a dialect; [`post`] writes the results.
+//! * [`commands`] is each `threadcut` command as one function, for the command line and bindings.
 //!
 //! ```
 //! use threadcut::{dialect, machine::Machine, program};
@@ -25,6 +26,7 @@
 
 pub mod apt;
 pub mod check;
+pub mod commands;
 pub mod convert;
 pub mod diag;
 pub mod dialect;

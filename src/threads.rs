@@ -704,6 +704,20 @@ pub fn each_apt<R: BufRead>(
     Ok(summary)
 }
 
+impl Thread {
+    /// The section `passes` cuts for its simulated columns (chip area with the tool's real tip,
+    /// share, cutting flank, chip thickness): the thread's own tool angle with `tip` (in program
+    /// units). A tool the section cannot draw (a 0° angle, an absurd size) gives `None`, and the
+    /// columns stay empty rather than failing a table the controller accepted.
+    pub fn simulated(&self, tip: crate::sim::Tip) -> Option<crate::sim::Section> {
+        let tool = crate::sim::Tool {
+            angle_deg: self.job.tool_angle_deg,
+            tip: crate::sim::tip_in_mm(tip, self.job.units),
+        };
+        crate::sim::section(&self.job, &self.passes, &tool, 0.0).ok()
+    }
+}
+
 /// One thread as `threadcut passes --json` writes it: the pass rows of
 /// [`program::passes_json`] with `source` (`cycle` or `moves`) and `depth_from` (`crest` or
 /// `first_pass`).

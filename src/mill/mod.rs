@@ -33,6 +33,9 @@
 pub mod post;
 pub mod profile;
 pub mod readback;
+pub mod request;
+
+pub use request::{Milling, Request};
 
 use serde::Serialize;
 

@@ -24,7 +24,7 @@ use std::sync::OnceLock;
 use clap::{Parser, Subcommand, ValueEnum};
 
 use threadcut::diag::Diagnostic;
-use threadcut::machine::{built_in_name, Machine, NameError, ProfileKind, BUILT_IN};
+use threadcut::machine::{built_in_name, Machine, NameError, ProfileKind};
 use threadcut::program::{self, Error, Summary};
 
 #[derive(Parser)]
@@ -721,34 +721,20 @@ fn io_failure(e: io::Error) -> Failure {
     }
 }
 
-/// `threadcut controllers`.
+/// `threadcut controllers`: the library's list ([`threadcut::commands::controllers`]).
 fn controllers(format: TextJson, out: Option<&Path>) -> Result<(), Failure> {
-    use threadcut::mill::profile::MillProfile;
-    let mut list = Vec::new();
-    for (name, _) in BUILT_IN {
-        let m = Machine::built_in(name).expect("built-in profiles parse");
-        list.push((*name, "lathe", m.description));
-    }
-    for (name, _) in threadcut::mill::profile::BUILT_IN {
-        let m = MillProfile::built_in(name).expect("built-in profiles parse");
-        list.push((*name, "mill", m.description));
-    }
+    use threadcut::commands::{self, Kind};
+    let list = commands::controllers();
     output::write(Path::new("-"), out, |w| {
         match format {
             TextJson::Text => {
-                for (name, kind, description) in &list {
-                    let kind = if *kind == "mill" { "(mill) " } else { "" };
-                    writeln!(w, "{name:<14} {kind}{description}")?;
+                for c in &list {
+                    let kind = if c.kind == Kind::Mill { "(mill) " } else { "" };
+                    writeln!(w, "{:<14} {kind}{}", c.name, c.description)?;
                 }
             }
             TextJson::Json => {
-                let v: Vec<serde_json::Value> = list
-                    .iter()
-                    .map(|(name, kind, description)| {
-                        serde_json::json!({"name": name, "kind": kind, "description": description})
-                    })
-                    .collect();
-                serde_json::to_writer_pretty(&mut *w, &v).map_err(io::Error::from)?;
+                serde_json::to_writer_pretty(&mut *w, &list).map_err(io::Error::from)?;
                 writeln!(w)?;
             }
         }

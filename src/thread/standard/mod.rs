@@ -24,6 +24,7 @@
 
 pub mod acme;
 pub mod gauge;
+mod json;
 pub mod lathe;
 pub mod pipe;
 pub mod profile;

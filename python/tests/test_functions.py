@@ -1,0 +1,371 @@
+"""Every function against the command whose data it is (same shape, same values), and against
+numbers worked out by hand from the controllers' own rules."""
+
+import io
+import json
+import math
+import warnings
+
+import pytest
+
+import threadcut
+from conftest import EXAMPLES, ROOT, apt_examples, gcode_examples, one_line
+
+M30_G76 = (EXAMPLES / "fanuc-m30x2-g76.nc").read_text()
+
+
+def test_controllers_are_the_commands_list(cli):
+    names = [line.split()[0] for line in cli.out("controllers").splitlines()]
+    assert threadcut.controllers() == names
+    assert "fanuc" in names and "centroid" in names
+
+
+@pytest.mark.parametrize("path,controller", gcode_examples(), ids=lambda v: getattr(v, "name", v))
+def test_passes_are_the_cycles_of_passes_json(cli, path, controller):
+    expected = cli.json("passes", str(path), "-c", controller, "--json")["cycles"]
+    assert threadcut.passes(path.read_text(), controller) == expected
+    assert expected, "every example cuts a thread"
+
+
+@pytest.mark.parametrize("path", apt_examples(), ids=lambda p: p.name)
+def test_passes_of_apt(cli, path):
+    expected = cli.json("passes", str(path), "--json")["cycles"]
+    # APT is recognised by its first statement; the controller is not used to read it.
+    assert threadcut.passes(path.read_text(), "fanuc") == expected
+
+
+def test_passes_follow_fanuc_g76_rules():
+    # G76 P020060 Q100 R0.05 / G76 X27.546 Z-30. P1227 Q400 F2.: the first cut Δd = Q400 = 0.4 mm,
+    # the n-th rough pass at Δd·√n, two finishing passes at the full height k = P1227 = 1.227 mm.
+    [cycle] = threadcut.passes(M30_G76, "fanuc")
+    assert cycle["controller"] == "fanuc"
+    assert cycle["line"] == 8
+    assert cycle["units"] == "mm"
+    assert cycle["source"] == "cycle"
+    p = cycle["passes"]
+    assert [r["n"] for r in p] == list(range(1, len(p) + 1))
+    assert p[0]["depth"] == pytest.approx(0.4, abs=5e-4)
+    assert p[1]["depth"] == pytest.approx(0.4 * math.sqrt(2), abs=5e-4)
+    assert p[2]["depth"] == pytest.approx(0.4 * math.sqrt(3), abs=5e-4)
+    assert [r["kind"] for r in p[-2:]] == ["finish", "finish"]
+    assert p[-1]["depth"] == pytest.approx(1.227, abs=5e-4)
+    # X on diameter: the crest Ø27.546 + 2·1.227 = Ø30; the first infeed point at Ø30 − 2·0.4.
+    assert p[0]["x"] == pytest.approx(29.2, abs=5e-4)
+    # The shares of the sharp-V chip areas add up to the whole groove.
+    assert sum(r["share"] for r in p) == pytest.approx(1.0, abs=1e-9)
+
+
+@pytest.mark.parametrize("path,controller", gcode_examples(), ids=lambda v: getattr(v, "name", v))
+def test_motions_are_the_jsonl_objects(cli, path, controller):
+    lines = cli.out("expand", str(path), "-c", controller, "--format", "jsonl").splitlines()
+    assert threadcut.motions(path.read_text(), controller) == [json.loads(l) for l in lines]
+
+
+def test_motions_of_apt(cli):
+    path = EXAMPLES / "variable-lead.apt"
+    lines = cli.out("expand", str(path), "--format", "jsonl").splitlines()
+    motions = threadcut.motions(path.read_text(), "fanuc")
+    assert motions == [json.loads(l) for l in lines]
+    # A variable lead: its thread moves say by how much the lead changes per revolution.
+    assert any("dlead" in m for m in motions)
+
+
+def test_motions_of_the_g76_cycle():
+    motions = threadcut.motions(M30_G76, "fanuc")
+    threads = [m for m in motions if m["kind"] == "thread"]
+    assert {m["lead"] for m in threads} == {2.0}
+    # Ten passes (eight rough and two finishing), one thread move each.
+    assert [m["pass"] for m in threads] == list(range(1, 11))
+    assert all(m["line"] == 8 for m in threads)
+    # G76 cuts along one flank (a = 60°): a pass at depth d ends (k − d)·tan 30° short of Z-30,
+    # k = 1.227 the full height; the finishing passes end at Z-30.
+    depths = [p["depth"] for p in threadcut.passes(M30_G76, "fanuc")[0]["passes"]]
+    for m, d in zip(threads, depths):
+        assert m["z"] == pytest.approx(-30 + (1.227 - d) * math.tan(math.radians(30)), abs=5e-4)
+    assert threads[-1]["z"] == pytest.approx(-30, abs=1e-9)
+    # X is a radius: the first thread move at Ø29.2.
+    assert threads[0]["x"] == pytest.approx(14.6, abs=5e-4)
+
+
+@pytest.mark.parametrize("path,controller", gcode_examples(), ids=lambda v: getattr(v, "name", v))
+def test_expand_is_the_commands_output(cli, path, controller):
+    r = cli.run("expand", "-", "-c", controller, stdin=path.read_text())
+    if r.returncode == 0:
+        assert threadcut.expand(path.read_text(), controller) == r.stdout
+    else:
+        # A cycle in a loop that cuts differently each time is not expanded in place: the same
+        # error, and `flatten=True` as `--flatten` writes the executed program.
+        with pytest.raises(threadcut.InputError) as e:
+            threadcut.expand(path.read_text(), controller)
+        assert str(e.value) == one_line(r.stderr)
+        flat = cli.out("expand", "-", "-c", controller, "--flatten", stdin=path.read_text())
+        assert threadcut.expand(path.read_text(), controller, flatten=True) == flat
+
+
+def test_expand_keeps_other_lines_and_writes_plain_moves():
+    out = threadcut.expand(M30_G76, "fanuc")
+    assert out.startswith("%\nO0001 (M30x2 external thread, G76)\nG21 G99\n")
+    assert out.endswith("G0 X100. Z100.\nM30\n%\n")
+    blocks = [l for l in out.splitlines() if not l.startswith("(")]
+    assert not any(l.startswith("G76") for l in blocks)
+    # Ten passes, each one synchronised move at the lead F2.
+    assert sum(1 for l in blocks if l.startswith("G32")) == 10
+
+
+def test_expand_of_apt_is_the_post(cli):
+    apt = (EXAMPLES / "m20-external.apt").read_text()
+    assert threadcut.expand(apt, "fanuc") == threadcut.post(apt, "fanuc")
+
+
+def check_cli(cli, path, *args):
+    findings = cli.json("check", str(path), *args, "--format", "json")
+    for f in findings:
+        assert f.pop("file") == str(path)
+    return findings
+
+
+@pytest.mark.parametrize("path,controller", gcode_examples(), ids=lambda v: getattr(v, "name", v))
+def test_check_is_check_format_json(cli, path, controller):
+    r = cli.run("check", str(path), "-c", controller, "--format", "json")
+    expected = json.loads(r.stdout)
+    for f in expected:
+        f.pop("file")
+    assert threadcut.check(path.read_text(), controller) == expected
+
+
+def test_check_with_thread_and_stock(cli):
+    path = EXAMPLES / "fanuc-m30x2-g76.nc"
+    args = ["--thread", "M30x2-6g", "--stock-diameter", "31", "--stock-start", "0.5"]
+    r = cli.run("check", str(path), "-c", "fanuc", *args, "--format", "json")
+    expected = [{k: v for k, v in f.items() if k != "file"} for f in json.loads(r.stdout)]
+    got = threadcut.check(
+        M30_G76, "fanuc", thread="M30x2-6g", stock_diameter=31.0, stock_start=0.5
+    )
+    assert got == expected
+    # P1227 reaches 1.227 below the crest; M30x2-6g's minor diameter needs at least 1.246.
+    [minor] = [f for f in got if f["code"] == "E016"]
+    assert minor["level"] == "error"
+    assert minor["line"] == 8
+    assert "27.546 > 27.508 max" in minor["message"]
+
+
+def test_check_reports_a_controller_alarm_as_a_finding():
+    # GSK's G78: the tail-out K10 is not shorter than the 8 mm thread.
+    src = "G00 X80 Z10\nG97 S100\nG78 P010060 Q0.1 R0.05\nG78 X60 Z2 P1.2 Q0.4 F2 J1 K10\n"
+    findings = threadcut.check(src, "gsk980")
+    errors = [f for f in findings if f["level"] == "error"]
+    assert errors and errors[0]["line"] == 4
+    assert set(findings[0]) == {"line", "column", "level", "code", "message", "hint"}
+
+
+def test_check_of_apt(cli):
+    path = EXAMPLES / "m20-external.apt"
+    expected = check_cli(cli, path, "-c", "fanuc")
+    assert threadcut.check(path.read_text(), "fanuc") == expected
+
+
+@pytest.mark.parametrize(
+    "path,controller",
+    [(EXAMPLES / "gsk-g78.nc", "gsk980"), (EXAMPLES / "haas-m24x3-two-start.nc", "haas")],
+    ids=lambda v: getattr(v, "name", v),
+)
+def test_plot_svg_is_plots_svg(cli, path, controller):
+    svg = threadcut.plot_svg(path.read_text(), controller)
+    assert svg == cli.out("plot", str(path), "-c", controller, "-o", "-")
+    assert svg.lstrip().startswith("<svg") and svg.rstrip().endswith("</svg>")
+
+
+def test_plot_svg_of_apt(cli):
+    path = EXAMPLES / "two-start-inch.apt"
+    assert threadcut.plot_svg(path.read_text(), "fanuc") == cli.out("plot", str(path), "-o", "-")
+
+
+@pytest.mark.parametrize(
+    "name",
+    ["M10", "M10x1.25-6g", "M12-6H", "1/2-13 UNC-2A", "#10-32 UNF", "1/2-14 NPT", "R 1/2", "Tr20x4"],
+)
+def test_thread_is_thread_json(cli, name):
+    assert threadcut.thread(name) == cli.json("thread", name, "--json")
+
+
+def test_thread_values():
+    t = threadcut.thread("M10x1.5-6g")
+    # ISO 68-1: d2 = d − (3/4)·H with H = (√3/2)·P; ISO 965-1: es(g) = −(15 + 11·P) µm.
+    h = math.sqrt(3) / 2 * 1.5
+    assert t["basic"]["pitch_diameter"] == pytest.approx(10 - 0.75 * h, abs=1e-9)
+    # −31.5 µm, which ISO 965-1's table rounds to −32 µm.
+    assert t["external"]["deviation"] == pytest.approx(-0.032, abs=1e-9)
+    assert t["internal"] is None
+    u = threadcut.thread("1/2-13 UNC-2A")
+    assert u["units"] == "inch" and u["tpi"] == 13
+    # ASME B1.1: the 2A allowance of 1/2-13 is 0.0015 in below the basic major diameter 0.5.
+    assert u["external"]["major"]["max"] == pytest.approx(0.4985, abs=1e-9)
+
+
+MILLS = [
+    ("M10x1.5", dict(internal=True, length=12, tool_diameter=6, feed=300, controller="centroid", d_register=1), []),
+    (
+        "M16-6H",
+        dict(internal=True, length=20, tool_diameter=10, passes=3, feed=250, center=(40, -25),
+             start_z=-3, controller="fanuc-mill", d_register=12),
+        ["--passes", "3", "--center", "40,-25", "--start-z", "-3"],
+    ),
+    (
+        "M20",
+        dict(internal=False, length=15, tool_diameter=12, teeth=6, feed=400, comp="none",
+             controller="linuxcnc-mill"),
+        ["--teeth", "6", "--comp", "none"],
+    ),
+    (
+        "1/2-13 UNC-2A",
+        dict(internal=False, length=0.75, tool_diameter=0.25, feed=10, controller="fanuc-mill",
+             left=True, top_down=True, lead="radial", units="inch", clearance=0.1, starts=2,
+             d_register=3),
+        ["--left", "--top-down", "--lead", "radial", "--units", "inch", "--clearance", "0.1",
+         "--starts", "2"],
+    ),
+]
+
+
+@pytest.mark.parametrize("thread,kw,flags", MILLS, ids=[m[0] for m in MILLS])
+def test_mill_is_the_commands_program(cli, thread, kw, flags):
+    args = [
+        "mill", "--thread", thread, "--internal" if kw["internal"] else "--external",
+        "--length", str(kw["length"]), "--tool-diameter", str(kw["tool_diameter"]),
+        "--feed", str(kw["feed"]), "--controller", kw["controller"], *flags,
+    ]
+    if "d_register" in kw:
+        args += ["--d-register", str(kw["d_register"])]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", threadcut.InputWarning)
+        assert threadcut.mill(thread, **kw) == cli.out(*args)
+
+
+def test_mill_warns_of_a_missing_d_register():
+    with pytest.warns(threadcut.InputWarning) as record:
+        out = threadcut.mill(
+            "M10x1.5", internal=True, length=12, tool_diameter=6, feed=300, controller="centroid"
+        )
+    assert "G41" in out
+    messages = [str(w.message) for w in record]
+    assert messages[0].startswith("warning: no --d-register: centroid writes G41/G42 without D")
+    w = record[0].message
+    assert w.code is None and w.line is None and w.message.startswith("no --d-register")
+    # Warnings point at the caller's line, not at threadcut's.
+    assert record[0].filename == __file__
+
+
+@pytest.mark.parametrize("path", apt_examples(), ids=lambda p: p.name)
+@pytest.mark.parametrize("controller", ["fanuc", "sinumerik", "linuxcnc", "haas"])
+def test_post_is_the_commands_output(cli, path, controller):
+    apt = path.read_text()
+    r = cli.run("post", "-", "-c", controller, stdin=apt)
+    if r.returncode == 0:
+        assert threadcut.post(apt, controller) == r.stdout
+    else:
+        # What the controller cannot do: the same error, in the command's one-line form (the
+        # command names standard input `-`).
+        with pytest.raises(threadcut.InputError) as e:
+            threadcut.post(apt, controller)
+        assert str(e.value) == one_line(r.stderr)
+
+
+def test_a_variable_lead_cannot_be_posted_to_fanuc():
+    with pytest.raises(threadcut.InputError) as e:
+        threadcut.post((EXAMPLES / "variable-lead.apt").read_text(), "fanuc")
+    assert e.value.code == "E009"
+    assert (e.value.line, e.value.column) == (9, 1)
+    assert "G34" in e.value.hint
+
+
+def test_post_writes_the_native_cycle_or_says_why():
+    out = threadcut.post((EXAMPLES / "m20-external.apt").read_text(), "fanuc")
+    assert out.startswith("(threadcut post for fanuc, mm, feed per revolution)\nG21 G18 G99 G97\n")
+    assert "G76" in out or "plain moves" in out
+
+
+def test_machine_profile_by_path_and_by_file_object(cli):
+    profile = ROOT / "profiles" / "fanuc.toml"
+    expected = cli.json("passes", str(EXAMPLES / "fanuc-m30x2-g76.nc"), "--machine", str(profile), "--json")
+    assert threadcut.passes(M30_G76, "fanuc", machine=str(profile)) == expected["cycles"]
+    assert threadcut.passes(M30_G76, "fanuc", machine=profile) == expected["cycles"]
+    text = profile.read_text()
+    assert threadcut.passes(M30_G76, "fanuc", machine=io.StringIO(text)) == expected["cycles"]
+    # A profile of its own: the control reads 0.0001 mm (ISC), so the table has a finer
+    # resolution, but the same cuts.
+    isc = text.replace('increment_system = "isb"', 'increment_system = "isc"').replace(
+        'name = "fanuc"', 'name = "my-lathe"'
+    )
+    [cycle] = threadcut.passes(M30_G76.replace("Q400", "Q4000").replace("P1227", "P12270"), "fanuc", machine=io.StringIO(isc))
+    assert cycle["passes"][0]["depth"] == pytest.approx(0.4, abs=5e-5)
+    assert cycle["passes"][-1]["depth"] == pytest.approx(1.227, abs=5e-5)
+
+
+def test_check_with_a_machine_profile(cli):
+    # Haas settings in a profile of its own: the findings are the command's with --machine.
+    profile = ROOT / "profiles" / "haas.toml"
+    path = EXAMPLES / "haas-m24x3-two-start.nc"
+    expected = check_cli(cli, path, "--machine", str(profile))
+    assert threadcut.check(path.read_text(), "haas", machine=profile) == expected
+
+
+def test_threads_at_once_get_the_same_results():
+    # The functions let go of the interpreter while the library runs: two Python threads analyse
+    # at once, and both get what one thread alone gets.
+    import threading
+
+    # The cycle's lines 200 times (a program ends at its M30: what follows is not run).
+    body = "".join(l + "\n" for l in M30_G76.splitlines() if l.startswith(("G0 ", "G76")))
+    big = "G21 G99\n" + body * 200
+    want = threadcut.passes(big, "fanuc")
+    got = [None, None]
+
+    def work(i):
+        got[i] = threadcut.passes(big, "fanuc")
+
+    ts = [threading.Thread(target=work, args=(i,)) for i in range(2)]
+    for t in ts:
+        t.start()
+    for t in ts:
+        t.join()
+    assert got == [want, want]
+    assert len(want) == 200
+
+
+@pytest.mark.parametrize("path,controller", gcode_examples(), ids=lambda v: getattr(v, "name", v))
+def test_convert_is_the_commands_output(cli, path, controller):
+    # Every example to Fanuc and to LinuxCNC: the command's program, or its error.
+    for target in ("fanuc", "linuxcnc"):
+        r = cli.run("convert", "-", "--from", controller, "--to", target, stdin=path.read_text())
+        if r.returncode == 0:
+            assert threadcut.convert(path.read_text(), controller, target) == r.stdout
+        else:
+            with pytest.raises(threadcut.InputError) as e:
+                threadcut.convert(path.read_text(), controller, target)
+            assert str(e.value) == one_line(r.stderr)
+
+
+def test_convert_writes_the_targets_cycle():
+    # Fanuc's G76 in G-code system B: the same cycle, feed per revolution as G95 (not G99).
+    out = threadcut.convert(M30_G76, "fanuc", "fanuc-b")
+    blocks = [l for l in out.splitlines() if not l.startswith("(")]
+    assert "G76 X27.546 Z-30. P1227 Q400 F2." in blocks
+    assert "G21 G95" in blocks and not any("G99" in l for l in blocks)
+    # LinuxCNC's G76 cuts another law: plain G33 passes, X a radius (its profile's G8).
+    lcnc = threadcut.convert(M30_G76, "fanuc", "linuxcnc").splitlines()
+    assert not any(l.startswith("G76") for l in lcnc)
+    assert "G33 X14.6 Z-29.5225 K2." in lcnc
+    with pytest.raises(threadcut.InputError) as e:
+        threadcut.convert(M30_G76, "fanuc", "centroid")
+    assert "milling profile" in e.value.message
+
+
+def test_plot_svg_draws_one_cycle_on_request():
+    two = "G21 G99\n" + "".join(
+        l + "\n" for l in M30_G76.splitlines() if l.startswith(("G0 ", "G76"))
+    ) * 2
+    both = threadcut.plot_svg(two, "fanuc")
+    second = threadcut.plot_svg(two, "fanuc", cycle=2)
+    assert second.startswith("<svg") and len(second) < len(both)
+    with pytest.raises(threadcut.InputError, match="cycle=3: the program has 2 threads"):
+        threadcut.plot_svg(two, "fanuc", cycle=3)

@@ -1,0 +1,367 @@
+//! The `threadcut` commands as library functions, one per command, shared by the command line, the
+//! Python package and any other binding: each takes the program and the options as values and
+//! writes or returns the command's data, so that every surface gives the same JSON and text for
+//! the same program. A surface only reads its files, parses its own arguments and prints.
+//!
+//! | command | function |
+//! | --- | --- |
+//! | `controllers` | [`controllers`] |
+//! | `passes --json` | [`passes_json`] (text: [`each_thread`] and [`Thread::simulated`]) |
+//! | `expand` (`--format gcode`/`jsonl`) | [`expand`] |
+//! | `plot` | [`plot`] |
+//! | `convert` | [`crate::convert::convert_text`] |
+//! | `check` | [`crate::check::check`] |
+//! | `post` | [`crate::apt::post::write`] |
+//! | `thread --json` | [`StandardThread::to_json`](crate::thread::standard::StandardThread::to_json) |
+//! | `mill` | [`crate::mill::Request::prepare`] |
+//!
+//! A program is G-code for a controller or APT/CL ([`Source`], as `check` takes it; [`source`]
+//! tells which from the text).
+
+use std::io::{BufRead, Write};
+use std::path::Path;
+
+pub use crate::check::Source;
+use crate::machine::{Machine, BUILT_IN};
+use crate::program::{self, Error, Summary};
+pub use crate::render::{Plot, Selection};
+use crate::sim::Tip;
+use crate::threads::{self, Thread};
+
+/// What a run over a program found besides its output: the reader's summary (lines, the
+/// dialect's warnings) and the number of threads.
+#[derive(Debug, Default)]
+pub struct Run {
+    pub summary: Summary,
+    pub threads: u32,
+}
+
+/// What a controller profile is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// A lathe: `expand`, `passes`, `check`, `plot`, `convert`, `post`.
+    Lathe,
+    /// A milling machine: `mill`.
+    Mill,
+}
+
+/// One built-in controller profile.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Controller {
+    pub name: &'static str,
+    pub kind: Kind,
+    pub description: String,
+}
+
+/// `threadcut controllers`: every built-in profile, the lathe controllers first, then the milling
+/// ones, each in the order of its table.
+pub fn controllers() -> Vec<Controller> {
+    let lathes = BUILT_IN.iter().map(|(name, _)| Controller {
+        name,
+        kind: Kind::Lathe,
+        description: Machine::built_in(name)
+            .map(|m| m.description)
+            .unwrap_or_default(),
+    });
+    let mills = crate::mill::profile::BUILT_IN
+        .iter()
+        .map(|(name, _)| Controller {
+            name,
+            kind: Kind::Mill,
+            description: crate::mill::profile::MillProfile::built_in(name)
+                .map(|m| m.description)
+                .unwrap_or_default(),
+        });
+    lathes.chain(mills).collect()
+}
+
+/// What `head` (the program's first bytes) is written in: APT/CL by the file's extension or its
+/// first statement ([`crate::apt::looks_like_apt`]), otherwise G-code for `machine`. `name` is the
+/// file's name, or an empty path for a program given as text. APT takes `machine` for the
+/// commands that need one (`expand` to G-code, `check`'s limits); G-code without one is
+/// [`Error::Setup`] where it is read.
+pub fn source<'m>(name: &Path, head: &[u8], machine: Option<&'m Machine>) -> Option<Source<'m>> {
+    if crate::apt::looks_like_apt(name, head) {
+        Some(Source::Apt(machine))
+    } else {
+        machine.map(Source::Gcode)
+    }
+}
+
+/// What the program's controller threads with (`G32, G76, G92`; the APT statements for APT/CL),
+/// for saying that a program has no thread.
+pub fn thread_codes(source: Source) -> String {
+    match source {
+        Source::Apt(_) => APT_THREAD_STATEMENTS.to_string(),
+        Source::Gcode(machine) => crate::dialect::open(machine)
+            .map(|d| d.vocabulary().thread_codes())
+            .unwrap_or_default(),
+    }
+}
+
+/// What to say of a program in which no thread was found, `codes` what its controller threads
+/// with ([`thread_codes`]).
+pub fn no_thread(codes: &str) -> String {
+    format!(
+        "no thread found: no threading cycle and no synchronised move (this controller threads with {codes}; is it the right --controller?)"
+    )
+}
+
+/// The statements an APT/CL program threads with.
+pub const APT_THREAD_STATEMENTS: &str = "THREAD/ON, THREAD/TURN, COUPLE/ON";
+
+/// Every thread of a program, in order, to `each`: [`threads::each_gcode`] or
+/// [`threads::each_apt`]; depths from the crest where the program gives it, else from the first
+/// pass.
+pub fn each_thread<R: BufRead>(
+    input: R,
+    source: Source,
+    options: &program::Options,
+    mut each: impl FnMut(Thread) -> Result<(), Error>,
+) -> Result<Run, Error> {
+    let mut count = 0;
+    let mut counted = |t: Thread| {
+        count += 1;
+        each(t)
+    };
+    let summary = match source {
+        Source::Gcode(machine) => {
+            threads::each_gcode_with(input, machine, None, options, &mut counted)?
+        }
+        Source::Apt(_) => threads::each_apt(input, &mut counted)?,
+    };
+    Ok(Run {
+        summary,
+        threads: count,
+    })
+}
+
+/// `threadcut passes --json`: `{"cycles":[…]}` and a newline, one object per thread
+/// ([`threads::passes_json`], the simulated columns cut with `tip`, in program units), written as
+/// each thread is found. `options`: the run's limits and what a program with control flow does
+/// ([`program::Options`]).
+pub fn passes_json<R: BufRead>(
+    input: R,
+    source: Source,
+    tip: Tip,
+    options: &program::Options,
+    out: &mut dyn Write,
+) -> Result<Run, Error> {
+    out.write_all(br#"{"cycles":["#)?;
+    let mut first = true;
+    let run = each_thread(input, source, options, |t| {
+        if !first {
+            out.write_all(b",")?;
+        }
+        first = false;
+        let section = t.simulated(tip);
+        let cycle = threads::passes_json(&t, section.as_ref());
+        serde_json::to_writer(&mut *out, &cycle).map_err(std::io::Error::other)?;
+        Ok(())
+    })?;
+    out.write_all(b"]}\n")?;
+    Ok(run)
+}
+
+/// What `expand` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ExpandFormat {
+    /// The program with each cycle replaced by plain moves in the controller's format; an APT/CL
+    /// program posted for the machine ([`crate::apt::post::write`]).
+    Gcode,
+    /// One JSON object per motion, program units, X as a radius
+    /// ([`crate::post::motion_json`]).
+    Jsonl,
+}
+
+/// `threadcut expand`: [`program::expand_gcode`] or [`program::expand_jsonl`] for G-code; for
+/// APT/CL, the post ([`crate::apt::post::write`], which needs the machine) or
+/// [`crate::apt::expand_jsonl`].
+pub fn expand<R: BufRead>(
+    input: R,
+    source: Source,
+    format: ExpandFormat,
+    options: &program::Options,
+    out: &mut dyn Write,
+) -> Result<Summary, Error> {
+    match (source, format) {
+        (Source::Gcode(machine), ExpandFormat::Gcode) => {
+            program::expand_gcode_with(input, out, machine, options)
+        }
+        (Source::Gcode(machine), ExpandFormat::Jsonl) => {
+            program::expand_jsonl_with(input, out, machine, options)
+        }
+        (Source::Apt(Some(machine)), ExpandFormat::Gcode) => {
+            crate::apt::post::write(input, out, machine)
+        }
+        (Source::Apt(None), ExpandFormat::Gcode) => Err(Error::Setup(
+            "an APT/CL program is posted for a controller: name one".to_string(),
+        )),
+        (Source::Apt(_), ExpandFormat::Jsonl) => crate::apt::expand_jsonl(input, out),
+    }
+}
+
+/// `threadcut plot`: the SVG of the threads' pass diagrams and XZ toolpaths
+/// ([`crate::render::program_plot_with`], [`crate::render::apt_plot`]), the tool's tip in program
+/// units: at most [`crate::render::MAX_PLOTTED`] threads, or the one `selection` names, the picture
+/// saying what it left out ([`Plot::drawn`]).
+pub fn plot<R: BufRead>(
+    input: R,
+    source: Source,
+    tip: Tip,
+    selection: Selection,
+    options: &program::Options,
+) -> Result<Plot, Error> {
+    match source {
+        Source::Gcode(machine) => {
+            crate::render::program_plot_with(input, machine, tip, selection, options)
+        }
+        Source::Apt(_) => crate::render::apt_plot(input, tip, selection),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const G76: &str = "G0 X22 Z3\nG76 P010060 Q50 R0.02\nG76 X17.546 Z-20 P1227 Q400 F2\nG0 X40\n";
+
+    fn fanuc() -> Machine {
+        Machine::built_in("fanuc").unwrap()
+    }
+
+    #[test]
+    fn controllers_lists_lathes_then_mills() {
+        let all = controllers();
+        assert_eq!(
+            all.len(),
+            BUILT_IN.len() + crate::mill::profile::BUILT_IN.len()
+        );
+        assert_eq!(all[0].name, BUILT_IN[0].0);
+        assert_eq!(all[0].kind, Kind::Lathe);
+        let centroid = all.iter().find(|c| c.name == "centroid").unwrap();
+        assert_eq!(centroid.kind, Kind::Mill);
+        assert!(all.iter().all(|c| !c.description.is_empty()));
+    }
+
+    #[test]
+    fn source_is_apt_by_extension_or_first_statement() {
+        let m = fanuc();
+        let apt = source(Path::new(""), b"$$ cl\nPARTNO TEST\n", Some(&m));
+        assert!(matches!(apt, Some(Source::Apt(Some(_)))));
+        let by_name = source(Path::new("x.cl"), G76.as_bytes(), None);
+        assert!(matches!(by_name, Some(Source::Apt(None))));
+        assert!(matches!(
+            source(Path::new(""), G76.as_bytes(), Some(&m)),
+            Some(Source::Gcode(_))
+        ));
+        assert!(source(Path::new("x.nc"), G76.as_bytes(), None).is_none());
+    }
+
+    #[test]
+    fn passes_json_is_one_object_per_thread() {
+        let m = fanuc();
+        let mut out = Vec::new();
+        let run = passes_json(
+            G76.as_bytes(),
+            Source::Gcode(&m),
+            Tip::Sharp,
+            &Default::default(),
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(run.threads, 1);
+        let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        let cycles = v["cycles"].as_array().unwrap();
+        assert_eq!(cycles.len(), 1);
+        let passes = cycles[0]["passes"].as_array().unwrap();
+        // P1227 (1.227 mm) at the last pass; Q400 (0.4 mm) the first depth.
+        let last = passes.last().unwrap();
+        assert!((last["depth"].as_f64().unwrap() - 1.227).abs() < 5e-4);
+        assert!((passes[0]["depth"].as_f64().unwrap() - 0.4).abs() < 5e-4);
+        assert!(out.ends_with(b"]}\n"));
+    }
+
+    #[test]
+    fn no_thread_gives_an_empty_list_and_the_codes_to_name() {
+        let m = fanuc();
+        let mut out = Vec::new();
+        let run = passes_json(
+            &b"G0 X10\n"[..],
+            Source::Gcode(&m),
+            Tip::Sharp,
+            &Default::default(),
+            &mut out,
+        )
+        .unwrap();
+        assert_eq!(run.threads, 0);
+        assert_eq!(out, b"{\"cycles\":[]}\n");
+        assert_eq!(thread_codes(Source::Gcode(&m)), "G32, G76, G92");
+        assert_eq!(thread_codes(Source::Apt(None)), APT_THREAD_STATEMENTS);
+    }
+
+    #[test]
+    fn expand_of_apt_to_gcode_needs_a_machine() {
+        let apt = "PARTNO X\nFROM/0,0,50\n";
+        let e = expand(
+            apt.as_bytes(),
+            Source::Apt(None),
+            ExpandFormat::Gcode,
+            &Default::default(),
+            &mut Vec::new(),
+        );
+        assert!(matches!(e, Err(Error::Setup(_))));
+    }
+
+    #[test]
+    fn expand_jsonl_is_one_object_per_motion() {
+        let m = fanuc();
+        let mut out = Vec::new();
+        expand(
+            G76.as_bytes(),
+            Source::Gcode(&m),
+            ExpandFormat::Jsonl,
+            &Default::default(),
+            &mut out,
+        )
+        .unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<serde_json::Value> = text
+            .lines()
+            .map(|l| serde_json::from_str(l).unwrap())
+            .collect();
+        assert!(lines.iter().any(|v| v["kind"] == "thread"));
+        assert!(lines.iter().all(|v| v["line"].as_u64().is_some()));
+    }
+
+    #[test]
+    fn plot_draws_every_thread() {
+        let m = fanuc();
+        let two = format!("{G76}{G76}");
+        let all = plot(
+            two.as_bytes(),
+            Source::Gcode(&m),
+            Tip::Sharp,
+            Selection::default(),
+            &Default::default(),
+        )
+        .unwrap();
+        assert_eq!((all.threads, all.drawn.len()), (2, 2));
+        assert!(all.svg.starts_with("<svg") || all.svg.starts_with("<?xml"));
+        let second = Selection {
+            only: Some(2),
+            ..Selection::default()
+        };
+        let one = plot(
+            two.as_bytes(),
+            Source::Gcode(&m),
+            Tip::Sharp,
+            second,
+            &Default::default(),
+        )
+        .unwrap();
+        assert_eq!((one.threads, one.drawn.len()), (2, 1));
+        assert_eq!(one.drawn[0].0, 2);
+    }
+}
