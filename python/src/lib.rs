@@ -660,7 +660,11 @@ fn mill_py(
         .prepare()
         .map_err(|d| Problem::diagnostic(&d, None).error(py))?;
     for w in &milling.warnings {
-        Problem::plain_warning(w).warn(py)?;
+        Problem {
+            hint: w.hint.clone(),
+            ..Problem::plain_warning(&w.message)
+        }
+        .warn(py)?;
     }
     let mut out = Vec::new();
     milling.write_gcode(&mut out)?;

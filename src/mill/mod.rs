@@ -35,7 +35,7 @@ pub mod profile;
 pub mod readback;
 pub mod request;
 
-pub use request::{Milling, Request};
+pub use request::{Milling, Request, Warning};
 
 use serde::Serialize;
 

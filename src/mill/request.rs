@@ -119,10 +119,13 @@ impl Request {
         let mut warnings = Vec::new();
         if self.comp == Comp::Controller && profile.comp_needs_d && self.d_register.is_none() {
             // Legal on the control (G41/G42 keep the D in force), but worth a word before it runs.
-            warnings.push(format!(
-                "no --d-register: {} writes G41/G42 without D, so the tool-radius offset in force is used (name it with --d-register N, or use --comp none)",
-                profile.name
-            ));
+            warnings.push(Warning {
+                message: format!(
+                    "no --d-register: {} writes G41/G42 without D, so the tool-radius offset in force is used",
+                    profile.name
+                ),
+                hint: Some("name it with --d-register N, or use --comp none".to_string()),
+            });
         }
         let spec = MillSpec {
             thread,
@@ -146,7 +149,10 @@ impl Request {
         };
         let plan = super::plan(&spec)?;
         super::profile_checks(&plan, &profile)?;
-        warnings.extend(plan.warnings(units));
+        warnings.extend(plan.warnings(units).into_iter().map(|message| Warning {
+            message,
+            hint: None,
+        }));
         let options = Options {
             units,
             d_register: if self.comp == Comp::Controller {
@@ -178,7 +184,14 @@ pub struct Milling {
     pub plan: Plan,
     pub profile: MillProfile,
     pub options: Options,
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Warning>,
+}
+
+/// A finding about the program worth a word before it runs, and what to do about it.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Warning {
+    pub message: String,
+    pub hint: Option<String>,
 }
 
 impl Milling {

@@ -59,7 +59,7 @@ pub fn thread(
     };
     output::write(stdin, out, |w| {
         if json {
-            let mut v = thread_json(&t);
+            let mut v = t.to_json();
             if let Some((_, j)) = &taper {
                 v["cycle"] = j.clone();
             }
@@ -444,81 +444,6 @@ fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
     Ok(())
 }
 
-fn thread_json(t: &StandardThread) -> Value {
-    let u = t.units;
-    // Basic values and lengths (tabulated to 0.0001 in / 0.001 mm by the standards: NPT E1
-    // 0.77843, BSW minor 0.3933) without the mm → inch conversion noise (0.7784300000000001).
-    let n = |mm: f64| json!((u.from_mm(mm) * 1e10).round() / 1e10);
-    // Limits are tabulated values (0.001 mm, 0.0001 in): strip the mm → inch conversion noise.
-    let o = |mm: Option<f64>| mm.map_or(Value::Null, |x| json!((u.from_mm(x) * 1e6).round() / 1e6));
-    let limits = |l: &Limits| {
-        json!({
-            "class": l.class.to_string(),
-            "deviation": (u.from_mm(l.deviation) * 1e6).round() / 1e6,
-            "major": {"min": o(l.major.min), "max": o(l.major.max)},
-            "pitch": {"min": o(l.pitch.min), "max": o(l.pitch.max)},
-            "minor": {"min": o(l.minor.min), "max": o(l.minor.max)},
-        })
-    };
-    let mut v = json!({
-        "name": t.name,
-        "family": t.family,
-        "series": t.series,
-        "units": u,
-        "pitch": n(t.pitch),
-        "pitch_mm": t.pitch,
-        "tpi": t.tpi,
-        "basic": {
-            "major": n(t.basic.major),
-            "pitch_diameter": n(t.basic.pitch_diameter),
-            "minor": n(t.basic.minor),
-            "fundamental_height": n(t.basic.fundamental_height),
-        },
-        "thread_height": {"external": n(t.external_depth), "internal": n(t.internal_depth)},
-        "turning_infeed": {"external": n(t.external_depth), "internal": n(t.internal_depth)},
-        "external": t.external.as_ref().map(limits),
-        "internal": t.internal.as_ref().map(limits),
-    });
-    if !matches!(
-        t.family,
-        standard::Family::Metric | standard::Family::Unified
-    ) {
-        let e = |e: &standard::Edge| match *e {
-            standard::Edge::Sharp => json!({"kind": "sharp"}),
-            standard::Edge::Flat { width } => json!({"kind": "flat", "width": n(width)}),
-            standard::Edge::Round { radius } => json!({"kind": "round", "radius": n(radius)}),
-            standard::Edge::Truncated { min, max } => {
-                json!({"kind": "truncated", "min": n(min), "max": n(max)})
-            }
-        };
-        let p = &t.profile;
-        v["profile"] = json!({
-            "angle_deg": p.angle_deg,
-            "flank_angle_deg": p.flank_angle_deg,
-            "fundamental_height": n(p.fundamental_height),
-            "external": {"crest": e(&p.external_crest), "root": e(&p.external_root)},
-            "internal": {"crest": e(&p.internal_crest), "root": e(&p.internal_root)},
-        });
-        v["taper"] = t.taper.as_ref().map_or(Value::Null, |tp| {
-            json!({
-                "diameter_per_length": tp.diameter_per_length,
-                "gauge_length": n(tp.gauge_length),
-                "gauge_pitch_diameter": n(tp.gauge_pitch_diameter),
-                "gauge_major_diameter": n(tp.gauge_major_diameter),
-                "small_end_pitch_diameter": n(tp.small_end_pitch_diameter),
-                "effective_length": n(tp.effective_length),
-                "effective_end_pitch_diameter": n(tp.effective_end_pitch_diameter),
-                "vanish_length": n(tp.vanish_length),
-                "wrench_makeup": n(tp.wrench_makeup),
-                "overall_length": n(tp.overall_length),
-                "external_position_tolerance": n(tp.external_position_tolerance),
-                "internal_position_tolerance": n(tp.internal_position_tolerance),
-            })
-        });
-    }
-    v
-}
-
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum CompArg {
     /// Controller compensation: G41 or G42 as TB029's table gives for the case.
@@ -653,7 +578,8 @@ fn mill_profile(a: &MillArgs) -> Result<threadcut::mill::profile::MillProfile, F
         .map_err(|e| Failure::Usage(super::name_error(name, e, ProfileKind::Mill)))
 }
 
-fn parse_center(text: &str, units: Units) -> Result<(f64, f64), Failure> {
+/// `--center X,Y`, in the program's units.
+fn parse_center(text: &str) -> Result<(f64, f64), Failure> {
     let bad = || {
         Failure::Usage(format!(
             "--center: `{text}` is not `X,Y` (e.g. --center 10,-5.5)"
@@ -662,12 +588,13 @@ fn parse_center(text: &str, units: Units) -> Result<(f64, f64), Failure> {
     let (x, y) = text.split_once(',').ok_or_else(bad)?;
     let x: f64 = x.trim().parse().map_err(|_| bad())?;
     let y: f64 = y.trim().parse().map_err(|_| bad())?;
-    Ok((units.to_mm(x), units.to_mm(y)))
+    Ok((x, y))
 }
 
-/// `threadcut mill …`
+/// `threadcut mill …`: the flags as a [`threadcut::mill::Request`], which the Python package
+/// fills from its keywords too.
 pub fn mill(a: MillArgs) -> Result<(), Failure> {
-    use threadcut::mill::{self, Comp, Direction, Hand, LeadIn, MillSpec};
+    use threadcut::mill::{Comp, Direction, Hand, LeadIn, Request};
 
     let profile = mill_profile(&a)?;
     let side = match (a.internal, a.external) {
@@ -679,50 +606,8 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
             ))
         }
     };
-    let thread = standard::lookup(&a.thread).map_err(thread_usage)?;
-    let (given_ext, given_int) = (thread.external.is_some(), thread.internal.is_some());
-    if given_ext != given_int && given_ext != (side == Side::External) {
-        let class = thread
-            .external
-            .or(thread.internal)
-            .map(|l| l.class.to_string())
-            .unwrap_or_default();
-        return Err(Failure::Usage(format!(
-            "--thread `{}` names class {class}, which is for {} threads, but --{} was given",
-            a.thread,
-            if given_ext { "external" } else { "internal" },
-            if side == Side::External {
-                "external"
-            } else {
-                "internal"
-            }
-        )));
-    }
-    let units = match a.units {
-        Some(UnitsArg::Mm) => Units::Mm,
-        Some(UnitsArg::Inch) => Units::Inch,
-        None => thread.units,
-    };
-    let comp = match a.comp {
-        CompArg::G41 => Comp::Controller,
-        CompArg::None => Comp::Off,
-    };
-    if comp == Comp::Controller && profile.comp_needs_d && a.d_register.is_none() {
-        // Legal on the control (G41/G42 keep the D in force), but worth a word before it runs.
-        eprint!(
-            "{}",
-            render::warning(&format!(
-                "no --d-register: {} writes G41/G42 without D, so the tool-radius offset in force is used\n  = help: name it with --d-register N, or use --comp none",
-                profile.name
-            ))
-        );
-    }
-    let spec = MillSpec {
-        thread,
-        side,
+    let request = Request {
         hand: if a.left { Hand::Left } else { Hand::Right },
-        length: units.to_mm(a.length),
-        tool_diameter: units.to_mm(a.tool_diameter),
         teeth: a.teeth,
         direction: match (a.top_down, a.bottom_up) {
             (true, _) => Some(Direction::TopDown),
@@ -731,41 +616,38 @@ pub fn mill(a: MillArgs) -> Result<(), Failure> {
         },
         passes: a.passes,
         starts: a.starts,
-        comp,
-        center: parse_center(&a.center, units)?,
-        start_z: units.to_mm(a.start_z),
-        clearance: a.clearance.map_or(5.0, |c| units.to_mm(c)),
-        feed: units.to_mm(a.feed),
+        comp: match a.comp {
+            CompArg::G41 => Comp::Controller,
+            CompArg::None => Comp::Off,
+        },
+        center: parse_center(&a.center)?,
+        start_z: a.start_z,
         lead_in: match a.lead {
             LeadArg::Arc => LeadIn::Arc,
             LeadArg::Radial => LeadIn::Radial,
         },
-        comp_feed: profile.comp_feed,
+        clearance: a.clearance,
+        units: a.units.map(|u| match u {
+            UnitsArg::Mm => Units::Mm,
+            UnitsArg::Inch => Units::Inch,
+        }),
+        d_register: a.d_register,
+        ..Request::new(&a.thread, side, a.length, a.tool_diameter, a.feed, profile)
     };
-    let plan = mill::plan(&spec).map_err(usage)?;
-    mill::profile_checks(&plan, &profile).map_err(usage)?;
-    for w in plan.warnings(units) {
-        eprint!("{}", render::warning(&w));
-    }
-    let opts = mill::post::Options {
-        units,
-        d_register: if comp == Comp::Controller {
-            a.d_register
-        } else {
-            None
-        },
-    };
-    super::output::write(std::path::Path::new("-"), a.output.as_deref(), |out| {
-        let written = match a.format {
-            MillFormat::Gcode => mill::post::write_gcode(out, &plan, &profile, opts),
-            MillFormat::Jsonl => {
-                serde_json::to_writer(&mut *out, &mill::post::plan_json(&plan, units))
-                    .map_err(io::Error::other)
-                    .and_then(|()| writeln!(out))
-                    .and_then(|()| mill::post::write_jsonl(out, &plan, units))
-            }
+    let milling = request.prepare().map_err(usage)?;
+    for w in &milling.warnings {
+        let text = match &w.hint {
+            Some(h) => format!("{}\n  = help: {h}", w.message),
+            None => w.message.clone(),
         };
-        written.map_err(write_failure)
+        eprint!("{}", render::warning(&text));
+    }
+    super::output::write(std::path::Path::new("-"), a.output.as_deref(), |out| {
+        match a.format {
+            MillFormat::Gcode => milling.write_gcode(out),
+            MillFormat::Jsonl => milling.write_jsonl(out),
+        }
+        .map_err(write_failure)
     })?;
     Ok(())
 }
