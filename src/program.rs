@@ -385,7 +385,7 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
 ) -> Result<(), Error> {
     let before = summary.warnings.len();
     let read = dialect.read(&line, modal, &mut summary.warnings);
-    if S::BATCH && !matches!(read, Ok(Read::Plain | Read::Applied(_))) {
+    if S::BATCH && !matches!(read, Ok(Read::Plain | Read::Applied(_) | Read::Own { .. })) {
         flush_before(sink, line.before, pending)?;
     }
     match read? {
@@ -395,6 +395,15 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
                 *pending += line.raw.len();
             } else {
                 sink.event(modal, Event::Plain { line: &line, mv })?;
+            }
+        }
+        Read::Own { mv, words } => {
+            if S::BATCH {
+                *pending += line.raw.len();
+            } else {
+                let mut index = [0; 32];
+                let own = line.with_words(&words, &mut index);
+                sink.event(modal, Event::Plain { line: &own, mv })?;
             }
         }
         Read::Settings => sink.event(modal, Event::Settings { line: &line })?,

@@ -224,7 +224,7 @@ pub fn verify(
                 None
             }
             Ok(Read::Settings) => None,
-            Ok(Read::Applied(mv)) => mv,
+            Ok(Read::Applied(mv) | Read::Own { mv, .. }) => mv,
             Ok(Read::Plain) => modal
                 .apply(&conv, &line)
                 .map_err(|e| unreadable(&e.message))?,

@@ -84,7 +84,9 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
                 Ok(mv) => seen.push(format!("{} plain {mv:?} {modal:?}", line.number)),
                 Err(e) => return (seen, format!("error {:?}", program::Error::Input(e))),
             },
-            Ok(Read::Applied(mv)) => seen.push(format!("{} plain {mv:?} {modal:?}", line.number)),
+            Ok(Read::Applied(mv) | Read::Own { mv, .. }) => {
+                seen.push(format!("{} plain {mv:?} {modal:?}", line.number))
+            }
             Ok(Read::Settings) => seen.push(format!("{} settings {modal:?}", line.number)),
             Ok(Read::Cycle(job)) => {
                 cycles += 1;

@@ -522,6 +522,41 @@ mod tests {
         assert_eq!(passes_list(&[5, 1, 3, 6, 7, 8]), "passes 1, 3, 5–8");
         assert_eq!(passes_list(&[2, 3]), "passes 2, 3");
     }
+
+    /// A Sinumerik block with a setting in it (`LIMS=`) is read in the dialect's own syntax: the
+    /// spindle words on it count as on any other block. The speed is the same in both programs,
+    /// so are the findings: without the block's words the first would say "no spindle speed".
+    #[test]
+    fn spindle_words_on_a_sinumerik_block_with_a_setting_count() {
+        let machine = crate::machine::Machine::built_in("sinumerik").unwrap();
+        let program = |spindle: &str| {
+            format!(
+                "G18 G90 G95 DIAMON\nT1 D1\n{spindle}\nG0 X30 Z10\nCYCLE97(2.5,,0,-30,20,20,5,2,1.534,0.05,29,0,8,1,3,1)\nM30\n"
+            )
+        };
+        let codes = |spindle: &str| -> Vec<(crate::diag::Code, String)> {
+            let text = program(spindle);
+            check(
+                text.as_bytes(),
+                Source::Gcode(&machine),
+                &Options::default(),
+            )
+            .unwrap()
+            .diagnostics
+            .into_iter()
+            .map(|d| (d.code, d.message))
+            .collect()
+        };
+        assert_eq!(codes("G97 S400 LIMS=2000 M3"), codes("G97 S400 M3"));
+        assert!(
+            codes("G97 S400 M3").is_empty(),
+            "{:?}",
+            codes("G97 S400 M3")
+        );
+        let css = codes("G96 S120 LIMS=2000 M3");
+        assert_eq!(css, codes("G96 S120 M3"));
+        assert!(css[0].1.contains("constant surface speed (G96)"), "{css:?}");
+    }
 }
 
 #[cfg(test)]

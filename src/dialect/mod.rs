@@ -33,6 +33,15 @@ pub enum Read {
     /// itself (a block in its own syntax, or one whose move it completes, e.g. with a start
     /// angle): the move it makes, if any. It passes through unchanged, as a `Plain` block does.
     Applied(Option<crate::gcode::PlainMove>),
+    /// A line in the dialect's own syntax that the lexer handed over without words
+    /// ([`LineShape::unread`](crate::gcode::lexer::LineShape::unread): Sinumerik's assignments and
+    /// calls), applied as [`Read::Applied`] is: the move it makes, and the address words the
+    /// dialect read from it (`G96 S120 LIMS=2000 M3` gives G96, S120, M3), so that what follows the
+    /// reader (the spindle and decimal-point checks) sees the block's words.
+    Own {
+        mv: Option<crate::gcode::PlainMove>,
+        words: Vec<crate::gcode::Word>,
+    },
 }
 
 /// How a controller's threading cycle takes a taper: the word and its sign and scale, as the

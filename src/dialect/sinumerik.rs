@@ -547,10 +547,12 @@ impl Sinumerik {
             }
             return self.cycle97(&call, &own, modal, warnings);
         }
-        match self.read_words(&own, modal, leaves)? {
-            Read::Plain => Ok(Read::Applied(modal.apply(&self.conv, &own)?)),
-            read => Ok(read),
-        }
+        let mv = match self.read_words(&own, modal, leaves)? {
+            Read::Plain => modal.apply(&self.conv, &own)?,
+            Read::Applied(mv) => mv,
+            read => return Ok(read),
+        };
+        Ok(Read::Own { mv, words })
     }
 
     /// `NAME=value`: a parameter, a setting, or an address given by an operand (`X=R1`), which

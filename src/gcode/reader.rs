@@ -34,6 +34,26 @@ pub struct Line<'a> {
     pub(crate) index: &'a WordIndex,
 }
 
+impl<'a> Line<'a> {
+    /// This line with `words` in place of its own (the words a dialect read from a line in its
+    /// own syntax), its text, place and shape kept; `index` is filled here.
+    pub fn with_words<'b>(&'b self, words: &'b [Word], index: &'b mut WordIndex) -> Line<'b>
+    where
+        'a: 'b,
+    {
+        *index = [0; 32];
+        for (at, w) in words.iter().enumerate() {
+            index[crate::gcode::lexer::letter_slot(w.letter)] = at as u32;
+        }
+        Line {
+            words,
+            summary: WordSummary::of(words),
+            index,
+            ..*self
+        }
+    }
+}
+
 impl Line<'_> {
     #[inline]
     pub fn word(&self, letter: u8) -> Option<&Word> {

@@ -230,7 +230,13 @@ mod tests {
         let text = String::from_utf8(out).unwrap();
         assert!(text.contains("G3") || text.contains("G2"), "{text}");
         // Centroid needs a D word with G41/G42: the request gave none.
-        assert!(m.warnings[0].starts_with("no --d-register: centroid"));
+        assert!(m.warnings[0]
+            .message
+            .starts_with("no --d-register: centroid"));
+        assert_eq!(
+            m.warnings[0].hint.as_deref(),
+            Some("name it with --d-register N, or use --comp none")
+        );
     }
 
     #[test]
@@ -281,7 +287,9 @@ mod tests {
         let m = r.prepare().unwrap();
         // The D register is named; the arc lead-in below the bottom is said in inches.
         assert_eq!(m.warnings.len(), 1, "{:?}", m.warnings);
-        assert!(m.warnings[0].contains("inch below the thread bottom Z -0.5000"));
+        assert!(m.warnings[0]
+            .message
+            .contains("inch below the thread bottom Z -0.5000"));
         let mut out = Vec::new();
         m.write_jsonl(&mut out).unwrap();
         let first: serde_json::Value =

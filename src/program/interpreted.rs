@@ -221,6 +221,12 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
                 self.sink
                     .interpreted(&self.modal, Event::Plain { line: &line, mv }, &at)
             }
+            Read::Own { mv, words } => {
+                let mut index = [0; 32];
+                let own = line.with_words(&words, &mut index);
+                self.sink
+                    .interpreted(&self.modal, Event::Plain { line: &own, mv }, &at)
+            }
             Read::Settings => {
                 self.sink
                     .interpreted(&self.modal, Event::Settings { line: &line }, &at)
