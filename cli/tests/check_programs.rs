@@ -121,11 +121,13 @@ fn every_bundled_example_checks_without_an_error() {
 /// GSK's G92 with threads per inch and its G76, LinuxCNC's G33 passes and an internal G76, APT
 /// COUPLE passes, Haas's one-block G76 among its own codes (G154, G187, M23), FS15's G92 with an I
 /// taper, G-code system B's G33 passes under G90/G91, a Sinumerik 840D internal CYCLE97 among
-/// G54/G500/G641 ADIS=/G710/LIMS=. None may give an error; each is read as the threads it cuts.
+/// G54/G500/G641 ADIS=/G710/LIMS=; a Fanuc program between two `G28 U0. W0.`, Haas's `G28` and `G54` before
+/// its G76, LinuxCNC named parameters in the G76 words, GSK blocks ended by `;`, Sinumerik's
+/// `G96 S… LIMS=… M3` on one block. None may give an error; each is read as the threads it cuts.
 #[test]
 fn real_style_programs_have_no_false_error() {
     let files = programs(&root().join("tests/data/real"));
-    assert!(files.len() >= 16, "{files:?}");
+    assert!(files.len() >= 21, "{files:?}");
     for f in &files {
         let (code, out) = check(f, &[]);
         assert_eq!(code, 0, "{}: {out}", f.display());
