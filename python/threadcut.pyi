@@ -138,9 +138,9 @@ def plot_svg(
     """One SVG of the threads' pass diagrams and XZ toolpaths (`threadcut plot`): at most the first
     50 threads, the picture saying what it left out, or only the `cycle`th thread (1-based).
 
-    A program with no thread gives an empty drawing and an `InputWarning`; threads left out are
-    an `InputWarning` too. Raises `InputError` for a program the controller refuses, an unknown
-    controller, or a `cycle` the program does not have.
+    A program with no thread gives an empty drawing and an `InputWarning`; threads left out without
+    `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an
+    unknown controller, or a `cycle` the program does not have.
     """
 
 def thread(name: str) -> dict[str, Any]:

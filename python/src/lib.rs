@@ -478,9 +478,9 @@ fn findings<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py, PyList
 /// One SVG of the threads' pass diagrams and XZ toolpaths (`threadcut plot`): at most the first
 /// 50 threads, the picture saying what it left out, or only the `cycle`th thread (1-based).
 ///
-/// A program with no thread gives an empty drawing and an `InputWarning`; threads left out are
-/// an `InputWarning` too. Raises `InputError` for a program the controller refuses, an unknown
-/// controller, or a `cycle` the program does not have.
+/// A program with no thread gives an empty drawing and an `InputWarning`; threads left out without
+/// `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an
+/// unknown controller, or a `cycle` the program does not have.
 #[pyfunction(name = "plot_svg")]
 #[pyo3(signature = (program, controller, *, machine=None, cycle=None))]
 fn plot_svg_py(
@@ -519,7 +519,8 @@ fn plot_svg_py(
         .error(py));
     }
     warn_no_thread(py, plot.threads as u32, src)?;
-    if plot.threads > 0 && plot.drawn.len() < plot.threads {
+    // Threads left out unasked (`cycle` names the one wanted: the picture says the rest).
+    if cycle.is_none() && plot.threads > 0 && plot.drawn.len() < plot.threads {
         let numbers: Vec<usize> = plot.drawn.iter().map(|(n, _)| *n).collect();
         Problem::plain_warning(&threadcut::render::svg::left_out(&numbers, plot.threads))
             .warn(py)?;

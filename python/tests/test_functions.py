@@ -365,7 +365,9 @@ def test_plot_svg_draws_one_cycle_on_request():
         l + "\n" for l in M30_G76.splitlines() if l.startswith(("G0 ", "G76"))
     ) * 2
     both = threadcut.plot_svg(two, "fanuc")
-    second = threadcut.plot_svg(two, "fanuc", cycle=2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        second = threadcut.plot_svg(two, "fanuc", cycle=2)
     assert second.startswith("<svg") and len(second) < len(both)
     with pytest.raises(threadcut.InputError, match="cycle=3: the program has 2 threads"):
         threadcut.plot_svg(two, "fanuc", cycle=3)

@@ -247,7 +247,7 @@ enum Command {
         run: RunArgs,
     },
     /// Draw each thread's pass diagram and XZ toolpath into one SVG: the first 50 threads, or the
-    /// one --cycle names; the picture and standard error say what was left out.
+    /// one --cycle names; the picture says what was left out (standard error too, unless --cycle chose).
     Plot {
         #[command(flatten)]
         input: InputArg,

@@ -55,7 +55,7 @@ pub fn run(
     warn(file, &plot.summary);
     if plot.threads == 0 {
         no_thread(file, &codes);
-    } else if plot.drawn.len() < plot.threads {
+    } else if cycle.is_none() && plot.drawn.len() < plot.threads {
         let numbers: Vec<usize> = plot.drawn.iter().map(|(n, _)| *n).collect();
         let lines = match (plot.drawn.first(), plot.drawn.last()) {
             (Some((_, a)), Some((_, b))) if a == b => format!(" (line {a})"),
