@@ -833,6 +833,67 @@ fn linuxcnc_refuses_a_letter_twice_on_one_line() {
     jobs(&machine("fanuc"), "G0 X20. Z5. F0.1 F0.2\n");
 }
 
+/// LinuxCNC's `arc_data_r` (found comparing with rs274, tests/linuxcnc_reference.rs): an R arc
+/// whose radius cannot reach the end point, or that ends where it starts, is refused; half the
+/// chord equal to R (a half circle) is an arc.
+#[test]
+fn linuxcnc_r_arc_must_reach_its_end_point() {
+    let m = machine("linuxcnc");
+    // From (7, -1) to (8, -1.5), radius mode: half the chord is √1.25 / 2 = 0.559 > 0.5.
+    let d = error(&m, "G8 G21 G18\nF100\nG0 X7 Z-1\nG2 X8 Z-1.5 R0.5\nM2\n");
+    assert_error(
+        &d,
+        Code::Geometry,
+        4,
+        13,
+        "Arc radius too small to reach end point",
+    );
+    assert!(
+        d.hint.as_deref().unwrap().contains("0.559 mm"),
+        "{:?}",
+        d.hint
+    );
+    program::jobs(
+        "G8 G21 G18\nF100\nG0 X7 Z-1\nG2 X8 Z-1.5 R0.56\nM2\n".as_bytes(),
+        &m,
+    )
+    .unwrap();
+    // A half circle: half the chord is R exactly.
+    program::jobs(
+        "G8 G21 G18\nF100\nG0 X7 Z-1\nG3 X7 Z-2 R0.5\nM2\n".as_bytes(),
+        &m,
+    )
+    .unwrap();
+    // G7: X is a diameter, so X14 → X16 is 1 mm of radius; the same arc.
+    let d = error(&m, "G7 G21 G18\nF100\nG0 X14 Z-1\nG2 X16 Z-1.5 R0.5\nM2\n");
+    assert_error(&d, Code::Geometry, 4, 14, "Arc radius too small");
+    // The line's own G91 counts: X1 Z-0.5 from (7, -1) is the same end point.
+    let d = error(
+        &m,
+        "G8 G21 G18\nF100\nG0 X7 Z-1\nG91 G2 X1 Z-0.5 R0.5\nM2\n",
+    );
+    assert_error(&d, Code::Geometry, 4, 17, "Arc radius too small");
+    // Inch: the chord and R in the same units.
+    let d = error(
+        &m,
+        "G8 G20 G18\nF10\nG0 X0.7 Z-0.1\nG2 X0.8 Z-0.15 R0.05\nM2\n",
+    );
+    assert_error(&d, Code::Geometry, 4, 16, "Arc radius too small");
+    assert!(
+        d.hint.as_deref().unwrap().contains("0.0559 inch"),
+        "{:?}",
+        d.hint
+    );
+    let d = error(&m, "G8 G21 G18\nF100\nG0 X7 Z-1\nG2 X7 Z-1 R0.5\nM2\n");
+    assert_error(
+        &d,
+        Code::Geometry,
+        4,
+        11,
+        "Current point same as end point of arc",
+    );
+}
+
 #[test]
 fn linuxcnc_refuses_a_word_no_code_of_its_line_uses() {
     let m = machine("linuxcnc");

@@ -135,6 +135,8 @@ mod words;
 
 const G76: u16 = 760;
 const G80: u16 = 800;
+const G2: u16 = 20;
+const G3: u16 = 30;
 
 pub struct LinuxCnc {
     conv: Conventions,
@@ -210,6 +212,44 @@ impl LinuxCnc {
                 _ => {}
             }
         }
+    }
+
+    /// LinuxCNC's `arc_data_r`: an R arc (plane XZ) may not end where it starts, and its radius
+    /// must reach the end point (half the chord at most `|R|·(1 + 1e-12)`, LinuxCNC's `TINY`:
+    /// no allowance for the program's resolution, as rs274 refuses `R0.5` for a chord of
+    /// 1.0001). Checked when the start is known; the line's own G20/G21, G90/G91 and G7/G8
+    /// count, as they do in LinuxCNC (modal codes before motion).
+    fn check_r_arc(&self, line: &Line, modal: &Modal, r: &crate::gcode::Word) -> Result<()> {
+        let mut after = modal.clone();
+        let Ok(Some(mv)) = after.apply(&self.conv, line) else {
+            return Ok(());
+        };
+        let Some(from) = mv.from.known() else {
+            return Ok(());
+        };
+        if from == mv.to {
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                r.span,
+                "Current point same as end point of arc",
+            ));
+        }
+        let half_chord = (mv.to.x - from.x).hypot(mv.to.z - from.z) / 2.0;
+        let radius = after.length_mm(r).abs();
+        if half_chord / radius > 1.0 + 1e-12 {
+            let (units, half) = (after.units, after.units.from_mm(half_chord));
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                r.span,
+                "Arc radius too small to reach end point",
+            )
+            .with_hint(format!(
+                "half the chord from the start to the end point is {} {}: R must be at least that",
+                crate::post::number(half, 4, false),
+                units.name()
+            )));
+        }
+        Ok(())
     }
 
     fn read_g76(&mut self, line: &Line, modal: &Modal, g76: Span) -> Result<Job> {
@@ -509,6 +549,11 @@ impl Dialect for LinuxCnc {
         }
         if block.ends_program() {
             self.motion = Some(10);
+        }
+        if matches!(motion, Some(G2 | G3)) && self.plane == 180 {
+            if let Some(r) = line.word(b'R') {
+                self.check_r_arc(line, modal, r)?;
+            }
         }
         if motion != Some(G76) {
             return Ok(Read::Plain);
