@@ -139,6 +139,8 @@ fn number(s: &str) -> f64 {
         .unwrap_or_else(|_| panic!("canon number {s:?}"))
 }
 
+static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Runs rs274 on `file`: its motions, or its error.
 fn canon(rs274: &Path, file: &Path) -> Result<Vec<Motion>, Refusal> {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("linuxcnc-ref");
@@ -147,7 +149,10 @@ fn canon(rs274: &Path, file: &Path) -> Result<Vec<Motion>, Refusal> {
         "{}.canon",
         file.file_stem().unwrap().to_string_lossy()
     ));
+    // Two rs274 processes at once disturb each other (seen as empty refusals): one at a time.
+    let _one_at_a_time = RS274.lock().unwrap_or_else(|e| e.into_inner());
     let run = Command::new(rs274)
+        .current_dir(&dir)
         .arg("-g")
         .arg(file)
         .arg(&out)
