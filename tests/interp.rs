@@ -350,7 +350,8 @@ fn linuxcnc_errors_at_their_place() {
         "no matching while/do label: 'o4 continue' (found 'repeat' in line 3)"
     );
     let e = error("G8\nG0 X0 Z0\no7 else\nM2\n", "linuxcnc");
-    assert_eq!(e.message, "undefined O-word label: 'o7'");
+    // rs274: "3: undefined O-word label: 'o7 else'" (the line quoted).
+    assert_eq!(e.message, "undefined O-word label: 'o7 else'");
     let e = error("G8\nG0 X0 Z0\nG0 X[sqrt[-4]]\nM2\n", "linuxcnc");
     assert_eq!(e.message, "Negative argument to sqrt");
     let e = error(

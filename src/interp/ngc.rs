@@ -1053,7 +1053,14 @@ impl Compiler {
                     ),
                 ))
             }
-            None => Err(s.error(o_at, name_end, format!("undefined O-word label: 'o{name}'"))),
+            None => Err(s.error(
+                o_at,
+                name_end,
+                format!(
+                    "undefined O-word label: '{}'",
+                    String::from_utf8_lossy(s.source(o_at, s.len())).trim_end()
+                ),
+            )),
         }
     }
 
