@@ -46,6 +46,11 @@ use threadcut::program;
 /// Programs where threadcut deliberately or knowingly differs from rs274, and why.
 const KNOWN: &[(&str, &str)] = &[
     (
+        "g7-on-the-g76-line.ngc",
+        "deliberate (docs/dialects/linuxcnc-g76.md, Deviations): G7 on the G76 line makes LinuxCNC \
+         halve I, J and K twice; threadcut halves them once, as the documentation says",
+    ),
+    (
         "g76-exact-landing.ngc",
         "deliberate (docs/dialects/linuxcnc-g76.md, Deviations): J·n^(1/R) lands on K but LinuxCNC's \
          strict `depth < K` in doubles cuts one pass 1e-16 short of K and then K; threadcut takes a \
@@ -177,10 +182,14 @@ fn parse_canon(text: &str) -> Vec<Motion> {
     let mut motions = Vec::new();
     let mut sync: Option<f64> = None;
     for line in text.lines() {
-        // "   14 N..... STRAIGHT_TRAVERSE(12.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)"
-        let Some(call) = line.split_once("N..... ").map(|(_, c)| c) else {
-            continue;
-        };
+        // "   14 N..... STRAIGHT_TRAVERSE(12.0000, 0.0000, 5.0000, 0.0000, 0.0000, 0.0000)", the
+        // second field the block's N number when it has one ("N30   ").
+        let mut call = line.trim_start();
+        for _ in 0..2 {
+            call = call
+                .split_once(char::is_whitespace)
+                .map_or("", |(_, rest)| rest.trim_start());
+        }
         let Some((name, rest)) = call.split_once('(') else {
             continue;
         };
@@ -487,7 +496,8 @@ fn canon_lines_map_onto_motions() {
    16 N..... STRAIGHT_FEED(10.6380, 0.0000, -39.8586, 0.0000, 0.0000, 0.0000)\n\
    17 N..... STOP_SPEED_FEED_SYNCH()\n\
    18 N..... ARC_FEED(-2.0000, 7.0000, 0.0000, 7.0000, -1, 0.0000, 0.0000, 0.0000, 0.0000)\n\
-   19 N..... ARC_FEED(-4.0000, 9.0000, -4.0000, 7.0000, 1, 0.0000, 0.0000, 0.0000, 0.0000)\n";
+   19 N..... ARC_FEED(-4.0000, 9.0000, -4.0000, 7.0000, 1, 0.0000, 0.0000, 0.0000, 0.0000)\n\
+   20 N30    STRAIGHT_TRAVERSE(10.0000, 0.0000, 2.0000, 0.0000, 0.0000, 0.0000)\n";
     let m = parse_canon(text);
     let kinds: Vec<Kind> = m.iter().map(|m| m.kind).collect();
     assert_eq!(
@@ -497,9 +507,11 @@ fn canon_lines_map_onto_motions() {
             Kind::Feed,
             Kind::Thread(1.70568),
             Kind::Arc { cw: true },
-            Kind::Arc { cw: false }
+            Kind::Arc { cw: false },
+            Kind::Rapid
         ]
     );
+    assert_eq!((m[5].x, m[5].z), (10.0, 2.0));
     assert_eq!((m[2].x, m[2].z), (10.638, -39.8586));
     assert_eq!((m[3].x, m[3].z), (7.0, -2.0));
     // A 45° ramp with 1.5 along Z per revolution travels 1.5·√2 along its path.
