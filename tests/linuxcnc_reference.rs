@@ -3,8 +3,9 @@
 //!
 //! The reference is LinuxCNC's standalone interpreter `rs274` (`rs274 -g in.ngc out.txt`, which
 //! writes the canonical machining commands the interpreter issues). The test uses the program
-//! named by the environment variable `THREADCUT_RS274`, else `rs274` on the `PATH`; when neither
-//! exists it prints that it is skipped and passes (machines without LinuxCNC). Checked with
+//! named by the environment variable `THREADCUT_RS274` (a path that is not a file fails the test),
+//! else `rs274` on the `PATH`; when neither is given it prints that it is skipped and passes
+//! (machines without LinuxCNC). Checked with
 //! LinuxCNC 2.9.0~pre1 (Debian `linuxcnc-uspace`). Reproduce:
 //! `THREADCUT_RS274=/usr/bin/rs274 cargo test --test linuxcnc_reference -- --nocapture`.
 //!
@@ -113,8 +114,10 @@ struct Refusal {
 
 fn rs274() -> Option<PathBuf> {
     if let Some(p) = std::env::var_os("THREADCUT_RS274") {
+        // Asked for by name: a wrong path is a failure, not a skip.
         let p = PathBuf::from(p);
-        return p.is_file().then_some(p);
+        assert!(p.is_file(), "THREADCUT_RS274={} is not a file", p.display());
+        return Some(p);
     }
     std::env::split_paths(&std::env::var_os("PATH")?)
         .map(|dir| dir.join("rs274"))
