@@ -9,9 +9,10 @@
 //! LinuxCNC 2.9.0~pre1 (Debian `linuxcnc-uspace`). Reproduce:
 //! `THREADCUT_RS274=/usr/bin/rs274 cargo test --test linuxcnc_reference -- --nocapture`.
 //!
-//! The corpus: `tests/data/linuxcnc-ref/*.ngc` (written for this test) and every LinuxCNC example
-//! `examples/linuxcnc-*.ngc`. Programs that LinuxCNC refuses are in `tests/data/linuxcnc-ref/bad/`:
-//! threadcut must refuse them too, with LinuxCNC's message, on the line rs274 prints.
+//! The corpus: `tests/data/linuxcnc-ref/*.ngc` (written for this test), every LinuxCNC example
+//! `examples/linuxcnc-*.ngc` and the shop-style `tests/data/real/linuxcnc-*.ngc`. Programs that
+//! LinuxCNC refuses are in `tests/data/linuxcnc-ref/bad/`: threadcut must refuse them too, with
+//! LinuxCNC's message, on the line rs274 prints.
 //!
 //! How the canonical commands map onto threadcut's motion stream (`threadcut expand -c linuxcnc
 //! --format jsonl`, [`program::expand_jsonl`]); every other canonical command is ignored:
@@ -328,6 +329,7 @@ fn linuxcnc_programs_move_for_move_as_rs274_runs_them() {
     };
     let mut files = ngc_files(&root().join("tests/data/linuxcnc-ref"), "");
     files.extend(ngc_files(&root().join("examples"), "linuxcnc-"));
+    files.extend(ngc_files(&root().join("tests/data/real"), "linuxcnc-"));
     assert!(files.len() >= 20, "the corpus has {} programs", files.len());
     let (mut programs, mut moves) = (0, 0);
     let mut failures = Vec::new();
