@@ -217,10 +217,33 @@ fn parse_canon(text: &str) -> Vec<Motion> {
                 x: number(args[1]),
                 z: number(args[0]),
             }),
+            // A motion this mapping does not know would go unnoticed: refuse it.
+            other if is_unmapped_motion(other) => {
+                panic!("canon motion {other} has no mapping in tests/linuxcnc_reference.rs")
+            }
             _ => {}
         }
     }
     motions
+}
+
+/// Canonical commands that move the tool and are not in the mapping (rigid tapping, probing,
+/// splines, NURBS): none of the corpus may use them.
+fn is_unmapped_motion(name: &str) -> bool {
+    ["FEED", "TRAVERSE", "PROBE", "TAP", "NURBS", "SPLINE"]
+        .iter()
+        .any(|m| name.contains(m))
+        && !matches!(
+            name,
+            "SET_FEED_RATE"
+                | "SET_FEED_MODE"
+                | "SET_FEED_REFERENCE"
+                | "ENABLE_FEED_OVERRIDE"
+                | "DISABLE_FEED_OVERRIDE"
+                | "START_SPEED_FEED_SYNC"
+                | "STOP_SPEED_FEED_SYNCH"
+                | "SET_TRAVERSE_RATE"
+        )
 }
 
 /// threadcut's motion stream for `file`, leads converted to the path; or its error (message and
@@ -517,6 +540,10 @@ fn canon_lines_map_onto_motions() {
         ]
     );
     assert_eq!((m[5].x, m[5].z), (10.0, 2.0));
+    assert!(is_unmapped_motion("RIGID_TAP"));
+    assert!(is_unmapped_motion("STRAIGHT_PROBE"));
+    assert!(!is_unmapped_motion("SET_FEED_RATE"));
+    assert!(!is_unmapped_motion("START_SPEED_FEED_SYNC"));
     assert_eq!((m[2].x, m[2].z), (10.638, -39.8586));
     assert_eq!((m[3].x, m[3].z), (7.0, -2.0));
     // A 45° ramp with 1.5 along Z per revolution travels 1.5·√2 along its path.
