@@ -5,8 +5,8 @@
 //! writes the canonical machining commands the interpreter issues). The test uses the program
 //! named by the environment variable `THREADCUT_RS274` (a path that is not a file fails the test),
 //! else `rs274` on the `PATH`; when neither is given it prints that it is skipped and passes
-//! (machines without LinuxCNC). Checked with
-//! LinuxCNC 2.9.0~pre1 (Debian `linuxcnc-uspace`). Reproduce:
+//! (machines without LinuxCNC). Checked with LinuxCNC 2.9.0~pre1 (Debian `linuxcnc-uspace`).
+//! Reproduce:
 //! `THREADCUT_RS274=/usr/bin/rs274 cargo test --test linuxcnc_reference -- --nocapture`.
 //!
 //! The corpus: `tests/data/linuxcnc-ref/*.ngc` (written for this test), every LinuxCNC example
