@@ -331,8 +331,27 @@ fn linuxcnc_errors_at_their_place() {
         "{}",
         e.message
     );
+    // rs274 (LinuxCNC 2.9): "4: no matching while/do label: '  o1 break' (found 'if' in line 3)".
+    let e = error(
+        "G8\nG0 X0 Z0\no1 if [1]\n  o1 break\no1 endif\nM2\n",
+        "linuxcnc",
+    );
+    assert_eq!(
+        e.message,
+        "no matching while/do label: 'o1 break' (found 'if' in line 3)"
+    );
+    assert_eq!((e.span.line, e.span.column), (4, 3));
+    let e = error(
+        "G8\nG0 X0 Z0\no4 repeat [2]\no4 continue\no4 endrepeat\nM2\n",
+        "linuxcnc",
+    );
+    assert_eq!(
+        e.message,
+        "no matching while/do label: 'o4 continue' (found 'repeat' in line 3)"
+    );
     let e = error("G8\nG0 X0 Z0\no7 else\nM2\n", "linuxcnc");
-    assert_eq!(e.message, "undefined O-word label: 'o7'");
+    // rs274: "3: undefined O-word label: 'o7 else'" (the line quoted).
+    assert_eq!(e.message, "undefined O-word label: 'o7 else'");
     let e = error("G8\nG0 X0 Z0\nG0 X[sqrt[-4]]\nM2\n", "linuxcnc");
     assert_eq!(e.message, "Negative argument to sqrt");
     let e = error(

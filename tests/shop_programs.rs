@@ -833,6 +833,128 @@ fn linuxcnc_refuses_a_letter_twice_on_one_line() {
     jobs(&machine("fanuc"), "G0 X20. Z5. F0.1 F0.2\n");
 }
 
+/// LinuxCNC's `arc_data_r` (found comparing with rs274, tests/linuxcnc_reference.rs): an R arc
+/// whose radius cannot reach the end point, or that ends where it starts, is refused; half the
+/// chord equal to R (a half circle) is an arc.
+#[test]
+fn linuxcnc_r_arc_must_reach_its_end_point() {
+    let m = machine("linuxcnc");
+    // From (7, -1) to (8, -1.5), radius mode: half the chord is √1.25 / 2 = 0.559 > 0.5.
+    let d = error(&m, "G8 G21 G18\nF100\nG0 X7 Z-1\nG2 X8 Z-1.5 R0.5\nM2\n");
+    assert_error(
+        &d,
+        Code::Geometry,
+        4,
+        13,
+        "Arc radius too small to reach end point",
+    );
+    assert!(
+        d.hint.as_deref().unwrap().contains("0.559 mm"),
+        "{:?}",
+        d.hint
+    );
+    program::jobs(
+        "G8 G21 G18\nF100\nG0 X7 Z-1\nG2 X8 Z-1.5 R0.56\nM2\n".as_bytes(),
+        &m,
+    )
+    .unwrap();
+    // A half circle: half the chord is R exactly.
+    program::jobs(
+        "G8 G21 G18\nF100\nG0 X7 Z-1\nG3 X7 Z-2 R0.5\nM2\n".as_bytes(),
+        &m,
+    )
+    .unwrap();
+    // G7: X is a diameter, so X14 → X16 is 1 mm of radius; the same arc.
+    let d = error(&m, "G7 G21 G18\nF100\nG0 X14 Z-1\nG2 X16 Z-1.5 R0.5\nM2\n");
+    assert_error(&d, Code::Geometry, 4, 14, "Arc radius too small");
+    // The line's own G91 counts: X1 Z-0.5 from (7, -1) is the same end point.
+    let d = error(
+        &m,
+        "G8 G21 G18\nF100\nG0 X7 Z-1\nG91 G2 X1 Z-0.5 R0.5\nM2\n",
+    );
+    assert_error(&d, Code::Geometry, 4, 17, "Arc radius too small");
+    // Inch: the chord and R in the same units.
+    let d = error(
+        &m,
+        "G8 G20 G18\nF10\nG0 X0.7 Z-0.1\nG2 X0.8 Z-0.15 R0.05\nM2\n",
+    );
+    assert_error(&d, Code::Geometry, 4, 16, "Arc radius too small");
+    assert!(
+        d.hint.as_deref().unwrap().contains("0.0559 inch"),
+        "{:?}",
+        d.hint
+    );
+    let d = error(&m, "G8 G21 G18\nF100\nG0 X7 Z-1\nG2 X7 Z-1 R0.5\nM2\n");
+    assert_error(
+        &d,
+        Code::Geometry,
+        4,
+        11,
+        "Current point same as end point of arc",
+    );
+}
+
+/// LinuxCNC's `arc_data_ijk` with its default tolerances (2·√2·0.01 mm or 0.001 inch, or 0.1 % of
+/// the radius; never 100 tolerances), found comparing with rs274 and pinned at rs274's own
+/// boundaries (tests/data/linuxcnc-ref/bad/arc-centre-off.ngc).
+#[test]
+fn linuxcnc_ik_arc_ends_on_its_circle() {
+    let m = machine("linuxcnc");
+    let arc = |head: &str, k: &str| format!("{head}\nF100\nG0 X4 Z1\nG1 Z0\nG3 X6 Z-2 {k}\nM2\n");
+    // From (4, 0) to (6, -2) about (4, -2.03): r1 = 2.03, r2 = 2.000225 (rs274 refuses it).
+    let d = error(&m, &arc("G8 G21 G18", "K-2.03"));
+    assert_error(
+        &d,
+        Code::Geometry,
+        5,
+        11,
+        "Radius to end of arc differs from radius to start",
+    );
+    assert_eq!(
+        d.message,
+        "Radius to end of arc differs from radius to start: start=(Z0.0000,X4.0000) \
+         center=(Z-2.0300,X4.0000) end=(Z-2.0000,X6.0000) r1=2.0300 r2=2.0002 abs_err=0.02978 \
+         rel_err=1.4667%"
+    );
+    // 0.0248 mm apart: within 2·√2·0.01 mm (rs274 runs it).
+    program::jobs(arc("G8 G21 G18", "K-2.025").as_bytes(), &m).unwrap();
+    // I is a radius also in G7: X8 → X12 is 2 mm of radius, the same arcs.
+    let g7 = |k: &str| format!("G7 G21 G18\nF100\nG0 X8 Z1\nG1 Z0\nG3 X12 Z-2 {k}\nM2\n");
+    program::jobs(g7("I0 K-2").as_bytes(), &m).unwrap();
+    assert_error(
+        &error(&m, &g7("K-2.03")),
+        Code::Geometry,
+        5,
+        12,
+        "Radius to end",
+    );
+    // 0.1 % of a 100 mm radius is 0.1 mm: 0.09 passes, 0.11 does not (as rs274).
+    let big = |k: &str| format!("G8 G21 G18\nF100\nG0 X4 Z1\nG1 Z0\nG3 X104 Z-100 {k}\nM2\n");
+    program::jobs(big("K-100.09").as_bytes(), &m).unwrap();
+    assert_error(
+        &error(&m, &big("K-100.11")),
+        Code::Geometry,
+        5,
+        15,
+        "Radius to end",
+    );
+    // Inch: 2·√2·0.001 inch = 0.00283.
+    let inch = |k: &str| format!("G8 G20 G18\nF10\nG0 X0.4 Z0.1\nG1 Z0\nG3 X0.6 Z-0.2 {k}\nM2\n");
+    program::jobs(inch("K-0.2025").as_bytes(), &m).unwrap();
+    let d = error(&m, &inch("K-0.2029"));
+    assert!(
+        d.message.ends_with("abs_err=0.002879 rel_err=1.4189%"),
+        "{}",
+        d.message
+    );
+    // G90.1: I and K are the centre itself.
+    program::jobs(
+        "G8 G21 G18 G90.1\nF100\nG0 X4 Z1\nG1 Z0\nG3 X6 Z-2 I4 K-2\nM2\n".as_bytes(),
+        &m,
+    )
+    .unwrap();
+}
+
 #[test]
 fn linuxcnc_refuses_a_word_no_code_of_its_line_uses() {
     let m = machine("linuxcnc");
@@ -858,12 +980,13 @@ fn linuxcnc_refuses_a_word_no_code_of_its_line_uses() {
         let at = 3 + line.lines().count() as u32;
         assert_error(&e, Code::Unsupported, at, column(last, word), message);
     }
-    // The same words where a code of the line (or the modal motion) uses them.
+    // The same words where a code of the line (or the modal motion) uses them (arcs whose end
+    // points lie on their circles: rs274 checks that, and so does threadcut).
     for line in [
         "G76 P2.5 Z-30 I-1 J0.1 K0.5 R1.5 Q29.5 H1 E1 L1 $0",
-        "G2 X12 Z3 I1 K-1 F0.1",
-        "G2 X12 Z3 R1 F0.1\nX14 Z1 R1",
-        "G3 X12 Z3 I1 K1 F0.1\nI1 K1",
+        "G2 X13 Z3 I1 K-1 F0.1",
+        "G2 X12 Z3 R1.2 F0.1\nX14 Z1 R1.5",
+        "G3 X13 Z7 I1 K1 F0.1\nI1 K1",
         "G4 P0.5",
         "G96 D2500 S180",
         "G95 $0",

@@ -18,7 +18,7 @@ use crate::thread::{
     DepthLaw, Entry, Exit, FinishPosition, Flank, Geometry, Infeed, Job, Lead, PassPlan, Retract,
     ReturnPath, Side,
 };
-use crate::units::Pos;
+use crate::units::{Pos, Units};
 
 use super::{g, Dialect, Read};
 
@@ -135,6 +135,8 @@ mod words;
 
 const G76: u16 = 760;
 const G80: u16 = 800;
+const G2: u16 = 20;
+const G3: u16 = 30;
 
 pub struct LinuxCnc {
     conv: Conventions,
@@ -148,6 +150,8 @@ pub struct LinuxCnc {
     cutter_comp: bool,
     /// Active plane ×10 (G17 170, G18 180, G19 190).
     plane: u16,
+    /// G90.1: arc centres I/K are absolute (G91.1, incremental, at power-on).
+    ijk_absolute: bool,
 }
 
 impl LinuxCnc {
@@ -181,6 +185,7 @@ impl LinuxCnc {
             motion: None,
             cutter_comp: false,
             plane: 180,
+            ijk_absolute: false,
         }
     }
 
@@ -196,6 +201,8 @@ impl LinuxCnc {
                 (b'G', Some(70)) => modal.diameter_x = true,
                 (b'G', Some(80)) => modal.diameter_x = false,
                 (b'G', Some(c @ (170 | 180 | 190))) => self.plane = c,
+                (b'G', Some(901)) => self.ijk_absolute = true,
+                (b'G', Some(911)) => self.ijk_absolute = false,
                 (b'G', Some(400)) => self.cutter_comp = false,
                 (b'G', Some(410 | 411 | 420 | 421)) => self.cutter_comp = true,
                 (b'M', Some(30 | 40)) => match selected {
@@ -210,6 +217,63 @@ impl LinuxCnc {
                 _ => {}
             }
         }
+    }
+
+    /// LinuxCNC's arc checks in plane XZ, when the arc's start is known; the line's own G20/G21,
+    /// G90/G91 and G7/G8 count, as they do in LinuxCNC (modal codes before motion).
+    ///
+    /// * R (`arc_data_r`): the arc may not end where it starts, and half the chord may not exceed
+    ///   `|R|·(1 + 1e-12)` (LinuxCNC's `TINY`; no allowance for the program's resolution, as rs274
+    ///   refuses `R0.5` for a chord of 1.0001).
+    /// * I/K (`arc_data_ijk`): the centre is the start plus (I, K) — I a radius also in G7 — or
+    ///   (I, K) under G90.1; the radii to the start and to the end may differ by at most LinuxCNC's
+    ///   default `CENTER_ARC_RADIUS_TOLERANCE` (2·√2·0.01 mm, 2·√2·0.001 inch), or by more when
+    ///   that is at most 0.1 % of the larger radius, and never by 100 tolerances.
+    fn check_arc(&self, line: &Line, modal: &Modal) -> Result<()> {
+        let mut after = modal.clone();
+        let Ok(Some(mv)) = after.apply(&self.conv, line) else {
+            return Ok(());
+        };
+        let Some(from) = mv.from.known() else {
+            return Ok(());
+        };
+        if let Some(r) = line.word(b'R') {
+            return check_r_arc(&after, r, from, mv.to);
+        }
+        let (i, k) = (line.word(b'I'), line.word(b'K'));
+        let Some(at) = i.or(k) else {
+            return Ok(());
+        };
+        let units = after.units;
+        let offset = |w: Option<&crate::gcode::Word>| w.map_or(0.0, |w| after.length_mm(w));
+        let centre = if self.ijk_absolute {
+            Pos::new(offset(i), offset(k))
+        } else {
+            Pos::new(from.x + offset(i), from.z + offset(k))
+        };
+        // In program units, as LinuxCNC computes and prints them.
+        let p = |q: Pos| (units.from_mm(q.z), units.from_mm(q.x));
+        let ((sz, sx), (cz, cx), (ez, ex)) = (p(from), p(centre), p(mv.to));
+        let (r1, r2) = ((cx - sx).hypot(cz - sz), (cx - ex).hypot(cz - ez));
+        let abs_err = (r1 - r2).abs();
+        let rel_err = abs_err / r1.max(r2);
+        let tolerance =
+            2.0 * std::f64::consts::SQRT_2 * if units == Units::Inch { 0.001 } else { 0.01 };
+        if abs_err > tolerance * 100.0 || (rel_err > 0.001 && abs_err > tolerance) {
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                at.span,
+                format!(
+                    "Radius to end of arc differs from radius to start: start=(Z{sz:.4},X{sx:.4}) \
+                     center=(Z{cz:.4},X{cx:.4}) end=(Z{ez:.4},X{ex:.4}) r1={r1:.4} r2={r2:.4} \
+                     abs_err={} rel_err={:.4}%",
+                    c_general(abs_err, 4),
+                    rel_err * 100.0
+                ),
+            )
+            .with_hint("I and K give the centre from the start point (I a radius, also in G7): the end point must lie on the same circle"));
+        }
+        Ok(())
     }
 
     fn read_g76(&mut self, line: &Line, modal: &Modal, g76: Span) -> Result<Job> {
@@ -510,6 +574,9 @@ impl Dialect for LinuxCnc {
         if block.ends_program() {
             self.motion = Some(10);
         }
+        if matches!(motion, Some(G2 | G3)) && self.plane == 180 {
+            self.check_arc(line, modal)?;
+        }
         if motion != Some(G76) {
             return Ok(Read::Plain);
         }
@@ -551,6 +618,57 @@ impl Dialect for LinuxCnc {
 }
 
 /// The G76 block that expresses `job`, when LinuxCNC's G76 can (the read-back check decides).
+/// LinuxCNC's `arc_data_r` (see [`LinuxCnc::check_arc`]); `modal` is the state after the line's
+/// modal codes.
+fn check_r_arc(modal: &Modal, r: &crate::gcode::Word, from: Pos, to: Pos) -> Result<()> {
+    if from == to {
+        return Err(Diagnostic::error(
+            Code::Geometry,
+            r.span,
+            "Current point same as end point of arc",
+        ));
+    }
+    let half_chord = (to.x - from.x).hypot(to.z - from.z) / 2.0;
+    if half_chord / modal.length_mm(r).abs() > 1.0 + 1e-12 {
+        let units = modal.units;
+        return Err(Diagnostic::error(
+            Code::Geometry,
+            r.span,
+            "Arc radius too small to reach end point",
+        )
+        .with_hint(format!(
+            "half the chord from the start to the end point is {} {}: R must be at least that",
+            crate::post::number(units.from_mm(half_chord), 4, false),
+            units.name()
+        )));
+    }
+    Ok(())
+}
+
+/// C's `%.{digits}g`: `digits` significant digits, trailing zeros dropped, an exponent below
+/// 1e-4 and from 10^digits on.
+fn c_general(v: f64, digits: i32) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let exp = |v: f64| format!("{:.*e}", (digits - 1) as usize, v);
+    // The exponent after rounding to `digits` significant digits.
+    let e: i32 = exp(v).split_once('e').unwrap().1.parse().unwrap();
+    if e < -4 || e >= digits {
+        let text = exp(v);
+        let (mantissa, e) = text.split_once('e').unwrap();
+        let mantissa = mantissa.trim_end_matches('0').trim_end_matches('.');
+        let e: i32 = e.parse().unwrap();
+        return format!("{mantissa}e{}{:02}", if e < 0 { '-' } else { '+' }, e.abs());
+    }
+    let text = format!("{:.*}", (digits - 1 - e) as usize, v);
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
 fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, String> {
     let g = &job.geometry;
     let ReturnPath::Diagonal { clearance, end } = job.return_path else {
@@ -624,4 +742,24 @@ fn native_g76(machine: &Machine, job: &Job) -> std::result::Result<Vec<String>, 
     let _ = machine;
     // The block is written in radius mode and absolute distance: wrap it when the program differs.
     Ok(vec![block])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::c_general;
+
+    #[test]
+    fn c_general_is_printf_g() {
+        // printf("%.4g") of the same values.
+        assert_eq!(c_general(0.02978, 4), "0.02978");
+        assert_eq!(c_general(0.21, 4), "0.21");
+        assert_eq!(c_general(1.236_067_977, 4), "1.236");
+        assert_eq!(c_general(0.002_879_3, 4), "0.002879");
+        assert_eq!(c_general(12.5, 4), "12.5");
+        assert_eq!(c_general(1234.5, 4), "1234");
+        assert_eq!(c_general(12345.0, 4), "1.234e+04");
+        assert_eq!(c_general(0.000_012_34, 4), "1.234e-05");
+        assert_eq!(c_general(9.99996, 4), "10");
+        assert_eq!(c_general(0.0, 4), "0");
+    }
 }

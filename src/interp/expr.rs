@@ -268,7 +268,18 @@ impl<'a, 's> Parser<'a, 's> {
             let Some((op, len)) = self.operator(at) else {
                 if let Some(o) = open {
                     return Err(match self.lang {
-                        Lang::Ngc => self.s.error(at, at + 1, "Unknown operation"),
+                        // LinuxCNC's `read_operation`: a letter that begins one of its
+                        // operator names, not followed by the rest of one, is named.
+                        Lang::Ngc => match c.to_ascii_lowercase() {
+                            l @ (b'a' | b'e' | b'g' | b'l' | b'm' | b'n' | b'o' | b'x') => {
+                                self.s.error(
+                                    at,
+                                    at + 1,
+                                    format!("Unknown operation name starting with {}", l as char),
+                                )
+                            }
+                            _ => self.s.error(at, at + 1, "Unknown operation"),
+                        },
                         Lang::MacroB => self
                             .s
                             .error(
@@ -1209,6 +1220,20 @@ mod tests {
         );
         let deep = format!("{}1{}", "[".repeat(70), "]".repeat(70));
         assert!(eval(Lang::Ngc, &deep, vec![]).is_err());
+        // rs274 (LinuxCNC 2.9) names the letter an operator name could begin with.
+        let e = eval(Lang::Ngc, "[2 MUL 3]", vec![]).unwrap_err();
+        assert_eq!(
+            (e.message.as_str(), e.span.column),
+            ("Unknown operation name starting with m", 4)
+        );
+        assert_eq!(
+            eval(Lang::Ngc, "[2 XX 3]", vec![]).unwrap_err().message,
+            "Unknown operation name starting with x"
+        );
+        assert_eq!(
+            eval(Lang::Ngc, "[2 ? 3]", vec![]).unwrap_err().message,
+            "Unknown operation"
+        );
     }
 
     #[test]

@@ -1004,9 +1004,16 @@ impl Compiler {
             .rposition(|o| matches!(o, Open::Sub { .. }))
             .map_or(0, |p| p + 1);
         let looking_for_loop = what == "while/do";
+        // A break or continue names the innermost loop of that name; with none, the innermost
+        // construct of that name is what LinuxCNC's label table finds (and refuses).
         let found = self.open[scope_start..]
             .iter()
-            .rposition(|o| o.name(code) == name && (pred(o) || !looking_for_loop));
+            .rposition(|o| o.name(code) == name && (pred(o) || !looking_for_loop))
+            .or_else(|| {
+                self.open[scope_start..]
+                    .iter()
+                    .rposition(|o| looking_for_loop && o.name(code) == name)
+            });
         match found {
             Some(p) if pred(&self.open[scope_start + p]) => {
                 if !looking_for_loop {
@@ -1035,16 +1042,25 @@ impl Compiler {
             Some(p) => {
                 let o = &self.open[scope_start + p];
                 let line = code.text.line(o.line_and_inst().0).number;
+                // LinuxCNC quotes the line as written (`settings->linetext`).
                 Err(s.error(
                     o_at,
                     name_end,
                     format!(
-                        "no matching {what} label: 'o{name}' (found '{}' in line {line})",
+                        "no matching {what} label: '{}' (found '{}' in line {line})",
+                        String::from_utf8_lossy(s.source(o_at, s.len())).trim_end(),
                         o.what().0
                     ),
                 ))
             }
-            None => Err(s.error(o_at, name_end, format!("undefined O-word label: 'o{name}'"))),
+            None => Err(s.error(
+                o_at,
+                name_end,
+                format!(
+                    "undefined O-word label: '{}'",
+                    String::from_utf8_lossy(s.source(o_at, s.len())).trim_end()
+                ),
+            )),
         }
     }
 
