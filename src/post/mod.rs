@@ -137,12 +137,20 @@ impl Format {
 
     /// A comment line, or nothing when the profile writes none.
     pub fn comment(&self, text: &str) -> Option<String> {
-        let clean: String = text.chars().filter(|c| !matches!(c, '(' | ')')).collect();
-        match self.comment {
-            CommentStyle::Paren => Some(format!("({clean})")),
-            CommentStyle::Semicolon => Some(format!("; {clean}")),
-            CommentStyle::None => None,
+        let (open, close) = match self.comment {
+            CommentStyle::Paren => ("(", ")"),
+            CommentStyle::Semicolon => ("; ", ""),
+            CommentStyle::None => return None,
+        };
+        let mut c = String::with_capacity(open.len() + text.len() + close.len());
+        c.push_str(open);
+        if text.contains(['(', ')']) {
+            c.extend(text.chars().filter(|c| !matches!(c, '(' | ')')));
+        } else {
+            c.push_str(text);
         }
+        c.push_str(close);
+        Some(c)
     }
 }
 
@@ -183,69 +191,70 @@ impl Small {
     }
 }
 
-/// The text of `value` when it has fewer than 10¹⁹ increments and fewer than 20 decimals.
+/// The text of `value` when it has fewer than 9.2 × 10¹⁸ increments and at most 15 decimals
+/// (every format's); `None` sends the caller to [`push_number_wide`].
+///
+/// The increments are one integer, split once into the whole part and the fraction; each is
+/// written straight into its place in the text, two digits at a time, the fraction without its
+/// trailing zeros unless they are asked for (docs/performance.md, "LinuxCNC G76 expansion": this
+/// replaced a digit-by-digit assembly that cost a third of the expansion's instructions).
+#[inline]
 fn format_small(value: f64, decimals: u32, trailing_zeros: bool) -> Option<Small> {
     debug_assert!(
         value.is_finite(),
         "non-finite values are rejected before writing"
     );
-    let scale = if (decimals as usize) < POW10.len() {
-        POW10[decimals as usize] as f64
-    } else {
-        10f64.powi(decimals as i32)
-    };
-    let units = round_half_away(value * scale);
-    let negative = units < 0.0;
-    if units.abs() >= 1e19 || decimals as usize >= 20 {
+    let d = decimals as usize;
+    let p = *POW10.get(d)?;
+    let units = round_half_away(value * p as f64);
+    // Below 2⁶³, so that the conversion is one instruction (through i64); also false for NaN.
+    // The rest goes the wide way, which writes the same text (and a NaN is refused before
+    // writing anyway).
+    if units.is_nan() || units.abs() >= 9.2e18 {
         return None;
     }
-    let mut v = units.abs() as u64;
-    // All digits of the scaled value, least significant first, at least `decimals + 1` of them,
-    // two at a time.
-    let mut digits = [b'0'; 24];
-    let mut n = 0;
-    while v >= 100 {
-        let pair = (v % 100) as usize * 2;
-        v /= 100;
-        digits[n] = DIGIT_PAIRS[pair + 1];
-        digits[n + 1] = DIGIT_PAIRS[pair];
-        n += 2;
-    }
-    while v != 0 {
-        digits[n] = b'0' + (v % 10) as u8;
-        v /= 10;
-        n += 1;
-    }
-    let d = decimals as usize;
-    n = n.max(d + 1);
-    // Drop trailing zeros of the fraction unless asked to keep them.
-    let mut low = 0;
+    let magnitude = units.abs() as i64 as u64;
+    let (whole, mut frac) = (magnitude / p, magnitude % p);
+    let mut frac_digits = d;
     if !trailing_zeros {
-        while low < d && digits[low] == b'0' {
-            low += 1;
+        if frac == 0 {
+            frac_digits = 0;
+        } else {
+            while frac % 10 == 0 {
+                frac /= 10;
+                frac_digits -= 1;
+            }
         }
     }
-    // The text, most significant first, assembled on the stack and appended at once.
+    // Never `-0.`: a sign only where some digit is not 0.
+    let sign = usize::from(units < 0.0 && magnitude != 0);
+    let whole_digits = whole.checked_ilog10().map_or(1, |l| l as usize + 1);
+    // At most 1 + 19 + 1 bytes: the magnitude has at most 19 digits, and at most d + 1 ≤ 16
+    // when its whole part is 0.
+    let point = sign + whole_digits;
     let mut text = [0u8; 32];
-    let mut t = 0;
-    if negative && digits[low..n].iter().any(|&b| b != b'0') {
-        text[0] = b'-';
-        t = 1;
+    text[0] = b'-';
+    write_digits(&mut text, point, whole, whole_digits);
+    text[point] = b'.';
+    let len = point + 1 + frac_digits;
+    write_digits(&mut text, len, frac, frac_digits);
+    Some(Small { bytes: text, len })
+}
+
+/// Writes the last `count` decimal digits of `v` so that they end before `end`, two at a time.
+#[inline(always)]
+fn write_digits(text: &mut [u8; 32], mut end: usize, mut v: u64, mut count: usize) {
+    while count >= 2 {
+        let pair = (v % 100) as usize * 2;
+        v /= 100;
+        text[end - 2] = DIGIT_PAIRS[pair];
+        text[end - 1] = DIGIT_PAIRS[pair + 1];
+        end -= 2;
+        count -= 2;
     }
-    for i in (d..n).rev() {
-        text[t] = digits[i];
-        t += 1;
+    if count == 1 {
+        text[end - 1] = b'0' + (v % 10) as u8;
     }
-    text[t] = b'.';
-    t += 1;
-    for i in (low..d).rev() {
-        text[t] = digits[i];
-        t += 1;
-    }
-    Some(Small {
-        bytes: text,
-        len: t,
-    })
 }
 
 /// "00" to "99".
@@ -383,18 +392,24 @@ pub fn write_moves(
     let nd = format.digits(units);
     let ld = format.lead_digits(units);
     let tz = format.trailing_zeros;
-    // The whole path's text is built in one buffer and written at once (flushed every 64 KiB): one
-    // copy into the writer instead of one per line.
-    let mut line: Vec<u8> = Vec::with_capacity(path.motions.len().min(2048) * 32);
+    // The whole path's text is built in one buffer and written at once (every 64 KiB): one copy
+    // into the writer instead of one per line. Each line is assembled on the stack first and
+    // appended with one copy (`Block`): a push per byte into the vector cost more than the digits
+    // did (docs/performance.md).
+    let mut text: Vec<u8> = Vec::with_capacity(path.motions.len().min(2048) * 40);
     // Consecutive moves share coordinates and leads: each is formatted once (same text either way).
     let (mut x_cache, mut z_cache) = (Cached::default(), Cached::default());
     let mut lead_cache = [Cached::default(), Cached::default()];
     // Whether the previous move was synchronised: a start angle belongs to a run's first move.
     let mut in_run = false;
+    let mut letter = [0u8; 4];
+    // The rare words written through a vector (a number too long for the fast formatter, the
+    // variable lead, the start angle).
+    let mut scratch = Vec::new();
     for (from, m) in path.segments() {
-        if line.len() > 1 << 16 {
-            out.write_all(&line)?;
-            line.clear();
+        if text.len() > 1 << 16 {
+            out.write_all(&text)?;
+            text.clear();
         }
         let (code, lead, dlead) = match m.kind {
             MotionKind::Rapid => (format.rapid, None, None),
@@ -412,11 +427,24 @@ pub fn write_moves(
                 _ => (format.thread, Some(lead), None),
             },
         };
-        push_bytes(&mut line, code.as_bytes());
-        push_bytes(&mut line, b" X");
-        x_cache.push(&mut line, finite(format.x_word(m.to.x, units))?, nd, tz);
-        push_bytes(&mut line, b" Z");
-        z_cache.push(&mut line, finite(units.from_mm(m.to.z))?, nd, tz);
+        let mut block = Block::new();
+        block.put(&mut text, code.as_bytes());
+        block.put(&mut text, b" X");
+        x_cache.put(
+            &mut block,
+            &mut text,
+            finite(format.x_word(m.to.x, units))?,
+            nd,
+            tz,
+        );
+        block.put(&mut text, b" Z");
+        z_cache.put(
+            &mut block,
+            &mut text,
+            finite(units.from_mm(m.to.z))?,
+            nd,
+            tz,
+        );
         if let Some(lead) = lead {
             let d = m.to.minus(from);
             let lead = if format.lead_along_path {
@@ -428,33 +456,95 @@ pub fn write_moves(
                 Some(steep) if d.x.abs() > d.z.abs() => steep,
                 _ => format.lead_letter,
             };
-            line.push(b' ');
-            let mut letter = [0u8; 4];
-            line.extend_from_slice(lead_letter.encode_utf8(&mut letter).as_bytes());
+            block.put(&mut text, b" ");
+            block.put(&mut text, lead_letter.encode_utf8(&mut letter).as_bytes());
             let value = finite(units.from_mm(lead))?;
+            // Two leads alternate in a pass (the thread's and the pull-out's along its path).
             let slot = if lead_cache[0].holds(value) { 0 } else { 1 };
             if slot == 1 && !lead_cache[1].holds(value) {
                 lead_cache.swap(0, 1);
-                lead_cache[1].push(&mut line, value, ld, tz);
-            } else {
-                lead_cache[slot].push(&mut line, value, ld, tz);
             }
+            lead_cache[slot].put(&mut block, &mut text, value, ld, tz);
         }
-        if let Some((letter, dlead)) = dlead {
-            line.push(b' ');
-            let mut buf = [0u8; 4];
-            line.extend_from_slice(letter.encode_utf8(&mut buf).as_bytes());
-            push_number(&mut line, finite(units.from_mm(dlead))?, ld, tz);
+        if let Some((dlead_letter, dlead)) = dlead {
+            block.put(&mut text, b" ");
+            block.put(&mut text, dlead_letter.encode_utf8(&mut letter).as_bytes());
+            scratch.clear();
+            push_number(&mut scratch, finite(units.from_mm(dlead))?, ld, tz);
+            block.put(&mut text, &scratch);
         }
         if let MotionKind::Thread { phase_deg, .. } = m.kind {
             if !in_run {
-                push_start_angle(&mut line, format, phase_deg)?;
+                scratch.clear();
+                push_start_angle(&mut scratch, format, phase_deg)?;
+                block.put(&mut text, &scratch);
             }
         }
         in_run = matches!(m.kind, MotionKind::Thread { .. });
-        line.push(b'\n');
+        block.put(&mut text, b"\n");
+        block.flush(&mut text);
     }
-    out.write_all(&line)
+    out.write_all(&text)
+}
+
+/// One block's text on the stack, appended to the path's text with one copy. What does not fit
+/// (a code or a number longer than any format writes) goes to the text directly, after what the
+/// block holds so far: the bytes come out in order either way.
+struct Block {
+    bytes: [u8; Block::CAP],
+    len: usize,
+}
+
+impl Block {
+    const CAP: usize = 128;
+
+    #[inline(always)]
+    fn new() -> Block {
+        Block {
+            bytes: [0; Block::CAP],
+            len: 0,
+        }
+    }
+
+    #[inline(always)]
+    fn put(&mut self, text: &mut Vec<u8>, bytes: &[u8]) {
+        match self.bytes.get_mut(self.len..self.len + bytes.len()) {
+            Some(to) => {
+                to.copy_from_slice(bytes);
+                self.len += bytes.len();
+            }
+            None => {
+                self.flush(text);
+                text.extend_from_slice(bytes);
+            }
+        }
+    }
+
+    /// A formatted number: a fixed-size copy of its whole buffer (no call for a copy of a length
+    /// known only at run time), of which its length counts.
+    #[inline(always)]
+    fn put_small(&mut self, text: &mut Vec<u8>, small: &Small) {
+        match self.bytes.get_mut(self.len..self.len + small.bytes.len()) {
+            Some(to) => {
+                to.copy_from_slice(&small.bytes);
+                self.len += small.len;
+            }
+            None => {
+                self.flush(text);
+                small.push_to(text);
+            }
+        }
+    }
+
+    /// Appends what the block holds: a copy of the whole buffer (a fixed size, so no call) and a
+    /// truncation.
+    #[inline(always)]
+    fn flush(&mut self, text: &mut Vec<u8>) {
+        let at = text.len();
+        text.extend_from_slice(&self.bytes);
+        text.truncate(at + self.len);
+        self.len = 0;
+    }
 }
 
 /// The start angle of a run's first thread move, where the format writes one: always where the
@@ -499,14 +589,25 @@ impl Cached {
         self.bits == Some(value.to_bits())
     }
 
-    fn push(&mut self, out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
+    #[inline(always)]
+    fn put(
+        &mut self,
+        block: &mut Block,
+        text: &mut Vec<u8>,
+        value: f64,
+        decimals: u32,
+        trailing_zeros: bool,
+    ) {
         if !self.holds(value) {
             self.text = format_small(value, decimals, trailing_zeros);
             self.bits = Some(value.to_bits());
         }
         match &self.text {
-            Some(t) => t.push_to(out),
-            None => push_number(out, value, decimals, trailing_zeros),
+            Some(t) => block.put_small(text, t),
+            None => {
+                block.flush(text);
+                push_number(text, value, decimals, trailing_zeros);
+            }
         }
     }
 }
@@ -587,6 +688,155 @@ pub fn json_num(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The formatter this module had before the whole part and the fraction were written
+    /// separately (digit by digit, least significant first, reversed into place): the reference
+    /// the fast one must match byte for byte.
+    fn format_small_digit_by_digit(
+        value: f64,
+        decimals: u32,
+        trailing_zeros: bool,
+    ) -> Option<String> {
+        debug_assert!(
+            value.is_finite(),
+            "non-finite values are rejected before writing"
+        );
+        let scale = if (decimals as usize) < POW10.len() {
+            POW10[decimals as usize] as f64
+        } else {
+            10f64.powi(decimals as i32)
+        };
+        let units = round_half_away(value * scale);
+        let negative = units < 0.0;
+        if units.abs() >= 1e19 || decimals as usize >= 20 {
+            return None;
+        }
+        let mut v = units.abs() as u64;
+        // All digits of the scaled value, least significant first, at least `decimals + 1` of them,
+        // two at a time.
+        let mut digits = [b'0'; 24];
+        let mut n = 0;
+        while v >= 100 {
+            let pair = (v % 100) as usize * 2;
+            v /= 100;
+            digits[n] = DIGIT_PAIRS[pair + 1];
+            digits[n + 1] = DIGIT_PAIRS[pair];
+            n += 2;
+        }
+        while v != 0 {
+            digits[n] = b'0' + (v % 10) as u8;
+            v /= 10;
+            n += 1;
+        }
+        let d = decimals as usize;
+        n = n.max(d + 1);
+        // Drop trailing zeros of the fraction unless asked to keep them.
+        let mut low = 0;
+        if !trailing_zeros {
+            while low < d && digits[low] == b'0' {
+                low += 1;
+            }
+        }
+        // The text, most significant first, assembled on the stack and appended at once.
+        let mut text = [0u8; 32];
+        let mut t = 0;
+        if negative && digits[low..n].iter().any(|&b| b != b'0') {
+            text[0] = b'-';
+            t = 1;
+        }
+        for i in (d..n).rev() {
+            text[t] = digits[i];
+            t += 1;
+        }
+        text[t] = b'.';
+        t += 1;
+        for i in (low..d).rev() {
+            text[t] = digits[i];
+            t += 1;
+        }
+        Some(String::from_utf8(text[..t].to_vec()).unwrap())
+    }
+
+    fn small_text(value: f64, decimals: u32, trailing_zeros: bool) -> Option<String> {
+        format_small(value, decimals, trailing_zeros)
+            .map(|s| String::from_utf8(s.bytes[..s.len].to_vec()).unwrap())
+    }
+
+    /// The fast formatter's text, or the old formatter's `None` where the fast one leaves a number
+    /// to the wide path: from 9.2 × 10¹⁸ increments on (the old one took up to 10¹⁹, the wide path
+    /// writes the same text, which `number` is checked for). Below that the fast one must answer.
+    fn small_or_wide(value: f64, decimals: u32, trailing_zeros: bool) -> Option<String> {
+        let units = round_half_away(value * POW10[decimals as usize] as f64);
+        match small_text(value, decimals, trailing_zeros) {
+            None if units.abs() >= 9.2e18 => {
+                format_small_digit_by_digit(value, decimals, trailing_zeros)
+            }
+            small => small,
+        }
+    }
+
+    proptest::proptest! {
+        /// The fast formatter writes what the digit-by-digit one wrote, for values of every size
+        /// the formats meet, rounding ties and all, and `number` as a whole goes on to the wide
+        /// path exactly where it did.
+        #[test]
+        fn fast_numbers_are_the_digit_by_digit_ones(
+            mantissa in -10_000_000_000i64..10_000_000_000,
+            exponent in -12i32..8,
+            half in proptest::bool::ANY,
+            decimals in 0u32..16,
+            trailing_zeros in proptest::bool::ANY,
+        ) {
+            let value = mantissa as f64 * 10f64.powi(exponent) + if half { 0.5 * 10f64.powi(-(decimals as i32)) } else { 0.0 };
+            let want = format_small_digit_by_digit(value, decimals, trailing_zeros);
+            proptest::prop_assert_eq!(small_or_wide(value, decimals, trailing_zeros), want.clone());
+            if let Some(want) = want {
+                proptest::prop_assert_eq!(number(value, decimals, trailing_zeros), want);
+            }
+        }
+    }
+
+    #[test]
+    fn fast_numbers_at_the_edges() {
+        for &(value, decimals) in &[
+            (0.0, 0),
+            (-0.0, 3),
+            (-0.00049, 3),
+            (0.0005, 3),
+            (9.9995, 3),
+            (-9.9995, 3),
+            (99.99995, 4),
+            (1e18, 0),
+            (9.999e18, 0),
+            (1e19, 0),
+            (-1e19, 0),
+            (1e14, 4),
+            (123456789012345.6, 4),
+            (0.5, 0),
+            (-0.5, 0),
+            (1.5, 0),
+            (2.5, 0),
+            (1e-15, 15),
+            (7.0, 15),
+            (0.1, 15),
+            (1.0, 19),
+            (3.25, 17),
+        ] {
+            for tz in [false, true] {
+                let want = format_small_digit_by_digit(value, decimals, tz);
+                if decimals < 16 {
+                    assert_eq!(
+                        small_or_wide(value, decimals, tz),
+                        want,
+                        "{value} {decimals} {tz}"
+                    );
+                }
+                if let Some(want) = want {
+                    assert_eq!(number(value, decimals, tz), want, "{value} {decimals} {tz}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn numbers_round_once_and_keep_the_point() {
