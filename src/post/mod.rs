@@ -164,8 +164,14 @@ pub fn number(value: f64, decimals: u32, trailing_zeros: bool) -> String {
 
 /// As [`number`], appended to `out` as ASCII bytes without allocating (the expansion's hot path).
 pub fn push_number(out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
-    match format_small(value, decimals, trailing_zeros) {
-        Some(text) => text.push_to(out),
+    let mut text = [0u8; 32];
+    match write_small(&mut text, 0, value, decimals, trailing_zeros) {
+        // A fixed-size copy (inlined, no memmove call) and a truncation.
+        Some(len) => {
+            let at = out.len();
+            out.extend_from_slice(&text);
+            out.truncate(at + len);
+        }
         None => push_number_wide(
             out,
             round_half_away(value * 10f64.powi(decimals as i32)),
@@ -175,31 +181,24 @@ pub fn push_number(out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros:
     }
 }
 
-/// A short number's text on the stack.
-#[derive(Clone, Copy)]
-struct Small {
-    bytes: [u8; 32],
-    len: usize,
-}
-
-impl Small {
-    /// Appends the text: a fixed-size copy (inlined, no memmove call) and a truncation.
-    fn push_to(&self, out: &mut Vec<u8>) {
-        let at = out.len();
-        out.extend_from_slice(&self.bytes);
-        out.truncate(at + self.len);
-    }
-}
-
-/// The text of `value` when it has fewer than 9.2 × 10¹⁸ increments and at most 15 decimals
-/// (every format's); `None` sends the caller to [`push_number_wide`].
+/// Writes the text of `value` at `buf[at..]`, which must hold 32 bytes from there, when it has
+/// fewer than 9.2 × 10¹⁸ increments and at most 15 decimals (every format's), and returns its
+/// length; `None` (nothing written that counts) sends the caller to [`push_number_wide`].
 ///
-/// The increments are one integer, split once into the whole part and the fraction; each is
-/// written straight into its place in the text, two digits at a time, the fraction without its
-/// trailing zeros unless they are asked for (docs/performance.md, "LinuxCNC G76 expansion": this
-/// replaced a digit-by-digit assembly that cost a third of the expansion's instructions).
+/// The increments are one integer, split once into the whole part and the fraction (by a constant
+/// divisor for each usual count of decimals: a multiplication, not a division); both are written
+/// straight into their places, two digits at a time, and the fraction's trailing zeros are dropped
+/// afterwards by looking at the written bytes unless they are asked for. The text is written where
+/// it is wanted, in the caller's buffer: built on the stack and copied, its bytes were read back
+/// wider than they were written, which stalls (docs/performance.md, "LinuxCNC G76 expansion").
 #[inline]
-fn format_small(value: f64, decimals: u32, trailing_zeros: bool) -> Option<Small> {
+fn write_small(
+    buf: &mut [u8],
+    at: usize,
+    value: f64,
+    decimals: u32,
+    trailing_zeros: bool,
+) -> Option<usize> {
     debug_assert!(
         value.is_finite(),
         "non-finite values are rejected before writing"
@@ -207,39 +206,83 @@ fn format_small(value: f64, decimals: u32, trailing_zeros: bool) -> Option<Small
     let d = decimals as usize;
     let p = *POW10.get(d)?;
     let units = round_half_away(value * p as f64);
-    // Below 2⁶³, so that the conversion is one instruction (through i64); also false for NaN.
-    // The rest goes the wide way, which writes the same text (and a NaN is refused before
-    // writing anyway).
+    // Below 2⁶³, so that the conversion is one instruction (through i64). The rest goes the wide
+    // way, which writes the same text (and a NaN is refused before writing anyway).
     if units.is_nan() || units.abs() >= 9.2e18 {
         return None;
     }
     let magnitude = units.abs() as i64 as u64;
-    let (whole, mut frac) = (magnitude / p, magnitude % p);
-    let mut frac_digits = d;
-    if !trailing_zeros {
-        if frac == 0 {
-            frac_digits = 0;
-        } else {
-            while frac % 10 == 0 {
-                frac /= 10;
-                frac_digits -= 1;
-            }
-        }
-    }
-    // Never `-0.`: a sign only where some digit is not 0.
-    let sign = usize::from(units < 0.0 && magnitude != 0);
-    let whole_digits = whole.checked_ilog10().map_or(1, |l| l as usize + 1);
+    let (whole, frac) = split_increments(magnitude, units.abs(), d);
     // At most 1 + 19 + 1 bytes: the magnitude has at most 19 digits, and at most d + 1 ≤ 16
     // when its whole part is 0.
-    let point = sign + whole_digits;
-    let mut text = [0u8; 32];
+    let text: &mut [u8; 32] = (&mut buf[at..at + 32])
+        .try_into()
+        .expect("a slice of 32 bytes");
+    // Never `-0.`: a sign only where some digit is not 0.
+    let sign = usize::from(units < 0.0 && magnitude != 0);
     text[0] = b'-';
-    write_digits(&mut text, point, whole, whole_digits);
+    let whole_digits = decimal_digits(whole);
+    let point = sign + whole_digits;
+    write_digits(text, point, whole, whole_digits);
     text[point] = b'.';
-    let len = point + 1 + frac_digits;
-    write_digits(&mut text, len, frac, frac_digits);
-    Some(Small { bytes: text, len })
+    let mut end = point + 1 + d;
+    write_digits(text, end, frac, d);
+    if !trailing_zeros {
+        while end > point + 1 && text[end - 1] == b'0' {
+            end -= 1;
+        }
+    }
+    Some(end)
 }
+
+/// How many decimal digits `v` has (1 for 0); coordinates mostly have one to three.
+#[inline(always)]
+fn decimal_digits(v: u64) -> usize {
+    if v < 10 {
+        1
+    } else if v < 100 {
+        2
+    } else if v < 1000 {
+        3
+    } else {
+        v.ilog10() as usize + 1
+    }
+}
+
+/// `magnitude` (= `float`, `decimals` ≤ 15) split into its whole part and its last `decimals`
+/// digits. Below 2⁵⁰ the whole part is first estimated in floating point, by a multiplication with
+/// the reciprocal (off by at most one: the product's relative error is below 2.3 × 10⁻¹⁶, so
+/// its absolute error below 2⁵⁰ is under 0.3), and put right by the exact remainder; an integer division by a
+/// power of ten that is not known at compile time costs several times as much. Above, the
+/// division.
+#[inline(always)]
+fn split_increments(magnitude: u64, float: f64, decimals: usize) -> (u64, u64) {
+    let p = POW10[decimals];
+    if magnitude >= 1 << 50 {
+        return (magnitude / p, magnitude % p);
+    }
+    let estimate = (float * RECIPROCALS[decimals]) as u64;
+    // At most one too many or too few.
+    let rest = magnitude as i64 - (estimate * p) as i64;
+    if rest < 0 {
+        (estimate - 1, (rest + p as i64) as u64)
+    } else if rest >= p as i64 {
+        (estimate + 1, rest as u64 - p)
+    } else {
+        (estimate, rest as u64)
+    }
+}
+
+/// 10⁻ⁿ, rounded, for [`split_increments`]'s estimates.
+const RECIPROCALS: [f64; 16] = {
+    let mut t = [1.0; 16];
+    let mut i = 1;
+    while i < 16 {
+        t[i] = 1.0 / POW10[i] as f64;
+        i += 1;
+    }
+    t
+};
 
 /// Writes the last `count` decimal digits of `v` so that they end before `end`, two at a time.
 #[inline(always)]
@@ -393,13 +436,14 @@ pub fn write_moves(
     let ld = format.lead_digits(units);
     let tz = format.trailing_zeros;
     // The whole path's text is built in one buffer and written at once (every 64 KiB): one copy
-    // into the writer instead of one per line. Each line is assembled on the stack first and
-    // appended with one copy (`Block`): a push per byte into the vector cost more than the digits
-    // did (docs/performance.md).
-    let mut text: Vec<u8> = Vec::with_capacity(path.motions.len().min(2048) * 40);
-    // Consecutive moves share coordinates and leads: each is formatted once (same text either way).
-    let (mut x_cache, mut z_cache) = (Cached::default(), Cached::default());
-    let mut lead_cache = [Cached::default(), Cached::default()];
+    // into the writer instead of one per line. The buffer is written at a cursor (`Text`), each
+    // number's text straight into its place: a push per byte into a vector cost more than the
+    // digits did, and so did assembling each line on the stack first (docs/performance.md).
+    let mut text = Text::new(path.motions.len());
+    // Moves share coordinates and leads: each is formatted once while it recurs (same text either
+    // way). A pass comes back to the X it started from; two leads alternate in a pass (the thread's
+    // and the pull-out's along its path).
+    let (mut xs, mut zs, mut leads) = (Recent::<3>::new(), Recent::<1>::new(), Recent::<2>::new());
     // Whether the previous move was synchronised: a start angle belongs to a run's first move.
     let mut in_run = false;
     let mut letter = [0u8; 4];
@@ -407,9 +451,10 @@ pub fn write_moves(
     // variable lead, the start angle).
     let mut scratch = Vec::new();
     for (from, m) in path.segments() {
-        if text.len() > 1 << 16 {
-            out.write_all(&text)?;
-            text.clear();
+        if text.pos > Text::FLUSH_AT {
+            text.flush(out)?;
+            // The cached texts lay in what was written out.
+            (xs, zs, leads) = (Recent::new(), Recent::new(), Recent::new());
         }
         let (code, lead, dlead) = match m.kind {
             MotionKind::Rapid => (format.rapid, None, None),
@@ -427,24 +472,12 @@ pub fn write_moves(
                 _ => (format.thread, Some(lead), None),
             },
         };
-        let mut block = Block::new();
-        block.put(&mut text, code.as_bytes());
-        block.put(&mut text, b" X");
-        x_cache.put(
-            &mut block,
-            &mut text,
-            finite(format.x_word(m.to.x, units))?,
-            nd,
-            tz,
-        );
-        block.put(&mut text, b" Z");
-        z_cache.put(
-            &mut block,
-            &mut text,
-            finite(units.from_mm(m.to.z))?,
-            nd,
-            tz,
-        );
+        text.put(code.as_bytes());
+        text.put(b" X");
+        let x = finite(format.x_word(m.to.x, units))?;
+        xs.put(&mut text, x, nd, tz);
+        text.put(b" Z");
+        zs.put(&mut text, finite(units.from_mm(m.to.z))?, nd, tz);
         if let Some(lead) = lead {
             let d = m.to.minus(from);
             let lead = if format.lead_along_path {
@@ -456,94 +489,85 @@ pub fn write_moves(
                 Some(steep) if d.x.abs() > d.z.abs() => steep,
                 _ => format.lead_letter,
             };
-            block.put(&mut text, b" ");
-            block.put(&mut text, lead_letter.encode_utf8(&mut letter).as_bytes());
-            let value = finite(units.from_mm(lead))?;
-            // Two leads alternate in a pass (the thread's and the pull-out's along its path).
-            let slot = if lead_cache[0].holds(value) { 0 } else { 1 };
-            if slot == 1 && !lead_cache[1].holds(value) {
-                lead_cache.swap(0, 1);
-            }
-            lead_cache[slot].put(&mut block, &mut text, value, ld, tz);
+            text.put_letter(lead_letter, &mut letter);
+            leads.put(&mut text, finite(units.from_mm(lead))?, ld, tz);
         }
         if let Some((dlead_letter, dlead)) = dlead {
-            block.put(&mut text, b" ");
-            block.put(&mut text, dlead_letter.encode_utf8(&mut letter).as_bytes());
+            text.put(b" ");
+            text.put(dlead_letter.encode_utf8(&mut letter).as_bytes());
             scratch.clear();
             push_number(&mut scratch, finite(units.from_mm(dlead))?, ld, tz);
-            block.put(&mut text, &scratch);
+            text.put(&scratch);
         }
         if let MotionKind::Thread { phase_deg, .. } = m.kind {
             if !in_run {
                 scratch.clear();
                 push_start_angle(&mut scratch, format, phase_deg)?;
-                block.put(&mut text, &scratch);
+                text.put(&scratch);
             }
         }
         in_run = matches!(m.kind, MotionKind::Thread { .. });
-        block.put(&mut text, b"\n");
-        block.flush(&mut text);
+        text.put(b"\n");
     }
-    out.write_all(&text)
+    text.flush(out)
 }
 
-/// One block's text on the stack, appended to the path's text with one copy. What does not fit
-/// (a code or a number longer than any format writes) goes to the text directly, after what the
-/// block holds so far: the bytes come out in order either way.
-struct Block {
-    bytes: [u8; Block::CAP],
-    len: usize,
+/// A path's text: a buffer kept at its full length and written at a cursor, each piece with one
+/// copy whose length is known where it is written (a short code, a number's 32-byte window), so
+/// that no copy calls `memmove` and no push checks the capacity. What the cursor has passed is
+/// the text; what lies beyond it is scratch.
+struct Text {
+    bytes: Vec<u8>,
+    pos: usize,
 }
 
-impl Block {
-    const CAP: usize = 128;
+impl Text {
+    /// The text is written out once the cursor has passed this.
+    const FLUSH_AT: usize = 1 << 16;
 
-    #[inline(always)]
-    fn new() -> Block {
-        Block {
-            bytes: [0; Block::CAP],
-            len: 0,
+    /// Room for `moves` blocks of a usual length (the buffer grows if they are longer), at most
+    /// what is written at once: the buffer is zeroed once per path.
+    fn new(moves: usize) -> Text {
+        Text {
+            bytes: vec![0; moves.saturating_mul(48).min(Text::FLUSH_AT) + 1024],
+            pos: 0,
         }
     }
 
     #[inline(always)]
-    fn put(&mut self, text: &mut Vec<u8>, bytes: &[u8]) {
-        match self.bytes.get_mut(self.len..self.len + bytes.len()) {
-            Some(to) => {
-                to.copy_from_slice(bytes);
-                self.len += bytes.len();
-            }
-            None => {
-                self.flush(text);
-                text.extend_from_slice(bytes);
-            }
+    fn put(&mut self, piece: &[u8]) {
+        let end = self.pos + piece.len();
+        if end > self.bytes.len() {
+            // A longer piece than any format writes (a code from a machine profile, say).
+            self.bytes.resize(end + 1024, 0);
+        }
+        self.bytes[self.pos..end].copy_from_slice(piece);
+        self.pos = end;
+    }
+
+    /// A blank and a word's letter.
+    #[inline(always)]
+    fn put_letter(&mut self, letter: char, scratch: &mut [u8; 4]) {
+        if letter.is_ascii() {
+            self.put(&[b' ', letter as u8]);
+        } else {
+            self.put(b" ");
+            self.put(letter.encode_utf8(scratch).as_bytes());
         }
     }
 
-    /// A formatted number: a fixed-size copy of its whole buffer (no call for a copy of a length
-    /// known only at run time), of which its length counts.
+    /// Makes sure that `n` bytes from the cursor lie in the buffer.
     #[inline(always)]
-    fn put_small(&mut self, text: &mut Vec<u8>, small: &Small) {
-        match self.bytes.get_mut(self.len..self.len + small.bytes.len()) {
-            Some(to) => {
-                to.copy_from_slice(&small.bytes);
-                self.len += small.len;
-            }
-            None => {
-                self.flush(text);
-                small.push_to(text);
-            }
+    fn room(&mut self, n: usize) {
+        if self.pos + n > self.bytes.len() {
+            self.bytes.resize(self.pos + n + 1024, 0);
         }
     }
 
-    /// Appends what the block holds: a copy of the whole buffer (a fixed size, so no call) and a
-    /// truncation.
-    #[inline(always)]
-    fn flush(&mut self, text: &mut Vec<u8>) {
-        let at = text.len();
-        text.extend_from_slice(&self.bytes);
-        text.truncate(at + self.len);
-        self.len = 0;
+    fn flush(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        out.write_all(&self.bytes[..self.pos])?;
+        self.pos = 0;
+        Ok(())
     }
 }
 
@@ -577,36 +601,52 @@ fn push_bytes(out: &mut Vec<u8>, bytes: &[u8]) {
     }
 }
 
-/// The last value formatted in one slot, and its text.
-#[derive(Default)]
-struct Cached {
-    bits: Option<u64>,
-    text: Option<Small>,
+/// Where a number's text starts in the path's text, and its length.
+type TextAt = (usize, usize);
+
+/// The last `N` values formatted for one word, and where their texts lie in the path's text
+/// (`None`: a number for the wide path). A new value replaces the oldest. Valid until the text is
+/// flushed (`write_moves` then starts afresh).
+struct Recent<const N: usize> {
+    slots: [(Option<u64>, Option<TextAt>); N],
+    oldest: usize,
 }
 
-impl Cached {
-    fn holds(&self, value: f64) -> bool {
-        self.bits == Some(value.to_bits())
+impl<const N: usize> Recent<N> {
+    fn new() -> Self {
+        Recent {
+            slots: [(None, None); N],
+            oldest: 0,
+        }
     }
 
     #[inline(always)]
-    fn put(
-        &mut self,
-        block: &mut Block,
-        text: &mut Vec<u8>,
-        value: f64,
-        decimals: u32,
-        trailing_zeros: bool,
-    ) {
-        if !self.holds(value) {
-            self.text = format_small(value, decimals, trailing_zeros);
-            self.bits = Some(value.to_bits());
-        }
-        match &self.text {
-            Some(t) => block.put_small(text, t),
+    fn put(&mut self, text: &mut Text, value: f64, decimals: u32, trailing_zeros: bool) {
+        text.room(32);
+        let bits = Some(value.to_bits());
+        let at = match self.slots.iter().find(|slot| slot.0 == bits) {
+            // The same text again: one fixed-size copy from where it was written (the bytes past
+            // its end are overwritten by what follows).
+            Some(&(_, Some((from, len)))) => {
+                text.bytes.copy_within(from..from + 32, text.pos);
+                text.pos += len;
+                return;
+            }
+            Some(&(_, None)) => None,
             None => {
-                block.flush(text);
-                push_number(text, value, decimals, trailing_zeros);
+                let at = write_small(&mut text.bytes, text.pos, value, decimals, trailing_zeros)
+                    .map(|len| (text.pos, len));
+                self.slots[self.oldest] = (bits, at);
+                self.oldest = (self.oldest + 1) % N;
+                at
+            }
+        };
+        match at {
+            Some((_, len)) => text.pos += len,
+            None => {
+                let mut wide = Vec::new();
+                push_number(&mut wide, value, decimals, trailing_zeros);
+                text.put(&wide);
             }
         }
     }
@@ -758,8 +798,9 @@ mod tests {
     }
 
     fn small_text(value: f64, decimals: u32, trailing_zeros: bool) -> Option<String> {
-        format_small(value, decimals, trailing_zeros)
-            .map(|s| String::from_utf8(s.bytes[..s.len].to_vec()).unwrap())
+        let mut text = [0u8; 32];
+        write_small(&mut text, 0, value, decimals, trailing_zeros)
+            .map(|len| String::from_utf8(text[..len].to_vec()).unwrap())
     }
 
     /// The fast formatter's text, or the old formatter's `None` where the fast one leaves a number
@@ -792,6 +833,34 @@ mod tests {
             proptest::prop_assert_eq!(small_or_wide(value, decimals, trailing_zeros), want.clone());
             if let Some(want) = want {
                 proptest::prop_assert_eq!(number(value, decimals, trailing_zeros), want);
+            }
+        }
+    }
+
+    /// The estimate and its correction give the integer division's answer at every boundary
+    /// between two whole parts (one below, at, one above), for every count of decimals, from small
+    /// numbers up to the fast path's end and past it.
+    #[test]
+    fn increments_split_as_the_division_splits_them() {
+        for (d, &p) in POW10.iter().enumerate() {
+            let mut wholes: Vec<u64> = (0..2000).collect();
+            for k in 0..64 {
+                let w = (1u64 << 50) / p;
+                wholes.extend([
+                    w.saturating_sub(k),
+                    w + k,
+                    (1u64 << 40) / p + k,
+                    (1u64 << 62) / p - k,
+                ]);
+            }
+            for w in wholes {
+                for m in [(w * p).saturating_sub(1), w * p, w * p + 1, w * p + p / 2] {
+                    assert_eq!(
+                        split_increments(m, m as f64, d),
+                        (m / p, m % p),
+                        "{m} with {d} decimals"
+                    );
+                }
             }
         }
     }
