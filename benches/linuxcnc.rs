@@ -1,6 +1,18 @@
-//! `threadcut expand` on 5,000 LinuxCNC G76 cycles (10,000 lines, 360,000 motions): the issue's
-//! target is a tenth of LinuxCNC's own interpreter on the same program (≈0.31 s), i.e. ≤ 0.031 s.
-//! Figures and the command: docs/performance.md, "LinuxCNC G76 expansion".
+//! `threadcut expand` on 5,000 LinuxCNC G76 cycles (10,000 lines, 360,000 motions), paired in the
+//! same run with LinuxCNC's own interpreter on the same program where it is installed: issue 18's
+//! target is at most a twentieth of its time. Figures and the command: docs/performance.md,
+//! "LinuxCNC G76 expansion".
+//!
+//! Three measurements: the library (`program::expand_gcode` into a sink, in process); the
+//! `threadcut` command as a process (`target/release/threadcut`, when it has been built with
+//! `cargo build --release -p threadcut-cli`; else `THREADCUT_BIN`); and LinuxCNC's standalone
+//! interpreter `rs274` as a process (`THREADCUT_RS274=/path/to/rs274`, or `rs274` on the `PATH`,
+//! which Debian's `linuxcnc-uspace` package installs), run as `rs274 -g PROGRAM /dev/null` (batch
+//! mode, its canonical-motion calls written to the null device). Each process run includes its
+//! start-up. Absent binaries are skipped with a note: the library's figure always runs.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use threadcut::machine::Machine;
@@ -19,6 +31,40 @@ pub fn program_text(cycles: usize) -> String {
     s
 }
 
+/// The first of `candidates` that exists as a file, or the program found on the `PATH`.
+fn find_binary(env: &str, candidates: &[PathBuf], on_path: Option<&str>) -> Option<PathBuf> {
+    if let Some(p) = std::env::var_os(env) {
+        let p = PathBuf::from(p);
+        return p.is_file().then_some(p);
+    }
+    if let Some(p) = candidates.iter().find(|p| p.is_file()) {
+        return Some(p.clone());
+    }
+    let name = on_path?;
+    std::env::split_paths(&std::env::var_os("PATH")?)
+        .map(|dir| dir.join(name))
+        .find(|p| p.is_file())
+}
+
+/// Runs `bin args…` to completion, its output to the null device (standard error kept for the
+/// message); panics if it fails.
+fn run(bin: &Path, args: &[&str]) {
+    let out = Command::new(bin)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{} {args:?}: {}: {}",
+        bin.display(),
+        out.status,
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 fn expand(c: &mut Criterion) {
     let text = program_text(5_000);
     let machine = Machine::built_in("linuxcnc").unwrap();
@@ -28,6 +74,11 @@ fn expand(c: &mut Criterion) {
     program::expand_jsonl(text.as_bytes(), &mut lines, &machine).unwrap();
     let motions = lines.iter().filter(|&&b| b == b'\n').count();
     assert_eq!(motions, 5_000 * 72);
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let file = root.join("target").join("bench-lcnc5000.ngc");
+    std::fs::write(&file, &text).unwrap();
+    let file = file.to_str().unwrap();
+
     let mut g = c.benchmark_group("linuxcnc");
     g.throughput(Throughput::Elements(motions as u64));
     g.sample_size(20);
@@ -37,6 +88,29 @@ fn expand(c: &mut Criterion) {
             program::expand_gcode(text.as_bytes(), &mut out, &machine).unwrap()
         })
     });
+    let release = root.join("target").join("release").join("threadcut");
+    match find_binary("THREADCUT_BIN", &[release], None) {
+        Some(bin) => {
+            g.bench_function("threadcut expand 5000 G76 (process)", |b| {
+                b.iter(|| run(&bin, &["expand", file, "-c", "linuxcnc", "-o", "/dev/null"]))
+            });
+        }
+        None => eprintln!(
+            "linuxcnc: no threadcut binary (cargo build --release -p threadcut-cli, or set \
+             THREADCUT_BIN): the command's figure is skipped"
+        ),
+    }
+    match find_binary("THREADCUT_RS274", &[], Some("rs274")) {
+        Some(rs274) => {
+            g.bench_function("reference: LinuxCNC rs274 5000 G76 (process)", |b| {
+                b.iter(|| run(&rs274, &["-g", file, "/dev/null"]))
+            });
+        }
+        None => eprintln!(
+            "linuxcnc: no rs274 (set THREADCUT_RS274 to LinuxCNC's standalone interpreter, or \
+             install it): the reference is skipped"
+        ),
+    }
     g.finish();
 }
 

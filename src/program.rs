@@ -614,13 +614,17 @@ fn expand_event(
             let passes = crate::thread::plan::plan_geometry(&job)?;
             let path = toolpath::build_with(&job, &passes)?;
             let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
-            if let Some(c) = format.comment(&format!(
-                "threadcut: {} cycle of line {} as {}",
-                job.controller,
-                line.number,
-                crate::text::rough_and_finishing(rough, passes.len() - rough)
-            )) {
-                writeln!(out, "{c}")?;
+            // Built without `format!` (its machinery cost more than the cycle's plan).
+            let mut text = String::with_capacity(96);
+            text.push_str("threadcut: ");
+            text.push_str(job.controller);
+            text.push_str(" cycle of line ");
+            crate::text::push_decimal(&mut text, u64::from(line.number));
+            text.push_str(" as ");
+            crate::text::push_rough_and_finishing(&mut text, rough, passes.len() - rough);
+            if let Some(mut c) = format.comment(&text) {
+                c.push('\n');
+                out.write_all(c.as_bytes())?;
             }
             match dialect.write_cycle(out, &job, &passes, &path) {
                 // The controller's own form is a cycle too: it leaves the modal state as the

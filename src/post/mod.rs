@@ -137,12 +137,20 @@ impl Format {
 
     /// A comment line, or nothing when the profile writes none.
     pub fn comment(&self, text: &str) -> Option<String> {
-        let clean: String = text.chars().filter(|c| !matches!(c, '(' | ')')).collect();
-        match self.comment {
-            CommentStyle::Paren => Some(format!("({clean})")),
-            CommentStyle::Semicolon => Some(format!("; {clean}")),
-            CommentStyle::None => None,
+        let (open, close) = match self.comment {
+            CommentStyle::Paren => ("(", ")"),
+            CommentStyle::Semicolon => ("; ", ""),
+            CommentStyle::None => return None,
+        };
+        let mut c = String::with_capacity(open.len() + text.len() + close.len());
+        c.push_str(open);
+        if text.contains(['(', ')']) {
+            c.extend(text.chars().filter(|c| !matches!(c, '(' | ')')));
+        } else {
+            c.push_str(text);
         }
+        c.push_str(close);
+        Some(c)
     }
 }
 
@@ -156,8 +164,14 @@ pub fn number(value: f64, decimals: u32, trailing_zeros: bool) -> String {
 
 /// As [`number`], appended to `out` as ASCII bytes without allocating (the expansion's hot path).
 pub fn push_number(out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
-    match format_small(value, decimals, trailing_zeros) {
-        Some(text) => text.push_to(out),
+    let mut text = [0u8; 32];
+    match write_small(&mut text, 0, value, decimals, trailing_zeros) {
+        // A fixed-size copy (inlined, no memmove call) and a truncation.
+        Some(len) => {
+            let at = out.len();
+            out.extend_from_slice(&text);
+            out.truncate(at + len);
+        }
         None => push_number_wide(
             out,
             round_half_away(value * 10f64.powi(decimals as i32)),
@@ -167,85 +181,123 @@ pub fn push_number(out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros:
     }
 }
 
-/// A short number's text on the stack.
-#[derive(Clone, Copy)]
-struct Small {
-    bytes: [u8; 32],
-    len: usize,
-}
-
-impl Small {
-    /// Appends the text: a fixed-size copy (inlined, no memmove call) and a truncation.
-    fn push_to(&self, out: &mut Vec<u8>) {
-        let at = out.len();
-        out.extend_from_slice(&self.bytes);
-        out.truncate(at + self.len);
-    }
-}
-
-/// The text of `value` when it has fewer than 10¹⁹ increments and fewer than 20 decimals.
-fn format_small(value: f64, decimals: u32, trailing_zeros: bool) -> Option<Small> {
+/// Writes the text of `value` at `buf[at..]`, which must hold 32 bytes from there, when it has
+/// fewer than 9.2 × 10¹⁸ increments and at most 15 decimals (every format's), and returns its
+/// length; `None` (nothing written that counts) sends the caller to [`push_number_wide`].
+///
+/// The increments are one integer, split once into the whole part and the fraction (by a constant
+/// divisor for each usual count of decimals: a multiplication, not a division); both are written
+/// straight into their places, two digits at a time, and the fraction's trailing zeros are dropped
+/// afterwards by looking at the written bytes unless they are asked for. The text is written where
+/// it is wanted, in the caller's buffer: built on the stack and copied, its bytes were read back
+/// wider than they were written, which stalls (docs/performance.md, "LinuxCNC G76 expansion").
+#[inline]
+fn write_small(
+    buf: &mut [u8],
+    at: usize,
+    value: f64,
+    decimals: u32,
+    trailing_zeros: bool,
+) -> Option<usize> {
     debug_assert!(
         value.is_finite(),
         "non-finite values are rejected before writing"
     );
-    let scale = if (decimals as usize) < POW10.len() {
-        POW10[decimals as usize] as f64
-    } else {
-        10f64.powi(decimals as i32)
-    };
-    let units = round_half_away(value * scale);
-    let negative = units < 0.0;
-    if units.abs() >= 1e19 || decimals as usize >= 20 {
+    let d = decimals as usize;
+    let p = *POW10.get(d)?;
+    let units = round_half_away(value * p as f64);
+    // Below 2⁶³, so that the conversion is one instruction (through i64). The rest goes the wide
+    // way, which writes the same text (and a NaN is refused before writing anyway).
+    if units.is_nan() || units.abs() >= 9.2e18 {
         return None;
     }
-    let mut v = units.abs() as u64;
-    // All digits of the scaled value, least significant first, at least `decimals + 1` of them,
-    // two at a time.
-    let mut digits = [b'0'; 24];
-    let mut n = 0;
-    while v >= 100 {
-        let pair = (v % 100) as usize * 2;
-        v /= 100;
-        digits[n] = DIGIT_PAIRS[pair + 1];
-        digits[n + 1] = DIGIT_PAIRS[pair];
-        n += 2;
-    }
-    while v != 0 {
-        digits[n] = b'0' + (v % 10) as u8;
-        v /= 10;
-        n += 1;
-    }
-    let d = decimals as usize;
-    n = n.max(d + 1);
-    // Drop trailing zeros of the fraction unless asked to keep them.
-    let mut low = 0;
+    let magnitude = units.abs() as i64 as u64;
+    let (whole, frac) = split_increments(magnitude, units.abs(), d);
+    // At most 1 + 19 + 1 bytes: the magnitude has at most 19 digits, and at most d + 1 ≤ 16
+    // when its whole part is 0.
+    let text: &mut [u8; 32] = (&mut buf[at..at + 32])
+        .try_into()
+        .expect("a slice of 32 bytes");
+    // Never `-0.`: a sign only where some digit is not 0.
+    let sign = usize::from(units < 0.0 && magnitude != 0);
+    text[0] = b'-';
+    let whole_digits = decimal_digits(whole);
+    let point = sign + whole_digits;
+    write_digits(text, point, whole, whole_digits);
+    text[point] = b'.';
+    let mut end = point + 1 + d;
+    write_digits(text, end, frac, d);
     if !trailing_zeros {
-        while low < d && digits[low] == b'0' {
-            low += 1;
+        while end > point + 1 && text[end - 1] == b'0' {
+            end -= 1;
         }
     }
-    // The text, most significant first, assembled on the stack and appended at once.
-    let mut text = [0u8; 32];
-    let mut t = 0;
-    if negative && digits[low..n].iter().any(|&b| b != b'0') {
-        text[0] = b'-';
-        t = 1;
+    Some(end)
+}
+
+/// How many decimal digits `v` has (1 for 0); coordinates mostly have one to three.
+#[inline(always)]
+fn decimal_digits(v: u64) -> usize {
+    if v < 10 {
+        1
+    } else if v < 100 {
+        2
+    } else if v < 1000 {
+        3
+    } else {
+        v.ilog10() as usize + 1
     }
-    for i in (d..n).rev() {
-        text[t] = digits[i];
-        t += 1;
+}
+
+/// `magnitude` (= `float`, `decimals` ≤ 15) split into its whole part and its last `decimals`
+/// digits. Below 2⁵⁰ the whole part is first estimated in floating point, by a multiplication with
+/// the reciprocal (off by at most one: the product's relative error is below 2.3 × 10⁻¹⁶, so
+/// its absolute error below 2⁵⁰ is under 0.3), and put right by the exact remainder; an integer division by a
+/// power of ten that is not known at compile time costs several times as much. Above, the
+/// division.
+#[inline(always)]
+fn split_increments(magnitude: u64, float: f64, decimals: usize) -> (u64, u64) {
+    let p = POW10[decimals];
+    if magnitude >= 1 << 50 {
+        return (magnitude / p, magnitude % p);
     }
-    text[t] = b'.';
-    t += 1;
-    for i in (low..d).rev() {
-        text[t] = digits[i];
-        t += 1;
+    let estimate = (float * RECIPROCALS[decimals]) as u64;
+    // At most one too many or too few.
+    let rest = magnitude as i64 - (estimate * p) as i64;
+    if rest < 0 {
+        (estimate - 1, (rest + p as i64) as u64)
+    } else if rest >= p as i64 {
+        (estimate + 1, rest as u64 - p)
+    } else {
+        (estimate, rest as u64)
     }
-    Some(Small {
-        bytes: text,
-        len: t,
-    })
+}
+
+/// 10⁻ⁿ, rounded, for [`split_increments`]'s estimates.
+const RECIPROCALS: [f64; 16] = {
+    let mut t = [1.0; 16];
+    let mut i = 1;
+    while i < 16 {
+        t[i] = 1.0 / POW10[i] as f64;
+        i += 1;
+    }
+    t
+};
+
+/// Writes the last `count` decimal digits of `v` so that they end before `end`, two at a time.
+#[inline(always)]
+fn write_digits(text: &mut [u8; 32], mut end: usize, mut v: u64, mut count: usize) {
+    while count >= 2 {
+        let pair = (v % 100) as usize * 2;
+        v /= 100;
+        text[end - 2] = DIGIT_PAIRS[pair];
+        text[end - 1] = DIGIT_PAIRS[pair + 1];
+        end -= 2;
+        count -= 2;
+    }
+    if count == 1 {
+        text[end - 1] = b'0' + (v % 10) as u8;
+    }
 }
 
 /// "00" to "99".
@@ -383,18 +435,26 @@ pub fn write_moves(
     let nd = format.digits(units);
     let ld = format.lead_digits(units);
     let tz = format.trailing_zeros;
-    // The whole path's text is built in one buffer and written at once (flushed every 64 KiB): one
-    // copy into the writer instead of one per line.
-    let mut line: Vec<u8> = Vec::with_capacity(path.motions.len().min(2048) * 32);
-    // Consecutive moves share coordinates and leads: each is formatted once (same text either way).
-    let (mut x_cache, mut z_cache) = (Cached::default(), Cached::default());
-    let mut lead_cache = [Cached::default(), Cached::default()];
+    // The whole path's text is built in one buffer and written at once (every 64 KiB): one copy
+    // into the writer instead of one per line. The buffer is written at a cursor (`Text`), each
+    // number's text straight into its place: a push per byte into a vector cost more than the
+    // digits did, and so did assembling each line on the stack first (docs/performance.md).
+    let mut text = Text::new(path.motions.len());
+    // Moves share coordinates and leads: each is formatted once while it recurs (same text either
+    // way). A pass comes back to the X it started from; two leads alternate in a pass (the thread's
+    // and the pull-out's along its path).
+    let (mut xs, mut zs, mut leads) = (Recent::<3>::new(), Recent::<1>::new(), Recent::<2>::new());
     // Whether the previous move was synchronised: a start angle belongs to a run's first move.
     let mut in_run = false;
+    let mut letter = [0u8; 4];
+    // The rare words written through a vector (a number too long for the fast formatter, the
+    // variable lead, the start angle).
+    let mut scratch = Vec::new();
     for (from, m) in path.segments() {
-        if line.len() > 1 << 16 {
-            out.write_all(&line)?;
-            line.clear();
+        if text.pos > Text::FLUSH_AT {
+            text.flush(out)?;
+            // The cached texts lay in what was written out.
+            (xs, zs, leads) = (Recent::new(), Recent::new(), Recent::new());
         }
         let (code, lead, dlead) = match m.kind {
             MotionKind::Rapid => (format.rapid, None, None),
@@ -412,11 +472,12 @@ pub fn write_moves(
                 _ => (format.thread, Some(lead), None),
             },
         };
-        push_bytes(&mut line, code.as_bytes());
-        push_bytes(&mut line, b" X");
-        x_cache.push(&mut line, finite(format.x_word(m.to.x, units))?, nd, tz);
-        push_bytes(&mut line, b" Z");
-        z_cache.push(&mut line, finite(units.from_mm(m.to.z))?, nd, tz);
+        text.put(code.as_bytes());
+        text.put(b" X");
+        let x = finite(format.x_word(m.to.x, units))?;
+        xs.put(&mut text, x, nd, tz);
+        text.put(b" Z");
+        zs.put(&mut text, finite(units.from_mm(m.to.z))?, nd, tz);
         if let Some(lead) = lead {
             let d = m.to.minus(from);
             let lead = if format.lead_along_path {
@@ -428,33 +489,103 @@ pub fn write_moves(
                 Some(steep) if d.x.abs() > d.z.abs() => steep,
                 _ => format.lead_letter,
             };
-            line.push(b' ');
-            let mut letter = [0u8; 4];
-            line.extend_from_slice(lead_letter.encode_utf8(&mut letter).as_bytes());
-            let value = finite(units.from_mm(lead))?;
-            let slot = if lead_cache[0].holds(value) { 0 } else { 1 };
-            if slot == 1 && !lead_cache[1].holds(value) {
-                lead_cache.swap(0, 1);
-                lead_cache[1].push(&mut line, value, ld, tz);
-            } else {
-                lead_cache[slot].push(&mut line, value, ld, tz);
-            }
+            text.put_letter(lead_letter, &mut letter);
+            leads.put(&mut text, finite(units.from_mm(lead))?, ld, tz);
         }
-        if let Some((letter, dlead)) = dlead {
-            line.push(b' ');
-            let mut buf = [0u8; 4];
-            line.extend_from_slice(letter.encode_utf8(&mut buf).as_bytes());
-            push_number(&mut line, finite(units.from_mm(dlead))?, ld, tz);
+        if let Some((dlead_letter, dlead)) = dlead {
+            text.put(b" ");
+            text.put(dlead_letter.encode_utf8(&mut letter).as_bytes());
+            scratch.clear();
+            push_number(&mut scratch, finite(units.from_mm(dlead))?, ld, tz);
+            text.put(&scratch);
         }
         if let MotionKind::Thread { phase_deg, .. } = m.kind {
             if !in_run {
-                push_start_angle(&mut line, format, phase_deg)?;
+                scratch.clear();
+                push_start_angle(&mut scratch, format, phase_deg)?;
+                text.put(&scratch);
             }
         }
         in_run = matches!(m.kind, MotionKind::Thread { .. });
-        line.push(b'\n');
+        text.put(b"\n");
     }
-    out.write_all(&line)
+    text.flush(out)
+}
+
+/// A path's text: a buffer kept at its full length and written at a cursor, each piece with one
+/// copy whose length is known where it is written (a short code, a number's 32-byte window), so
+/// that no copy calls `memmove` and no push checks the capacity. What the cursor has passed is
+/// the text; what lies beyond it is scratch.
+struct Text {
+    bytes: Vec<u8>,
+    pos: usize,
+}
+
+thread_local! {
+    /// [`Text`]'s buffer between paths (empty while a path is written, and before the first).
+    static TEXT_BUFFER: std::cell::Cell<Vec<u8>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
+impl Drop for Text {
+    fn drop(&mut self) {
+        // A buffer grown far past the usual size (a profile's long codes) is not kept.
+        if self.bytes.len() <= 2 * Text::FLUSH_AT {
+            TEXT_BUFFER.set(std::mem::take(&mut self.bytes));
+        }
+    }
+}
+
+impl Text {
+    /// The text is written out once the cursor has passed this.
+    const FLUSH_AT: usize = 1 << 16;
+
+    /// Room for `moves` blocks of a usual length (the buffer grows if they are longer), at most
+    /// what is written at once. The buffer is the thread's, reused from path to path: allocating
+    /// and zeroing one for each cycle cost 7 % of an expansion's instructions (docs/performance.md).
+    fn new(moves: usize) -> Text {
+        let mut bytes = TEXT_BUFFER.take();
+        let want = moves.saturating_mul(48).min(Text::FLUSH_AT) + 1024;
+        if bytes.len() < want {
+            bytes.resize(want, 0);
+        }
+        Text { bytes, pos: 0 }
+    }
+
+    #[inline(always)]
+    fn put(&mut self, piece: &[u8]) {
+        let end = self.pos + piece.len();
+        if end > self.bytes.len() {
+            // A longer piece than any format writes (a code from a machine profile, say).
+            self.bytes.resize(end + 1024, 0);
+        }
+        self.bytes[self.pos..end].copy_from_slice(piece);
+        self.pos = end;
+    }
+
+    /// A blank and a word's letter.
+    #[inline(always)]
+    fn put_letter(&mut self, letter: char, scratch: &mut [u8; 4]) {
+        if letter.is_ascii() {
+            self.put(&[b' ', letter as u8]);
+        } else {
+            self.put(b" ");
+            self.put(letter.encode_utf8(scratch).as_bytes());
+        }
+    }
+
+    /// Makes sure that `n` bytes from the cursor lie in the buffer.
+    #[inline(always)]
+    fn room(&mut self, n: usize) {
+        if self.pos + n > self.bytes.len() {
+            self.bytes.resize(self.pos + n + 1024, 0);
+        }
+    }
+
+    fn flush(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        out.write_all(&self.bytes[..self.pos])?;
+        self.pos = 0;
+        Ok(())
+    }
 }
 
 /// The start angle of a run's first thread move, where the format writes one: always where the
@@ -487,26 +618,53 @@ fn push_bytes(out: &mut Vec<u8>, bytes: &[u8]) {
     }
 }
 
-/// The last value formatted in one slot, and its text.
-#[derive(Default)]
-struct Cached {
-    bits: Option<u64>,
-    text: Option<Small>,
+/// Where a number's text starts in the path's text, and its length.
+type TextAt = (usize, usize);
+
+/// The last `N` values formatted for one word, and where their texts lie in the path's text
+/// (`None`: a number for the wide path). A new value replaces the oldest. Valid until the text is
+/// flushed (`write_moves` then starts afresh).
+struct Recent<const N: usize> {
+    slots: [(Option<u64>, Option<TextAt>); N],
+    oldest: usize,
 }
 
-impl Cached {
-    fn holds(&self, value: f64) -> bool {
-        self.bits == Some(value.to_bits())
+impl<const N: usize> Recent<N> {
+    fn new() -> Self {
+        Recent {
+            slots: [(None, None); N],
+            oldest: 0,
+        }
     }
 
-    fn push(&mut self, out: &mut Vec<u8>, value: f64, decimals: u32, trailing_zeros: bool) {
-        if !self.holds(value) {
-            self.text = format_small(value, decimals, trailing_zeros);
-            self.bits = Some(value.to_bits());
-        }
-        match &self.text {
-            Some(t) => t.push_to(out),
-            None => push_number(out, value, decimals, trailing_zeros),
+    #[inline(always)]
+    fn put(&mut self, text: &mut Text, value: f64, decimals: u32, trailing_zeros: bool) {
+        text.room(32);
+        let bits = Some(value.to_bits());
+        let at = match self.slots.iter().find(|slot| slot.0 == bits) {
+            // The same text again: one fixed-size copy from where it was written (the bytes past
+            // its end are overwritten by what follows).
+            Some(&(_, Some((from, len)))) => {
+                text.bytes.copy_within(from..from + 32, text.pos);
+                text.pos += len;
+                return;
+            }
+            Some(&(_, None)) => None,
+            None => {
+                let at = write_small(&mut text.bytes, text.pos, value, decimals, trailing_zeros)
+                    .map(|len| (text.pos, len));
+                self.slots[self.oldest] = (bits, at);
+                self.oldest = (self.oldest + 1) % N;
+                at
+            }
+        };
+        match at {
+            Some((_, len)) => text.pos += len,
+            None => {
+                let mut wide = Vec::new();
+                push_number(&mut wide, value, decimals, trailing_zeros);
+                text.put(&wide);
+            }
         }
     }
 }
@@ -587,6 +745,184 @@ pub fn json_num(v: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The formatter this module had before the whole part and the fraction were written
+    /// separately (digit by digit, least significant first, reversed into place): the reference
+    /// the fast one must match byte for byte.
+    fn format_small_digit_by_digit(
+        value: f64,
+        decimals: u32,
+        trailing_zeros: bool,
+    ) -> Option<String> {
+        debug_assert!(
+            value.is_finite(),
+            "non-finite values are rejected before writing"
+        );
+        let scale = if (decimals as usize) < POW10.len() {
+            POW10[decimals as usize] as f64
+        } else {
+            10f64.powi(decimals as i32)
+        };
+        let units = round_half_away(value * scale);
+        let negative = units < 0.0;
+        if units.abs() >= 1e19 || decimals as usize >= 20 {
+            return None;
+        }
+        let mut v = units.abs() as u64;
+        // All digits of the scaled value, least significant first, at least `decimals + 1` of them,
+        // two at a time.
+        let mut digits = [b'0'; 24];
+        let mut n = 0;
+        while v >= 100 {
+            let pair = (v % 100) as usize * 2;
+            v /= 100;
+            digits[n] = DIGIT_PAIRS[pair + 1];
+            digits[n + 1] = DIGIT_PAIRS[pair];
+            n += 2;
+        }
+        while v != 0 {
+            digits[n] = b'0' + (v % 10) as u8;
+            v /= 10;
+            n += 1;
+        }
+        let d = decimals as usize;
+        n = n.max(d + 1);
+        // Drop trailing zeros of the fraction unless asked to keep them.
+        let mut low = 0;
+        if !trailing_zeros {
+            while low < d && digits[low] == b'0' {
+                low += 1;
+            }
+        }
+        // The text, most significant first, assembled on the stack and appended at once.
+        let mut text = [0u8; 32];
+        let mut t = 0;
+        if negative && digits[low..n].iter().any(|&b| b != b'0') {
+            text[0] = b'-';
+            t = 1;
+        }
+        for i in (d..n).rev() {
+            text[t] = digits[i];
+            t += 1;
+        }
+        text[t] = b'.';
+        t += 1;
+        for i in (low..d).rev() {
+            text[t] = digits[i];
+            t += 1;
+        }
+        Some(String::from_utf8(text[..t].to_vec()).unwrap())
+    }
+
+    fn small_text(value: f64, decimals: u32, trailing_zeros: bool) -> Option<String> {
+        let mut text = [0u8; 32];
+        write_small(&mut text, 0, value, decimals, trailing_zeros)
+            .map(|len| String::from_utf8(text[..len].to_vec()).unwrap())
+    }
+
+    /// The fast formatter's text, or the old formatter's `None` where the fast one leaves a number
+    /// to the wide path: from 9.2 × 10¹⁸ increments on (the old one took up to 10¹⁹, the wide path
+    /// writes the same text, which `number` is checked for). Below that the fast one must answer.
+    fn small_or_wide(value: f64, decimals: u32, trailing_zeros: bool) -> Option<String> {
+        let units = round_half_away(value * POW10[decimals as usize] as f64);
+        match small_text(value, decimals, trailing_zeros) {
+            None if units.abs() >= 9.2e18 => {
+                format_small_digit_by_digit(value, decimals, trailing_zeros)
+            }
+            small => small,
+        }
+    }
+
+    proptest::proptest! {
+        /// The fast formatter writes what the digit-by-digit one wrote, for values of every size
+        /// the formats meet, rounding ties and all, and `number` as a whole goes on to the wide
+        /// path exactly where it did.
+        #[test]
+        fn fast_numbers_are_the_digit_by_digit_ones(
+            mantissa in -10_000_000_000i64..10_000_000_000,
+            exponent in -12i32..8,
+            half in proptest::bool::ANY,
+            decimals in 0u32..16,
+            trailing_zeros in proptest::bool::ANY,
+        ) {
+            let value = mantissa as f64 * 10f64.powi(exponent) + if half { 0.5 * 10f64.powi(-(decimals as i32)) } else { 0.0 };
+            let want = format_small_digit_by_digit(value, decimals, trailing_zeros);
+            proptest::prop_assert_eq!(small_or_wide(value, decimals, trailing_zeros), want.clone());
+            if let Some(want) = want {
+                proptest::prop_assert_eq!(number(value, decimals, trailing_zeros), want);
+            }
+        }
+    }
+
+    /// The estimate and its correction give the integer division's answer at every boundary
+    /// between two whole parts (one below, at, one above), for every count of decimals, from small
+    /// numbers up to the fast path's end and past it.
+    #[test]
+    fn increments_split_as_the_division_splits_them() {
+        for (d, &p) in POW10.iter().enumerate() {
+            let mut wholes: Vec<u64> = (0..2000).collect();
+            for k in 0..64 {
+                let w = (1u64 << 50) / p;
+                wholes.extend([
+                    w.saturating_sub(k),
+                    w + k,
+                    (1u64 << 40) / p + k,
+                    (1u64 << 62) / p - k,
+                ]);
+            }
+            for w in wholes {
+                for m in [(w * p).saturating_sub(1), w * p, w * p + 1, w * p + p / 2] {
+                    assert_eq!(
+                        split_increments(m, m as f64, d),
+                        (m / p, m % p),
+                        "{m} with {d} decimals"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn fast_numbers_at_the_edges() {
+        for &(value, decimals) in &[
+            (0.0, 0),
+            (-0.0, 3),
+            (-0.00049, 3),
+            (0.0005, 3),
+            (9.9995, 3),
+            (-9.9995, 3),
+            (99.99995, 4),
+            (1e18, 0),
+            (9.999e18, 0),
+            (1e19, 0),
+            (-1e19, 0),
+            (1e14, 4),
+            (123456789012345.6, 4),
+            (0.5, 0),
+            (-0.5, 0),
+            (1.5, 0),
+            (2.5, 0),
+            (1e-15, 15),
+            (7.0, 15),
+            (0.1, 15),
+            (1.0, 19),
+            (3.25, 17),
+        ] {
+            for tz in [false, true] {
+                let want = format_small_digit_by_digit(value, decimals, tz);
+                if decimals < 16 {
+                    assert_eq!(
+                        small_or_wide(value, decimals, tz),
+                        want,
+                        "{value} {decimals} {tz}"
+                    );
+                }
+                if let Some(want) = want {
+                    assert_eq!(number(value, decimals, tz), want, "{value} {decimals} {tz}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn numbers_round_once_and_keep_the_point() {
