@@ -335,7 +335,7 @@ fn check_apt<R: BufRead>(
         }
     };
     let mut report = Report {
-        thread_codes: "THREAD/ON, THREAD/TURN, COUPLE/ON".into(),
+        thread_codes: crate::commands::APT_THREAD_STATEMENTS.into(),
         ..Report::default()
     };
     let mut sink = Sink {

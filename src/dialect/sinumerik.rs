@@ -16,7 +16,6 @@ use crate::convert::lexicon::{
     self, Code as C, DwellForm, Function as F, Lexicon, LimitForm, ReturnForm, Term, ToolForm,
 };
 use crate::diag::{Code, Diagnostic, Result, Span};
-use crate::gcode::lexer::{letter_slot, WordIndex};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{
@@ -512,18 +511,8 @@ impl Sinumerik {
                 Item::Header | Item::Label => {}
             }
         }
-        let index = word_index(&words);
-        let own = Line {
-            number: line.number,
-            offset: line.offset,
-            text: line.text,
-            raw: line.raw,
-            words: &words,
-            shape: line.shape,
-            before: line.before,
-            summary: WordSummary::of(&words),
-            index: &index,
-        };
+        let mut index = [0; 32];
+        let own = line.with_words(&words, &mut index);
         if let Some(span) = machine_axis {
             if !(own.has_g(740) || own.has_g(750)) {
                 return Err(Diagnostic::error(
@@ -798,15 +787,6 @@ fn own_terms(items: Vec<Item>) -> Vec<Term> {
             },
         })
         .collect()
-}
-
-/// Where each letter's last word is, as the lexer fills it for its own lines.
-fn word_index(words: &[Word]) -> WordIndex {
-    let mut index = [0; 32];
-    for (at, w) in words.iter().enumerate() {
-        index[letter_slot(w.letter)] = at as u32;
-    }
-    index
 }
 
 impl Dialect for Sinumerik {

@@ -233,6 +233,16 @@ pub(crate) fn letter_slot(letter: u8) -> usize {
 /// are left from earlier lines.
 pub type WordIndex = [u32; 32];
 
+/// Fills `index` for `words`: each letter's last word (the lexer's own lines, and lines built
+/// from words read otherwise: the interpreter's blocks, a dialect's own syntax).
+#[inline(always)]
+pub(crate) fn index_words(words: &[crate::gcode::Word], index: &mut WordIndex) {
+    for (at, w) in words.iter().enumerate() {
+        // A line has fewer than 2^32 words: it is at most MAX_LINE_BYTES long.
+        index[letter_slot(w.letter)] = at as u32;
+    }
+}
+
 /// What a line holds besides its words.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct LineShape {

@@ -42,9 +42,7 @@ impl<'a> Line<'a> {
         'a: 'b,
     {
         *index = [0; 32];
-        for (at, w) in words.iter().enumerate() {
-            index[crate::gcode::lexer::letter_slot(w.letter)] = at as u32;
-        }
+        super::lexer::index_words(words, index);
         Line {
             words,
             summary: WordSummary::of(words),
@@ -348,10 +346,7 @@ impl<R: BufRead> Reader<R> {
         ) {
             Ok(shape) => {
                 let summary = WordSummary::of(&self.words);
-                for (at, w) in self.words.iter().enumerate() {
-                    // A line has fewer than 2^32 words: it is at most MAX_LINE_BYTES long.
-                    self.index[letter_slot(w.letter)] = at as u32;
-                }
+                super::lexer::index_words(&self.words, &mut self.index);
                 Some(Ok(self.take_line(shape, summary, text_len, raw_len, None)))
             }
             Err(_) if self.syntax.hand_over_unread => {

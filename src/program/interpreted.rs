@@ -8,7 +8,7 @@ use std::io::{BufRead, Write};
 
 use crate::diag::{Code, Diagnostic};
 use crate::dialect::{self, Read};
-use crate::gcode::lexer::{letter_slot, WordIndex};
+use crate::gcode::lexer::{index_words, WordIndex};
 use crate::gcode::{Conventions, Line, LineShape, Modal, Position, Reader, Word, WordSummary};
 use crate::interp::{self, Syntax, Text};
 use crate::machine::Machine;
@@ -171,9 +171,7 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         ctx: &interp::Context,
     ) -> Result<(), Error> {
         let mut index: WordIndex = [0; 32];
-        for (at, w) in words.iter().enumerate() {
-            index[letter_slot(w.letter)] = at as u32;
-        }
+        index_words(words, &mut index);
         let line = Line {
             number: text.number,
             offset: text.offset,

@@ -7,7 +7,6 @@
 //! 2 bad input or usage (an empty program included).
 
 mod check;
-mod convert;
 mod input;
 mod mill;
 mod output;
@@ -612,8 +611,8 @@ fn run(cli: Cli) -> Result<ExitCode, Failure> {
             })?;
             // The converted program ends its lines as the source does (CRLF in, CRLF out).
             let summary = output::write(file, output.output.as_deref(), |out| {
-                let report =
-                    convert::convert(reader, out, &from, &to, &options).map_err(lib(file))?;
+                let report = threadcut::convert::convert(reader, out, &from, &to, &options)
+                    .map_err(lib(file))?;
                 not_empty(file, &content)?;
                 Ok(report.summary)
             })?;
@@ -744,9 +743,7 @@ fn controllers(format: TextJson, out: Option<&Path>) -> Result<(), Failure> {
 
 /// The codes a machine's controller threads with, as `G32, G76, G92`.
 fn thread_codes(machine: &Machine) -> String {
-    threadcut::dialect::open(machine)
-        .map(|d| d.vocabulary().thread_codes())
-        .unwrap_or_default()
+    threadcut::commands::thread_codes(threadcut::check::Source::Gcode(machine))
 }
 
 /// A program with no thread: said on standard error, naming what the controller threads with.

@@ -24,7 +24,7 @@ pub fn run(
     let (mut reader, content) = input::open(file)?;
     // APT/CL needs no controller; G-code is read by the controller's dialect.
     let (apt, codes) = if is_apt(file, &mut reader) {
-        (None, "THREAD/ON, THREAD/TURN, COUPLE/ON".to_string())
+        (None, threadcut::commands::APT_THREAD_STATEMENTS.to_string())
     } else {
         let machine = load_machine(machine)?;
         let codes = thread_codes(&machine);

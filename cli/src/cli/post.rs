@@ -66,7 +66,7 @@ pub fn passes(
     })?;
     warn(file, &summary);
     if count == 0 {
-        super::no_thread(file, "THREAD/ON, THREAD/TURN, COUPLE/ON");
+        super::no_thread(file, threadcut::commands::APT_THREAD_STATEMENTS);
     }
     Ok(())
 }
