@@ -19,13 +19,12 @@
 //! tells which from the text).
 
 use std::io::{BufRead, Write};
-use std::path::Path;
 
-pub use crate::check::Source;
 use crate::machine::{Machine, BUILT_IN};
 use crate::program::{self, Error, Summary};
 pub use crate::render::{Plot, Selection};
 use crate::sim::Tip;
+pub use crate::source::{source, thread_codes, Source};
 use crate::threads::{self, Thread};
 
 /// What a run over a program found besides its output: the reader's summary (lines, the
@@ -76,30 +75,6 @@ pub fn controllers() -> Vec<Controller> {
     lathes.chain(mills).collect()
 }
 
-/// What `head` (the program's first bytes) is written in: APT/CL by the file's extension or its
-/// first statement ([`crate::apt::looks_like_apt`]), otherwise G-code for `machine`. `name` is the
-/// file's name, or an empty path for a program given as text. APT takes `machine` for the
-/// commands that need one (`expand` to G-code, `check`'s limits); G-code without one is
-/// [`Error::Setup`] where it is read.
-pub fn source<'m>(name: &Path, head: &[u8], machine: Option<&'m Machine>) -> Option<Source<'m>> {
-    if crate::apt::looks_like_apt(name, head) {
-        Some(Source::Apt(machine))
-    } else {
-        machine.map(Source::Gcode)
-    }
-}
-
-/// What the program's controller threads with (`G32, G76, G92`; the APT statements for APT/CL),
-/// for saying that a program has no thread.
-pub fn thread_codes(source: Source) -> String {
-    match source {
-        Source::Apt(_) => APT_THREAD_STATEMENTS.to_string(),
-        Source::Gcode(machine) => crate::dialect::open(machine)
-            .map(|d| d.vocabulary().thread_codes())
-            .unwrap_or_default(),
-    }
-}
-
 /// What to say of a program in which no thread was found, `codes` what its controller threads
 /// with ([`thread_codes`]).
 pub fn no_thread(codes: &str) -> String {
@@ -109,7 +84,7 @@ pub fn no_thread(codes: &str) -> String {
 }
 
 /// The statements an APT/CL program threads with.
-pub const APT_THREAD_STATEMENTS: &str = "THREAD/ON, THREAD/TURN, COUPLE/ON";
+pub use crate::apt::THREAD_STATEMENTS as APT_THREAD_STATEMENTS;
 
 /// Every thread of a program, in order, to `each`: [`threads::each_gcode`] or
 /// [`threads::each_apt`]; depths from the crest where the program gives it, else from the first
@@ -224,6 +199,7 @@ pub fn plot<R: BufRead>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     const G76: &str = "G0 X22 Z3\nG76 P010060 Q50 R0.02\nG76 X17.546 Z-20 P1227 Q400 F2\nG0 X40\n";
 

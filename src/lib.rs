@@ -39,6 +39,7 @@ pub mod post;
 pub mod program;
 pub mod render;
 pub mod sim;
+pub mod source;
 pub mod text;
 pub mod thread;
 pub mod threads;

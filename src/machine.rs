@@ -19,8 +19,18 @@ pub const BUILT_IN: &[(&str, &str)] = &[
     ("sinumerik", include_str!("../profiles/sinumerik.toml")),
 ];
 
+/// Built-in milling profiles, by name (the milling profile reader takes them from here).
+pub const MILL_BUILT_IN: &[(&str, &str)] = &[
+    ("centroid", include_str!("../profiles/centroid.toml")),
+    ("fanuc-mill", include_str!("../profiles/fanuc-mill.toml")),
+    (
+        "linuxcnc-mill",
+        include_str!("../profiles/linuxcnc-mill.toml"),
+    ),
+];
+
 /// The two kinds of built-in profile: lathe controllers ([`BUILT_IN`]) and milling controllers
-/// ([`crate::mill::profile::BUILT_IN`]).
+/// ([`MILL_BUILT_IN`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ProfileKind {
     Lathe,
@@ -32,7 +42,7 @@ impl ProfileKind {
     pub fn names(self) -> Vec<&'static str> {
         let table = match self {
             ProfileKind::Lathe => BUILT_IN,
-            ProfileKind::Mill => crate::mill::profile::BUILT_IN,
+            ProfileKind::Mill => MILL_BUILT_IN,
         };
         table.iter().map(|(n, _)| *n).collect()
     }

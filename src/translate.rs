@@ -10,8 +10,8 @@
 
 use std::io::{self, Write};
 
-use crate::convert::lexicon::{Function, Meanings};
 use crate::diag::{Code, Diagnostic};
+use crate::dialect::lexicon::Function;
 use crate::dialect::{self, Dialect, Read};
 use crate::gcode::{Modal, MotionMode, Reader};
 use crate::machine::Machine;
@@ -55,7 +55,7 @@ pub fn write_job(
         Err(why) => why,
     };
     let format = d.format();
-    if !Meanings::of(d.as_ref()).has(Function::Thread) {
+    if !d.meanings().has(Function::Thread) {
         return Err(Diagnostic::error(
             Code::Unsupported,
             job.span,

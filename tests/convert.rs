@@ -118,7 +118,7 @@ fn differs(a: &[Move], b: &[Move], pos: f64, lead: f64) -> Option<String> {
 /// coarsest lead step.
 fn tolerances(to: &Machine) -> (f64, f64) {
     let d = dialect::open(to).unwrap();
-    let lex = threadcut::convert::lexicon::Meanings::of(d.as_ref());
+    let lex = d.meanings();
     let units = [Units::Mm, Units::Inch]
         .into_iter()
         .filter(|u| lex.has_units(*u));
@@ -286,12 +286,12 @@ fn metric_programs_are_converted_to_inch_for_the_omniturn() {
 /// never the control's power-on state. Every posted program reads back on its controller.
 #[test]
 fn posted_programs_state_units_and_feed_mode_for_every_controller() {
-    use threadcut::convert::lexicon::{Function, Plane};
+    use threadcut::dialect::lexicon::{Function, Plane};
     let cl = "UNITS/MM\nSPINDL/500,RPM,CLW\nRAPID\nGOTO/20,0,5\nFEDRAT/100,MMPM\nGOTO/18,0,5\nFEDRAT/0.2,MMPR\nGOTO/18,0,-20\nFINI\n";
     for (name, _) in BUILT_IN {
         let m = Machine::built_in(name).unwrap();
         let d = dialect::open(&m).unwrap();
-        let lex = threadcut::convert::lexicon::Meanings::of(d.as_ref());
+        let lex = d.meanings();
         let mut out = Vec::new();
         threadcut::apt::post::write(cl.as_bytes(), &mut out, &m).unwrap();
         let text = String::from_utf8(out).unwrap();
@@ -344,8 +344,8 @@ fn posted_programs_state_units_and_feed_mode_for_every_controller() {
 }
 
 /// One controller's words for a row of the lexicon table.
-fn lexicon_cell(lex: &threadcut::convert::lexicon::Meanings, row: &str) -> String {
-    use threadcut::convert::lexicon::{
+fn lexicon_cell(lex: &threadcut::dialect::lexicon::Meanings, row: &str) -> String {
+    use threadcut::dialect::lexicon::{
         DwellForm, Function as F, LimitForm, Plane, ReturnForm, ToolForm,
     };
     let codes = |fs: &[F]| -> String {
@@ -531,7 +531,7 @@ fn the_lexicon_table_is_the_dialects_lexicons() {
     for row in rows {
         let cells: Vec<String> = dialects
             .iter()
-            .map(|d| lexicon_cell(&threadcut::convert::lexicon::Meanings::of(d.as_ref()), row))
+            .map(|d| lexicon_cell(&d.meanings(), row))
             .collect();
         table.push_str(&format!("| {row} | {} |\n", cells.join(" | ")));
     }

@@ -690,29 +690,19 @@ fn taper_words_for_a_taper_thread() {
             .taper_word()
     };
     let fanuc = word("fanuc").unwrap();
-    close(c.word_value(&fanuc, true), -0.56875, 1e-9, "fanuc R");
+    close(fanuc.value(&c, true), -0.56875, 1e-9, "fanuc R");
     assert_eq!(fanuc.letter, 'R');
     assert_eq!(word("gsk980").unwrap().letter, 'R');
     assert_eq!(word("ab9").unwrap().letter, 'I');
     let omni: TaperWord = word("omniturn").unwrap();
-    close(
-        c.word_value(&omni, false),
-        0.56875,
-        1e-9,
-        "omniturn A, radius",
-    );
-    close(
-        c.word_value(&omni, true),
-        1.1375,
-        1e-9,
-        "omniturn A, diameter",
-    );
+    close(omni.value(&c, false), 0.56875, 1e-9, "omniturn A, radius");
+    close(omni.value(&c, true), 1.1375, 1e-9, "omniturn A, diameter");
     assert!(word("linuxcnc").is_none());
     // Read back through the Fanuc dialect.
     let src = format!(
         "G21\nG0 X25. Z5.\nG76 P010055 Q50 R0.\nG76 X{:.3} Z-13.2 R{:.3} P1162 Q300 F1.814\n",
         2.0 * c.root_end_x,
-        c.word_value(&fanuc, true)
+        fanuc.value(&c, true)
     );
     let job = threadcut::program::jobs(src.as_bytes(), &Machine::built_in("fanuc").unwrap())
         .unwrap()

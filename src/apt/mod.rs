@@ -26,6 +26,9 @@ use crate::units::{Pos, Units};
 pub use reader::{Reader, Statement};
 pub use thread::{Pitch, ThreadOn};
 
+/// The statements an APT/CL program threads with (what a program without a thread is told).
+pub const THREAD_STATEMENTS: &str = "THREAD/ON, THREAD/TURN, COUPLE/ON";
+
 /// Coordinates beyond this (mm) are refused: no lathe is 100 m long, and the output must stay finite.
 pub const MAX_COORDINATE_MM: f64 = 1e5;
 

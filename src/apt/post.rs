@@ -9,9 +9,9 @@
 
 use std::io::{BufRead, Write};
 
-use crate::convert::lexicon::{Code as LexCode, Function, Meanings, Plane};
 use crate::diag::{Code, Diagnostic};
 use crate::dialect;
+use crate::dialect::lexicon::{Code as LexCode, Function, Meanings, Plane};
 use crate::machine::Machine;
 use crate::post::{self, Format};
 use crate::program::{Error, Summary};
@@ -34,7 +34,7 @@ pub fn write<R: BufRead>(
     let out = &mut crate::eol::Writer::new(out, ending);
     let d = dialect::open(target).map_err(Error::Setup)?;
     let format = d.format();
-    let lexicon = Meanings::of(d.as_ref());
+    let lexicon = d.meanings();
     let units = target.units;
     let mut at: Option<Pos> = None;
     // The feed (target units per minute or per revolution) and whether the F register holds it.

@@ -10,8 +10,9 @@ use crate::toolpath::MotionKind;
 use crate::units::{Resolution, Tolerance};
 
 use super::blank::{Blank, Known};
+use super::measure::{self, Judging};
 use super::spindle::SpindleSpeed;
-use super::standard::{self, Judging};
+use super::standard;
 use super::{length, passes_list, Note, Options};
 
 /// The usual servo time constant of a lathe's Z axis (s): Fanuc's manuals quote 0.033 s.
@@ -137,7 +138,7 @@ fn section_checks(
     let angle = if job.tool_angle_deg > 0.0 {
         job.tool_angle_deg
     } else {
-        let a = opts.thread.as_ref().map_or(60.0, standard::angle_of);
+        let a = opts.thread.as_ref().map_or(60.0, measure::angle_of);
         notes.push(Note::new(
             job.span,
             format!(
@@ -182,11 +183,11 @@ fn judge(
 ) {
     let units = t.job.units;
     let face = match blank.face {
-        Known::Given => Some(standard::Face {
+        Known::Given => Some(measure::Face {
             z: blank.z_face,
             given: true,
         }),
-        Known::Assumed => Some(standard::Face {
+        Known::Assumed => Some(measure::Face {
             z: blank.z_face,
             given: false,
         }),
@@ -196,7 +197,7 @@ fn judge(
         Side::Internal => crate::thread::standard::Surface::Internal,
         _ => crate::thread::standard::Surface::External,
     };
-    match standard::target(thread, surface) {
+    match measure::target(thread, surface) {
         Ok(target) => standard::judge(
             t,
             &Judging {

@@ -40,6 +40,7 @@
 pub mod blank;
 pub mod cut;
 mod decimal;
+mod measure;
 pub mod spindle;
 pub mod standard;
 mod taper;
@@ -57,6 +58,7 @@ use crate::thread::standard::StandardThread;
 use crate::threads::{Collector, Crest, Found, Move, Setting};
 use crate::units::{Pos, Units};
 
+pub use crate::source::Source;
 pub use blank::{Blank, Known};
 pub use cut::{check_thread, DEFAULT_LEAD_ERROR, DEFAULT_SERVO_TIME_CONSTANT};
 pub use spindle::{Rpm, Spindle, SpindleSpeed};
@@ -91,15 +93,6 @@ impl Default for Options {
             max_blocks: program::Options::default().max_blocks,
         }
     }
-}
-
-/// What the program is written in.
-#[derive(Clone, Copy, Debug)]
-pub enum Source<'m> {
-    /// G-code for this machine's controller.
-    Gcode(&'m Machine),
-    /// APT/CL; a machine's limits apply when one is named.
-    Apt(Option<&'m Machine>),
 }
 
 /// Something `check` assumed or could not check, at the thread it concerns.
@@ -335,7 +328,7 @@ fn check_apt<R: BufRead>(
         }
     };
     let mut report = Report {
-        thread_codes: crate::commands::APT_THREAD_STATEMENTS.into(),
+        thread_codes: crate::apt::THREAD_STATEMENTS.into(),
         ..Report::default()
     };
     let mut sink = Sink {

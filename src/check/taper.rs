@@ -3,7 +3,7 @@
 //! ([`judge_taper`]).
 //!
 //! * **What the program cuts**: the pitch diameter measured at the thread's start (as for a
-//!   parallel thread, [`super::standard::measure`]) carried along the cycle's crest line — the
+//!   parallel thread, [`super::measure::measure`]) carried along the cycle's crest line — the
 //!   groove's section is the same all along a lathe taper, only shifted — so the pitch diameter
 //!   at any Z, and the taper (its change per length into the part).
 //! * **The reference face**: the gauge plane lies at a distance from the part's end (an external
@@ -24,7 +24,7 @@ use crate::thread::Exit;
 use crate::threads::{Origin, Thread};
 use crate::units::Units;
 
-use super::standard::{Judging, Measured};
+use super::measure::{Judging, Measured, Target};
 use super::{length, Note};
 
 /// Where the gauge stands, for the rest of the judging: the measurements move there.
@@ -253,7 +253,7 @@ fn message(
     judged: &TaperJudgement,
     cut: &TaperCut,
     taper: &Taper,
-    target: &super::standard::Target,
+    target: &Target,
     units: Units,
     error: bool,
 ) -> String {

@@ -6,7 +6,9 @@ use crate::dialect::Dialect;
 use crate::gcode::reader::g_code;
 use crate::gcode::{Line, Modal, MotionMode, Word};
 
-use super::lexicon::{Code, DwellForm, Function, Lexicon, LimitForm, Meanings, Term, ToolForm};
+use crate::dialect::lexicon::{
+    Code, DwellForm, Function, Lexicon, LimitForm, Meanings, Term, ToolForm,
+};
 
 /// An axis word of the block (its value comes from the modal state, which has applied it).
 #[derive(Clone, Copy, Debug)]

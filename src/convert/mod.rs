@@ -4,7 +4,7 @@
 //!   and written by [`crate::translate::write_job`]: the target's native cycle when some choice of
 //!   its words reads back as the same motion, plain moves with the reason otherwise, or a refusal
 //!   naming the target's limit.
-//! * Every other block is read through the source's [`lexicon::Lexicon`] into machine-neutral
+//! * Every other block is read through the source's [`Lexicon`](crate::dialect::lexicon::Lexicon) into machine-neutral
 //!   meanings ([`block::Block`]: units, feed mode, spindle, tools, positions, …) and written
 //!   through the target's ([`write`]). Positions become absolute, in the target profile's X
 //!   convention; numbers always carry a decimal point; units the target does not have are
@@ -18,7 +18,6 @@
 //! results over every bundled example: `docs/translation.md`.
 
 pub mod block;
-pub mod lexicon;
 mod write;
 
 use std::io::{BufRead, Write};
@@ -68,7 +67,7 @@ pub fn convert<R: BufRead>(
     let conv = source_dialect.conventions().clone();
     let src = Source {
         name: &from.name,
-        meanings: lexicon::Meanings::of(source_dialect.as_ref()),
+        meanings: source_dialect.meanings(),
         dialect: source_dialect.as_ref(),
         uw_incremental: conv.uw_incremental,
         canned_cycles: conv.canned_cycles,

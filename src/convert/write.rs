@@ -16,8 +16,10 @@ use crate::translate::{self, Written};
 use crate::units::Units;
 
 use super::block::{Axis, Block, ToolTerm};
-use super::lexicon::{Code, DwellForm, Function, LimitForm, Meanings, Plane, ReturnForm, ToolForm};
 use super::Report;
+use crate::dialect::lexicon::{
+    Code, DwellForm, Function, LimitForm, Meanings, Plane, ReturnForm, ToolForm,
+};
 
 /// Feet in a metre: a surface speed in m/min is 3.28084 ft/min.
 const FEET_PER_METRE: f64 = 1000.0 / 304.8;
@@ -89,7 +91,7 @@ impl<'o, 'm> Writer<'o, 'm> {
         target: &dyn Dialect,
         source: &Meanings,
     ) -> Result<Writer<'o, 'm>, Error> {
-        let tlex = Meanings::of(target);
+        let tlex = target.meanings();
         let format = target.format();
         let out_units = if tlex.has_units(from.units) {
             from.units

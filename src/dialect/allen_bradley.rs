@@ -9,8 +9,8 @@
 //! and FS15's G76); this module reads Allen-Bradley's own words. Every decision on an ambiguity of
 //! the seed is a row of `docs/dialects/allen-bradley-g78.md`.
 
-use crate::convert::lexicon::{self, Code as C, Function as F, Lexicon, ToolForm};
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::dialect::lexicon::{self, Code as C, Function as F, Lexicon, ToolForm};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, Word};

@@ -115,7 +115,7 @@ impl Dialect for Fanuc {
         self.family.vocabulary
     }
 
-    fn lexicon(&self) -> &'static crate::convert::lexicon::Lexicon {
+    fn lexicon(&self) -> &'static crate::dialect::lexicon::Lexicon {
         fanuc_family::lexicon(self.family.codes.system)
     }
 

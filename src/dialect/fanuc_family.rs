@@ -14,10 +14,10 @@
 //! thread's start angle, in 0.001°. Each member's words are its own dialect's ([`Flavour`]); each
 //! decision is a row of `docs/dialects/fanuc.md` (or `haas.md`).
 
-use crate::convert::lexicon::{
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::dialect::lexicon::{
     self, Code as G, DwellForm, Function, Lexicon, LimitForm, ReturnForm, ToolForm,
 };
-use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{

@@ -20,7 +20,7 @@ use crate::units::{Pos, Resolution, Tolerance, Units};
 
 use super::fanuc_family::{self, FanucFamily, Flavour, GCodes, ThreadParameters};
 use super::{g, only_words, Dialect, Read};
-use crate::convert::lexicon::{self, Code as C, Function as F, Lexicon};
+use crate::dialect::lexicon::{self, Code as C, Function as F, Lexicon};
 
 /// The G codes of a GSK 980TDi-class lathe control (its manual's G code table: docs/dialects/gsk-g78.md,
 /// "Vocabulary"). G33 is GSK's Z-axis tapping cycle, not a thread move; G32 threads, and G76, G78 and

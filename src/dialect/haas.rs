@@ -5,8 +5,8 @@
 //! M23/M24), 99 (thread minimum cut). Sources (Haas's G76, G32 and settings pages) and every
 //! inference: `docs/dialects/haas.md`.
 
-use crate::convert::lexicon::{self, Code as C, DwellForm, Function as F, Lexicon};
 use crate::diag::{Code, Diagnostic, Result};
+use crate::dialect::lexicon::{self, Code as C, DwellForm, Function as F, Lexicon};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, MotionMode, PositionCodes, WordSummary};

@@ -5,10 +5,10 @@
 //! Where LinuxCNC's code has a bug the notes list, threadcut follows LinuxCNC's documentation; each
 //! deviation is a row of `docs/dialects/linuxcnc-g76.md`.
 
-use crate::convert::lexicon::{
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::dialect::lexicon::{
     self, Code as C, DwellForm, Function as F, Lexicon, LimitForm, ReturnForm, ToolForm,
 };
-use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal};

@@ -8,6 +8,7 @@ pub mod fanuc15;
 pub mod fanuc_family;
 pub mod gsk;
 pub mod haas;
+pub mod lexicon;
 pub mod linuxcnc;
 pub mod omniturn;
 pub mod one_block;
@@ -59,6 +60,27 @@ pub struct TaperWord {
     pub radius: bool,
 }
 
+impl TaperWord {
+    /// The word's value for a taper thread's cycle (mm; `diameter_x`: the lathe writes X as a
+    /// diameter, which words written "as X is" follow).
+    pub fn value(
+        &self,
+        cycle: &crate::thread::standard::lathe::TaperCycle,
+        diameter_x: bool,
+    ) -> f64 {
+        let v = if self.start_minus_end {
+            cycle.radial_change
+        } else {
+            -cycle.radial_change
+        };
+        if !self.radius && diameter_x {
+            2.0 * v
+        } else {
+            v
+        }
+    }
+}
+
 /// A cycle that takes a taper as the crest diameters at the thread's start and end points rather
 /// than as one word (Sinumerik CYCLE97: DM1 at SPL, DM2 at FPL; the run-in APP and run-out ROP lie
 /// outside them on the same cone). Diameters whatever X's mode; an internal thread's are its tap
@@ -96,7 +118,13 @@ pub trait Dialect {
     fn vocabulary(&self) -> &'static Vocabulary;
     /// What this controller's codes and words mean ([`crate::convert`] reads a block through the
     /// source's lexicon and writes it through the target's).
-    fn lexicon(&self) -> &'static crate::convert::lexicon::Lexicon;
+    fn lexicon(&self) -> &'static lexicon::Lexicon;
+    /// The meanings of this controller's codes for conversion: its [`lexicon`](Dialect::lexicon)
+    /// with the codes its [`conventions`](Dialect::conventions) give a function (the reference
+    /// return, the work systems, the code that sets the position).
+    fn meanings(&self) -> lexicon::Meanings {
+        lexicon::Meanings::new(self.lexicon(), self.conventions())
+    }
     /// A cheap look at a line before [`read`](Dialect::read): `false` promises that `read` would
     /// return `Read::Plain` without changing any state (its own or the modal state) and without a
     /// warning, so the caller may skip it. The default offers every line.
@@ -142,7 +170,7 @@ pub trait Dialect {
     /// A line in this controller's own syntax, which the lexer handed over unread
     /// ([`crate::gcode::LineShape::unread`]), as terms conversion understands. `None`: the
     /// controller has no syntax of its own.
-    fn terms(&self, _line: &Line) -> Option<Result<Vec<crate::convert::lexicon::Term>>> {
+    fn terms(&self, _line: &Line) -> Option<Result<Vec<lexicon::Term>>> {
         None
     }
     /// The word that tapers this controller's threading cycle, if it has one (`None` as well for

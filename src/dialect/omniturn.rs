@@ -9,8 +9,8 @@
 
 use std::io::{self, Write};
 
-use crate::convert::lexicon::{self, Code as C, Function as F, Lexicon, ToolForm};
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::dialect::lexicon::{self, Code as C, Function as F, Lexicon, ToolForm};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, Word};

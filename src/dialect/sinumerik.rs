@@ -12,10 +12,10 @@ mod cycle97;
 
 use std::collections::HashMap;
 
-use crate::convert::lexicon::{
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::dialect::lexicon::{
     self, Code as C, DwellForm, Function as F, Lexicon, LimitForm, ReturnForm, Term, ToolForm,
 };
-use crate::diag::{Code, Diagnostic, Result, Span};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{

@@ -10,15 +10,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::machine::CommentStyle;
 
-/// Built-in milling profiles, by name.
-pub const BUILT_IN: &[(&str, &str)] = &[
-    ("centroid", include_str!("../../profiles/centroid.toml")),
-    ("fanuc-mill", include_str!("../../profiles/fanuc-mill.toml")),
-    (
-        "linuxcnc-mill",
-        include_str!("../../profiles/linuxcnc-mill.toml"),
-    ),
-];
+/// Built-in milling profiles, by name (listed beside the lathe's, in [`crate::machine`], so that
+/// a profile given to the wrong kind of command can be named).
+pub use crate::machine::MILL_BUILT_IN as BUILT_IN;
 
 /// Which point F drives while cutter compensation is on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

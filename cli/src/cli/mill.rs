@@ -145,7 +145,7 @@ fn taper_word(t: &StandardThread, c: &CycleArgs) -> Result<(String, Value), Fail
         Some(CycleTaper::Word(w)) => Some(w),
         _ => None,
     };
-    let value = word.map(|w| cycle.word_value(&w, machine.diameter_x));
+    let value = word.map(|w| w.value(&cycle, machine.diameter_x));
     let mut diameters = Value::Null;
     match (taper, value) {
         (Some(CycleTaper::Word(w)), Some(val)) => text.push_str(&format!(

@@ -1,12 +1,11 @@
 //! A taper thread on the lathe: where its crest and root lie along a cycle's Z travel, so that a
-//! controller's taper word ([`crate::dialect::TaperWord`]) can be computed for the thread's length
+//! controller's taper word can be computed (the dialect's `TaperWord::value`) for the thread's length
 //! and position.
 
 use serde::Serialize;
 
 use super::{StandardThread, Surface};
 use crate::diag::{Code, Diagnostic, Result, Span};
-use crate::dialect::TaperWord;
 
 /// Where the thread is cut (mm).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -44,21 +43,6 @@ impl TaperCycle {
             return self.crest_start_x;
         }
         self.crest_start_x + (self.crest_end_x - self.crest_start_x) * (z - self.start_z) / dz
-    }
-
-    /// The value of a controller's taper word (mm; `diameter_x`: the lathe writes X as a
-    /// diameter, which words written "as X is" follow).
-    pub fn word_value(&self, word: &TaperWord, diameter_x: bool) -> f64 {
-        let v = if word.start_minus_end {
-            self.radial_change
-        } else {
-            -self.radial_change
-        };
-        if !word.radius && diameter_x {
-            2.0 * v
-        } else {
-            v
-        }
     }
 }
 

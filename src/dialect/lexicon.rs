@@ -7,8 +7,8 @@
 //! ISO 6983-1 where the controller's list is not public and the dialect's page says so). A
 //! function a target's lexicon does not have is a refusal naming the target, never a guess.
 
-use crate::dialect::Dialect;
 use crate::gcode::modal::Reference;
+use crate::gcode::Conventions;
 use crate::units::Units;
 
 /// A code as written: `G21`, `M30`, or a word of its own (`DIAMON`).
@@ -280,10 +280,9 @@ pub struct Meanings {
 }
 
 impl Meanings {
-    /// The meanings of `dialect`'s codes.
-    pub fn of(dialect: &dyn Dialect) -> Meanings {
-        let lexicon = dialect.lexicon();
-        let conv = dialect.conventions();
+    /// The meanings of the codes of a controller whose lexicon is `lexicon` and whose reader's
+    /// conventions are `conv` ([`crate::dialect::Dialect::meanings`]).
+    pub fn new(lexicon: &'static Lexicon, conv: &Conventions) -> Meanings {
         let p = &conv.positions;
         let mut positions = Vec::new();
         if let Some(&(c, _)) = p.returns.iter().find(|(_, r)| *r == Reference::First) {
@@ -470,7 +469,7 @@ mod tests {
         for (name, _) in crate::machine::BUILT_IN {
             let m = crate::machine::Machine::built_in(name).unwrap();
             let d = crate::dialect::open(&m).unwrap();
-            let lex = Meanings::of(d.as_ref());
+            let lex = d.meanings();
             for (code, f) in lex.entries() {
                 if let Code::G(c) = code {
                     assert!(
