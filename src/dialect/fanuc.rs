@@ -82,7 +82,7 @@ pub fn default_parameters() -> FanucParameters {
 impl Fanuc {
     /// The standard program format: the two-block G76.
     pub fn new(machine: &Machine) -> Fanuc {
-        Fanuc::with_flavour(machine, Flavour::fanuc("fanuc"))
+        Fanuc::with_flavour(machine, Flavour::fanuc("fanuc", vocabulary))
     }
 
     /// A Fanuc control whose program format is `flavour`'s.

@@ -71,8 +71,7 @@ pub const fn flavour() -> Flavour {
         taper_letter: b'I',
         g76: G76Form::OneBlock(G76_WORDS),
         allowance_name: "the finishing allowance (parameter 5141)",
-        vocabulary,
-        ..Flavour::fanuc("fanuc15")
+        ..Flavour::fanuc("fanuc15", vocabulary)
     }
 }
 

@@ -207,8 +207,7 @@ impl Gsk {
                     gsk_g92_words: true,
                     // GSK's G92 cuts further starts with L, not by a start angle.
                     start_angle: false,
-                    vocabulary: |_| &VOCABULARY,
-                    ..Flavour::fanuc("gsk980")
+                    ..Flavour::fanuc("gsk980", |_| &VOCABULARY)
                 },
                 ThreadParameters::fanuc(
                     params.p5130,

@@ -446,7 +446,7 @@ pub fn read_g76(
     )?;
     let lead = lead(line, modal, g76, name, words.e_is_lead)?;
     let phase_deg = match line.word(b'Q') {
-        Some(q) => super::fanuc_family::start_angle(q)?,
+        Some(q) => super::fanuc_family::start_angle::read(q)?,
         None => 0.0,
     };
     let taper = line.word(b'I').map_or(0.0, |i| modal.length_mm(i));
