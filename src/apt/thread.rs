@@ -259,171 +259,205 @@ pub fn parse_on(st: &Statement, units: Units) -> Result<ThreadOn> {
     let mut args = Args::new(&st.args);
     args.take(); // ON, checked by the caller
     while let Some(key) = args.take() {
-        let Some(word) = key.word() else {
+        let word = keyword(key)?;
+        if !on_word(key, word, &mut args, &mut t)?
+            && !pitch_word(key, word, &mut args, units, &mut t.pitch)?
+        {
             return Err(Diagnostic::error(
-                Code::Syntax,
+                Code::Unsupported,
                 key.span,
-                format!(
-                    "a THREAD/ON parameter keyword is expected here, not the number {}",
-                    key.number().unwrap_or_default()
-                ),
-            ));
-        };
-        let span = key.span;
-        macro_rules! once {
-            ($field:expr, $value:expr) => {{
-                if $field.is_some() {
-                    return Err(duplicate(span, word));
-                }
-                $field = Some(At {
-                    value: $value,
-                    span,
-                });
-            }};
-        }
-        match word {
-            "ON" => return Err(duplicate(span, "ON")),
-            "DEPTH" => {
-                let d = positive(args.number(key, "the thread depth")?, span, "DEPTH")?;
-                once!(t.depth, d)
-            }
-            "CUTS" => {
-                if t.cuts.is_some() {
-                    return Err(duplicate(span, word));
-                }
-                let mut numbers = Vec::new();
-                numbers.push((args.number(key, "the number of cuts")?, span));
-                while let Some(a) = args.peek().filter(|a| a.number().is_some()) {
-                    numbers.push((a.number().unwrap_or_default(), a.span));
-                    args.take();
-                }
-                let count = whole(numbers[0].0, numbers[0].1, "CUTS", 1, u32::MAX)?;
-                let mut couplets = Vec::new();
-                if numbers.len() > 1 {
-                    if numbers.len() % 2 == 1 {
-                        let last = numbers[numbers.len() - 1].1;
-                        return Err(Diagnostic::error(
-                            Code::Syntax,
-                            last,
-                            "CUTS couplets come as n,step pairs: this count has no step",
-                        ));
-                    }
-                    for pair in numbers.chunks(2) {
-                        let n = whole(pair[0].0, pair[0].1, "CUTS count", 1, u32::MAX)?;
-                        let s = positive(pair[1].0, pair[1].1, "the CUTS step")?;
-                        couplets.push((n, s));
-                    }
-                }
-                t.cuts = Some(Cuts {
-                    span,
-                    count,
-                    couplets,
-                });
-            }
-            "STEP" => {
-                let s = positive(args.number(key, "the in-feed of a pass")?, span, "STEP")?;
-                once!(t.step, s)
-            }
-            "FINCUT" => {
-                let c = args.number(key, "the number of finish cuts")?;
-                let c = whole(c, span, "FINCUT count", 0, MAX_CUTS)?;
-                let d = args.optional().unwrap_or(0.0);
-                if d < 0.0 {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("FINCUT allowance {d} must not be negative"),
-                    ));
-                }
-                once!(t.fincut, (c, d))
-            }
-            "CUTANG" => {
-                let a = args.number(key, "the plunge angle")?;
-                if !(-360.0..=360.0).contains(&a) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("CUTANG {a} is out of range: -360 to 360 degrees"),
-                    ));
-                }
-                once!(t.cutang, a)
-            }
-            "TLANGL" => {
-                let a = args.number(key, "the tool nose angle")?;
-                if !(a > 0.0 && a < 180.0) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!(
-                            "TLANGL {a} is out of range: more than 0 and less than 180 degrees"
-                        ),
-                    ));
-                }
-                once!(t.tlangl, a)
-            }
-            "OPTION" => {
-                let n = args.number(key, "the in-feed pattern 0 to 4")?;
-                let n = whole(n, span, "OPTION", 0, 4)? as u8;
-                once!(t.option, n)
-            }
-            "ATANGL" => {
-                let a = args.number(key, "the pull-out angle")?;
-                if !(-80.0..=80.0).contains(&a) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("ATANGL {a} is out of range: -80 to 80 degrees"),
-                    ));
-                }
-                let h = args.optional();
-                if let Some(h) = h.filter(|h| *h < 0.0) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("the ATANGL height {h} must not be negative"),
-                    ));
-                }
-                once!(t.atangl, (a, h))
-            }
-            "CHAMFR" => {
-                let l = args.number(key, "the chamfer length")?;
-                let a = args.optional();
-                if let Some(a) = a {
-                    let off = l == 0.0 && a == 0.0;
-                    if !off && !(10.0..=80.0).contains(&a) {
-                        return Err(Diagnostic::error(
-                            Code::OutOfRange,
-                            span,
-                            format!("the CHAMFR angle {a} is out of range: 10 to 80 degrees"),
-                        ));
-                    }
-                }
-                once!(t.chamfr, (l, a))
-            }
-            "RETURN" => {
-                let h = args.optional();
-                if let Some(h) = h.filter(|h| *h < 0.0) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("the RETURN height {h} must not be negative"),
-                    ));
-                }
-                once!(t.ret, h)
-            }
-            _ => {
-                if !pitch_word(key, word, &mut args, units, &mut t.pitch)? {
-                    return Err(Diagnostic::error(
-                        Code::Unsupported,
-                        span,
-                        format!("{word} is not a THREAD/ON parameter"),
-                    )
-                    .with_hint("the parameters are DEPTH CUTS STEP FINCUT CUTANG TLANGL OPTION ATANGL CHAMFR RETURN TPI IPR MMPR PERREV MULTRD INCR DECR"));
-                }
-            }
+                format!("{word} is not a THREAD/ON parameter"),
+            )
+            .with_hint("the parameters are DEPTH CUTS STEP FINCUT CUTANG TLANGL OPTION ATANGL CHAMFR RETURN TPI IPR MMPR PERREV MULTRD INCR DECR"));
         }
     }
     Ok(t)
+}
+
+/// The keyword a THREAD/ON parameter starts with; a number in its place is a syntax error.
+fn keyword(key: &Arg) -> Result<&str> {
+    key.word().ok_or_else(|| {
+        Diagnostic::error(
+            Code::Syntax,
+            key.span,
+            format!(
+                "a THREAD/ON parameter keyword is expected here, not the number {}",
+                key.number().unwrap_or_default()
+            ),
+        )
+    })
+}
+
+/// Sets a parameter read once, or refuses it when the statement gives it twice.
+fn once<T>(field: &mut Option<At<T>>, value: T, span: Span, word: &str) -> Result<()> {
+    if field.is_some() {
+        return Err(duplicate(span, word));
+    }
+    *field = Some(At { value, span });
+    Ok(())
+}
+
+/// Reads one THREAD/ON parameter other than the pitch words into `t`, its values checked.
+/// Returns false when `word` is not one of them.
+fn on_word(key: &Arg, word: &str, args: &mut Args, t: &mut ThreadOn) -> Result<bool> {
+    let span = key.span;
+    match word {
+        "ON" => return Err(duplicate(span, "ON")),
+        "DEPTH" => {
+            let d = positive(args.number(key, "the thread depth")?, span, "DEPTH")?;
+            once(&mut t.depth, d, span, word)?
+        }
+        "CUTS" => {
+            if t.cuts.is_some() {
+                return Err(duplicate(span, word));
+            }
+            t.cuts = Some(cuts(key, args)?);
+        }
+        "STEP" => {
+            let s = positive(args.number(key, "the in-feed of a pass")?, span, "STEP")?;
+            once(&mut t.step, s, span, word)?
+        }
+        "FINCUT" => once(&mut t.fincut, fincut(key, args)?, span, word)?,
+        "CUTANG" => once(&mut t.cutang, cutang(key, args)?, span, word)?,
+        "TLANGL" => once(&mut t.tlangl, tlangl(key, args)?, span, word)?,
+        "OPTION" => {
+            let n = args.number(key, "the in-feed pattern 0 to 4")?;
+            let n = whole(n, span, "OPTION", 0, 4)? as u8;
+            once(&mut t.option, n, span, word)?
+        }
+        "ATANGL" => once(&mut t.atangl, atangl(key, args)?, span, word)?,
+        "CHAMFR" => once(&mut t.chamfr, chamfr(key, args)?, span, word)?,
+        "RETURN" => once(&mut t.ret, return_height(key, args)?, span, word)?,
+        _ => return Ok(false),
+    }
+    Ok(true)
+}
+
+/// CUTS: the count of rough cuts, or `n,step` couplets that must come in whole pairs.
+fn cuts(key: &Arg, args: &mut Args) -> Result<Cuts> {
+    let span = key.span;
+    let mut numbers = Vec::new();
+    numbers.push((args.number(key, "the number of cuts")?, span));
+    while let Some(a) = args.peek().filter(|a| a.number().is_some()) {
+        numbers.push((a.number().unwrap_or_default(), a.span));
+        args.take();
+    }
+    let count = whole(numbers[0].0, numbers[0].1, "CUTS", 1, u32::MAX)?;
+    let mut couplets = Vec::new();
+    if numbers.len() > 1 {
+        if numbers.len() % 2 == 1 {
+            let last = numbers[numbers.len() - 1].1;
+            return Err(Diagnostic::error(
+                Code::Syntax,
+                last,
+                "CUTS couplets come as n,step pairs: this count has no step",
+            ));
+        }
+        for pair in numbers.chunks(2) {
+            let n = whole(pair[0].0, pair[0].1, "CUTS count", 1, u32::MAX)?;
+            let s = positive(pair[1].0, pair[1].1, "the CUTS step")?;
+            couplets.push((n, s));
+        }
+    }
+    Ok(Cuts {
+        span,
+        count,
+        couplets,
+    })
+}
+
+/// FINCUT: the number of finish cuts (0 to the cut limit) and a non-negative allowance.
+fn fincut(key: &Arg, args: &mut Args) -> Result<(u32, f64)> {
+    let span = key.span;
+    let c = args.number(key, "the number of finish cuts")?;
+    let c = whole(c, span, "FINCUT count", 0, MAX_CUTS)?;
+    let d = args.optional().unwrap_or(0.0);
+    if d < 0.0 {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            span,
+            format!("FINCUT allowance {d} must not be negative"),
+        ));
+    }
+    Ok((c, d))
+}
+
+/// CUTANG: the plunge angle, within a full turn either way.
+fn cutang(key: &Arg, args: &mut Args) -> Result<f64> {
+    let a = args.number(key, "the plunge angle")?;
+    if !(-360.0..=360.0).contains(&a) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            key.span,
+            format!("CUTANG {a} is out of range: -360 to 360 degrees"),
+        ));
+    }
+    Ok(a)
+}
+
+/// TLANGL: the tool nose angle, strictly between 0 and 180 degrees.
+fn tlangl(key: &Arg, args: &mut Args) -> Result<f64> {
+    let a = args.number(key, "the tool nose angle")?;
+    if !(a > 0.0 && a < 180.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            key.span,
+            format!("TLANGL {a} is out of range: more than 0 and less than 180 degrees"),
+        ));
+    }
+    Ok(a)
+}
+
+/// ATANGL: the pull-out angle (-80 to 80 degrees) and an optional non-negative height.
+fn atangl(key: &Arg, args: &mut Args) -> Result<(f64, Option<f64>)> {
+    let span = key.span;
+    let a = args.number(key, "the pull-out angle")?;
+    if !(-80.0..=80.0).contains(&a) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            span,
+            format!("ATANGL {a} is out of range: -80 to 80 degrees"),
+        ));
+    }
+    let h = args.optional();
+    if let Some(h) = h.filter(|h| *h < 0.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            span,
+            format!("the ATANGL height {h} must not be negative"),
+        ));
+    }
+    Ok((a, h))
+}
+
+/// CHAMFR: the chamfer length and an optional angle of 10 to 80 degrees (`0,0` switches it off).
+fn chamfr(key: &Arg, args: &mut Args) -> Result<(f64, Option<f64>)> {
+    let l = args.number(key, "the chamfer length")?;
+    let a = args.optional();
+    if let Some(a) = a {
+        let off = l == 0.0 && a == 0.0;
+        if !off && !(10.0..=80.0).contains(&a) {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                key.span,
+                format!("the CHAMFR angle {a} is out of range: 10 to 80 degrees"),
+            ));
+        }
+    }
+    Ok((l, a))
+}
+
+/// RETURN: an optional non-negative height to retract to between passes.
+fn return_height(key: &Arg, args: &mut Args) -> Result<Option<f64>> {
+    let h = args.optional();
+    if let Some(h) = h.filter(|h| *h < 0.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            key.span,
+            format!("the RETURN height {h} must not be negative"),
+        ));
+    }
+    Ok(h)
 }
 
 /// The rough depths (cumulative, perpendicular, CL units), the total depth and the finish plan.
