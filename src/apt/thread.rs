@@ -259,171 +259,205 @@ pub fn parse_on(st: &Statement, units: Units) -> Result<ThreadOn> {
     let mut args = Args::new(&st.args);
     args.take(); // ON, checked by the caller
     while let Some(key) = args.take() {
-        let Some(word) = key.word() else {
+        let word = keyword(key)?;
+        if !on_word(key, word, &mut args, &mut t)?
+            && !pitch_word(key, word, &mut args, units, &mut t.pitch)?
+        {
             return Err(Diagnostic::error(
-                Code::Syntax,
+                Code::Unsupported,
                 key.span,
-                format!(
-                    "a THREAD/ON parameter keyword is expected here, not the number {}",
-                    key.number().unwrap_or_default()
-                ),
-            ));
-        };
-        let span = key.span;
-        macro_rules! once {
-            ($field:expr, $value:expr) => {{
-                if $field.is_some() {
-                    return Err(duplicate(span, word));
-                }
-                $field = Some(At {
-                    value: $value,
-                    span,
-                });
-            }};
-        }
-        match word {
-            "ON" => return Err(duplicate(span, "ON")),
-            "DEPTH" => {
-                let d = positive(args.number(key, "the thread depth")?, span, "DEPTH")?;
-                once!(t.depth, d)
-            }
-            "CUTS" => {
-                if t.cuts.is_some() {
-                    return Err(duplicate(span, word));
-                }
-                let mut numbers = Vec::new();
-                numbers.push((args.number(key, "the number of cuts")?, span));
-                while let Some(a) = args.peek().filter(|a| a.number().is_some()) {
-                    numbers.push((a.number().unwrap_or_default(), a.span));
-                    args.take();
-                }
-                let count = whole(numbers[0].0, numbers[0].1, "CUTS", 1, u32::MAX)?;
-                let mut couplets = Vec::new();
-                if numbers.len() > 1 {
-                    if numbers.len() % 2 == 1 {
-                        let last = numbers[numbers.len() - 1].1;
-                        return Err(Diagnostic::error(
-                            Code::Syntax,
-                            last,
-                            "CUTS couplets come as n,step pairs: this count has no step",
-                        ));
-                    }
-                    for pair in numbers.chunks(2) {
-                        let n = whole(pair[0].0, pair[0].1, "CUTS count", 1, u32::MAX)?;
-                        let s = positive(pair[1].0, pair[1].1, "the CUTS step")?;
-                        couplets.push((n, s));
-                    }
-                }
-                t.cuts = Some(Cuts {
-                    span,
-                    count,
-                    couplets,
-                });
-            }
-            "STEP" => {
-                let s = positive(args.number(key, "the in-feed of a pass")?, span, "STEP")?;
-                once!(t.step, s)
-            }
-            "FINCUT" => {
-                let c = args.number(key, "the number of finish cuts")?;
-                let c = whole(c, span, "FINCUT count", 0, MAX_CUTS)?;
-                let d = args.optional().unwrap_or(0.0);
-                if d < 0.0 {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("FINCUT allowance {d} must not be negative"),
-                    ));
-                }
-                once!(t.fincut, (c, d))
-            }
-            "CUTANG" => {
-                let a = args.number(key, "the plunge angle")?;
-                if !(-360.0..=360.0).contains(&a) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("CUTANG {a} is out of range: -360 to 360 degrees"),
-                    ));
-                }
-                once!(t.cutang, a)
-            }
-            "TLANGL" => {
-                let a = args.number(key, "the tool nose angle")?;
-                if !(a > 0.0 && a < 180.0) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!(
-                            "TLANGL {a} is out of range: more than 0 and less than 180 degrees"
-                        ),
-                    ));
-                }
-                once!(t.tlangl, a)
-            }
-            "OPTION" => {
-                let n = args.number(key, "the in-feed pattern 0 to 4")?;
-                let n = whole(n, span, "OPTION", 0, 4)? as u8;
-                once!(t.option, n)
-            }
-            "ATANGL" => {
-                let a = args.number(key, "the pull-out angle")?;
-                if !(-80.0..=80.0).contains(&a) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("ATANGL {a} is out of range: -80 to 80 degrees"),
-                    ));
-                }
-                let h = args.optional();
-                if let Some(h) = h.filter(|h| *h < 0.0) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("the ATANGL height {h} must not be negative"),
-                    ));
-                }
-                once!(t.atangl, (a, h))
-            }
-            "CHAMFR" => {
-                let l = args.number(key, "the chamfer length")?;
-                let a = args.optional();
-                if let Some(a) = a {
-                    let off = l == 0.0 && a == 0.0;
-                    if !off && !(10.0..=80.0).contains(&a) {
-                        return Err(Diagnostic::error(
-                            Code::OutOfRange,
-                            span,
-                            format!("the CHAMFR angle {a} is out of range: 10 to 80 degrees"),
-                        ));
-                    }
-                }
-                once!(t.chamfr, (l, a))
-            }
-            "RETURN" => {
-                let h = args.optional();
-                if let Some(h) = h.filter(|h| *h < 0.0) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        span,
-                        format!("the RETURN height {h} must not be negative"),
-                    ));
-                }
-                once!(t.ret, h)
-            }
-            _ => {
-                if !pitch_word(key, word, &mut args, units, &mut t.pitch)? {
-                    return Err(Diagnostic::error(
-                        Code::Unsupported,
-                        span,
-                        format!("{word} is not a THREAD/ON parameter"),
-                    )
-                    .with_hint("the parameters are DEPTH CUTS STEP FINCUT CUTANG TLANGL OPTION ATANGL CHAMFR RETURN TPI IPR MMPR PERREV MULTRD INCR DECR"));
-                }
-            }
+                format!("{word} is not a THREAD/ON parameter"),
+            )
+            .with_hint("the parameters are DEPTH CUTS STEP FINCUT CUTANG TLANGL OPTION ATANGL CHAMFR RETURN TPI IPR MMPR PERREV MULTRD INCR DECR"));
         }
     }
     Ok(t)
+}
+
+/// The keyword a THREAD/ON parameter starts with; a number in its place is a syntax error.
+fn keyword(key: &Arg) -> Result<&str> {
+    key.word().ok_or_else(|| {
+        Diagnostic::error(
+            Code::Syntax,
+            key.span,
+            format!(
+                "a THREAD/ON parameter keyword is expected here, not the number {}",
+                key.number().unwrap_or_default()
+            ),
+        )
+    })
+}
+
+/// Sets a parameter read once, or refuses it when the statement gives it twice.
+fn once<T>(field: &mut Option<At<T>>, value: T, span: Span, word: &str) -> Result<()> {
+    if field.is_some() {
+        return Err(duplicate(span, word));
+    }
+    *field = Some(At { value, span });
+    Ok(())
+}
+
+/// Reads one THREAD/ON parameter other than the pitch words into `t`, its values checked.
+/// Returns false when `word` is not one of them.
+fn on_word(key: &Arg, word: &str, args: &mut Args, t: &mut ThreadOn) -> Result<bool> {
+    let span = key.span;
+    match word {
+        "ON" => return Err(duplicate(span, "ON")),
+        "DEPTH" => {
+            let d = positive(args.number(key, "the thread depth")?, span, "DEPTH")?;
+            once(&mut t.depth, d, span, word)?
+        }
+        "CUTS" => {
+            if t.cuts.is_some() {
+                return Err(duplicate(span, word));
+            }
+            t.cuts = Some(cuts(key, args)?);
+        }
+        "STEP" => {
+            let s = positive(args.number(key, "the in-feed of a pass")?, span, "STEP")?;
+            once(&mut t.step, s, span, word)?
+        }
+        "FINCUT" => once(&mut t.fincut, fincut(key, args)?, span, word)?,
+        "CUTANG" => once(&mut t.cutang, cutang(key, args)?, span, word)?,
+        "TLANGL" => once(&mut t.tlangl, tlangl(key, args)?, span, word)?,
+        "OPTION" => {
+            let n = args.number(key, "the in-feed pattern 0 to 4")?;
+            let n = whole(n, span, "OPTION", 0, 4)? as u8;
+            once(&mut t.option, n, span, word)?
+        }
+        "ATANGL" => once(&mut t.atangl, atangl(key, args)?, span, word)?,
+        "CHAMFR" => once(&mut t.chamfr, chamfr(key, args)?, span, word)?,
+        "RETURN" => once(&mut t.ret, return_height(key, args)?, span, word)?,
+        _ => return Ok(false),
+    }
+    Ok(true)
+}
+
+/// CUTS: the count of rough cuts, or `n,step` couplets that must come in whole pairs.
+fn cuts(key: &Arg, args: &mut Args) -> Result<Cuts> {
+    let span = key.span;
+    let mut numbers = Vec::new();
+    numbers.push((args.number(key, "the number of cuts")?, span));
+    while let Some(a) = args.peek().filter(|a| a.number().is_some()) {
+        numbers.push((a.number().unwrap_or_default(), a.span));
+        args.take();
+    }
+    let count = whole(numbers[0].0, numbers[0].1, "CUTS", 1, u32::MAX)?;
+    let mut couplets = Vec::new();
+    if numbers.len() > 1 {
+        if numbers.len() % 2 == 1 {
+            let last = numbers[numbers.len() - 1].1;
+            return Err(Diagnostic::error(
+                Code::Syntax,
+                last,
+                "CUTS couplets come as n,step pairs: this count has no step",
+            ));
+        }
+        for pair in numbers.chunks(2) {
+            let n = whole(pair[0].0, pair[0].1, "CUTS count", 1, u32::MAX)?;
+            let s = positive(pair[1].0, pair[1].1, "the CUTS step")?;
+            couplets.push((n, s));
+        }
+    }
+    Ok(Cuts {
+        span,
+        count,
+        couplets,
+    })
+}
+
+/// FINCUT: the number of finish cuts (0 to the cut limit) and a non-negative allowance.
+fn fincut(key: &Arg, args: &mut Args) -> Result<(u32, f64)> {
+    let span = key.span;
+    let c = args.number(key, "the number of finish cuts")?;
+    let c = whole(c, span, "FINCUT count", 0, MAX_CUTS)?;
+    let d = args.optional().unwrap_or(0.0);
+    if d < 0.0 {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            span,
+            format!("FINCUT allowance {d} must not be negative"),
+        ));
+    }
+    Ok((c, d))
+}
+
+/// CUTANG: the plunge angle, within a full turn either way.
+fn cutang(key: &Arg, args: &mut Args) -> Result<f64> {
+    let a = args.number(key, "the plunge angle")?;
+    if !(-360.0..=360.0).contains(&a) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            key.span,
+            format!("CUTANG {a} is out of range: -360 to 360 degrees"),
+        ));
+    }
+    Ok(a)
+}
+
+/// TLANGL: the tool nose angle, strictly between 0 and 180 degrees.
+fn tlangl(key: &Arg, args: &mut Args) -> Result<f64> {
+    let a = args.number(key, "the tool nose angle")?;
+    if !(a > 0.0 && a < 180.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            key.span,
+            format!("TLANGL {a} is out of range: more than 0 and less than 180 degrees"),
+        ));
+    }
+    Ok(a)
+}
+
+/// ATANGL: the pull-out angle (-80 to 80 degrees) and an optional non-negative height.
+fn atangl(key: &Arg, args: &mut Args) -> Result<(f64, Option<f64>)> {
+    let span = key.span;
+    let a = args.number(key, "the pull-out angle")?;
+    if !(-80.0..=80.0).contains(&a) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            span,
+            format!("ATANGL {a} is out of range: -80 to 80 degrees"),
+        ));
+    }
+    let h = args.optional();
+    if let Some(h) = h.filter(|h| *h < 0.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            span,
+            format!("the ATANGL height {h} must not be negative"),
+        ));
+    }
+    Ok((a, h))
+}
+
+/// CHAMFR: the chamfer length and an optional angle of 10 to 80 degrees (`0,0` switches it off).
+fn chamfr(key: &Arg, args: &mut Args) -> Result<(f64, Option<f64>)> {
+    let l = args.number(key, "the chamfer length")?;
+    let a = args.optional();
+    if let Some(a) = a {
+        let off = l == 0.0 && a == 0.0;
+        if !off && !(10.0..=80.0).contains(&a) {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                key.span,
+                format!("the CHAMFR angle {a} is out of range: 10 to 80 degrees"),
+            ));
+        }
+    }
+    Ok((l, a))
+}
+
+/// RETURN: an optional non-negative height to retract to between passes.
+fn return_height(key: &Arg, args: &mut Args) -> Result<Option<f64>> {
+    let h = args.optional();
+    if let Some(h) = h.filter(|h| *h < 0.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            key.span,
+            format!("the RETURN height {h} must not be negative"),
+        ));
+    }
+    Ok(h)
 }
 
 /// The rough depths (cumulative, perpendicular, CL units), the total depth and the finish plan.
@@ -661,246 +695,36 @@ pub struct Contour {
 
 /// Lowers a THREAD/ON … THREAD/OFF block into the shared model.
 pub fn lower(t: &ThreadOn, c: &Contour, pitch: Pitch, units: Units, off: Span) -> Result<Job> {
-    let geometry_error = |span: Span, msg: String| Diagnostic::error(Code::Geometry, span, msg);
-    let travel = c.end.value.minus(c.start.value);
-    if travel.length() == 0.0 {
-        return Err(geometry_error(
-            c.end.span,
-            "the thread end point equals its start point".into(),
-        ));
-    }
-    // The contour decides turn (long axis Z) or face (long axis X); 45° counts as turn.
-    let face = travel.x.abs() > travel.z.abs();
-    let p0 = c.initial;
-    let s = c.start.value;
-    // CUTANG: the plunge direction, measured from +X toward +Z in the CL XZ plane.
-    let (angle, angle_span) = match t.cutang {
-        Some(a) => (a.value, a.span),
-        None => {
-            let toward = if face { s.z - p0.z } else { s.x - p0.x };
-            if toward == 0.0 {
-                return Err(Diagnostic::error(
-                    Code::Geometry,
-                    t.span,
-                    format!(
-                        "the initial point lies on the thread start's {} level: the default CUTANG cannot tell the in-feed direction",
-                        if face { "Z" } else { "X" }
-                    ),
-                )
-                .with_hint("start from a point clear of the thread, or give CUTANG"));
-            }
-            let a = match (face, toward < 0.0) {
-                (false, true) => 180.0,
-                (false, false) => 0.0,
-                (true, true) => 270.0,
-                (true, false) => 90.0,
-            };
-            (a, t.span)
-        }
-    };
-    let u = Vec2::new(angle.to_radians().cos(), angle.to_radians().sin());
-    let line = travel.scale(1.0 / travel.length());
-    let cross = (u.x * line.z - u.z * line.x).abs();
-    if cross <= 10f64.to_radians().sin() + 1e-12 {
-        return Err(Diagnostic::error(
-            Code::OutOfRange,
-            angle_span,
-            format!(
-                "CUTANG {angle} lies within 10° of the line through the thread start and end points: the thread cycle aborts"
-            ),
-        )
-        .with_hint("the plunge line must be more than 10° off the thread line"));
-    }
-    let depth_component = if face { u.z } else { u.x };
-    if depth_component.abs() < 1e-12 {
-        return Err(Diagnostic::error(
-            Code::OutOfRange,
-            angle_span,
-            format!(
-                "CUTANG {angle} runs along {}: a {} thread's in-feed must move along {}",
-                if face { "X" } else { "Z" },
-                if face { "face" } else { "turn" },
-                if face { "Z" } else { "X" }
-            ),
-        ));
-    }
-    let side = match (face, depth_component < 0.0) {
-        (false, true) => Side::External,
-        (false, false) => Side::Internal,
-        (true, true) => Side::FaceFront,
-        (true, false) => Side::FaceBack,
-    };
-    let n = side.infeed();
-    let l = side.lateral();
-    let lateral_component = u.x * l.x + u.z * l.z; // u·l
-    let along_n = u.x * n.x + u.z * n.z; // u·n = cos φ > 0
-                                         // Depth is the perpendicular distance from the thread line reached along the plunge line; the
-                                         // model measures depth along the depth axis: D = d·cos φ / sin(angle(u, line)).
-    let scale = along_n / cross;
-    let option = t.option.map_or(0, |o| o.value);
+    let l = Lowering::new(t, c, pitch, units)?;
+    let plunge = l.plunge()?;
+    let side = plunge.side;
     let tool_angle = t.tlangl.map_or(DEFAULT_TOOL_ANGLE, |a| a.value);
-    let half = tool_angle / 2.0;
-    let long = side.along(travel);
-    // Flank offsets point back toward the start, so that no pass runs past the programmed end.
-    let back = if long > 0.0 {
-        Flank::Right
-    } else {
-        Flank::Left
-    };
-    let oblique = lateral_component.abs() > 1e-12;
-    let infeed = match option {
-        0 if !oblique => Infeed::Radial,
-        0 => Infeed::Flank {
-            flank: if lateral_component > 0.0 {
-                Flank::Left
-            } else {
-                Flank::Right
-            },
-            angle_deg: (lateral_component.abs() / along_n).atan().to_degrees(),
-        },
-        _ if oblique => {
-            return Err(Diagnostic::error(
-                Code::Conflict,
-                t.option.map_or(t.span, |o| o.span),
-                format!(
-                    "OPTION {option} works when CUTANG is parallel to a major datum; CUTANG {angle} is not"
-                ),
-            )
-            .with_hint("use OPTION 0 for an oblique plunge line, or a CUTANG divisible by 90°"))
-        }
-        1 | 3 => Infeed::Flank {
-            flank: back,
-            angle_deg: half,
-        },
-        _ => Infeed::Alternating {
-            first: Flank::Centre,
-            second: back,
-            angle_deg: half,
-        },
-    };
+    let long = side.along(l.travel);
+    let infeed = l.infeed(&plunge, tool_angle / 2.0, long)?;
     let plan = depth_plan(t)?;
+    // Depth is the perpendicular distance from the thread line reached along the plunge line; the
+    // model measures depth along the depth axis: D = d·cos φ / sin(angle(u, line)).
+    let scale = plunge.along_n / plunge.cross;
     let mm = |v: f64| units.to_mm(v) * scale;
-    let depth = mm(plan.total);
-    let crest_start = s;
-    let crest_end = c.end.value;
-    // The initial point must lie clear of the crest, or the return between passes cuts the part.
-    let outward = side.outward();
-    let clear = |p: Pos| p.minus(s).x * outward.x + p.minus(s).z * outward.z;
-    if clear(p0) < 0.0 {
-        return Err(geometry_error(
-            t.span,
-            "the initial point lies on the in-feed side of the thread start: the return between passes would cut through the thread".into(),
-        )
-        .with_hint("position the tool clear of the thread before THREAD/ON"));
-    }
-    if pitch.starts > 1 && pitch.dlead != 0.0 {
-        return Err(Diagnostic::error(
-            Code::Conflict,
-            t.pitch
-                .starts
-                .map(|a| a.span)
-                .or(t.pitch.dlead.map(|a| a.span))
-                .unwrap_or(t.span),
-            "a variable-lead thread (INCR/DECR) with several starts (MULTRD) is not supported: the starts would not be copies of one another shifted along the axis",
-        ));
-    }
+    l.check_initial_clear(side)?;
+    l.check_starts()?;
     let thread_pitch = pitch.lead / f64::from(pitch.starts.max(1));
     let full_height = thread_pitch / (2.0 * tan_deg(30.0));
-    let exit = exit(t, c, side, travel, full_height, units)?;
-    if let Exit::PullOut { start_before, .. } | Exit::FeedOut { start_before, .. } = exit {
-        if start_before >= long.abs() {
-            return Err(geometry_error(
-                t.chamfr.map_or(t.span, |c| c.span),
-                "the chamfer starts before the thread start".into(),
-            ));
-        }
-    }
-    // Variable lead: the lead must stay positive to the end of the thread.
-    if pitch.dlead < 0.0 {
-        let extra = match exit {
-            Exit::PullOut { length, .. } => length.max(0.0),
-            _ => 0.0,
-        };
-        let reach = long.abs() + extra + thread_pitch;
-        if pitch.lead * pitch.lead + 2.0 * pitch.dlead * reach <= 0.0 {
-            return Err(geometry_error(
-                t.pitch.dlead.map_or(t.span, |d| d.span),
-                format!(
-                    "DECR {} brings the lead to zero before the thread's end ({} mm)",
-                    units.from_mm(-pitch.dlead),
-                    reach
-                ),
-            ));
-        }
-    }
-    // The level the tool retracts to between passes, along the depth axis.
-    let outermost = [crest_start, crest_end]
-        .into_iter()
-        .map(|p| p.x * outward.x + p.z * outward.z)
-        .fold(f64::NEG_INFINITY, f64::max);
-    let level = match t.ret {
-        Some(At { value: None, .. }) => {
-            // RETURN without a height: the initial point's X (turn) or Z (face).
-            let lv = p0.x * outward.x + p0.z * outward.z;
-            if lv < outermost {
-                return Err(geometry_error(
-                    t.ret.map_or(t.span, |r| r.span),
-                    "RETURN retracts to the initial point's level, which lies inside the thread"
-                        .into(),
-                ));
-            }
-            lv
-        }
-        Some(At { value: Some(h), .. }) => outermost + units.to_mm(h),
-        None => outermost + full_height,
-    };
-    // The retract never moves toward the part: it starts at least as high as the end of the
-    // shallowest pass's pull-out.
-    let level = match exit {
-        Exit::PullOut {
-            start_before,
-            length,
-            outward: up,
-        }
-        | Exit::FeedOut {
-            start_before,
-            length,
-            outward: up,
-        } => {
-            let along = travel.scale(1.0 / long.abs());
-            let rise = along.x * outward.x + along.z * outward.z;
-            let first = plan.rough.first().map_or(0.0, |&d| mm(d));
-            let end = crest_end.x * outward.x
-                + crest_end.z * outward.z
-                + rise * (length - start_before)
-                + up
-                - first;
-            level.max(end)
-        }
-        Exit::Straight | Exit::ToRetract { .. } => level,
-    };
-    let signed_level = level * (outward.x + outward.z);
-    let retract = if face {
-        Retract {
-            x: s.x,
-            z: signed_level,
-        }
-    } else {
-        Retract {
-            x: signed_level,
-            z: s.z,
-        }
-    };
+    let exit = exit(t, c, side, l.travel, full_height, units)?;
+    l.check_exit(exit, long, thread_pitch)?;
+    let level = l.return_level(side, full_height)?;
+    let first = plan.rough.first().map_or(0.0, |&d| mm(d));
+    let level = l.exit_level(level, side, exit, first);
     Ok(Job {
         line: off.line,
         span: t.span,
         controller: "apt",
         units,
-        start: p0,
+        start: c.initial,
         geometry: Geometry {
-            crest_start,
-            crest_end,
-            depth,
+            crest_start: c.start.value,
+            crest_end: c.end.value,
+            depth: mm(plan.total),
             side,
         },
         lead: Lead {
@@ -908,29 +732,348 @@ pub fn lower(t: &ThreadOn, c: &Contour, pitch: Pitch, units: Units, off: Span) -
             starts: pitch.starts,
             ..Lead::constant(pitch.lead)
         },
-        plan: PassPlan {
-            law: match plan.power {
-                Some((first, degression)) => DepthLaw::Power {
-                    first: mm(first),
-                    degression,
-                    min_step: 0.0,
-                },
-                None => DepthLaw::Explicit {
-                    depths: plan.rough.iter().map(|&d| mm(d)).collect(),
-                },
-            },
-            finish_allowance: mm(plan.finish_allowance),
-            finish_passes: plan.finish_passes,
-        },
+        plan: pass_plan(&plan, mm),
         infeed,
         // Finish passes go straight to full depth from the last rough pass: they clean both flanks.
         finish_at: FinishPosition::LastRough,
         tool_angle_deg: tool_angle,
         entry: Entry::Direct,
         exit,
-        retract,
+        retract: l.retract(side, level),
         return_path: crate::thread::ReturnPath::Box,
     })
+}
+
+/// A contour that cannot be threaded as programmed.
+fn geometry_error(span: Span, msg: String) -> Diagnostic {
+    Diagnostic::error(Code::Geometry, span, msg)
+}
+
+/// A THREAD/ON block and its contour, as the steps of the lowering share them (mm).
+struct Lowering<'a> {
+    t: &'a ThreadOn,
+    c: &'a Contour,
+    pitch: Pitch,
+    units: Units,
+    /// From the thread start to its end.
+    travel: Vec2,
+    /// The contour's long axis is X.
+    face: bool,
+}
+
+/// The plunge line (CUTANG) and what it decides about the thread.
+struct Plunge {
+    /// Degrees from +X toward +Z.
+    angle: f64,
+    side: Side,
+    /// The plunge direction across the in-feed (u·l) and along it (u·n = cos φ > 0).
+    lateral: f64,
+    along_n: f64,
+    /// The sine of the angle between the plunge line and the thread line.
+    cross: f64,
+}
+
+impl<'a> Lowering<'a> {
+    /// Decides turn or face from the contour; a thread without length is refused.
+    fn new(t: &'a ThreadOn, c: &'a Contour, pitch: Pitch, units: Units) -> Result<Lowering<'a>> {
+        let travel = c.end.value.minus(c.start.value);
+        if travel.length() == 0.0 {
+            return Err(geometry_error(
+                c.end.span,
+                "the thread end point equals its start point".into(),
+            ));
+        }
+        Ok(Lowering {
+            t,
+            c,
+            pitch,
+            units,
+            travel,
+            // The contour decides turn (long axis Z) or face (long axis X); 45° counts as turn.
+            face: travel.x.abs() > travel.z.abs(),
+        })
+    }
+
+    /// CUTANG: the plunge direction, measured from +X toward +Z in the CL XZ plane. Without it,
+    /// straight in from the initial point's side of the thread start.
+    fn plunge_angle(&self) -> Result<(f64, Span)> {
+        let (t, face) = (self.t, self.face);
+        if let Some(a) = t.cutang {
+            return Ok((a.value, a.span));
+        }
+        let (p0, s) = (self.c.initial, self.c.start.value);
+        let toward = if face { s.z - p0.z } else { s.x - p0.x };
+        if toward == 0.0 {
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                t.span,
+                format!(
+                    "the initial point lies on the thread start's {} level: the default CUTANG cannot tell the in-feed direction",
+                    if face { "Z" } else { "X" }
+                ),
+            )
+            .with_hint("start from a point clear of the thread, or give CUTANG"));
+        }
+        let a = match (face, toward < 0.0) {
+            (false, true) => 180.0,
+            (false, false) => 0.0,
+            (true, true) => 270.0,
+            (true, false) => 90.0,
+        };
+        Ok((a, t.span))
+    }
+
+    /// The plunge line and the side of the thread it cuts: it must lie more than 10° off the
+    /// thread line and move along the depth axis.
+    fn plunge(&self) -> Result<Plunge> {
+        let (angle, angle_span) = self.plunge_angle()?;
+        let face = self.face;
+        let u = Vec2::new(angle.to_radians().cos(), angle.to_radians().sin());
+        let line = self.travel.scale(1.0 / self.travel.length());
+        let cross = (u.x * line.z - u.z * line.x).abs();
+        if cross <= 10f64.to_radians().sin() + 1e-12 {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                angle_span,
+                format!(
+                    "CUTANG {angle} lies within 10° of the line through the thread start and end points: the thread cycle aborts"
+                ),
+            )
+            .with_hint("the plunge line must be more than 10° off the thread line"));
+        }
+        let depth_component = if face { u.z } else { u.x };
+        if depth_component.abs() < 1e-12 {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                angle_span,
+                format!(
+                    "CUTANG {angle} runs along {}: a {} thread's in-feed must move along {}",
+                    if face { "X" } else { "Z" },
+                    if face { "face" } else { "turn" },
+                    if face { "Z" } else { "X" }
+                ),
+            ));
+        }
+        let side = match (face, depth_component < 0.0) {
+            (false, true) => Side::External,
+            (false, false) => Side::Internal,
+            (true, true) => Side::FaceFront,
+            (true, false) => Side::FaceBack,
+        };
+        let n = side.infeed();
+        let l = side.lateral();
+        Ok(Plunge {
+            angle,
+            side,
+            lateral: u.x * l.x + u.z * l.z,
+            along_n: u.x * n.x + u.z * n.z,
+            cross,
+        })
+    }
+
+    /// The in-feed by OPTION: an oblique plunge line allows OPTION 0 only (along the line);
+    /// otherwise radial, down one flank, or alternating, with flank offsets toward the start.
+    fn infeed(&self, p: &Plunge, half: f64, long: f64) -> Result<Infeed> {
+        let t = self.t;
+        let option = t.option.map_or(0, |o| o.value);
+        // Flank offsets point back toward the start, so that no pass runs past the programmed end.
+        let back = if long > 0.0 {
+            Flank::Right
+        } else {
+            Flank::Left
+        };
+        let oblique = p.lateral.abs() > 1e-12;
+        Ok(match option {
+            0 if !oblique => Infeed::Radial,
+            0 => Infeed::Flank {
+                flank: if p.lateral > 0.0 {
+                    Flank::Left
+                } else {
+                    Flank::Right
+                },
+                angle_deg: (p.lateral.abs() / p.along_n).atan().to_degrees(),
+            },
+            _ if oblique => {
+                return Err(Diagnostic::error(
+                    Code::Conflict,
+                    t.option.map_or(t.span, |o| o.span),
+                    format!(
+                        "OPTION {option} works when CUTANG is parallel to a major datum; CUTANG {} is not",
+                        p.angle
+                    ),
+                )
+                .with_hint("use OPTION 0 for an oblique plunge line, or a CUTANG divisible by 90°"))
+            }
+            1 | 3 => Infeed::Flank {
+                flank: back,
+                angle_deg: half,
+            },
+            _ => Infeed::Alternating {
+                first: Flank::Centre,
+                second: back,
+                angle_deg: half,
+            },
+        })
+    }
+
+    /// The initial point must lie clear of the crest, or the return between passes cuts the part.
+    fn check_initial_clear(&self, side: Side) -> Result<()> {
+        let (p0, s) = (self.c.initial, self.c.start.value);
+        let outward = side.outward();
+        let clear = |p: Pos| p.minus(s).x * outward.x + p.minus(s).z * outward.z;
+        if clear(p0) < 0.0 {
+            return Err(geometry_error(
+                self.t.span,
+                "the initial point lies on the in-feed side of the thread start: the return between passes would cut through the thread".into(),
+            )
+            .with_hint("position the tool clear of the thread before THREAD/ON"));
+        }
+        Ok(())
+    }
+
+    /// A variable lead and several starts exclude each other.
+    fn check_starts(&self) -> Result<()> {
+        let (t, pitch) = (self.t, self.pitch);
+        if pitch.starts > 1 && pitch.dlead != 0.0 {
+            return Err(Diagnostic::error(
+                Code::Conflict,
+                t.pitch
+                    .starts
+                    .map(|a| a.span)
+                    .or(t.pitch.dlead.map(|a| a.span))
+                    .unwrap_or(t.span),
+                "a variable-lead thread (INCR/DECR) with several starts (MULTRD) is not supported: the starts would not be copies of one another shifted along the axis",
+            ));
+        }
+        Ok(())
+    }
+
+    /// The chamfer must start within the thread, and a shrinking lead (DECR) must stay positive
+    /// to the end of the pull-out.
+    fn check_exit(&self, exit: Exit, long: f64, thread_pitch: f64) -> Result<()> {
+        let (t, pitch) = (self.t, self.pitch);
+        if let Exit::PullOut { start_before, .. } | Exit::FeedOut { start_before, .. } = exit {
+            if start_before >= long.abs() {
+                return Err(geometry_error(
+                    t.chamfr.map_or(t.span, |c| c.span),
+                    "the chamfer starts before the thread start".into(),
+                ));
+            }
+        }
+        // Variable lead: the lead must stay positive to the end of the thread.
+        if pitch.dlead < 0.0 {
+            let extra = match exit {
+                Exit::PullOut { length, .. } => length.max(0.0),
+                _ => 0.0,
+            };
+            let reach = long.abs() + extra + thread_pitch;
+            if pitch.lead * pitch.lead + 2.0 * pitch.dlead * reach <= 0.0 {
+                return Err(geometry_error(
+                    t.pitch.dlead.map_or(t.span, |d| d.span),
+                    format!(
+                        "DECR {} brings the lead to zero before the thread's end ({} mm)",
+                        self.units.from_mm(-pitch.dlead),
+                        reach
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The level the tool retracts to between passes, along the depth axis (outward positive):
+    /// RETURN's height over the crest, the initial point's level, or a full thread height.
+    fn return_level(&self, side: Side, full_height: f64) -> Result<f64> {
+        let (t, p0) = (self.t, self.c.initial);
+        let outward = side.outward();
+        let outermost = [self.c.start.value, self.c.end.value]
+            .into_iter()
+            .map(|p| p.x * outward.x + p.z * outward.z)
+            .fold(f64::NEG_INFINITY, f64::max);
+        Ok(match t.ret {
+            Some(At { value: None, .. }) => {
+                // RETURN without a height: the initial point's X (turn) or Z (face).
+                let lv = p0.x * outward.x + p0.z * outward.z;
+                if lv < outermost {
+                    return Err(geometry_error(
+                        t.ret.map_or(t.span, |r| r.span),
+                        "RETURN retracts to the initial point's level, which lies inside the thread"
+                            .into(),
+                    ));
+                }
+                lv
+            }
+            Some(At { value: Some(h), .. }) => outermost + self.units.to_mm(h),
+            None => outermost + full_height,
+        })
+    }
+
+    /// The retract never moves toward the part: it starts at least as high as the end of the
+    /// shallowest pass's pull-out (`first`: that pass's depth, mm).
+    fn exit_level(&self, level: f64, side: Side, exit: Exit, first: f64) -> f64 {
+        let outward = side.outward();
+        let crest_end = self.c.end.value;
+        match exit {
+            Exit::PullOut {
+                start_before,
+                length,
+                outward: up,
+            }
+            | Exit::FeedOut {
+                start_before,
+                length,
+                outward: up,
+            } => {
+                let long = side.along(self.travel);
+                let along = self.travel.scale(1.0 / long.abs());
+                let rise = along.x * outward.x + along.z * outward.z;
+                let end = crest_end.x * outward.x
+                    + crest_end.z * outward.z
+                    + rise * (length - start_before)
+                    + up
+                    - first;
+                level.max(end)
+            }
+            Exit::Straight | Exit::ToRetract { .. } => level,
+        }
+    }
+
+    /// The retract point: the level on the depth axis, the thread start on the long axis.
+    fn retract(&self, side: Side, level: f64) -> Retract {
+        let outward = side.outward();
+        let s = self.c.start.value;
+        let signed_level = level * (outward.x + outward.z);
+        if self.face {
+            Retract {
+                x: s.x,
+                z: signed_level,
+            }
+        } else {
+            Retract {
+                x: signed_level,
+                z: s.z,
+            }
+        }
+    }
+}
+
+/// The pass plan in mm along the depth axis: a power law where the rough depths follow one,
+/// otherwise the depths themselves.
+fn pass_plan(plan: &DepthPlan, mm: impl Fn(f64) -> f64) -> PassPlan {
+    PassPlan {
+        law: match plan.power {
+            Some((first, degression)) => DepthLaw::Power {
+                first: mm(first),
+                degression,
+                min_step: 0.0,
+            },
+            None => DepthLaw::Explicit {
+                depths: plan.rough.iter().map(|&d| mm(d)).collect(),
+            },
+        },
+        finish_allowance: mm(plan.finish_allowance),
+        finish_passes: plan.finish_passes,
+    }
 }
 
 /// A pull-out that rises `up` while running `length` along the long axis (negative: back toward

@@ -119,48 +119,97 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
     } else {
         line.words
     };
-    let lex = &src.meanings;
     // The block's codes first: a dwell, a thread move and a spindle limit decide what other
     // words mean.
     for w in words {
-        let code = match w.letter {
-            b'G' => Code::G(
-                g_code(w.value)
-                    .ok_or_else(|| meaningless(w.span, format!("G{}", w.value), src.name))?,
-            ),
-            b'M' if w.value.fract() == 0.0 && (0.0..=9999.0).contains(&w.value) => {
-                Code::M(w.value as u16)
-            }
-            b'M' => return Err(meaningless(w.span, format!("M{}", w.value), src.name)),
-            _ => continue,
-        };
-        let fs: Vec<Function> = lex.functions(code).collect();
-        if fs.is_empty() {
-            let text = code.text();
-            if let Code::G(c) = code {
-                if src.canned_cycles.contains(&c) {
-                    return Err(Diagnostic::error(
-                        DiagCode::Unsupported,
-                        w.span,
-                        format!("{text} is a canned cycle other than threading: threadcut does not convert it"),
-                    )
-                    .with_hint("write the cycle's moves out, or convert the threading part only"));
-                }
-            }
-            return Err(meaningless(w.span, text, src.name));
-        }
-        for f in fs {
-            block.functions.push((f, w.span, code.text()));
-        }
+        read_code(w, src, &mut block)?;
     }
-    let dwell = block.has(Function::Dwell);
-    let thread = modal.motion == MotionMode::Thread;
-    let arc = matches!(modal.motion, MotionMode::ArcCw | MotionMode::ArcCcw);
-    let limit_code =
-        lex.spindle_limit == Some(LimitForm::Code) && block.has(Function::SpindleLimit);
     let sets_position = block.has(Function::SetPosition) || block.has(Function::RestatePosition);
+    let reading = Words::after_codes(line, src, modal, &block);
     let mut seen_axis = false;
     for w in words {
+        seen_axis |= reading.read(w, &mut block)?;
+    }
+    settle(&mut block, sets_position, seen_axis);
+    Ok(block)
+}
+
+/// Records the functions of a G or M word in the block, in order; other words wait for the
+/// second reading. Fails on a code the source controller gives no function.
+fn read_code(w: &Word, src: &Source, block: &mut Block) -> Result<()> {
+    let code = match w.letter {
+        b'G' => Code::G(
+            g_code(w.value)
+                .ok_or_else(|| meaningless(w.span, format!("G{}", w.value), src.name))?,
+        ),
+        b'M' if w.value.fract() == 0.0 && (0.0..=9999.0).contains(&w.value) => {
+            Code::M(w.value as u16)
+        }
+        b'M' => return Err(meaningless(w.span, format!("M{}", w.value), src.name)),
+        _ => return Ok(()),
+    };
+    let fs: Vec<Function> = src.meanings.functions(code).collect();
+    if fs.is_empty() {
+        let text = code.text();
+        if let Code::G(c) = code {
+            if src.canned_cycles.contains(&c) {
+                return Err(Diagnostic::error(
+                    DiagCode::Unsupported,
+                    w.span,
+                    format!("{text} is a canned cycle other than threading: threadcut does not convert it"),
+                )
+                .with_hint("write the cycle's moves out, or convert the threading part only"));
+            }
+        }
+        return Err(meaningless(w.span, text, src.name));
+    }
+    for f in fs {
+        block.functions.push((f, w.span, code.text()));
+    }
+    Ok(())
+}
+
+/// The second reading of a block's words: what its codes and the modal state decided they mean.
+struct Words<'a> {
+    line: &'a Line<'a>,
+    src: &'a Source<'a>,
+    modal: &'a Modal,
+    /// The block dwells: its dwell word is a time.
+    dwell: bool,
+    /// A thread move is in force: its own words belong to it.
+    thread: bool,
+    /// An arc move is in force: R is its radius.
+    arc: bool,
+    /// The spindle limit is a code in this block: S is the limit.
+    limit_code: bool,
+}
+
+impl<'a> Words<'a> {
+    /// Decides the meanings that the block's codes (already read into `block`) and the modal
+    /// motion give the other words.
+    fn after_codes(
+        line: &'a Line<'a>,
+        src: &'a Source<'a>,
+        modal: &'a Modal,
+        block: &Block,
+    ) -> Words<'a> {
+        Words {
+            line,
+            src,
+            modal,
+            dwell: block.has(Function::Dwell),
+            thread: modal.motion == MotionMode::Thread,
+            arc: matches!(modal.motion, MotionMode::ArcCw | MotionMode::ArcCcw),
+            limit_code: src.meanings.spindle_limit == Some(LimitForm::Code)
+                && block.has(Function::SpindleLimit),
+        }
+    }
+
+    /// Puts one word where its meaning says in `block`; true when it is an X or Z axis word.
+    /// Fails on a word the source controller gives no meaning here.
+    fn read(&self, w: &Word, block: &mut Block) -> Result<bool> {
+        let (lex, src, modal) = (&self.src.meanings, self.src, self.modal);
+        let dwell = self.dwell;
         let value = modal.value(w);
         let axis = |incremental: bool| Axis {
             value,
@@ -170,14 +219,7 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
         match w.letter {
             b'G' | b'M' => {}
             b'N' => block.n = Some(w.value as u32),
-            b'O' if lex.program_number => {
-                let digits = if line.shape.unread {
-                    format!("{}", w.value)
-                } else {
-                    crate::gcode::lexer::show(w.raw(line.text))
-                };
-                block.program = Some(format!("O{digits}"));
-            }
+            b'O' if lex.program_number => block.program = Some(self.program(w)),
             b'X' | b'U' if dwell && dwell_word(lex, w.letter) => {
                 block.dwell = Some((value, w.span));
             }
@@ -186,24 +228,24 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
             }
             b'F' if dwell && dwell_word(lex, w.letter) => block.dwell = Some((w.value, w.span)),
             b'X' => {
-                seen_axis = true;
                 block.x = Some(axis(!modal.absolute));
+                return Ok(true);
             }
             b'Z' => {
-                seen_axis = true;
                 block.z = Some(axis(!modal.absolute));
+                return Ok(true);
             }
             b'U' if src.uw_incremental => {
-                seen_axis = true;
                 block.x = Some(axis(true));
+                return Ok(true);
             }
             b'W' if src.uw_incremental => {
-                seen_axis = true;
                 block.z = Some(axis(true));
+                return Ok(true);
             }
-            l if thread && lex.thread_words.contains(&l) => {}
+            l if self.thread && lex.thread_words.contains(&l) => {}
             b'F' => block.feed = Some((value_of(modal, w), w.span)),
-            b'S' if limit_code => block.limit = Some((w.value, w.span)),
+            b'S' if self.limit_code => block.limit = Some((w.value, w.span)),
             b'S' => block.speed = Some((w.value, w.span)),
             b'D' if lex.spindle_limit == Some(LimitForm::OnSurfaceSpeed(b'D')) => {
                 block.limit = Some((w.value, w.span))
@@ -219,7 +261,7 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
                     span: w.span,
                 })
             }
-            b'R' if arc => block.radius = Some((value, w.span)),
+            b'R' if self.arc => block.radius = Some((value, w.span)),
             l => {
                 return Err(meaningless(
                     w.span,
@@ -232,7 +274,24 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
                 ))
             }
         }
+        Ok(false)
     }
+
+    /// The program number of an O word, as written (`O` and its digits).
+    fn program(&self, w: &Word) -> String {
+        let digits = if self.line.shape.unread {
+            format!("{}", w.value)
+        } else {
+            crate::gcode::lexer::show(w.raw(self.line.text))
+        };
+        format!("O{digits}")
+    }
+}
+
+/// Settles the functions that depend on the block's words: a tool offset without its register
+/// applies the current tool's; a spindle limit without a value, and a position set or restated
+/// without an axis word, say nothing and are dropped.
+fn settle(block: &mut Block, sets_position: bool, seen_axis: bool) {
     if let Some((span, _)) = block.take(Function::ToolOffset) {
         if !block
             .tools
@@ -252,7 +311,6 @@ pub fn decode(line: &Line, src: &mut Source, modal: &Modal) -> Result<Block> {
         block.take(Function::SetPosition);
         block.take(Function::RestatePosition);
     }
-    Ok(block)
 }
 
 /// Whether `letter` carries a dwell's time in this lexicon.
