@@ -478,7 +478,7 @@ fn lower<F: Fn(f64) -> f64>(
     // C: the thread start on the root line, i (radius) from D's X, at A's Z (§12).
     let c = Pos::new(i.end.x + i.taper, i.a.z);
     let travel_z = i.end.z - i.a.z;
-    let (x_tol, length) = (i.resolution.x(), i.resolution.length());
+    let length = i.resolution.length();
     if length.is_zero(travel_z) {
         return Err(geometry_error(
             "the thread end Z equals the start point's Z: the thread has no length".into(),
@@ -492,6 +492,68 @@ fn lower<F: Fn(f64) -> f64>(
         ))
         .with_hint("G78 cannot machine face threads (§1)"));
     }
+    let (side, crest_start) = g78_crest_start(i, c)?;
+    let crest_end = Pos::new(crest_start.x - i.taper, i.end.z);
+    if !length.lt(s.finish_allowance_mm, i.height) {
+        return Err(geometry_error(format!(
+            "the finishing allowance R(d) {} is not smaller than the thread height P(k) {}",
+            i.units.from_mm(s.finish_allowance_mm),
+            i.units.from_mm(i.height)
+        )));
+    }
+    let exit = g78_exit(i, travel_z)?;
+    super::lead_warning(
+        i.lead,
+        travel_z,
+        i.units,
+        length,
+        i.span,
+        "check F: a lead written without its decimal point?",
+        warnings,
+    );
+    Ok(Job {
+        line: i.line,
+        span: i.span,
+        controller: "gsk980",
+        units: i.units,
+        start: i.a,
+        geometry: Geometry {
+            crest_start,
+            crest_end,
+            depth: i.height,
+            side,
+        },
+        lead: Lead {
+            starts: s.starts,
+            ..Lead::constant(i.lead)
+        },
+        plan: PassPlan {
+            law: g78_depth_law(&s, i.first),
+            finish_allowance: s.finish_allowance_mm,
+            finish_passes: s.finish_passes,
+        },
+        infeed: g78_infeed(&s),
+        finish_at: FinishPosition::LastRough,
+        tool_angle_deg: s.tool_angle,
+        entry: if length.gt(s.lead_in_mm, 0.0) {
+            Entry::Ramp {
+                outward: s.lead_in_mm,
+                before: 0.0,
+            }
+        } else {
+            Entry::Direct
+        },
+        exit,
+        retract: Retract { x: i.a.x, z: i.a.z },
+        return_path: ReturnPath::Box,
+    })
+}
+
+/// The side and the crest at the thread's start: the start point A above C cuts an external
+/// thread, below C an internal one (§8), and A must not lie inside the thread.
+fn g78_crest_start<F: Fn(f64) -> f64>(i: &LoweringInput<F>, c: Pos) -> Result<(Side, Pos)> {
+    let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, i.span, msg);
+    let x_tol = i.resolution.x();
     // The infeed direction follows from the start point (§8): above C an external thread, cut toward
     // −X ("negative-direction infeed"); below C an internal one.
     let side = match x_tol.sign(i.a.x - c.x) {
@@ -513,23 +575,25 @@ fn lower<F: Fn(f64) -> f64>(
         ))
         .with_hint("start the cycle from a point clear of the crest"));
     }
-    let crest_end = Pos::new(crest_start.x - i.taper, i.end.z);
-    if !length.lt(s.finish_allowance_mm, i.height) {
-        return Err(geometry_error(format!(
-            "the finishing allowance R(d) {} is not smaller than the thread height P(k) {}",
-            i.units.from_mm(s.finish_allowance_mm),
-            i.units.from_mm(i.height)
-        )));
-    }
-    let exit = match i.tail {
+    Ok((side, crest_start))
+}
+
+/// The exit: straight without a tail-out, else a pull-out over K by J; K must be shorter than
+/// the thread.
+fn g78_exit<F: Fn(f64) -> f64>(i: &LoweringInput<F>, travel_z: f64) -> Result<Exit> {
+    Ok(match i.tail {
         None => Exit::Straight,
         Some((j, k)) => {
-            if !length.lt(k, travel_z.abs()) {
-                return Err(geometry_error(format!(
-                    "the tail-out K {} is not shorter than the thread ({} along Z)",
-                    i.units.from_mm(k),
-                    i.units.from_mm(travel_z.abs())
-                )));
+            if !i.resolution.length().lt(k, travel_z.abs()) {
+                return Err(Diagnostic::error(
+                    Code::Geometry,
+                    i.span,
+                    format!(
+                        "the tail-out K {} is not shorter than the thread ({} along Z)",
+                        i.units.from_mm(k),
+                        i.units.from_mm(travel_z.abs())
+                    ),
+                ));
             }
             Exit::PullOut {
                 start_before: k,
@@ -537,18 +601,14 @@ fn lower<F: Fn(f64) -> f64>(
                 outward: j,
             }
         }
-    };
-    super::lead_warning(
-        i.lead,
-        travel_z,
-        i.units,
-        length,
-        i.span,
-        "check F: a lead written without its decimal point?",
-        warnings,
-    );
+    })
+}
+
+/// The infeed from the first block's mode m (§7): 0 radial, 1 left flank, 2 right flank, 3
+/// right flank and centre alternating, otherwise both flanks alternating; at half the tool angle.
+fn g78_infeed(s: &Settings) -> Infeed {
     let half = s.tool_angle / 2.0;
-    let infeed = match s.infeed_mode {
+    match s.infeed_mode {
         0 => Infeed::Radial,
         1 => Infeed::Flank {
             flank: Flank::Left,
@@ -568,56 +628,25 @@ fn lower<F: Fn(f64) -> f64>(
             second: Flank::Right,
             angle_deg: half,
         },
-    };
-    let law = if s.depth_mode == 0 {
+    }
+}
+
+/// The depth law from the first block's depth mode: 0 equal steps of the first cut, otherwise
+/// constant area (degression 2) with the smallest cut Q(Δdmin).
+fn g78_depth_law(s: &Settings, first: f64) -> DepthLaw {
+    if s.depth_mode == 0 {
         DepthLaw::Power {
-            first: i.first,
+            first,
             degression: 1.0,
             min_step: 0.0,
         }
     } else {
         DepthLaw::Power {
-            first: i.first,
+            first,
             degression: 2.0,
             min_step: s.min_cut_mm,
         }
-    };
-    Ok(Job {
-        line: i.line,
-        span: i.span,
-        controller: "gsk980",
-        units: i.units,
-        start: i.a,
-        geometry: Geometry {
-            crest_start,
-            crest_end,
-            depth: i.height,
-            side,
-        },
-        lead: Lead {
-            starts: s.starts,
-            ..Lead::constant(i.lead)
-        },
-        plan: PassPlan {
-            law,
-            finish_allowance: s.finish_allowance_mm,
-            finish_passes: s.finish_passes,
-        },
-        infeed,
-        finish_at: FinishPosition::LastRough,
-        tool_angle_deg: s.tool_angle,
-        entry: if length.gt(s.lead_in_mm, 0.0) {
-            Entry::Ramp {
-                outward: s.lead_in_mm,
-                before: 0.0,
-            }
-        } else {
-            Entry::Direct
-        },
-        exit,
-        retract: Retract { x: i.a.x, z: i.a.z },
-        return_path: ReturnPath::Box,
-    })
+    }
 }
 
 impl Dialect for Gsk {

@@ -276,40 +276,47 @@ impl LinuxCnc {
         Ok(())
     }
 
+    /// G76 as LinuxCNC reads it: the words, the control's alarms in its order, then the job.
     fn read_g76(&mut self, line: &Line, modal: &Modal, g76: Span) -> Result<Job> {
-        let err = |span: Span, code: Code, msg: &str| Diagnostic::error(code, span, msg);
-        // `words::read` has read H and L as LinuxCNC does (integers, H ≥ -1, L ≥ 0); threadcut
-        // also refuses H-1, which LinuxCNC accepts and which skips the full-depth pass (deviation).
-        let spring = match line.word(b'H') {
-            Some(h) => match words::integer(h)? {
-                -1 => return Err(err(h.span, Code::OutOfRange, "Negative h word used")
-                    .with_hint("H is the number of spring passes: 0 or more (LinuxCNC accepts H-1 and then never cuts to K; threadcut refuses it)")),
-                n => n as u32,
-            },
-            None => 0,
-        };
-        let l = line.word(b'L').map_or(Ok(0), words::integer)? as u64;
-        let axis = |l: u8| line.word(l);
-        let p =
-            match line.word(b'P') {
-                Some(p) if p.value != -1.0 => p,
-                _ => return Err(
-                    err(g76, Code::MissingWord, "P word missing with G76").with_hint(
-                        "G76 is modal, but P, I, J and K are not: write them on every G76 block",
-                    ),
-                ),
-            };
-        let (Some(i), Some(j), Some(k)) = (line.word(b'I'), line.word(b'J'), line.word(b'K'))
-        else {
-            return Err(err(
-                g76,
-                Code::MissingWord,
-                "I J or K words missing with G76",
+        let words = G76Words::read(line, g76)?;
+        self.check_g76_state(line, g76)?;
+        let depths = G76Depths::read(&words, modal)?;
+        let z = self.g76_end_word(line, g76)?;
+        let p = words.p;
+        let units = modal.units;
+        if !modal.resolution().length().gt(units.to_mm(p.value), 0.0) {
+            return Err(g76_error(
+                p.span,
+                Code::OutOfRange,
+                &format!("In G76, P (the pitch) must be positive, not {}", p.value),
             ));
-        };
+        }
+        let degression = g76_degression(line)?;
+        let drive = G76Drive::read(modal, z, g76)?;
+        let taper = drive.taper(line, modal, words.l)?;
+        Ok(G76Cycle {
+            line: line.number,
+            span: g76,
+            units,
+            lead: units.to_mm(p.value),
+            angle: drive.infeed_angle(line),
+            drive,
+            depths,
+            degression,
+            spring: words.spring,
+            taper,
+            l: words.l,
+        }
+        .job())
+    }
+
+    /// The machine state G76 needs, in LinuxCNC's order: a `$` that names a spindle ("Invalid
+    /// D-number in G76 cycle"), that spindle turning, no rotary axis words, and cutter radius
+    /// compensation off.
+    fn check_g76_state(&self, line: &Line, g76: Span) -> Result<()> {
         if let Some(d) = line.word(b'$') {
             if d.value.fract() != 0.0 || d.value < 0.0 || d.value >= f64::from(self.spindles) {
-                return Err(err(
+                return Err(g76_error(
                     d.span,
                     Code::OutOfRange,
                     "Invalid D-number in G76 cycle",
@@ -318,7 +325,7 @@ impl LinuxCnc {
         }
         let spindle = line.word(b'$').map_or(0, |d| d.value as usize);
         if !self.turning[spindle] {
-            return Err(err(
+            return Err(g76_error(
                 g76,
                 Code::Conflict,
                 &format!("Chosen spindle ({spindle}) not turning in G76"),
@@ -330,51 +337,29 @@ impl LinuxCnc {
             .iter()
             .find(|w| matches!(w.letter, b'A' | b'B' | b'C' | b'U' | b'V' | b'W'))
         {
-            return Err(err(
+            return Err(g76_error(
                 w.span,
                 Code::Unsupported,
                 "Cannot move rotary axes with G76",
             ));
         }
         if self.cutter_comp {
-            return Err(err(
+            return Err(g76_error(
                 g76,
                 Code::Conflict,
                 "Cannot use G76 threading cycle with cutter radius compensation on",
             )
             .with_hint("cancel compensation with G40 first (LinuxCNC itself runs a plain move instead when the radius is not 0; threadcut always refuses)"));
         }
-        let units = modal.units;
-        let half = if modal.diameter_x { 0.5 } else { 1.0 };
-        let (iv, jv, kv) = (
-            units.to_mm(i.value * half),
-            units.to_mm(j.value * half),
-            units.to_mm(k.value * half),
-        );
-        // At the program's resolution (LinuxCNC compares these exactly; a value within one
-        // increment of another is the same value to threadcut, docs/dialects/linuxcnc-g76.md).
-        let res = modal.resolution();
-        let (x_tol, length) = (res.x(), res.length());
-        if x_tol.is_zero(iv) {
-            return Err(err(i.span, Code::OutOfRange, "In G76, I must not be 0"));
-        }
-        if !x_tol.gt(jv, 0.0) {
-            return Err(err(
-                j.span,
-                Code::OutOfRange,
-                "In G76, J must be greater than 0",
-            ));
-        }
-        if !x_tol.gt(kv, jv) {
-            return Err(err(
-                k.span,
-                Code::OutOfRange,
-                "In G76, K must be greater than J",
-            ));
-        }
-        // LinuxCNC's documented errors that its code does not raise (deviations, see the docs file).
+        Ok(())
+    }
+
+    /// The Z word that ends the drive line, after the errors LinuxCNC documents but its code
+    /// does not raise (deviations, see the docs file): a plane other than G18, an X or Y word;
+    /// then a missing Z ("All axes missing with motion code").
+    fn g76_end_word<'l>(&self, line: &'l Line, g76: Span) -> Result<&'l crate::gcode::Word> {
         if self.plane != 180 {
-            return Err(err(
+            return Err(g76_error(
                 g76,
                 Code::Unsupported,
                 &format!(
@@ -386,37 +371,168 @@ impl LinuxCnc {
                 "select G18 before the cycle (LinuxCNC's documentation lists this as an error)",
             ));
         }
-        if let Some(w) = axis(b'X').or(axis(b'Y')) {
-            return Err(err(
+        if let Some(w) = line.word(b'X').or(line.word(b'Y')) {
+            return Err(g76_error(
                 w.span,
                 Code::Unsupported,
                 &format!("{} is not a word of G76: the drive line starts where the tool is", w.letter as char),
             )
             .with_hint("position X with a G0 before the cycle (LinuxCNC's documentation lists other axis words as an error)"));
         }
-        let z = axis(b'Z').ok_or_else(|| {
-            err(g76, Code::MissingWord, "All axes missing with motion code")
+        line.word(b'Z').ok_or_else(|| {
+            g76_error(g76, Code::MissingWord, "All axes missing with motion code")
                 .with_hint("G76 needs Z, the end of the drive line")
-        })?;
-        if !length.gt(units.to_mm(p.value), 0.0) {
-            return Err(err(
-                p.span,
-                Code::OutOfRange,
-                &format!("In G76, P (the pitch) must be positive, not {}", p.value),
-            ));
-        }
-        let r = match line.word(b'R') {
-            None => 1.0,
-            Some(r) if r.value >= 1.0 => r.value,
-            Some(r) => {
-                return Err(err(
-                    r.span,
-                    Code::OutOfRange,
-                    &format!("In G76, R (the depth degression) must be at least 1.0, not {}", r.value),
+        })
+    }
+}
+
+/// A G76 error at `span`, in LinuxCNC's words.
+fn g76_error(span: Span, code: Code, msg: &str) -> Diagnostic {
+    Diagnostic::error(code, span, msg)
+}
+
+/// The words of a G76 block that LinuxCNC reads before anything else.
+struct G76Words<'l> {
+    /// H: the spring passes.
+    spring: u32,
+    /// L: which ends taper (bit 0 the entry, bit 1 the exit).
+    l: u64,
+    /// P: the pitch.
+    p: &'l crate::gcode::Word,
+    /// I: the thread's offset from the drive line (its sign gives the side).
+    i: &'l crate::gcode::Word,
+    /// J: the first cut's depth.
+    j: &'l crate::gcode::Word,
+    /// K: the thread's full depth.
+    k: &'l crate::gcode::Word,
+}
+
+impl<'l> G76Words<'l> {
+    /// Reads H (refusing H-1) and L, then decides whether P ("P word missing with G76") and I, J
+    /// and K ("I J or K words missing with G76") are there.
+    fn read(line: &'l Line, g76: Span) -> Result<G76Words<'l>> {
+        // `words::read` has read H and L as LinuxCNC does (integers, H ≥ -1, L ≥ 0); threadcut
+        // also refuses H-1, which LinuxCNC accepts and which skips the full-depth pass (deviation).
+        let spring = match line.word(b'H') {
+            Some(h) => match words::integer(h)? {
+                -1 => return Err(g76_error(h.span, Code::OutOfRange, "Negative h word used")
+                    .with_hint("H is the number of spring passes: 0 or more (LinuxCNC accepts H-1 and then never cuts to K; threadcut refuses it)")),
+                n => n as u32,
+            },
+            None => 0,
+        };
+        let l = line.word(b'L').map_or(Ok(0), words::integer)? as u64;
+        let p = match line.word(b'P') {
+            Some(p) if p.value != -1.0 => p,
+            _ => {
+                return Err(
+                    g76_error(g76, Code::MissingWord, "P word missing with G76").with_hint(
+                        "G76 is modal, but P, I, J and K are not: write them on every G76 block",
+                    ),
                 )
-                .with_hint("LinuxCNC's documentation lists R below 1.0 as an error; its code silently uses 1.0"))
             }
         };
+        let (Some(i), Some(j), Some(k)) = (line.word(b'I'), line.word(b'J'), line.word(b'K'))
+        else {
+            return Err(g76_error(
+                g76,
+                Code::MissingWord,
+                "I J or K words missing with G76",
+            ));
+        };
+        Ok(G76Words {
+            spring,
+            l,
+            p,
+            i,
+            j,
+            k,
+        })
+    }
+}
+
+/// I, J and K in mm, radii (halved in G7).
+struct G76Depths {
+    i: f64,
+    j: f64,
+    k: f64,
+}
+
+impl G76Depths {
+    /// Converts I, J and K and raises LinuxCNC's alarms on them, at the program's resolution:
+    /// I not 0, J greater than 0, K greater than J.
+    fn read(words: &G76Words, modal: &Modal) -> Result<G76Depths> {
+        let units = modal.units;
+        let half = if modal.diameter_x { 0.5 } else { 1.0 };
+        let (i, j, k) = (words.i, words.j, words.k);
+        let (iv, jv, kv) = (
+            units.to_mm(i.value * half),
+            units.to_mm(j.value * half),
+            units.to_mm(k.value * half),
+        );
+        // At the program's resolution (LinuxCNC compares these exactly; a value within one
+        // increment of another is the same value to threadcut, docs/dialects/linuxcnc-g76.md).
+        let x_tol = modal.resolution().x();
+        if x_tol.is_zero(iv) {
+            return Err(g76_error(
+                i.span,
+                Code::OutOfRange,
+                "In G76, I must not be 0",
+            ));
+        }
+        if !x_tol.gt(jv, 0.0) {
+            return Err(g76_error(
+                j.span,
+                Code::OutOfRange,
+                "In G76, J must be greater than 0",
+            ));
+        }
+        if !x_tol.gt(kv, jv) {
+            return Err(g76_error(
+                k.span,
+                Code::OutOfRange,
+                "In G76, K must be greater than J",
+            ));
+        }
+        Ok(G76Depths {
+            i: iv,
+            j: jv,
+            k: kv,
+        })
+    }
+}
+
+/// R, the depth degression: 1.0 when left out, refused below 1.0 (LinuxCNC's documentation
+/// lists that as an error; its code uses 1.0).
+fn g76_degression(line: &Line) -> Result<f64> {
+    match line.word(b'R') {
+        None => Ok(1.0),
+        Some(r) if r.value >= 1.0 => Ok(r.value),
+        Some(r) => Err(g76_error(
+            r.span,
+            Code::OutOfRange,
+            &format!(
+                "In G76, R (the depth degression) must be at least 1.0, not {}",
+                r.value
+            ),
+        )
+        .with_hint(
+            "LinuxCNC's documentation lists R below 1.0 as an error; its code silently uses 1.0",
+        )),
+    }
+}
+
+/// The drive line: from where the tool is to Z.
+struct G76Drive {
+    start: Pos,
+    z_end: f64,
+}
+
+impl G76Drive {
+    /// Decides the drive line: the tool's position must be known, and Z (absolute or, in G91,
+    /// from the tool) must differ from the tool's Z.
+    fn read(modal: &Modal, z: &crate::gcode::Word, g76: Span) -> Result<G76Drive> {
+        let units = modal.units;
         let a = modal.position.known().ok_or_else(|| {
             super::unknown_start(
                 modal,
@@ -431,19 +547,38 @@ impl LinuxCnc {
         } else {
             a.z + units.to_mm(z.value)
         };
-        if length.eq(z_end, a.z) {
-            return Err(err(
+        if modal.resolution().length().eq(z_end, a.z) {
+            return Err(g76_error(
                 z.span,
                 Code::Geometry,
                 "the drive line has no length: Z equals the current Z",
             ));
         }
-        let lead = units.to_mm(p.value);
-        let dir = (z_end - a.z).signum();
-        let h = kv;
+        Ok(G76Drive { start: a, z_end })
+    }
+
+    /// Along Z: +1 toward larger Z, -1 toward smaller.
+    fn dir(&self) -> f64 {
+        (self.z_end - self.start.z).signum()
+    }
+
+    /// Q, the compound slide angle, mirrored (q = -q) when Z ends above Z start.
+    fn infeed_angle(&self, line: &Line) -> f64 {
         let q_word = line.word(b'Q').map_or(0.0, |q| q.value);
-        // Z end above Z start mirrors everything (q = -q).
-        let q = if dir > 0.0 { -q_word } else { q_word };
+        if self.dir() > 0.0 {
+            -q_word
+        } else {
+            q_word
+        }
+    }
+
+    /// E, the taper length in mm: 0 below the resolution (or negative); with L tapering an end,
+    /// refused when longer than half the drive line (a documented error LinuxCNC's code does not
+    /// raise).
+    fn taper(&self, line: &Line, modal: &Modal, l: u64) -> Result<f64> {
+        let units = modal.units;
+        let length = modal.resolution().length();
+        let (a, z_end) = (self.start, self.z_end);
         // E below the resolution (or negative) is no taper.
         let taper = line
             .word(b'E')
@@ -452,7 +587,7 @@ impl LinuxCnc {
             .unwrap_or(0.0);
         if taper > 0.0 && l & 3 != 0 && length.gt(taper, (z_end - a.z).abs() / 2.0) {
             let e = line.word(b'E').expect("taper > 0");
-            return Err(err(
+            return Err(g76_error(
                 e.span,
                 Code::Geometry,
                 &format!(
@@ -465,33 +600,47 @@ impl LinuxCnc {
                 "LinuxCNC's documentation lists this as an error; its code runs the ramps anyway",
             ));
         }
-        let entry_taper = taper > 0.0 && l & 1 != 0;
-        let exit_taper = taper > 0.0 && l & 2 != 0;
+        Ok(taper)
+    }
+}
+
+/// A G76 that passed every check, in mm, ready to lower into the shared model.
+struct G76Cycle {
+    line: u32,
+    span: Span,
+    units: Units,
+    lead: f64,
+    /// Q after mirroring.
+    angle: f64,
+    drive: G76Drive,
+    depths: G76Depths,
+    degression: f64,
+    spring: u32,
+    taper: f64,
+    l: u64,
+}
+
+impl G76Cycle {
+    /// The job: the side from I's sign, the crest I from the drive line, tapered ends where L
+    /// asks for them, and a diagonal return to the drive line's end.
+    fn job(&self) -> Job {
+        let (a, z_end) = (self.drive.start, self.drive.z_end);
+        let (iv, h, taper) = (self.depths.i, self.depths.k, self.taper);
+        let dir = self.drive.dir();
+        let entry_taper = taper > 0.0 && self.l & 1 != 0;
+        let exit_taper = taper > 0.0 && self.l & 2 != 0;
         let side = if iv > 0.0 {
             Side::Internal
         } else {
             Side::External
         };
         let crest_x = a.x + side.infeed().x * iv.abs();
-        let target_z = z_end + h * q.to_radians().tan();
-        let infeed = if q == 0.0 {
-            Infeed::Radial
-        } else if q > 0.0 {
-            Infeed::Flank {
-                flank: Flank::Right,
-                angle_deg: q,
-            }
-        } else {
-            Infeed::Flank {
-                flank: Flank::Left,
-                angle_deg: -q,
-            }
-        };
-        Ok(Job {
-            line: line.number,
-            span: g76,
+        let target_z = z_end + h * self.angle.to_radians().tan();
+        Job {
+            line: self.line,
+            span: self.span,
             controller: "linuxcnc",
-            units,
+            units: self.units,
             start: a,
             geometry: Geometry {
                 crest_start: Pos::new(crest_x, a.z + if entry_taper { dir * taper } else { 0.0 }),
@@ -499,17 +648,17 @@ impl LinuxCnc {
                 depth: h,
                 side,
             },
-            lead: Lead::constant(lead),
+            lead: Lead::constant(self.lead),
             plan: PassPlan {
                 law: DepthLaw::Power {
-                    first: jv,
-                    degression: r,
+                    first: self.depths.j,
+                    degression: self.degression,
                     min_step: 0.0,
                 },
                 finish_allowance: 0.0,
-                finish_passes: spring,
+                finish_passes: self.spring,
             },
-            infeed,
+            infeed: g76_infeed(self.angle),
             finish_at: FinishPosition::Axis,
             // LinuxCNC does not know the tool: chip areas assume a 60° insert.
             tool_angle_deg: 60.0,
@@ -535,7 +684,25 @@ impl LinuxCnc {
                 clearance: iv.abs() + h,
                 end: Pos::new(a.x, z_end),
             },
-        })
+        }
+    }
+}
+
+/// The infeed from the (mirrored) Q: radial at 0, along the right flank when positive, the left
+/// when negative.
+fn g76_infeed(q: f64) -> Infeed {
+    if q == 0.0 {
+        Infeed::Radial
+    } else if q > 0.0 {
+        Infeed::Flank {
+            flank: Flank::Right,
+            angle_deg: q,
+        }
+    } else {
+        Infeed::Flank {
+            flank: Flank::Left,
+            angle_deg: -q,
+        }
     }
 }
 

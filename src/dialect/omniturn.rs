@@ -302,6 +302,8 @@ impl OmniTurn {
         Ok(())
     }
 
+    /// G33 as the seed reads it: the words, the cycle's errors in order, the path from the tool
+    /// to X Z, the slide's limits as warnings, then the job.
     fn read_cycle(
         &mut self,
         line: &Line,
@@ -309,64 +311,39 @@ impl OmniTurn {
         g33: Span,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Job> {
-        super::only_words(line, b"GNXZIKACPOS", "G33", "X Z I K A C P O")?;
-        // The mode codes may share the block: they set how X and I are read.
-        super::alone_in_block(line, g33, "G33", &[G72, G73])?;
-        for flag in [b'P', b'O'] {
-            if let Some(w) = line.word(flag).filter(|w| !w.is_bare()) {
-                return Err(Diagnostic::error(
-                    Code::Syntax,
-                    w.span,
-                    format!("{} is a flag on G33 and takes no value", flag as char),
-                )
-                .with_hint(format!("write {} alone", flag as char)));
-            }
+        let words = G33Words::read(line, g33)?;
+        let step = g33_step(modal, words.i)?;
+        let k_in = g33_lead_in(modal, words.k)?;
+        self.check_lead_fits(line, modal, words.k, k_in)?;
+        let lead = k_in * MM_PER_INCH;
+        let taper = g33_taper(line, modal)?;
+        let infeed_angle = g33_infeed_angle(line)?;
+        let single = line.word(b'O').is_some();
+        let pull_out = line.word(b'P').is_some();
+        let path = G33Path::read(&self.conv, line, modal, g33, taper, words.x)?;
+        let axial_dir = path.axial_dir();
+        self.warn_limits(
+            modal, line, words.k, k_in, path.start, axial_dir, g33, warnings,
+        );
+        Ok(G33Cycle {
+            line: line.number,
+            span: g33,
+            units: modal.units,
+            path,
+            taper,
+            lead,
+            step,
+            single,
+            pull_out,
+            infeed: g33_infeed(infeed_angle, axial_dir),
         }
-        let need = |letter: u8, what: &str| -> Result<&Word> {
-            match line.word(letter) {
-                Some(w) if w.is_bare() => Err(Diagnostic::error(
-                    Code::Syntax,
-                    w.span,
-                    format!("{} needs a value: {what}", letter as char),
-                )),
-                Some(w) => Ok(w),
-                None => Err(Diagnostic::error(
-                    Code::MissingWord,
-                    g33,
-                    format!("G33 needs {}: {what}", letter as char),
-                )),
-            }
-        };
-        let x = need(b'X', "the X of the final pass")?;
-        need(b'Z', "the Z of the end of the thread")?;
-        let i = need(b'I', "the amount removed after the first pass")?;
-        let k = need(b'K', "the lead, inches per revolution")?;
-        let units = modal.units;
-        // I and A are X amounts: diameters in G72, radii in G73 (seed: "defined as the diameter
-        // removal in diameter mode").
-        let x_amount = |v: f64| {
-            let r = if modal.diameter_x { v / 2.0 } else { v };
-            units.to_mm(r)
-        };
-        let i_value = modal.value(i);
-        let res = modal.resolution();
-        let (x_tol, length) = (res.x(), res.length());
-        if !x_tol.gt(x_amount(i_value), 0.0) {
-            return Err(Diagnostic::error(
-                Code::OutOfRange,
-                i.span,
-                format!("I{i_value}: the amount removed after the first pass must be positive"),
-            ));
-        }
-        let step = x_amount(i_value);
-        let k_in = units.to_mm(modal.value(k)) / MM_PER_INCH;
-        if !length.gt(k_in * MM_PER_INCH, 0.0) {
-            return Err(Diagnostic::error(
-                Code::OutOfRange,
-                k.span,
-                format!("K{}: the lead must be positive", modal.value(k)),
-            ));
-        }
+        .job())
+    }
+
+    /// K within the largest lead of the feed mode in force (G35, G35F2 or neither); the hint
+    /// names the mode that would cut it, if any.
+    fn check_lead_fits(&self, line: &Line, modal: &Modal, k: &Word, k_in: f64) -> Result<()> {
+        let length = modal.resolution().length();
         let max = self.params.max_lead_in[self.mode as usize];
         if length.gt(k_in * MM_PER_INCH, max * MM_PER_INCH) {
             let fits = [FeedMode::G35, FeedMode::G35F2].into_iter().find(|m| {
@@ -401,122 +378,7 @@ impl OmniTurn {
             )
             .with_hint(hint));
         }
-        let lead = k_in * MM_PER_INCH;
-        let taper = match line.word(b'A') {
-            Some(a) if a.is_bare() => {
-                return Err(Diagnostic::error(
-                    Code::Syntax,
-                    a.span,
-                    "A needs a value: the X travel over the whole Z travel",
-                ))
-            }
-            Some(a) => x_amount(modal.value(a)),
-            None => 0.0,
-        };
-        let infeed_angle = match line.word(b'C') {
-            None => None,
-            Some(c) if c.is_bare() => Some(DEFAULT_INFEED_ANGLE),
-            Some(c) => {
-                let v = c.value;
-                if !(0.0..=MAX_INFEED_ANGLE).contains(&v) {
-                    return Err(Diagnostic::error(
-                        Code::OutOfRange,
-                        c.span,
-                        format!("C{v}: the infeed angle must be 0 to {MAX_INFEED_ANGLE} degrees"),
-                    )
-                    .with_hint("C alone means 29°"));
-                }
-                Some(v)
-            }
-        };
-        let single = line.word(b'O').is_some();
-        let pull_out = line.word(b'P').is_some();
-        let start = super::start_point(
-            modal,
-            g33,
-            "G33",
-            "position the tool at the first pass with X.. Z.. before the cycle",
-        )?;
-        let end = modal.target(&self.conv, line, start)?;
-        let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, g33, msg);
-        let travel_z = end.z - start.z;
-        if length.is_zero(travel_z) {
-            return Err(geometry_error(
-                "Z is where the tool stands: the thread has no length".into(),
-            ));
-        }
-        if !length.lt(taper.abs(), travel_z.abs()) {
-            return Err(geometry_error(format!(
-                "the taper A moves X {} over {} of Z: G33 threads along Z",
-                units.from_mm(taper.abs()),
-                units.from_mm(travel_z.abs())
-            )));
-        }
-        let side = Side::of_cut(start.x, end.x, x_tol).ok_or_else(|| {
-            Diagnostic::error(
-                Code::Geometry,
-                x.span,
-                "the final X equals the start X: no depth to cut, and no way to tell an external from an internal thread",
-            )
-            .with_hint("start the tool at the first pass, outside the final X (inside it for an internal thread)")
-        })?;
-        let depth = (start.x - end.x).abs();
-        let axial_dir = travel_z.signum();
-        let infeed = match infeed_angle {
-            None => Infeed::Radial,
-            // Deeper passes move in the cutting direction: the leading flank cuts.
-            Some(angle_deg) => Infeed::Flank {
-                flank: if axial_dir < 0.0 {
-                    Flank::Right
-                } else {
-                    Flank::Left
-                },
-                angle_deg,
-            },
-        };
-        self.warn_limits(modal, line, k, k_in, start, axial_dir, g33, warnings);
-        Ok(Job {
-            line: line.number,
-            span: g33,
-            controller: "omniturn",
-            units,
-            start,
-            geometry: Geometry {
-                crest_start: start,
-                crest_end: Pos::new(start.x + taper, end.z),
-                depth,
-                side,
-            },
-            lead: Lead::constant(lead),
-            plan: if single {
-                PassPlan {
-                    law: DepthLaw::Explicit { depths: vec![] },
-                    finish_allowance: 0.0,
-                    finish_passes: 1,
-                }
-            } else {
-                PassPlan {
-                    law: DepthLaw::FromStart {
-                        step,
-                        degression: 2.0,
-                    },
-                    finish_allowance: 0.0,
-                    finish_passes: 0,
-                }
-            },
-            infeed,
-            finish_at: FinishPosition::Axis,
-            tool_angle_deg: TOOL_ANGLE,
-            entry: Entry::Direct,
-            exit: Exit::ToRetract {
-                run_on: if pull_out { 1.0 } else { 0.0 },
-            },
-            retract: Retract {
-                x: start.x + side.outward().x * RETRACT_TIMES_I * step,
-                z: start.z,
-            },
-            return_path: ReturnPath::Box,
-        })
+        Ok(())
     }
 
     /// The seed's machine limits: 300 ipm of slide, and the run-up the slide needs.
@@ -577,6 +439,269 @@ impl OmniTurn {
                 )
                 .with_hint("start further from the face, or slow the spindle until the thread gauge goes on"),
             );
+        }
+    }
+}
+
+/// The words G33 must have, after the block's own checks: only G33's letters, no other code
+/// with it but G72/G73, P and O bare flags, then X, Z, I and K each present with a value.
+struct G33Words<'l> {
+    /// X: the X of the final pass.
+    x: &'l Word,
+    /// I: the amount removed after the first pass.
+    i: &'l Word,
+    /// K: the lead, inches per revolution.
+    k: &'l Word,
+}
+
+impl<'l> G33Words<'l> {
+    /// Reads the block's words in the cycle's order of errors: foreign letters, other codes,
+    /// P or O with a value, then X, Z, I, K missing or without a value.
+    fn read(line: &'l Line, g33: Span) -> Result<G33Words<'l>> {
+        super::only_words(line, b"GNXZIKACPOS", "G33", "X Z I K A C P O")?;
+        // The mode codes may share the block: they set how X and I are read.
+        super::alone_in_block(line, g33, "G33", &[G72, G73])?;
+        for flag in [b'P', b'O'] {
+            if let Some(w) = line.word(flag).filter(|w| !w.is_bare()) {
+                return Err(Diagnostic::error(
+                    Code::Syntax,
+                    w.span,
+                    format!("{} is a flag on G33 and takes no value", flag as char),
+                )
+                .with_hint(format!("write {} alone", flag as char)));
+            }
+        }
+        let x = g33_word(line, g33, b'X', "the X of the final pass")?;
+        g33_word(line, g33, b'Z', "the Z of the end of the thread")?;
+        let i = g33_word(line, g33, b'I', "the amount removed after the first pass")?;
+        let k = g33_word(line, g33, b'K', "the lead, inches per revolution")?;
+        Ok(G33Words { x, i, k })
+    }
+}
+
+/// A word G33 needs: an error when it is missing (at G33) or written without a value (at the word).
+fn g33_word<'l>(line: &'l Line, g33: Span, letter: u8, what: &str) -> Result<&'l Word> {
+    match line.word(letter) {
+        Some(w) if w.is_bare() => Err(Diagnostic::error(
+            Code::Syntax,
+            w.span,
+            format!("{} needs a value: {what}", letter as char),
+        )),
+        Some(w) => Ok(w),
+        None => Err(Diagnostic::error(
+            Code::MissingWord,
+            g33,
+            format!("G33 needs {}: {what}", letter as char),
+        )),
+    }
+}
+
+/// An X amount (I, A) in mm: a diameter in G72, a radius in G73 (seed: "defined as the diameter
+/// removal in diameter mode").
+fn x_amount(modal: &Modal, v: f64) -> f64 {
+    let r = if modal.diameter_x { v / 2.0 } else { v };
+    modal.units.to_mm(r)
+}
+
+/// I, the amount removed after the first pass, in mm: it must be positive.
+fn g33_step(modal: &Modal, i: &Word) -> Result<f64> {
+    let i_value = modal.value(i);
+    if !modal.resolution().x().gt(x_amount(modal, i_value), 0.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            i.span,
+            format!("I{i_value}: the amount removed after the first pass must be positive"),
+        ));
+    }
+    Ok(x_amount(modal, i_value))
+}
+
+/// K, the lead, in inches per revolution: it must be positive.
+fn g33_lead_in(modal: &Modal, k: &Word) -> Result<f64> {
+    let k_in = modal.units.to_mm(modal.value(k)) / MM_PER_INCH;
+    if !modal.resolution().length().gt(k_in * MM_PER_INCH, 0.0) {
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            k.span,
+            format!("K{}: the lead must be positive", modal.value(k)),
+        ));
+    }
+    Ok(k_in)
+}
+
+/// A, the X travel over the whole Z travel, in mm (0 when left out): it needs a value.
+fn g33_taper(line: &Line, modal: &Modal) -> Result<f64> {
+    match line.word(b'A') {
+        Some(a) if a.is_bare() => Err(Diagnostic::error(
+            Code::Syntax,
+            a.span,
+            "A needs a value: the X travel over the whole Z travel",
+        )),
+        Some(a) => Ok(x_amount(modal, modal.value(a))),
+        None => Ok(0.0),
+    }
+}
+
+/// C, the infeed angle: none without C, 29° for C alone, else 0 to 30 degrees.
+fn g33_infeed_angle(line: &Line) -> Result<Option<f64>> {
+    match line.word(b'C') {
+        None => Ok(None),
+        Some(c) if c.is_bare() => Ok(Some(DEFAULT_INFEED_ANGLE)),
+        Some(c) => {
+            let v = c.value;
+            if !(0.0..=MAX_INFEED_ANGLE).contains(&v) {
+                return Err(Diagnostic::error(
+                    Code::OutOfRange,
+                    c.span,
+                    format!("C{v}: the infeed angle must be 0 to {MAX_INFEED_ANGLE} degrees"),
+                )
+                .with_hint("C alone means 29°"));
+            }
+            Ok(Some(v))
+        }
+    }
+}
+
+/// The infeed: radial without C; along the leading flank with it (deeper passes move in the
+/// cutting direction).
+fn g33_infeed(angle: Option<f64>, axial_dir: f64) -> Infeed {
+    match angle {
+        None => Infeed::Radial,
+        // Deeper passes move in the cutting direction: the leading flank cuts.
+        Some(angle_deg) => Infeed::Flank {
+            flank: if axial_dir < 0.0 {
+                Flank::Right
+            } else {
+                Flank::Left
+            },
+            angle_deg,
+        },
+    }
+}
+
+/// Where G33 cuts: from the tool (the first pass) to X Z (the final pass's end).
+struct G33Path {
+    start: Pos,
+    end: Pos,
+    side: Side,
+}
+
+impl G33Path {
+    /// Decides the path and the side: the start must be known, Z must move, A must move X by
+    /// less than Z moves, and the final X must differ from the start's (outside: external).
+    fn read(
+        conv: &Conventions,
+        line: &Line,
+        modal: &Modal,
+        g33: Span,
+        taper: f64,
+        x: &Word,
+    ) -> Result<G33Path> {
+        let units = modal.units;
+        let res = modal.resolution();
+        let (x_tol, length) = (res.x(), res.length());
+        let start = super::start_point(
+            modal,
+            g33,
+            "G33",
+            "position the tool at the first pass with X.. Z.. before the cycle",
+        )?;
+        let end = modal.target(conv, line, start)?;
+        let geometry_error = |msg: String| Diagnostic::error(Code::Geometry, g33, msg);
+        let travel_z = end.z - start.z;
+        if length.is_zero(travel_z) {
+            return Err(geometry_error(
+                "Z is where the tool stands: the thread has no length".into(),
+            ));
+        }
+        if !length.lt(taper.abs(), travel_z.abs()) {
+            return Err(geometry_error(format!(
+                "the taper A moves X {} over {} of Z: G33 threads along Z",
+                units.from_mm(taper.abs()),
+                units.from_mm(travel_z.abs())
+            )));
+        }
+        let side = Side::of_cut(start.x, end.x, x_tol).ok_or_else(|| {
+            Diagnostic::error(
+                Code::Geometry,
+                x.span,
+                "the final X equals the start X: no depth to cut, and no way to tell an external from an internal thread",
+            )
+            .with_hint("start the tool at the first pass, outside the final X (inside it for an internal thread)")
+        })?;
+        Ok(G33Path { start, end, side })
+    }
+
+    /// The cutting direction along Z: +1 or -1.
+    fn axial_dir(&self) -> f64 {
+        (self.end.z - self.start.z).signum()
+    }
+}
+
+/// A G33 that passed every check, in mm, ready to lower into the shared model.
+struct G33Cycle {
+    line: u32,
+    span: Span,
+    units: Units,
+    path: G33Path,
+    taper: f64,
+    lead: f64,
+    /// I: the amount removed after the first pass.
+    step: f64,
+    /// O: one pass only, at the final X.
+    single: bool,
+    /// P: pull out at the end of each pass.
+    pull_out: bool,
+    infeed: Infeed,
+}
+
+impl G33Cycle {
+    /// The job: the passes shrink from I (one pass with O), the retract 3 × I outside the start,
+    /// a box return.
+    fn job(self) -> Job {
+        let G33Path { start, end, side } = self.path;
+        let step = self.step;
+        Job {
+            line: self.line,
+            span: self.span,
+            controller: "omniturn",
+            units: self.units,
+            start,
+            geometry: Geometry {
+                crest_start: start,
+                crest_end: Pos::new(start.x + self.taper, end.z),
+                depth: (start.x - end.x).abs(),
+                side,
+            },
+            lead: Lead::constant(self.lead),
+            plan: if self.single {
+                PassPlan {
+                    law: DepthLaw::Explicit { depths: vec![] },
+                    finish_allowance: 0.0,
+                    finish_passes: 1,
+                }
+            } else {
+                PassPlan {
+                    law: DepthLaw::FromStart {
+                        step,
+                        degression: 2.0,
+                    },
+                    finish_allowance: 0.0,
+                    finish_passes: 0,
+                }
+            },
+            infeed: self.infeed,
+            finish_at: FinishPosition::Axis,
+            tool_angle_deg: TOOL_ANGLE,
+            entry: Entry::Direct,
+            exit: Exit::ToRetract {
+                run_on: if self.pull_out { 1.0 } else { 0.0 },
+            },
+            retract: Retract {
+                x: start.x + side.outward().x * RETRACT_TIMES_I * step,
+                z: start.z,
+            },
+            return_path: ReturnPath::Box,
         }
     }
 }

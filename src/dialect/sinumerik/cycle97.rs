@@ -126,16 +126,71 @@ pub(super) fn lower(
         .with_hint("select a cutting edge (D1) before the cycle: D0 deselects the tool offset"));
     }
     let units = modal.units;
-    let mm = |v: f64| units.to_mm(v);
     // Programmed lengths compare at the program's resolution (docs/dialects/README.md): one
     // increment of the written value (DM1 and DM2 are diameters whatever X's mode).
     let tol = modal.resolution().length();
     let lead = pitch(call, modal)?;
-    let side = match call.value(VARI) {
-        v if v == 1.0 || v == 3.0 => Side::External,
-        v if v == 2.0 || v == 4.0 => Side::Internal,
+    let side = machining_type(call)?;
+    let constant_area = call.value(VARI) >= 3.0;
+    let outline = Outline::read(call, modal)?;
+    let lengths = Lengths::read(call, modal)?;
+    let passes = Passes::read(call)?;
+    let lift = lift(call, modal)?;
+    // DM1 and DM2 as written: even one increment between them is a taper the program states.
+    let infeed = infeed(call, outline.length(), outline.r1 != outline.r2, warnings)?;
+    let path = outline.path(&lengths, &infeed, side, lift);
+    let law = depth_law(constant_area, lengths.tdep - lengths.fal, passes.nrc);
+    super::super::lead_warning(
+        lead,
+        path.z1 - path.z0,
+        units,
+        tol,
+        call.span(PIT),
+        "check PIT (the lead, in program units)",
+        warnings,
+    );
+    let start = start_point(call, modal, &path.retract, warnings);
+    Ok(Job {
+        line: line.number,
+        span: call.name,
+        controller: "sinumerik",
+        units,
+        start,
+        geometry: Geometry {
+            crest_start: path.crest_start,
+            crest_end: path.crest_end,
+            depth: lengths.tdep,
+            side,
+        },
+        lead: Lead {
+            starts: passes.numt,
+            phase_deg: passes.nsp,
+            indexing: StartIndexing::Angle,
+            ..Lead::constant(lead)
+        },
+        plan: PassPlan {
+            law,
+            finish_allowance: lengths.fal,
+            // The finishing allowance in one cut, then NID idle passes at full depth.
+            finish_passes: 1 + passes.nid,
+        },
+        infeed,
+        finish_at: FinishPosition::Axis,
+        tool_angle_deg: TOOL_ANGLE_DEG,
+        entry: Entry::Direct,
+        exit: Exit::Straight,
+        retract: path.retract,
+        return_path: ReturnPath::BoxAtRetract,
+    })
+}
+
+/// The side from VARI: 1 and 3 external, 2 and 4 internal, anything else alarm 61002.
+fn machining_type(call: &Call) -> Result<Side> {
+    match call.value(VARI) {
+        v if v == 1.0 || v == 3.0 => Ok(Side::External),
+        v if v == 2.0 || v == 4.0 => Ok(Side::Internal),
         v => {
-            return Err(call
+            Err(call
                 .error(
                     VARI,
                     Code::OutOfRange,
@@ -143,117 +198,212 @@ pub(super) fn lower(
                 )
                 .with_hint("VARI is 1 (external, constant infeed), 2 (internal, constant infeed), 3 (external, constant cutting cross-section) or 4 (internal, constant cutting cross-section)"))
         }
-    };
-    let constant_area = call.value(VARI) >= 3.0;
-    // Geometry, in mm: Z of the thread's start and end, radii there.
-    let (spl, fpl) = (mm(call.value(SPL)), mm(call.value(FPL)));
-    let diameter = |i: usize| -> Result<f64> {
-        let v = call.value(i);
-        if !tol.gt(mm(v), 0.0) {
+    }
+}
+
+/// The programmed thread, in mm: Z of its start (SPL) and end (FPL), its radii there (DM1, DM2).
+struct Outline {
+    spl: f64,
+    fpl: f64,
+    r1: f64,
+    r2: f64,
+}
+
+impl Outline {
+    /// Reads SPL, FPL, DM1 and DM2: each diameter must be positive, FPL must differ from SPL,
+    /// and the taper may be at most 45° (steeper is a face thread, which threadcut does not read).
+    fn read(call: &Call, modal: &Modal) -> Result<Outline> {
+        let units = modal.units;
+        let mm = |v: f64| units.to_mm(v);
+        let tol = modal.resolution().length();
+        // Geometry, in mm: Z of the thread's start and end, radii there.
+        let (spl, fpl) = (mm(call.value(SPL)), mm(call.value(FPL)));
+        let diameter = |i: usize| -> Result<f64> {
+            let v = call.value(i);
+            if !tol.gt(mm(v), 0.0) {
+                return Err(call
+                    .error(
+                        i,
+                        Code::OutOfRange,
+                        format!("{} {} is not a thread diameter", NAMES[i], v),
+                    )
+                    .with_hint("DM1 and DM2 are the thread's diameters at SPL and FPL (an internal thread's: the tap-hole diameter)"));
+            }
+            Ok(mm(v) / 2.0)
+        };
+        let (r1, r2) = (diameter(DM1)?, diameter(DM2)?);
+        let length = fpl - spl;
+        if tol.is_zero(length) {
+            return Err(call.error(
+                FPL,
+                Code::Geometry,
+                format!(
+                    "FPL {} equals SPL: the thread has no length",
+                    call.value(FPL)
+                ),
+            ));
+        }
+        if tol.gt((r2 - r1).abs(), length.abs()) {
             return Err(call
                 .error(
-                    i,
-                    Code::OutOfRange,
-                    format!("{} {} is not a thread diameter", NAMES[i], v),
+                    DM2,
+                    Code::Unsupported,
+                    format!(
+                        "DM1 {} and DM2 {} over {} along Z make a taper steeper than 45°: CYCLE97 then cuts a face thread, which threadcut does not read",
+                        call.value(DM1),
+                        call.value(DM2),
+                        units.from_mm(length.abs())
+                    ),
                 )
-                .with_hint("DM1 and DM2 are the thread's diameters at SPL and FPL (an internal thread's: the tap-hole diameter)"));
+                .with_hint("threadcut reads CYCLE97's longitudinal threads (a taper angle of 45° or less)"));
         }
-        Ok(mm(v) / 2.0)
-    };
-    let (r1, r2) = (diameter(DM1)?, diameter(DM2)?);
-    let length = fpl - spl;
-    if tol.is_zero(length) {
-        return Err(call.error(
-            FPL,
-            Code::Geometry,
-            format!(
-                "FPL {} equals SPL: the thread has no length",
-                call.value(FPL)
-            ),
-        ));
+        Ok(Outline { spl, fpl, r1, r2 })
     }
-    if tol.gt((r2 - r1).abs(), length.abs()) {
-        return Err(call
-            .error(
-                DM2,
-                Code::Unsupported,
-                format!(
-                    "DM1 {} and DM2 {} over {} along Z make a taper steeper than 45°: CYCLE97 then cuts a face thread, which threadcut does not read",
-                    call.value(DM1),
-                    call.value(DM2),
-                    units.from_mm(length.abs())
-                ),
-            )
-            .with_hint("threadcut reads CYCLE97's longitudinal threads (a taper angle of 45° or less)"));
-    }
-    let (app, rop) = (mm(call.unsigned(APP)?), mm(call.unsigned(ROP)?));
-    let tdep = mm(call.unsigned(TDEP)?);
-    if tol.is_zero(tdep) {
-        return Err(call.error(
-            TDEP,
-            Code::MissingWord,
-            "TDEP, the thread depth, is 0 or missing".into(),
-        ));
-    }
-    let fal = mm(call.unsigned(FAL)?);
-    if !tol.lt(fal, tdep) {
-        return Err(call.error(
-            FAL,
-            Code::Geometry,
-            format!(
-                "the finishing allowance FAL {} is not smaller than the thread depth TDEP {}",
-                call.value(FAL),
-                call.value(TDEP)
-            ),
-        ));
-    }
-    let nrc = call.count(NRC, 1, "number of roughing cuts")?;
-    let nid = call.count(NID, 0, "number of idle passes")?;
-    let numt = call.count(NUMT, 0, "number of thread turns")?.max(1);
-    let nsp = call.value(NSP);
-    if !(0.0..360.0).contains(&nsp) {
-        return Err(call
-            .error(
-                NSP,
-                Code::OutOfRange,
-                format!("NSP {nsp} is not a start angle"),
-            )
-            .with_hint(
-                "NSP is the spindle angle of the first thread turn's start, 0 to 359.9999 degrees",
-            ));
-    }
-    let lift = match mm(call.unsigned(VRT)?) {
-        v if tol.gt(v, 0.0) => v,
-        _ => DEFAULT_LIFT_MM,
-    };
-    // DM1 and DM2 as written: even one increment between them is a taper the program states.
-    let infeed = infeed(call, length, r1 != r2, warnings)?;
 
-    // The thread runs from the run-in path APP before SPL to the run-out path ROP past FPL,
-    // along the taper line through (SPL, DM1) and (FPL, DM2).
-    let dir = length.signum();
-    let slope = (r2 - r1) / length;
-    let radius_at = |z: f64| r1 + slope * (z - spl);
-    let (z0, z1) = (spl - dir * app, fpl + dir * rop);
-    // Flank infeed: the full-depth passes run on the programmed thread; shallower ones start
-    // behind, by (TDEP − depth)·tan(IANG).
-    let full_offset = infeed.axis(tdep);
-    let crest_start = Pos::new(radius_at(z0), z0 - full_offset);
-    let crest_end = Pos::new(radius_at(z1), z1 - full_offset);
-    // The start point: the lift-off above the thread's outermost crest (its innermost, inside),
-    // at the start of the run-in path.
-    let outward = side.outward().x;
-    let crest_out = if outward > 0.0 {
-        radius_at(z0).max(radius_at(z1))
-    } else {
-        radius_at(z0).min(radius_at(z1))
-    };
-    let retract = Retract {
-        x: crest_out + outward * lift,
-        z: z0,
-    };
-    let rough = tdep - fal;
-    let law = if constant_area {
+    /// FPL − SPL: the thread's signed length along Z.
+    fn length(&self) -> f64 {
+        self.fpl - self.spl
+    }
+
+    /// The path the cycle cuts: from the run-in path APP before SPL to the run-out path ROP past
+    /// FPL, along the taper line through (SPL, DM1) and (FPL, DM2), and its start point.
+    fn path(&self, lengths: &Lengths, infeed: &Infeed, side: Side, lift: f64) -> Path {
+        let Outline { spl, fpl, r1, r2 } = *self;
+        let length = self.length();
+        let dir = length.signum();
+        let slope = (r2 - r1) / length;
+        let radius_at = |z: f64| r1 + slope * (z - spl);
+        let (z0, z1) = (spl - dir * lengths.app, fpl + dir * lengths.rop);
+        // Flank infeed: the full-depth passes run on the programmed thread; shallower ones start
+        // behind, by (TDEP − depth)·tan(IANG).
+        let full_offset = infeed.axis(lengths.tdep);
+        let crest_start = Pos::new(radius_at(z0), z0 - full_offset);
+        let crest_end = Pos::new(radius_at(z1), z1 - full_offset);
+        // The start point: the lift-off above the thread's outermost crest (its innermost, inside),
+        // at the start of the run-in path.
+        let outward = side.outward().x;
+        let crest_out = if outward > 0.0 {
+            radius_at(z0).max(radius_at(z1))
+        } else {
+            radius_at(z0).min(radius_at(z1))
+        };
+        let retract = Retract {
+            x: crest_out + outward * lift,
+            z: z0,
+        };
+        Path {
+            z0,
+            z1,
+            crest_start,
+            crest_end,
+            retract,
+        }
+    }
+}
+
+/// Where the cycle cuts, in mm: Z at the start of the run-in path and the end of the run-out
+/// path, the crest there, and the start point.
+struct Path {
+    z0: f64,
+    z1: f64,
+    crest_start: Pos,
+    crest_end: Pos,
+    retract: Retract,
+}
+
+/// The lengths written without a sign, in mm: the run-in and run-out paths, the thread depth
+/// and the finishing allowance.
+struct Lengths {
+    app: f64,
+    rop: f64,
+    tdep: f64,
+    fal: f64,
+}
+
+impl Lengths {
+    /// Reads APP, ROP, TDEP and FAL (none negative): TDEP must not be 0, FAL must be smaller
+    /// than TDEP.
+    fn read(call: &Call, modal: &Modal) -> Result<Lengths> {
+        let mm = |v: f64| modal.units.to_mm(v);
+        let tol = modal.resolution().length();
+        let (app, rop) = (mm(call.unsigned(APP)?), mm(call.unsigned(ROP)?));
+        let tdep = mm(call.unsigned(TDEP)?);
+        if tol.is_zero(tdep) {
+            return Err(call.error(
+                TDEP,
+                Code::MissingWord,
+                "TDEP, the thread depth, is 0 or missing".into(),
+            ));
+        }
+        let fal = mm(call.unsigned(FAL)?);
+        if !tol.lt(fal, tdep) {
+            return Err(call.error(
+                FAL,
+                Code::Geometry,
+                format!(
+                    "the finishing allowance FAL {} is not smaller than the thread depth TDEP {}",
+                    call.value(FAL),
+                    call.value(TDEP)
+                ),
+            ));
+        }
+        Ok(Lengths {
+            app,
+            rop,
+            tdep,
+            fal,
+        })
+    }
+}
+
+/// The counts of the cycle's passes and turns, and the start angle.
+struct Passes {
+    nrc: u32,
+    nid: u32,
+    numt: u32,
+    nsp: f64,
+}
+
+impl Passes {
+    /// Reads NRC (at least 1), NID and NUMT (0 counts as 1 turn), then NSP, a start angle from 0
+    /// to below 360°.
+    fn read(call: &Call) -> Result<Passes> {
+        let nrc = call.count(NRC, 1, "number of roughing cuts")?;
+        let nid = call.count(NID, 0, "number of idle passes")?;
+        let numt = call.count(NUMT, 0, "number of thread turns")?.max(1);
+        let nsp = call.value(NSP);
+        if !(0.0..360.0).contains(&nsp) {
+            return Err(call
+                .error(
+                    NSP,
+                    Code::OutOfRange,
+                    format!("NSP {nsp} is not a start angle"),
+                )
+                .with_hint(
+                    "NSP is the spindle angle of the first thread turn's start, 0 to 359.9999 degrees",
+                ));
+        }
+        Ok(Passes {
+            nrc,
+            nid,
+            numt,
+            nsp,
+        })
+    }
+}
+
+/// The lift-off in mm from `_VRT` (no sign): 1 mm when 0 or left out.
+fn lift(call: &Call, modal: &Modal) -> Result<f64> {
+    Ok(match modal.units.to_mm(call.unsigned(VRT)?) {
+        v if modal.resolution().length().gt(v, 0.0) => v,
+        _ => DEFAULT_LIFT_MM,
+    })
+}
+
+/// The depth law of the rough cuts from VARI: constant infeed (1, 2) or constant cutting
+/// cross-section (3, 4), over NRC cuts of `rough` (TDEP − FAL).
+fn depth_law(constant_area: bool, rough: f64, nrc: u32) -> DepthLaw {
+    if constant_area {
         // Constant cutting cross-section: d_n = (TDEP − FAL)·√(n/NRC).
         DepthLaw::Power {
             first: rough / f64::from(nrc).sqrt(),
@@ -267,17 +417,18 @@ pub(super) fn lower(
             degression: 1.0,
             min_step: 0.0,
         }
-    };
-    super::super::lead_warning(
-        lead,
-        z1 - z0,
-        units,
-        tol,
-        call.span(PIT),
-        "check PIT (the lead, in program units)",
-        warnings,
-    );
-    let start = match modal.position.known() {
+    }
+}
+
+/// Where the tool stands before the cycle; when that is not known, a warning, and the cycle's
+/// start point instead.
+fn start_point(
+    call: &Call,
+    modal: &Modal,
+    retract: &Retract,
+    warnings: &mut Vec<Diagnostic>,
+) -> Pos {
+    match modal.position.known() {
         Some(p) => p,
         None => {
             warnings.push(
@@ -294,39 +445,7 @@ pub(super) fn lower(
             );
             Pos::new(retract.x, retract.z)
         }
-    };
-    Ok(Job {
-        line: line.number,
-        span: call.name,
-        controller: "sinumerik",
-        units,
-        start,
-        geometry: Geometry {
-            crest_start,
-            crest_end,
-            depth: tdep,
-            side,
-        },
-        lead: Lead {
-            starts: numt,
-            phase_deg: nsp,
-            indexing: StartIndexing::Angle,
-            ..Lead::constant(lead)
-        },
-        plan: PassPlan {
-            law,
-            finish_allowance: fal,
-            // The finishing allowance in one cut, then NID idle passes at full depth.
-            finish_passes: 1 + nid,
-        },
-        infeed,
-        finish_at: FinishPosition::Axis,
-        tool_angle_deg: TOOL_ANGLE_DEG,
-        entry: Entry::Direct,
-        exit: Exit::Straight,
-        retract,
-        return_path: ReturnPath::BoxAtRetract,
-    })
+    }
 }
 
 /// The lead in mm from PIT or MPIT (alarm 61001 when neither or both-and-different).
