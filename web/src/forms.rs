@@ -86,178 +86,226 @@ fn t(text: &'static str) -> Piece {
 /// The controllers with a form, in the order the page lists them.
 pub const CONTROLLERS: &[&str] = &["gsk980", "fanuc", "linuxcnc", "ab9"];
 
+/// One controller's cycle form, or `None` for a controller without one.
 pub fn form(controller: &str) -> Option<Form> {
-    let units = || f("units", "G", "units: 21 mm, 20 inch", Kind::Number, false);
-    let start = || {
-        vec![
-            t("G00 "),
-            num("sx", "X", "start X (diameter), clear of the part"),
-            t(" "),
-            num("sz", "Z", "start Z, before the thread"),
-        ]
-    };
-    let packed = |r_label: &'static str| {
-        vec![
-            f(
-                "m",
-                "P",
-                "P(m): finishing passes (01-99)",
-                Kind::Digits2,
-                false,
-            ),
-            f("r", "", r_label, Kind::Digits2, false),
-            f("a", "", "P(a): tool angle (degrees)", Kind::Digits2, false),
-        ]
-    };
     Some(match controller {
-        "gsk980" => Form {
-            controller: "gsk980",
-            cycle: "G78 enhanced multiple thread-cutting cycle",
-            lines: vec![
-                vec![units()],
-                vec![t("G97 S500 M03")],
-                start(),
-                [
-                    vec![t("G78 ")],
-                    packed("P(r): infeed mode (0 centre, 1 left flank, 2 right flank, 3 right/centre, 4 left/right)"),
-                    vec![
-                        t(" "),
-                        num("qmin", "Q", "Q(Δdmin): minimum cut depth (radius)"),
-                        t(" "),
-                        num("fin", "R", "R(d): finishing allowance (radius)"),
-                    ],
-                ]
-                .concat(),
-                vec![
-                    t("G78 "),
-                    num("x", "X", "X: root diameter at the end"),
-                    t(" "),
-                    num("z", "Z", "Z: end of the thread"),
-                    t(" "),
-                    num("k", "P", "P(k): thread height (radius)"),
-                    t(" "),
-                    num("dd", "Q", "Q(Δd): first cut depth (radius)"),
-                    t(" "),
-                    num("lead", "F", "F: lead"),
-                    t(" "),
-                    opt("j", "J", "J: tail-out along X (optional)"),
-                    t(" "),
-                    opt("kk", "K", "K: tail-out along Z (optional)"),
-                    t(" "),
-                    opt("starts", "L", "L: number of starts (optional)"),
-                ],
-            ],
-        },
-        "fanuc" => Form {
-            controller: "fanuc",
-            cycle: "G76 two-block multiple threading cycle",
-            lines: vec![
-                vec![units()],
-                vec![t("G97 S500 M03")],
-                start(),
-                [
-                    vec![t("G76 ")],
-                    packed("P(r): chamfer (0.1 lead, 00-99)"),
-                    vec![
-                        t(" "),
-                        f(
-                            "qmin",
-                            "Q",
-                            "Q(Δdmin): minimum cut depth (least increments, radius)",
-                            Kind::Increments,
-                            false,
-                        ),
-                        t(" "),
-                        num("fin", "R", "R(d): finishing allowance (radius)"),
-                    ],
-                ]
-                .concat(),
-                vec![
-                    t("G76 "),
-                    num("x", "X", "X: root diameter"),
-                    t(" "),
-                    num("z", "Z", "Z: end of the thread"),
-                    t(" "),
-                    f(
-                        "k",
-                        "P",
-                        "P(k): thread height (least increments, radius)",
-                        Kind::Increments,
-                        false,
-                    ),
-                    t(" "),
-                    f(
-                        "dd",
-                        "Q",
-                        "Q(Δd): first cut depth (least increments, radius)",
-                        Kind::Increments,
-                        false,
-                    ),
-                    t(" "),
-                    num("lead", "F", "F: lead"),
-                ],
-            ],
-        },
-        "linuxcnc" => Form {
-            controller: "linuxcnc",
-            cycle: "G76 threading cycle",
-            lines: vec![
-                vec![t("G7 "), units(), t(" G18")],
-                vec![t("S500 M3")],
-                start(),
-                vec![
-                    t("G76 "),
-                    num("lead", "P", "P: pitch (lead per revolution)"),
-                    t(" "),
-                    num("z", "Z", "Z: end of the thread"),
-                    t(" "),
-                    num("i", "I", "I: crest offset from the drive line (a diameter in G7; negative outside)"),
-                    t(" "),
-                    num("dd", "J", "J: first cut depth (a diameter in G7)"),
-                    t(" "),
-                    num("degression", "R", "R: depth degression (1 constant depth, 2 constant area)"),
-                    t(" "),
-                    num("k", "K", "K: full thread depth (a diameter in G7)"),
-                    t(" "),
-                    opt("q", "Q", "Q: compound slide angle (degrees, optional)"),
-                    t(" "),
-                    opt("h", "H", "H: spring passes (optional)"),
-                    t(" "),
-                    opt("e", "E", "E: taper distance along Z (optional)"),
-                    t(" "),
-                    opt("l", "L", "L: taper ends (0 none, 1 entry, 2 exit, 3 both; optional)"),
-                ],
-            ],
-        },
-        "ab9" => Form {
-            controller: "ab9",
-            cycle: "G78 multipass threading cycle",
-            lines: vec![
-                vec![units()],
-                vec![t("G97 S500 M03")],
-                [vec![t("G90 ")], start()].concat(),
-                vec![
-                    t("G78 "),
-                    num("x", "X", "X: root diameter"),
-                    t(" "),
-                    num("z", "Z", "Z: end of the thread"),
-                    t(" "),
-                    num("k", "K", "K: thread height (radius)"),
-                    t(" "),
-                    num("dd", "D", "D: first cut depth (radius)"),
-                    t(" "),
-                    num("lead", "F", "F: lead"),
-                    t(" "),
-                    num("a", "A", "A: tool angle (degrees)"),
-                    t(" "),
-                    num("p", "P", "P: infeed (1-4)"),
-                    t(" "),
-                    opt("taper", "I", "I: taper, radius change start to end (optional)"),
-                ],
-            ],
-        },
+        "gsk980" => gsk980_form(),
+        "fanuc" => fanuc_form(),
+        "linuxcnc" => linuxcnc_form(),
+        "ab9" => ab9_form(),
         _ => return None,
     })
+}
+
+/// The units word (G21 or G20): a field, so that the page can switch units.
+fn units() -> Piece {
+    f("units", "G", "units: 21 mm, 20 inch", Kind::Number, false)
+}
+
+/// The rapid to the cycle's start point: X clear of the part, Z before the thread.
+fn start() -> Vec<Piece> {
+    vec![
+        t("G00 "),
+        num("sx", "X", "start X (diameter), clear of the part"),
+        t(" "),
+        num("sz", "Z", "start Z, before the thread"),
+    ]
+}
+
+/// The packed P(m)(r)(a) word of a two-block cycle's first block: finishing passes, the
+/// controller's own second pair (labelled `r_label`), tool angle.
+fn packed(r_label: &'static str) -> Vec<Piece> {
+    vec![
+        f(
+            "m",
+            "P",
+            "P(m): finishing passes (01-99)",
+            Kind::Digits2,
+            false,
+        ),
+        f("r", "", r_label, Kind::Digits2, false),
+        f("a", "", "P(a): tool angle (degrees)", Kind::Digits2, false),
+    ]
+}
+
+/// GSK980's form: the two-block G78, whose second pair of P is the infeed mode, and whose depths
+/// are written as numbers (radius).
+fn gsk980_form() -> Form {
+    Form {
+        controller: "gsk980",
+        cycle: "G78 enhanced multiple thread-cutting cycle",
+        lines: vec![
+            vec![units()],
+            vec![t("G97 S500 M03")],
+            start(),
+            [
+                vec![t("G78 ")],
+                packed("P(r): infeed mode (0 centre, 1 left flank, 2 right flank, 3 right/centre, 4 left/right)"),
+                vec![
+                    t(" "),
+                    num("qmin", "Q", "Q(Δdmin): minimum cut depth (radius)"),
+                    t(" "),
+                    num("fin", "R", "R(d): finishing allowance (radius)"),
+                ],
+            ]
+            .concat(),
+            vec![
+                t("G78 "),
+                num("x", "X", "X: root diameter at the end"),
+                t(" "),
+                num("z", "Z", "Z: end of the thread"),
+                t(" "),
+                num("k", "P", "P(k): thread height (radius)"),
+                t(" "),
+                num("dd", "Q", "Q(Δd): first cut depth (radius)"),
+                t(" "),
+                num("lead", "F", "F: lead"),
+                t(" "),
+                opt("j", "J", "J: tail-out along X (optional)"),
+                t(" "),
+                opt("kk", "K", "K: tail-out along Z (optional)"),
+                t(" "),
+                opt("starts", "L", "L: number of starts (optional)"),
+            ],
+        ],
+    }
+}
+
+/// Fanuc's form: the two-block G76, whose second pair of P is the chamfer, and whose thread height
+/// and cut depths (P and Q) are written in least input increments.
+fn fanuc_form() -> Form {
+    Form {
+        controller: "fanuc",
+        cycle: "G76 two-block multiple threading cycle",
+        lines: vec![
+            vec![units()],
+            vec![t("G97 S500 M03")],
+            start(),
+            [
+                vec![t("G76 ")],
+                packed("P(r): chamfer (0.1 lead, 00-99)"),
+                vec![
+                    t(" "),
+                    f(
+                        "qmin",
+                        "Q",
+                        "Q(Δdmin): minimum cut depth (least increments, radius)",
+                        Kind::Increments,
+                        false,
+                    ),
+                    t(" "),
+                    num("fin", "R", "R(d): finishing allowance (radius)"),
+                ],
+            ]
+            .concat(),
+            vec![
+                t("G76 "),
+                num("x", "X", "X: root diameter"),
+                t(" "),
+                num("z", "Z", "Z: end of the thread"),
+                t(" "),
+                f(
+                    "k",
+                    "P",
+                    "P(k): thread height (least increments, radius)",
+                    Kind::Increments,
+                    false,
+                ),
+                t(" "),
+                f(
+                    "dd",
+                    "Q",
+                    "Q(Δd): first cut depth (least increments, radius)",
+                    Kind::Increments,
+                    false,
+                ),
+                t(" "),
+                num("lead", "F", "F: lead"),
+            ],
+        ],
+    }
+}
+
+/// LinuxCNC's form: the one-block G76 in G7 (diameter mode), its depths as diameters.
+fn linuxcnc_form() -> Form {
+    Form {
+        controller: "linuxcnc",
+        cycle: "G76 threading cycle",
+        lines: vec![
+            vec![t("G7 "), units(), t(" G18")],
+            vec![t("S500 M3")],
+            start(),
+            vec![
+                t("G76 "),
+                num("lead", "P", "P: pitch (lead per revolution)"),
+                t(" "),
+                num("z", "Z", "Z: end of the thread"),
+                t(" "),
+                num(
+                    "i",
+                    "I",
+                    "I: crest offset from the drive line (a diameter in G7; negative outside)",
+                ),
+                t(" "),
+                num("dd", "J", "J: first cut depth (a diameter in G7)"),
+                t(" "),
+                num(
+                    "degression",
+                    "R",
+                    "R: depth degression (1 constant depth, 2 constant area)",
+                ),
+                t(" "),
+                num("k", "K", "K: full thread depth (a diameter in G7)"),
+                t(" "),
+                opt("q", "Q", "Q: compound slide angle (degrees, optional)"),
+                t(" "),
+                opt("h", "H", "H: spring passes (optional)"),
+                t(" "),
+                opt("e", "E", "E: taper distance along Z (optional)"),
+                t(" "),
+                opt(
+                    "l",
+                    "L",
+                    "L: taper ends (0 none, 1 entry, 2 exit, 3 both; optional)",
+                ),
+            ],
+        ],
+    }
+}
+
+/// Allen-Bradley's form: the one-block G78 after a G90 start, with its taper word I.
+fn ab9_form() -> Form {
+    Form {
+        controller: "ab9",
+        cycle: "G78 multipass threading cycle",
+        lines: vec![
+            vec![units()],
+            vec![t("G97 S500 M03")],
+            [vec![t("G90 ")], start()].concat(),
+            vec![
+                t("G78 "),
+                num("x", "X", "X: root diameter"),
+                t(" "),
+                num("z", "Z", "Z: end of the thread"),
+                t(" "),
+                num("k", "K", "K: thread height (radius)"),
+                t(" "),
+                num("dd", "D", "D: first cut depth (radius)"),
+                t(" "),
+                num("lead", "F", "F: lead"),
+                t(" "),
+                num("a", "A", "A: tool angle (degrees)"),
+                t(" "),
+                num("p", "P", "P: infeed (1-4)"),
+                t(" "),
+                opt(
+                    "taper",
+                    "I",
+                    "I: taper, radius change start to end (optional)",
+                ),
+            ],
+        ],
+    }
 }
 
 /// A number written with at most `decimals` places and always a decimal point (`32.`, `27.546`):
