@@ -179,186 +179,218 @@ enum GcodeFormat {
 #[derive(Subcommand)]
 enum Command {
     /// Replace each threading cycle by plain moves (G0/G32 …); other blocks pass through unchanged.
-    Expand {
-        #[command(flatten)]
-        input: InputArg,
-        #[command(flatten)]
-        machine: MachineArgs,
-        #[command(flatten)]
-        output: OutputArg,
-        /// The program (gcode), or one JSON object per motion (jsonl).
-        #[arg(long, value_enum, default_value = "gcode")]
-        format: ProgramFormat,
-        /// A program with control flow: write the executed program as straight-line code (loops
-        /// unrolled, calls inlined, expressions evaluated) instead of keeping its text.
-        #[arg(long)]
-        flatten: bool,
-        #[command(flatten)]
-        run: RunArgs,
-    },
+    Expand(ExpandArgs),
     /// Print each cycle's pass table: depth, increment, infeed point, chip area.
-    Passes {
-        #[command(flatten)]
-        input: InputArg,
-        #[command(flatten)]
-        machine: MachineArgs,
-        /// A table (text), `{"cycles":[…]}` (json) or one cycle object per line (jsonl).
-        #[arg(long, value_enum, default_value = "text")]
-        format: ReportFormat,
-        /// The same as --format json.
-        #[arg(long, conflicts_with = "format")]
-        json: bool,
-        #[command(flatten)]
-        output: OutputArg,
-        #[command(flatten)]
-        tool: ToolArgs,
-        #[command(flatten)]
-        run: RunArgs,
-    },
+    Passes(PassesArgs),
     /// Report what the program will do wrong: controller alarms, rapid moves into the blank,
     /// feed and lead limits, run-up and run-out, depth and form, and with --thread the thread
     /// against its class. Every assumption is stated. Exit status 2 on any error.
-    Check {
-        #[command(flatten)]
-        input: InputArg,
-        #[command(flatten)]
-        machine: MachineArgs,
-        /// Diameter of the blank (program units); default: the thread's crest is assumed.
-        #[arg(long, value_name = "D")]
-        stock_diameter: Option<f64>,
-        /// Z of the blank's face on the thread's start side (program units); default: Z0 is
-        /// assumed when the thread runs into the part through it.
-        #[arg(long, value_name = "Z", allow_negative_numbers = true)]
-        stock_start: Option<f64>,
-        #[command(flatten)]
-        tool: ToolArgs,
-        /// Judge the thread cut against a standard thread's class limits (`M50x2-6g`,
-        /// `"1/2-13 UNC-2A"`; any name `threadcut thread` knows).
-        #[arg(long, value_name = "NAME")]
-        thread: Option<String>,
-        /// Text (diagnostics, notes, summary), JSON (`[{file, line, column, level, code,
-        /// message, hint}]`) or JSON lines (one finding per line).
-        #[arg(long, value_enum, default_value = "text")]
-        format: ReportFormat,
-        #[command(flatten)]
-        output: OutputArg,
-        #[command(flatten)]
-        run: RunArgs,
-    },
+    Check(CheckArgs),
     /// Draw each thread's pass diagram and XZ toolpath into one SVG: the first 50 threads, or the
     /// one --cycle names; the picture says what was left out (standard error too, unless --cycle chose).
-    Plot {
-        #[command(flatten)]
-        input: InputArg,
-        #[command(flatten)]
-        machine: MachineArgs,
-        #[command(flatten)]
-        output: OutputArg,
-        /// Draw only this thread (1 = the program's first; `threadcut passes` lists them in order).
-        #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
-        cycle: Option<u32>,
-        /// The picture's format.
-        #[arg(long, value_enum, default_value = "svg")]
-        format: SvgFormat,
-        #[command(flatten)]
-        tool: ToolArgs,
-        #[command(flatten)]
-        run: RunArgs,
-    },
+    Plot(PlotArgs),
     /// Post an APT/CL file (THREAD, COUPLE, GOTO …) to a controller: native threading cycles where
     /// they reproduce the toolpath exactly, plain moves otherwise.
-    Post {
-        /// The CL file (`-` reads standard input). Its line ending (LF or CRLF) is the output's.
-        #[arg(value_name = "FILE")]
-        file: PathBuf,
-        #[command(flatten)]
-        machine: MachineArgs,
-        #[command(flatten)]
-        output: OutputArg,
-        /// The posted program (gcode), or one JSON object per motion (jsonl).
-        #[arg(long, value_enum, default_value = "gcode")]
-        format: ProgramFormat,
-    },
+    Post(PostArgs),
     /// Rewrite a program for another controller: each threading cycle as the target's native cycle
     /// when some choice of its words reads back as the same motion, otherwise as plain moves with a
     /// comment saying why; the other blocks in the target's words, its units and modes stated at
     /// the start. A block the target cannot express is an error naming the target's limit.
-    Convert {
-        #[command(flatten)]
-        input: InputArg,
-        /// The controller the program is written for (a built-in profile name, any case).
-        #[arg(long, value_name = "NAME", required_unless_present = "from_machine")]
-        from: Option<String>,
-        /// The machine profile (TOML) the program is written for; used instead of --from.
-        #[arg(long, value_name = "FILE.toml")]
-        from_machine: Option<PathBuf>,
-        /// The controller to write for (a built-in profile name, any case).
-        #[arg(long, value_name = "NAME", required_unless_present = "to_machine")]
-        to: Option<String>,
-        /// The machine profile (TOML) to write for; used instead of --to.
-        #[arg(long, value_name = "FILE.toml")]
-        to_machine: Option<PathBuf>,
-        #[command(flatten)]
-        output: OutputArg,
-        /// The converted program.
-        #[arg(long, value_enum, default_value = "gcode")]
-        format: GcodeFormat,
-        /// A program with control flow: write the executed program as straight-line code (needed
-        /// to convert such a program to another controller's language).
-        #[arg(long)]
-        flatten: bool,
-        #[command(flatten)]
-        run: RunArgs,
-    },
+    Convert(ConvertArgs),
     /// List the built-in controller profiles (lathe, then milling).
-    Controllers {
-        /// A list (text) or `[{name, kind, description}]` (json).
-        #[arg(long, value_enum, default_value = "text")]
-        format: TextJson,
-        #[command(flatten)]
-        output: OutputArg,
-    },
+    Controllers(ControllersArgs),
     /// Print a standard thread's diameters (min/max), thread height and turning infeed depth:
     /// ISO metric (`M10`, `M10x1.25-6g`, `M8-4g6g`, `M12-6H`) or Unified (`"1/2-13 UNC-2A"`,
     /// `"#10-32 UNF"`). Without a class both sides are given (6g/6H, 2A/2B).
-    Thread {
-        /// The thread's name (`threadcut thread --list` lists every one).
-        name: Option<String>,
-        /// A table (text) or JSON (values in the standard's units).
-        #[arg(long, value_enum, default_value = "text")]
-        format: TextJson,
-        /// The same as --format json.
-        #[arg(long, conflicts_with = "format")]
-        json: bool,
-        /// List every thread threadcut knows.
-        #[arg(long, conflicts_with = "name")]
-        list: bool,
-        /// For a taper thread: the taper word of this lathe controller's threading cycle, for
-        /// the thread placed by --face-z, --start-z and --length (any case).
-        #[arg(long, short = 'c', value_name = "NAME")]
-        controller: Option<String>,
-        /// A machine profile (TOML) instead of --controller.
-        #[arg(long, value_name = "FILE.toml")]
-        machine: Option<PathBuf>,
-        /// The internal thread (with --controller; default: the external one).
-        #[arg(long)]
-        internal: bool,
-        /// Z of the part's face: the small end of an external taper thread, the opening of an
-        /// internal one (the thread's units; default 0).
-        #[arg(long, allow_negative_numbers = true)]
-        face_z: Option<f64>,
-        /// Z where the cycle starts (default: 3 pitches outside the face).
-        #[arg(long, allow_negative_numbers = true)]
-        start_z: Option<f64>,
-        /// Thread length from the face (default: the standard's effective/useful thread).
-        #[arg(long)]
-        length: Option<f64>,
-        #[command(flatten)]
-        output: OutputArg,
-    },
+    Thread(ThreadArgs),
     /// Mill a standard thread by helical interpolation (Centroid TB029): a complete block of G2/G3
     /// full circles with absolute Z per turn, cutter compensation and lead-in/out.
     Mill(mill::MillArgs),
+}
+
+/// The arguments of `threadcut expand`.
+#[derive(clap::Args)]
+struct ExpandArgs {
+    #[command(flatten)]
+    input: InputArg,
+    #[command(flatten)]
+    machine: MachineArgs,
+    #[command(flatten)]
+    output: OutputArg,
+    /// The program (gcode), or one JSON object per motion (jsonl).
+    #[arg(long, value_enum, default_value = "gcode")]
+    format: ProgramFormat,
+    /// A program with control flow: write the executed program as straight-line code (loops
+    /// unrolled, calls inlined, expressions evaluated) instead of keeping its text.
+    #[arg(long)]
+    flatten: bool,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The arguments of `threadcut passes`.
+#[derive(clap::Args)]
+struct PassesArgs {
+    #[command(flatten)]
+    input: InputArg,
+    #[command(flatten)]
+    machine: MachineArgs,
+    /// A table (text), `{"cycles":[…]}` (json) or one cycle object per line (jsonl).
+    #[arg(long, value_enum, default_value = "text")]
+    format: ReportFormat,
+    /// The same as --format json.
+    #[arg(long, conflicts_with = "format")]
+    json: bool,
+    #[command(flatten)]
+    output: OutputArg,
+    #[command(flatten)]
+    tool: ToolArgs,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The arguments of `threadcut check`.
+#[derive(clap::Args)]
+struct CheckArgs {
+    #[command(flatten)]
+    input: InputArg,
+    #[command(flatten)]
+    machine: MachineArgs,
+    /// Diameter of the blank (program units); default: the thread's crest is assumed.
+    #[arg(long, value_name = "D")]
+    stock_diameter: Option<f64>,
+    /// Z of the blank's face on the thread's start side (program units); default: Z0 is
+    /// assumed when the thread runs into the part through it.
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    stock_start: Option<f64>,
+    #[command(flatten)]
+    tool: ToolArgs,
+    /// Judge the thread cut against a standard thread's class limits (`M50x2-6g`,
+    /// `"1/2-13 UNC-2A"`; any name `threadcut thread` knows).
+    #[arg(long, value_name = "NAME")]
+    thread: Option<String>,
+    /// Text (diagnostics, notes, summary), JSON (`[{file, line, column, level, code,
+    /// message, hint}]`) or JSON lines (one finding per line).
+    #[arg(long, value_enum, default_value = "text")]
+    format: ReportFormat,
+    #[command(flatten)]
+    output: OutputArg,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The arguments of `threadcut plot`.
+#[derive(clap::Args)]
+struct PlotArgs {
+    #[command(flatten)]
+    input: InputArg,
+    #[command(flatten)]
+    machine: MachineArgs,
+    #[command(flatten)]
+    output: OutputArg,
+    /// Draw only this thread (1 = the program's first; `threadcut passes` lists them in order).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
+    cycle: Option<u32>,
+    /// The picture's format.
+    #[arg(long, value_enum, default_value = "svg")]
+    format: SvgFormat,
+    #[command(flatten)]
+    tool: ToolArgs,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The arguments of `threadcut post`.
+#[derive(clap::Args)]
+struct PostArgs {
+    /// The CL file (`-` reads standard input). Its line ending (LF or CRLF) is the output's.
+    #[arg(value_name = "FILE")]
+    file: PathBuf,
+    #[command(flatten)]
+    machine: MachineArgs,
+    #[command(flatten)]
+    output: OutputArg,
+    /// The posted program (gcode), or one JSON object per motion (jsonl).
+    #[arg(long, value_enum, default_value = "gcode")]
+    format: ProgramFormat,
+}
+
+/// The arguments of `threadcut convert`.
+#[derive(clap::Args)]
+struct ConvertArgs {
+    #[command(flatten)]
+    input: InputArg,
+    /// The controller the program is written for (a built-in profile name, any case).
+    #[arg(long, value_name = "NAME", required_unless_present = "from_machine")]
+    from: Option<String>,
+    /// The machine profile (TOML) the program is written for; used instead of --from.
+    #[arg(long, value_name = "FILE.toml")]
+    from_machine: Option<PathBuf>,
+    /// The controller to write for (a built-in profile name, any case).
+    #[arg(long, value_name = "NAME", required_unless_present = "to_machine")]
+    to: Option<String>,
+    /// The machine profile (TOML) to write for; used instead of --to.
+    #[arg(long, value_name = "FILE.toml")]
+    to_machine: Option<PathBuf>,
+    #[command(flatten)]
+    output: OutputArg,
+    /// The converted program.
+    #[arg(long, value_enum, default_value = "gcode")]
+    format: GcodeFormat,
+    /// A program with control flow: write the executed program as straight-line code (needed
+    /// to convert such a program to another controller's language).
+    #[arg(long)]
+    flatten: bool,
+    #[command(flatten)]
+    run: RunArgs,
+}
+
+/// The arguments of `threadcut controllers`.
+#[derive(clap::Args)]
+struct ControllersArgs {
+    /// A list (text) or `[{name, kind, description}]` (json).
+    #[arg(long, value_enum, default_value = "text")]
+    format: TextJson,
+    #[command(flatten)]
+    output: OutputArg,
+}
+
+/// The arguments of `threadcut thread`.
+#[derive(clap::Args)]
+struct ThreadArgs {
+    /// The thread's name (`threadcut thread --list` lists every one).
+    name: Option<String>,
+    /// A table (text) or JSON (values in the standard's units).
+    #[arg(long, value_enum, default_value = "text")]
+    format: TextJson,
+    /// The same as --format json.
+    #[arg(long, conflicts_with = "format")]
+    json: bool,
+    /// List every thread threadcut knows.
+    #[arg(long, conflicts_with = "name")]
+    list: bool,
+    /// For a taper thread: the taper word of this lathe controller's threading cycle, for
+    /// the thread placed by --face-z, --start-z and --length (any case).
+    #[arg(long, short = 'c', value_name = "NAME")]
+    controller: Option<String>,
+    /// A machine profile (TOML) instead of --controller.
+    #[arg(long, value_name = "FILE.toml")]
+    machine: Option<PathBuf>,
+    /// The internal thread (with --controller; default: the external one).
+    #[arg(long)]
+    internal: bool,
+    /// Z of the part's face: the small end of an external taper thread, the opening of an
+    /// internal one (the thread's units; default 0).
+    #[arg(long, allow_negative_numbers = true)]
+    face_z: Option<f64>,
+    /// Z where the cycle starts (default: 3 pitches outside the face).
+    #[arg(long, allow_negative_numbers = true)]
+    start_z: Option<f64>,
+    /// Thread length from the face (default: the standard's effective/useful thread).
+    #[arg(long)]
+    length: Option<f64>,
+    #[command(flatten)]
+    output: OutputArg,
 }
 
 /// The command being run, for messages that point to another one.
@@ -374,14 +406,14 @@ pub fn main() -> ExitCode {
         Err(e) => return clap_failure(e),
     };
     let _ = COMMAND.set(match &cli.command {
-        Command::Expand { .. } => "expand",
-        Command::Passes { .. } => "passes",
-        Command::Check { .. } => "check",
-        Command::Plot { .. } => "plot",
-        Command::Post { .. } => "post",
-        Command::Convert { .. } => "convert",
-        Command::Controllers { .. } => "controllers",
-        Command::Thread { .. } => "thread",
+        Command::Expand(_) => "expand",
+        Command::Passes(_) => "passes",
+        Command::Check(_) => "check",
+        Command::Plot(_) => "plot",
+        Command::Post(_) => "post",
+        Command::Convert(_) => "convert",
+        Command::Controllers(_) => "controllers",
+        Command::Thread(_) => "thread",
         Command::Mill(_) => "mill",
     });
     match run(cli) {
@@ -475,228 +507,201 @@ fn reason(e: &io::Error) -> String {
     text
 }
 
+/// Runs the command the command line names.
 fn run(cli: Cli) -> Result<ExitCode, Failure> {
     match cli.command {
         Command::Mill(args) => {
             mill::mill(args)?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Thread {
-            name,
-            format,
-            json,
-            list,
-            controller,
-            machine,
-            internal,
-            face_z,
-            start_z,
-            length,
-            output,
-        } => {
-            let placed = internal || face_z.is_some() || start_z.is_some() || length.is_some();
-            let cycle = match (controller, machine) {
-                (None, None) if placed => {
-                    return Err(Failure::Usage(
-                        "--internal, --face-z, --start-z and --length place a taper thread on a lathe cycle: name the controller with --controller (or --machine)".into(),
-                    ))
-                }
-                (None, None) => None,
-                (controller, machine) => Some(mill::CycleArgs {
-                    machine: MachineArgs {
-                        controller,
-                        machine,
-                    },
-                    internal,
-                    face_z,
-                    start_z,
-                    length,
-                }),
-            };
-            let json = json || format == TextJson::Json;
-            mill::thread(name.as_deref(), json, list, cycle, output.output.as_deref())?;
+        Command::Thread(args) => run_thread(args),
+        Command::Controllers(args) => {
+            controllers(args.format, args.output.output.as_deref())?;
             Ok(ExitCode::SUCCESS)
         }
-        Command::Controllers { format, output } => {
-            controllers(format, output.output.as_deref())?;
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Expand {
-            input,
-            machine,
-            output,
-            format,
-            flatten,
-            run,
-        } => {
-            let options = run.options(flatten)?;
-            let file = &input.file;
-            let (mut reader, content) = input::open(file)?;
-            if post::is_apt(file, &mut reader) {
-                match format {
-                    ProgramFormat::Jsonl => {
-                        post::expand_jsonl(file, reader, &content, output.output.as_deref())?
-                    }
-                    ProgramFormat::Gcode => {
-                        let machine = load_machine(&machine)?;
-                        post::post(file, reader, &content, &machine, output.output.as_deref())?
-                    }
-                }
-                return Ok(ExitCode::SUCCESS);
-            }
-            let machine = load_machine(&machine)?;
-            let summary = output::write(file, output.output.as_deref(), |out| {
-                let summary = match format {
-                    ProgramFormat::Gcode => {
-                        program::expand_gcode_with(reader, out, &machine, &options)
-                    }
-                    ProgramFormat::Jsonl => {
-                        program::expand_jsonl_with(reader, out, &machine, &options)
-                    }
-                }
-                .map_err(lib(file))?;
-                not_empty(file, &content)?;
-                Ok(summary)
-            })?;
-            warn(file, &summary);
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Post {
-            file,
-            machine,
-            output,
-            format,
-        } => {
-            let (reader, content) = input::open(&file)?;
-            match format {
-                ProgramFormat::Gcode => {
-                    let machine = load_machine(&machine)?;
-                    post::post(&file, reader, &content, &machine, output.output.as_deref())?;
-                }
-                ProgramFormat::Jsonl => {
-                    post::expand_jsonl(&file, reader, &content, output.output.as_deref())?
-                }
-            }
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Convert {
-            input,
-            from,
-            from_machine,
-            to,
-            to_machine,
-            output,
-            format: GcodeFormat::Gcode,
-            flatten,
-            run,
-        } => {
-            let options = run.options(flatten)?;
-            let from = load_machine(&MachineArgs {
-                controller: from,
-                machine: from_machine,
-            })?;
-            let to = load_machine(&MachineArgs {
-                controller: to,
-                machine: to_machine,
-            })?;
-            let file = &input.file;
-            let (mut reader, content) = input::open(file)?;
-            // A file that cannot be read says so before anything is written.
-            reader.fill_buf().map_err(|e| {
-                Failure::Usage(format!(
-                    "cannot read {}: {}",
-                    input::display(file),
-                    reason(&e)
-                ))
-            })?;
-            // The converted program ends its lines as the source does (CRLF in, CRLF out).
-            let summary = output::write(file, output.output.as_deref(), |out| {
-                let report = threadcut::convert::convert(reader, out, &from, &to, &options)
-                    .map_err(lib(file))?;
-                not_empty(file, &content)?;
-                Ok(report.summary)
-            })?;
-            warn(file, &summary);
-            Ok(ExitCode::SUCCESS)
-        }
-        Command::Check {
-            input,
-            machine,
-            stock_diameter,
-            stock_start,
-            tool,
-            thread,
-            format,
-            output,
-            run,
-        } => check::run(
-            &input.file,
-            &machine,
-            &check::Args {
-                stock_diameter,
-                stock_start,
-                tool: &tool,
-                thread: thread.as_deref(),
-                format,
-                output: output.output.as_deref(),
-                run: &run.options(false)?,
-            },
-        ),
-        Command::Plot {
-            input,
-            machine,
-            output,
-            cycle,
-            format: SvgFormat::Svg,
-            tool,
-            run,
-        } => plot::run(
-            &input.file,
-            &machine,
-            output.output.as_deref(),
-            cycle.map(|n| n as usize),
-            &tool,
-            &run.options(false)?,
-        ),
-        Command::Passes {
-            input,
-            machine,
-            format,
-            json,
-            output,
-            tool,
-            run,
-        } => {
-            let options = run.options(false)?;
-            let format = if json { ReportFormat::Json } else { format };
-            let file = &input.file;
-            let (mut reader, content) = input::open(file)?;
-            if post::is_apt(file, &mut reader) {
-                post::passes(
-                    file,
-                    reader,
-                    &content,
-                    format,
-                    output.output.as_deref(),
-                    tool.tip()?,
-                )?;
-                return Ok(ExitCode::SUCCESS);
-            }
-            let machine = load_machine(&machine)?;
-            let tip = tool.tip()?;
-            let (summary, count) = output::write(file, output.output.as_deref(), |out| {
-                let done =
-                    passes(reader, out, &machine, format, tip, &options).map_err(lib(file))?;
-                not_empty(file, &content)?;
-                Ok(done)
-            })?;
-            warn(file, &summary);
-            if count == 0 {
-                no_thread(file, &thread_codes(&machine));
-            }
-            Ok(ExitCode::SUCCESS)
-        }
+        Command::Expand(args) => run_expand(args),
+        Command::Post(args) => run_post(args),
+        Command::Convert(args) => run_convert(args),
+        Command::Check(args) => run_check(args),
+        Command::Plot(args) => run_plot(args),
+        Command::Passes(args) => run_passes(args),
     }
+}
+
+/// `threadcut thread`: a standard thread's data, or the list of every one.
+fn run_thread(args: ThreadArgs) -> Result<ExitCode, Failure> {
+    let cycle = taper_cycle_args(&args)?;
+    let json = args.json || args.format == TextJson::Json;
+    mill::thread(
+        args.name.as_deref(),
+        json,
+        args.list,
+        cycle,
+        args.output.output.as_deref(),
+    )?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Whether `thread` places a taper thread on a lathe cycle: with --controller or --machine it
+/// does; the placing flags without either are a usage error.
+fn taper_cycle_args(args: &ThreadArgs) -> Result<Option<mill::CycleArgs>, Failure> {
+    let placed =
+        args.internal || args.face_z.is_some() || args.start_z.is_some() || args.length.is_some();
+    match (&args.controller, &args.machine) {
+        (None, None) if placed => Err(Failure::Usage(
+            "--internal, --face-z, --start-z and --length place a taper thread on a lathe cycle: name the controller with --controller (or --machine)".into(),
+        )),
+        (None, None) => Ok(None),
+        (controller, machine) => Ok(Some(mill::CycleArgs {
+            machine: MachineArgs {
+                controller: controller.clone(),
+                machine: machine.clone(),
+            },
+            internal: args.internal,
+            face_z: args.face_z,
+            start_z: args.start_z,
+            length: args.length,
+        })),
+    }
+}
+
+/// `threadcut expand`: a G-code program with its cycles as plain moves (or its motions), or an
+/// APT/CL file posted (or its motions).
+fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
+    let options = args.run.options(args.flatten)?;
+    let file = &args.input.file;
+    let out = args.output.output.as_deref();
+    let (mut reader, content) = input::open(file)?;
+    if post::is_apt(file, &mut reader) {
+        match args.format {
+            ProgramFormat::Jsonl => post::expand_jsonl(file, reader, &content, out)?,
+            ProgramFormat::Gcode => {
+                let machine = load_machine(&args.machine)?;
+                post::post(file, reader, &content, &machine, out)?
+            }
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    let machine = load_machine(&args.machine)?;
+    let summary = output::write(file, out, |out| {
+        let summary = match args.format {
+            ProgramFormat::Gcode => program::expand_gcode_with(reader, out, &machine, &options),
+            ProgramFormat::Jsonl => program::expand_jsonl_with(reader, out, &machine, &options),
+        }
+        .map_err(lib(file))?;
+        not_empty(file, &content)?;
+        Ok(summary)
+    })?;
+    warn(file, &summary);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `threadcut post`: an APT/CL file for a controller (or its motions).
+fn run_post(args: PostArgs) -> Result<ExitCode, Failure> {
+    let file = &args.file;
+    let out = args.output.output.as_deref();
+    let (reader, content) = input::open(file)?;
+    match args.format {
+        ProgramFormat::Gcode => {
+            let machine = load_machine(&args.machine)?;
+            post::post(file, reader, &content, &machine, out)?;
+        }
+        ProgramFormat::Jsonl => post::expand_jsonl(file, reader, &content, out)?,
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `threadcut convert`: a program rewritten from one controller's language to another's.
+fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
+    let GcodeFormat::Gcode = args.format;
+    let options = args.run.options(args.flatten)?;
+    let from = load_machine(&MachineArgs {
+        controller: args.from,
+        machine: args.from_machine,
+    })?;
+    let to = load_machine(&MachineArgs {
+        controller: args.to,
+        machine: args.to_machine,
+    })?;
+    let file = &args.input.file;
+    let (mut reader, content) = input::open(file)?;
+    // A file that cannot be read says so before anything is written.
+    reader.fill_buf().map_err(|e| {
+        Failure::Usage(format!(
+            "cannot read {}: {}",
+            input::display(file),
+            reason(&e)
+        ))
+    })?;
+    // The converted program ends its lines as the source does (CRLF in, CRLF out).
+    let summary = output::write(file, args.output.output.as_deref(), |out| {
+        let report =
+            threadcut::convert::convert(reader, out, &from, &to, &options).map_err(lib(file))?;
+        not_empty(file, &content)?;
+        Ok(report.summary)
+    })?;
+    warn(file, &summary);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `threadcut check`: the program's findings ([`check::run`]).
+fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
+    check::run(
+        &args.input.file,
+        &args.machine,
+        &check::Args {
+            stock_diameter: args.stock_diameter,
+            stock_start: args.stock_start,
+            tool: &args.tool,
+            thread: args.thread.as_deref(),
+            format: args.format,
+            output: args.output.output.as_deref(),
+            run: &args.run.options(false)?,
+        },
+    )
+}
+
+/// `threadcut plot`: the program's threads drawn ([`plot::run`]).
+fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
+    let SvgFormat::Svg = args.format;
+    plot::run(
+        &args.input.file,
+        &args.machine,
+        args.output.output.as_deref(),
+        args.cycle.map(|n| n as usize),
+        &args.tool,
+        &args.run.options(false)?,
+    )
+}
+
+/// `threadcut passes`: each cycle's pass table, of a G-code program or an APT/CL file. A G-code
+/// program without a thread is said on standard error.
+fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
+    let options = args.run.options(false)?;
+    let format = if args.json {
+        ReportFormat::Json
+    } else {
+        args.format
+    };
+    let file = &args.input.file;
+    let out = args.output.output.as_deref();
+    let (mut reader, content) = input::open(file)?;
+    if post::is_apt(file, &mut reader) {
+        post::passes(file, reader, &content, format, out, args.tool.tip()?)?;
+        return Ok(ExitCode::SUCCESS);
+    }
+    let machine = load_machine(&args.machine)?;
+    let tip = args.tool.tip()?;
+    let (summary, count) = output::write(file, out, |out| {
+        let done = passes(reader, out, &machine, format, tip, &options).map_err(lib(file))?;
+        not_empty(file, &content)?;
+        Ok(done)
+    })?;
+    warn(file, &summary);
+    if count == 0 {
+        no_thread(file, &thread_codes(&machine));
+    }
+    Ok(ExitCode::SUCCESS)
 }
 
 /// An empty program (nothing but blanks) is an error: the run stops before its output is kept.
