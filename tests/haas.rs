@@ -505,6 +505,11 @@ fn haas_alarms_at_line_and_column() {
         );
         assert!(e.message.contains(text), "{cycle}: {}", e.message);
     }
+}
+
+#[test]
+fn haas_two_block_g76_unknown_start_and_one_pass_depth() {
+    let pre = "G20\nG00 X0.85 Z0.25\n";
     // The first block of the two-block G76: the hint names the form and the controller that reads it.
     let e = error_on(&format!("{pre}G76 P010060 Q0015 R0.001\n"), &haas());
     assert_eq!(
