@@ -9,14 +9,19 @@
 //! interpreter `rs274` as a process (`THREADCUT_RS274=/path/to/rs274`, or `rs274` on the `PATH`,
 //! which Debian's `linuxcnc-uspace` package installs), run as `rs274 -g PROGRAM /dev/null` (batch
 //! mode, its canonical-motion calls written to the null device). Each process run includes its
-//! start-up. Absent binaries are skipped with a note: the library's figure always runs.
+//! start-up. Absent binaries are skipped with a note: the library's figure always runs. With
+//! `THREADCUT_BASE_BIN` naming the command built from another revision, that binary runs the same
+//! program in the same run (a refactor's before and after, paired).
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+mod support;
+
+use std::path::PathBuf;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use threadcut::machine::Machine;
 use threadcut::program;
+
+use support::{base_binary, find_binary, run};
 
 /// The worked example of linuxcnc-g76.md §3 (14 passes, 71 moves each), 5,000 times with
 /// varying drive lines: each cycle is a G0 to its start and a G76 line.
@@ -29,40 +34,6 @@ pub fn program_text(cycles: usize) -> String {
     }
     s.push_str("M2\n");
     s
-}
-
-/// The first of `candidates` that exists as a file, or the program found on the `PATH`.
-fn find_binary(env: &str, candidates: &[PathBuf], on_path: Option<&str>) -> Option<PathBuf> {
-    if let Some(p) = std::env::var_os(env) {
-        let p = PathBuf::from(p);
-        return p.is_file().then_some(p);
-    }
-    if let Some(p) = candidates.iter().find(|p| p.is_file()) {
-        return Some(p.clone());
-    }
-    let name = on_path?;
-    std::env::split_paths(&std::env::var_os("PATH")?)
-        .map(|dir| dir.join(name))
-        .find(|p| p.is_file())
-}
-
-/// Runs `bin args…` to completion, its output to the null device (standard error kept for the
-/// message); panics if it fails.
-fn run(bin: &Path, args: &[&str]) {
-    let out = Command::new(bin)
-        .args(args)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{} {args:?}: {}: {}",
-        bin.display(),
-        out.status,
-        String::from_utf8_lossy(&out.stderr)
-    );
 }
 
 fn expand(c: &mut Criterion) {
@@ -89,16 +60,22 @@ fn expand(c: &mut Criterion) {
         })
     });
     let release = root.join("target").join("release").join("threadcut");
+    let args = ["expand", file, "-c", "linuxcnc", "-o", "/dev/null"];
     match find_binary("THREADCUT_BIN", &[release], None) {
         Some(bin) => {
             g.bench_function("threadcut expand 5000 G76 (process)", |b| {
-                b.iter(|| run(&bin, &["expand", file, "-c", "linuxcnc", "-o", "/dev/null"]))
+                b.iter(|| run(&bin, &args))
             });
         }
         None => eprintln!(
             "linuxcnc: no threadcut binary (cargo build --release -p threadcut-cli, or set \
              THREADCUT_BIN): the command's figure is skipped"
         ),
+    }
+    if let Some(base) = base_binary() {
+        g.bench_function("base revision: threadcut expand 5000 G76 (process)", |b| {
+            b.iter(|| run(&base, &args))
+        });
     }
     match find_binary("THREADCUT_RS274", &[], Some("rs274")) {
         Some(rs274) => {

@@ -6,11 +6,15 @@
 //! the time goes.
 //! The peak resident memory after the runs from the file is printed so that it can be compared
 //! across input sizes (docs/performance.md). A last run takes the input from memory: the reader's
-//! own speed, without the kernel's copy of the file.
+//! own speed, without the kernel's copy of the file. The `threadcut` command runs the file as a
+//! process too (`target/release/threadcut` or `THREADCUT_BIN`), and beside it, with
+//! `THREADCUT_BASE_BIN`, the command built from another revision.
 
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Write};
 use std::path::PathBuf;
+
+mod support;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use threadcut::dialect;
@@ -18,6 +22,8 @@ use threadcut::gcode::{Modal, Reader};
 use threadcut::machine::Machine;
 use threadcut::program;
 use threadcut::units::Units;
+
+use support::{base_binary, find_binary, run};
 
 /// Writes a lathe program of about `bytes` bytes: positioning, turning, arcs, comments, dwell, tool
 /// changes — everything but threading cycles.
@@ -169,6 +175,22 @@ fn pass_through(c: &mut Criterion) {
             })
         },
     );
+    // The command as a process on the same file (start-up, file output included), and, with
+    // THREADCUT_BASE_BIN, the command of another revision beside it: before and after, paired.
+    let file = path.to_str().unwrap();
+    let args = ["expand", file, "-c", "gsk980", "-o", "/dev/null"];
+    let release = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/release/threadcut");
+    if let Some(bin) = find_binary("THREADCUT_BIN", &[release], None) {
+        group.bench_function("threadcut expand pass-through (process)", |b| {
+            b.iter(|| run(&bin, &args))
+        });
+    }
+    if let Some(base) = base_binary() {
+        group.bench_function(
+            "base revision: threadcut expand pass-through (process)",
+            |b| b.iter(|| run(&base, &args)),
+        );
+    }
     group.finish();
 }
 
