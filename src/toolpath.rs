@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::diag::{Code, Diagnostic, Result};
-use crate::thread::{Entry, Exit, Job, Lead, Pass, ReturnPath, StartIndexing};
+use crate::thread::{Entry, Exit, Job, Lead, Pass, ReturnPath, Side, StartIndexing};
 use crate::units::{Pos, Vec2};
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -71,164 +71,208 @@ pub fn build(job: &Job) -> Result<Toolpath> {
 /// `lead` at the pass's start, so after `k` revolutions the tool is `lead·k + dlead·k²/2` along the
 /// long axis and the lead there is `√(lead² + 2·dlead·s)` at a distance `s` (G34's convention).
 pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
-    let g = &job.geometry;
-    let side = g.side;
-    let travel = g.travel();
-    let long = side.along(travel);
-    let axial = long.abs();
-    if axial <= 0.0 {
-        return Err(Diagnostic::error(
-            Code::Geometry,
-            job.span,
-            format!(
-                "the thread has no length along {}",
-                if side.is_face() { "X" } else { "Z" }
-            ),
-        ));
-    }
-    let along = travel.scale(1.0 / axial); // per mm along the long axis
-    let axial_dir = side.lateral().scale(long.signum());
-    let outward = side.outward();
-    let lead = job.lead.lead;
-    let dlead = job.lead.dlead;
-    let per_start = passes.len() * 5 + 2;
-    let mut motions = Vec::with_capacity(per_start * job.lead.starts as usize + 2);
-    let mut push = |kind: MotionKind, to: Pos, pass: u32| {
-        motions.push(Motion {
-            kind,
-            to,
-            pass,
-            line: job.line,
-        })
-    };
-    // The synchronised move from `from` to `to` of a pass whose thread begins at `origin`, for
-    // a start whose moves begin at spindle angle `phase_deg`.
-    let thread = |origin: Pos, from: Pos, to: Pos, phase_deg: f64| {
-        let s = side.along(from.minus(origin)) * long.signum();
-        let here = if dlead != 0.0 && s > 0.0 {
-            (lead * lead + 2.0 * dlead * s).sqrt()
-        } else {
-            lead
-        };
-        MotionKind::Thread {
-            lead: lead_on_move(here, to.minus(from), side.is_face()),
-            dlead,
-            phase_deg,
-        }
-    };
-    let diagonal = match job.return_path {
-        ReturnPath::Box | ReturnPath::BoxAtRetract => None,
-        ReturnPath::Diagonal { clearance, end } => Some((clearance, end)),
-    };
+    let mut b = Builder::new(job, passes)?;
     if job.return_path == ReturnPath::BoxAtRetract {
         // The cycle's own start point first, from wherever the tool is.
-        push(
+        b.push(
             MotionKind::Rapid,
             Pos::new(job.retract.x, job.retract.z),
             passes.first().map_or(0, |p| p.n),
         );
     }
     for (pass, s) in pass_order(passes, job.lead) {
-        // Starts reached by a shift begin further from the part, so every start keeps its
-        // full length; starts reached by the spindle angle begin where the first does.
-        let shift = match job.lead.indexing {
-            StartIndexing::Shift => axial_dir.scale(-job.lead.start_spacing() * f64::from(s)),
+        let p = b.pass_start(pass, s);
+        b.enter(&p);
+        if let Some(end) = b.cut(&p)? {
+            b.leave(&p, end);
+        }
+    }
+    b.finish(passes)
+}
+
+/// What every pass of one job shares while its moves are built: the job, the directions along
+/// and across the thread, the lead, and the moves so far.
+struct Builder<'a> {
+    job: &'a Job,
+    side: Side,
+    /// The displacement of one pass from its start to its programmed end.
+    travel: Vec2,
+    /// That displacement along the long axis (signed) and its length.
+    long: f64,
+    axial: f64,
+    /// The travel per mm along the long axis.
+    along: Vec2,
+    /// The long axis, pointing the way the thread is cut.
+    axial_dir: Vec2,
+    outward: Vec2,
+    lead: f64,
+    dlead: f64,
+    /// LinuxCNC's return path: how far outward of its cut X each pass backs off.
+    back_clearance: Option<f64>,
+    motions: Vec<Motion>,
+}
+
+/// Where one pass of one start begins: its infeed point, how far that start is shifted along the
+/// axis, the spindle angle its synchronised moves begin at, and its own retract X (LinuxCNC).
+struct PassStart {
+    n: u32,
+    infeed: Pos,
+    shift: Vec2,
+    phase: f64,
+    back_x: Option<f64>,
+}
+
+impl<'a> Builder<'a> {
+    /// Decides the axes of the job, refusing a thread with no length along its long axis.
+    fn new(job: &'a Job, passes: &[Pass]) -> Result<Builder<'a>> {
+        let g = &job.geometry;
+        let side = g.side;
+        let travel = g.travel();
+        let long = side.along(travel);
+        let axial = long.abs();
+        if axial <= 0.0 {
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                job.span,
+                format!(
+                    "the thread has no length along {}",
+                    if side.is_face() { "X" } else { "Z" }
+                ),
+            ));
+        }
+        let per_start = passes.len() * 5 + 2;
+        let back_clearance = match job.return_path {
+            ReturnPath::Box | ReturnPath::BoxAtRetract => None,
+            ReturnPath::Diagonal { clearance, .. } => Some(clearance),
+        };
+        Ok(Builder {
+            job,
+            side,
+            travel,
+            long,
+            axial,
+            along: travel.scale(1.0 / axial), // per mm along the long axis
+            axial_dir: side.lateral().scale(long.signum()),
+            outward: side.outward(),
+            lead: job.lead.lead,
+            dlead: job.lead.dlead,
+            back_clearance,
+            motions: Vec::with_capacity(per_start * job.lead.starts as usize + 2),
+        })
+    }
+
+    /// Appends one move of pass `pass`, on the job's source line.
+    fn push(&mut self, kind: MotionKind, to: Pos, pass: u32) {
+        self.motions.push(Motion {
+            kind,
+            to,
+            pass,
+            line: self.job.line,
+        })
+    }
+
+    /// Decides the lead of the synchronised move from `from` to `to` of a pass whose thread
+    /// begins at `origin`, for a start whose moves begin at spindle angle `phase_deg`: the lead in
+    /// force where the move begins, written along the move's own longer axis.
+    fn thread(&self, origin: Pos, from: Pos, to: Pos, phase_deg: f64) -> MotionKind {
+        let s = self.side.along(from.minus(origin)) * self.long.signum();
+        let here = if self.dlead != 0.0 && s > 0.0 {
+            (self.lead * self.lead + 2.0 * self.dlead * s).sqrt()
+        } else {
+            self.lead
+        };
+        MotionKind::Thread {
+            lead: lead_on_move(here, to.minus(from), self.side.is_face()),
+            dlead: self.dlead,
+            phase_deg,
+        }
+    }
+
+    /// Decides where pass `pass` of start `s` begins. Starts reached by a shift begin further
+    /// from the part, so every start keeps its full length; starts reached by the spindle angle
+    /// begin where the first does.
+    fn pass_start(&self, pass: &Pass, s: u32) -> PassStart {
+        let lead = self.job.lead;
+        let shift = match lead.indexing {
+            StartIndexing::Shift => self.axial_dir.scale(-lead.start_spacing() * f64::from(s)),
             StartIndexing::Angle => Vec2::new(0.0, 0.0),
         };
-        let phase = job.lead.start_phase(s);
-        let thread = |origin: Pos, from: Pos, to: Pos| thread(origin, from, to, phase);
         let infeed = pass.start.plus(shift);
         // LinuxCNC: the pass's own retract X, `clearance` outward of its cut X.
-        let back_x = diagonal.map(|(clearance, _)| infeed.plus(outward.scale(clearance)).x);
-        match job.entry {
+        let back_x = self
+            .back_clearance
+            .map(|clearance| infeed.plus(self.outward.scale(clearance)).x);
+        PassStart {
+            n: pass.n,
+            infeed,
+            shift,
+            phase: lead.start_phase(s),
+            back_x,
+        }
+    }
+
+    /// The moves to a pass's infeed point: a rapid straight there, or a rapid to the start of
+    /// the entry ramp and the ramp synchronised down to the infeed point.
+    fn enter(&mut self, p: &PassStart) {
+        let infeed = p.infeed;
+        match self.job.entry {
             Entry::Direct => {
-                if let Some(x) = back_x {
-                    push(MotionKind::Rapid, Pos::new(x, infeed.z), pass.n);
+                if let Some(x) = p.back_x {
+                    self.push(MotionKind::Rapid, Pos::new(x, infeed.z), p.n);
                 }
-                push(MotionKind::Rapid, infeed, pass.n)
+                self.push(MotionKind::Rapid, infeed, p.n)
             }
             Entry::Ramp {
                 outward: up,
                 before,
             } => {
                 let ramp_start = infeed
-                    .plus(outward.scale(up))
-                    .plus(axial_dir.scale(-before));
-                match back_x {
+                    .plus(self.outward.scale(up))
+                    .plus(self.axial_dir.scale(-before));
+                match p.back_x {
                     Some(x) => {
                         let back = Pos::new(x, ramp_start.z);
-                        push(MotionKind::Rapid, back, pass.n);
+                        self.push(MotionKind::Rapid, back, p.n);
                         // Synchronised in to the ramp's start at the ramp's rate along its path.
                         let ramp = infeed.minus(ramp_start);
                         let path_rate = if ramp.z == 0.0 {
-                            lead
+                            self.lead
                         } else {
-                            lead * ramp.x.hypot(ramp.z) / ramp.z.abs()
+                            self.lead * ramp.x.hypot(ramp.z) / ramp.z.abs()
                         };
-                        push(
+                        self.push(
                             MotionKind::Thread {
                                 lead: lead_along_long_axis(path_rate, ramp_start.minus(back)),
-                                dlead: job.lead.dlead,
-                                phase_deg: phase,
+                                dlead: self.job.lead.dlead,
+                                phase_deg: p.phase,
                             },
                             ramp_start,
-                            pass.n,
+                            p.n,
                         );
                     }
-                    None => push(MotionKind::Rapid, ramp_start, pass.n),
+                    None => self.push(MotionKind::Rapid, ramp_start, p.n),
                 }
-                push(thread(infeed, ramp_start, infeed), infeed, pass.n);
+                let kind = self.thread(infeed, ramp_start, infeed, p.phase);
+                self.push(kind, infeed, p.n);
             }
         }
-        let end = match job.exit {
+    }
+
+    /// The thread move of a pass and its exit (straight on, a pull-out or a feed-out), with the
+    /// point it ends at; `None` when the exit has already taken the tool back to the retract
+    /// point.
+    fn cut(&mut self, p: &PassStart) -> Result<Option<Pos>> {
+        let infeed = p.infeed;
+        match self.job.exit {
             Exit::Straight => {
-                let end = infeed.plus(travel);
-                push(thread(infeed, infeed, end), end, pass.n);
-                end
+                let end = infeed.plus(self.travel);
+                let kind = self.thread(infeed, infeed, end, p.phase);
+                self.push(kind, end, p.n);
+                Ok(Some(end))
             }
             Exit::ToRetract { run_on } => {
-                if side.is_face() {
-                    return Err(Diagnostic::error(
-                        Code::Unsupported,
-                        job.span,
-                        "a pull-out to the retract point is defined for turned threads only",
-                    ));
-                }
-                let dir = long.signum();
-                // The pass's own length: from its (offset) infeed point to the programmed end Z.
-                let own = (g.crest_end.z + shift.z - infeed.z) * dir;
-                if own <= 0.0 {
-                    return Err(Diagnostic::error(
-                            Code::Geometry,
-                            job.span,
-                            format!(
-                                "pass {} starts at or beyond the thread's end: its infeed offset is longer than the thread",
-                                pass.n
-                            ),
-                        ));
-                }
-                let end = infeed.plus(along.scale(own));
-                push(thread(infeed, infeed, end), end, pass.n);
-                // The retract X at the end: as far out as at the start, or further when the
-                // thread climbs toward the retract side.
-                let climb = (travel.x * outward.x).max(0.0);
-                let rx = job.retract.x + outward.x * climb;
-                let out = (rx - end.x) * outward.x;
-                if run_on > 0.0 && out > 0.0 {
-                    let to = Pos::new(rx, end.z + dir * run_on * out);
-                    push(thread(infeed, end, to), to, pass.n);
-                } else {
-                    push(MotionKind::Rapid, Pos::new(rx, end.z), pass.n);
-                }
-                push(MotionKind::Rapid, Pos::new(rx, job.retract.z), pass.n);
-                if rx != job.retract.x {
-                    push(
-                        MotionKind::Rapid,
-                        Pos::new(job.retract.x, job.retract.z),
-                        pass.n,
-                    );
-                }
-                continue;
+                self.cut_to_retract(p, run_on)?;
+                Ok(None)
             }
             Exit::PullOut {
                 start_before,
@@ -240,72 +284,132 @@ pub fn build_with(job: &Job, passes: &[Pass]) -> Result<Toolpath> {
                 length,
                 outward: up,
             } => {
-                let begin = infeed.plus(along.scale(axial - start_before));
+                let begin = infeed.plus(self.along.scale(self.axial - start_before));
                 let end = infeed
-                    .plus(along.scale(axial - start_before + length))
-                    .plus(outward.scale(up));
-                push(thread(infeed, infeed, begin), begin, pass.n);
-                let kind = if matches!(job.exit, Exit::FeedOut { .. }) {
+                    .plus(self.along.scale(self.axial - start_before + length))
+                    .plus(self.outward.scale(up));
+                let kind = self.thread(infeed, infeed, begin, p.phase);
+                self.push(kind, begin, p.n);
+                let kind = if matches!(self.job.exit, Exit::FeedOut { .. }) {
                     MotionKind::Feed
                 } else {
-                    thread(infeed, begin, end)
+                    self.thread(infeed, begin, end, p.phase)
                 };
-                push(kind, end, pass.n);
-                end
-            }
-        };
-        match back_x {
-            // LinuxCNC: out to the pass's own retract X only; the next pass goes back diagonally.
-            Some(x) => push(MotionKind::Rapid, Pos::new(x, end.z), pass.n),
-            None => {
-                let (level, back) = if side.is_face() {
-                    (
-                        Pos::new(end.x, job.retract.z),
-                        Pos::new(job.retract.x, job.retract.z),
-                    )
-                } else {
-                    (
-                        Pos::new(job.retract.x, end.z),
-                        Pos::new(job.retract.x, job.retract.z),
-                    )
-                };
-                push(MotionKind::Rapid, level, pass.n);
-                push(MotionKind::Rapid, back, pass.n);
+                self.push(kind, end, p.n);
+                Ok(Some(end))
             }
         }
     }
-    let last = passes.last().map_or(0, |p| p.n);
-    let finish = job.end_point();
-    if diagonal.is_some() || motions.last().map(|m| m.to) != Some(finish) {
-        motions.push(Motion {
-            kind: MotionKind::Rapid,
-            to: finish,
-            pass: last,
-            line: job.line,
-        });
+
+    /// A turned pass cut to the programmed end Z and pulled out to the retract point (run on
+    /// synchronised by `run_on` per unit outward when there is room), then back to it.
+    fn cut_to_retract(&mut self, p: &PassStart, run_on: f64) -> Result<()> {
+        let job = self.job;
+        let infeed = p.infeed;
+        if self.side.is_face() {
+            return Err(Diagnostic::error(
+                Code::Unsupported,
+                job.span,
+                "a pull-out to the retract point is defined for turned threads only",
+            ));
+        }
+        let dir = self.long.signum();
+        // The pass's own length: from its (offset) infeed point to the programmed end Z.
+        let own = (job.geometry.crest_end.z + p.shift.z - infeed.z) * dir;
+        if own <= 0.0 {
+            return Err(Diagnostic::error(
+                    Code::Geometry,
+                    job.span,
+                    format!(
+                        "pass {} starts at or beyond the thread's end: its infeed offset is longer than the thread",
+                        p.n
+                    ),
+                ));
+        }
+        let end = infeed.plus(self.along.scale(own));
+        let kind = self.thread(infeed, infeed, end, p.phase);
+        self.push(kind, end, p.n);
+        // The retract X at the end: as far out as at the start, or further when the thread
+        // climbs toward the retract side.
+        let climb = (self.travel.x * self.outward.x).max(0.0);
+        let rx = job.retract.x + self.outward.x * climb;
+        let out = (rx - end.x) * self.outward.x;
+        if run_on > 0.0 && out > 0.0 {
+            let to = Pos::new(rx, end.z + dir * run_on * out);
+            let kind = self.thread(infeed, end, to, p.phase);
+            self.push(kind, to, p.n);
+        } else {
+            self.push(MotionKind::Rapid, Pos::new(rx, end.z), p.n);
+        }
+        self.push(MotionKind::Rapid, Pos::new(rx, job.retract.z), p.n);
+        if rx != job.retract.x {
+            self.push(
+                MotionKind::Rapid,
+                Pos::new(job.retract.x, job.retract.z),
+                p.n,
+            );
+        }
+        Ok(())
     }
-    let path = Toolpath {
-        start: job.start,
-        motions,
-    };
-    if let Some(bad) = path.motions.iter().find(|m| m.to.x < -AXIS_TOLERANCE) {
-        return Err(Diagnostic::error(
-            Code::Geometry,
-            job.span,
-            format!(
-                "pass {} would cross the spindle axis (a radius of {:.4} mm): the depth is larger than the part's radius",
-                bad.pass, bad.to.x
-            ),
-        ));
+
+    /// The way back from a pass's `end`: LinuxCNC out to the pass's own retract X only (the next
+    /// pass goes back diagonally); otherwise out to the retract level, then back to the retract
+    /// point.
+    fn leave(&mut self, p: &PassStart, end: Pos) {
+        let retract = self.job.retract;
+        match p.back_x {
+            Some(x) => self.push(MotionKind::Rapid, Pos::new(x, end.z), p.n),
+            None => {
+                let (level, back) = if self.side.is_face() {
+                    (Pos::new(end.x, retract.z), Pos::new(retract.x, retract.z))
+                } else {
+                    (Pos::new(retract.x, end.z), Pos::new(retract.x, retract.z))
+                };
+                self.push(MotionKind::Rapid, level, p.n);
+                self.push(MotionKind::Rapid, back, p.n);
+            }
+        }
     }
-    if let Some(bad) = path.motions.iter().find(|m| !m.to.is_finite()) {
-        return Err(Diagnostic::error(
-            Code::Geometry,
-            job.span,
-            format!("pass {} computes a point that is not finite", bad.pass),
-        ));
+
+    /// The return to the job's end point (when not already there, and always on LinuxCNC's
+    /// return path), then the checks on the whole path: no point across the spindle axis, none
+    /// not finite.
+    fn finish(self, passes: &[Pass]) -> Result<Toolpath> {
+        let job = self.job;
+        let mut motions = self.motions;
+        let last = passes.last().map_or(0, |p| p.n);
+        let finish = job.end_point();
+        if self.back_clearance.is_some() || motions.last().map(|m| m.to) != Some(finish) {
+            motions.push(Motion {
+                kind: MotionKind::Rapid,
+                to: finish,
+                pass: last,
+                line: job.line,
+            });
+        }
+        let path = Toolpath {
+            start: job.start,
+            motions,
+        };
+        if let Some(bad) = path.motions.iter().find(|m| m.to.x < -AXIS_TOLERANCE) {
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                job.span,
+                format!(
+                    "pass {} would cross the spindle axis (a radius of {:.4} mm): the depth is larger than the part's radius",
+                    bad.pass, bad.to.x
+                ),
+            ));
+        }
+        if let Some(bad) = path.motions.iter().find(|m| !m.to.is_finite()) {
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                job.span,
+                format!("pass {} computes a point that is not finite", bad.pass),
+            ));
+        }
+        Ok(path)
     }
-    Ok(path)
 }
 
 /// The order in which the passes of each start are cut: (pass, start index). Shifted starts are

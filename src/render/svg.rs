@@ -418,9 +418,29 @@ fn legend(s: &mut String, sec: &Section, y: f64, units: crate::units::Units) {
     }
 }
 
-fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
+/// The toolpath panel's scale: the map from model (Z, X) to the page, the pixels per mm along
+/// each axis, and the padded extent of the model the panel shows.
+struct PathFrame {
+    map: Map,
+    /// Pixels per mm along Z (page x) and along X (page y, upward).
+    sz: f64,
+    sx: f64,
+    z_lo: f64,
+    x_lo: f64,
+    x_hi: f64,
+}
+
+impl PathFrame {
+    /// Where a model point lands on the page.
+    fn at(&self, p: Pos) -> (f64, f64) {
+        self.map.at(p.z, p.x)
+    }
+}
+
+/// Decides the toolpath panel's scale for a panel whose top is at `y`: the extent of every move,
+/// the start point and the thread's crest ends, padded, with each axis filling the panel.
+fn path_frame(c: &CyclePlot, y: f64) -> PathFrame {
     let path = c.path;
-    let units = c.job.units;
     let mut pts: Vec<Pos> = vec![path.start];
     pts.extend(path.motions.iter().map(|m| m.to));
     let g = &c.job.geometry;
@@ -451,20 +471,21 @@ fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
         oy: y + 22.0 + inner_h + sx * x_lo,
         sy: -sx,
     };
-    let at = |p: Pos| map.at(p.z, p.x);
-    let _ = writeln!(
-        s,
-        r##"<rect x="{PATH_X:.2}" y="{y:.2}" width="{PATH_W:.2}" height="{PANEL_H:.2}" fill="none" stroke="#999"/>"##
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="{:.2}" y="{:.2}" font-weight="bold">XZ toolpath</text>"#,
-        PATH_X + 6.0,
-        y + 15.0
-    );
-    // The blank: below (external) or above (internal) the crest line over the thread's length; for
-    // a face thread, behind the face over the thread's radial extent.
-    let blank = match g.side {
+    PathFrame {
+        map,
+        sz,
+        sx,
+        z_lo,
+        x_lo,
+        x_hi,
+    }
+}
+
+/// Decides the outline of the blank in the toolpath panel: below (external) or above (internal)
+/// the crest line over the thread's length, reaching the panel's edge `x_lo` or `x_hi`; for a
+/// face thread, behind the face over the thread's radial extent, one thread depth deep.
+fn path_blank(g: &crate::thread::Geometry, x_lo: f64, x_hi: f64) -> [(f64, f64); 4] {
+    match g.side {
         crate::thread::Side::External | crate::thread::Side::Internal => {
             let far = if g.side == crate::thread::Side::External {
                 x_lo
@@ -487,16 +508,40 @@ fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
                 (g.crest_start.z + depth, g.crest_start.x),
             ]
         }
-    };
+    }
+}
+
+/// The XZ toolpath panel, its top at `y`: frame, title, blank, moves and captions.
+fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
+    let frame = path_frame(c, y);
+    let _ = writeln!(
+        s,
+        r##"<rect x="{PATH_X:.2}" y="{y:.2}" width="{PATH_W:.2}" height="{PANEL_H:.2}" fill="none" stroke="#999"/>"##
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{:.2}" y="{:.2}" font-weight="bold">XZ toolpath</text>"#,
+        PATH_X + 6.0,
+        y + 15.0
+    );
+    let blank = path_blank(&c.job.geometry, frame.x_lo, frame.x_hi);
     let _ = writeln!(
         s,
         r##"<polygon points="{}" fill="#e6e6e6" stroke="#bbb"/>"##,
-        points(&map, &blank)
+        points(&frame.map, &blank)
     );
+    path_moves(s, c, &frame);
+    path_captions(s, c, &frame, y);
+}
+
+/// Draws the drawn passes' moves in their colours (rapids dashed, feeds thin, thread moves bold)
+/// and decides which passes get their number: at the start of a pass's first thread move, unless
+/// it would sit within [`LABEL_GAP`] of the last number drawn.
+fn path_moves(s: &mut String, c: &CyclePlot, frame: &PathFrame) {
     let mut last_label: Option<(f64, f64)> = None;
     let mut labelled_pass = 0;
-    for (from, m) in path.segments().filter(|(_, m)| shown(c, m.pass)) {
-        let (a, b) = (at(from), at(m.to));
+    for (from, m) in c.path.segments().filter(|(_, m)| shown(c, m.pass)) {
+        let (a, b) = (frame.at(from), frame.at(m.to));
         let colour = colour(m.pass);
         let style = match m.kind {
             MotionKind::Rapid => "stroke-width=\"0.8\" stroke-dasharray=\"4 3\"",
@@ -524,7 +569,15 @@ fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
             );
         }
     }
-    let (sx0, sy0) = at(path.start);
+}
+
+/// Draws the start point, the caption with both scales, and the labels that let the picture be
+/// read without a grid: the Z of the thread's ends and the start point's radius and Z.
+fn path_captions(s: &mut String, c: &CyclePlot, frame: &PathFrame, y: f64) {
+    let path = c.path;
+    let units = c.job.units;
+    let g = &c.job.geometry;
+    let (sx0, sy0) = frame.at(path.start);
     let _ = writeln!(
         s,
         r#"<circle cx="{sx0:.2}" cy="{sy0:.2}" r="3" fill="black"/>"#
@@ -536,10 +589,10 @@ fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
     };
     let caption = format!(
         "Z → {:.1} px/{}, X {} ↑ {:.1} px/{}; bold: thread",
-        sz * units.scale(),
+        frame.sz * units.scale(),
         units.name(),
         x_name,
-        sx * units.scale(),
+        frame.sx * units.scale(),
         units.name()
     );
     let _ = writeln!(
@@ -551,9 +604,9 @@ fn path_panel(s: &mut String, c: &CyclePlot, y: f64) {
     );
     // The thread's ends and the start point, so the picture can be read without a grid.
     let lbl = |v: f64| num(units.from_mm(v), 3);
-    let (_, bottom) = map.at(z_lo, x_lo);
+    let (_, bottom) = frame.map.at(frame.z_lo, frame.x_lo);
     for (z, anchor) in [(g.crest_start.z, "middle"), (g.crest_end.z, "middle")] {
-        let (x, _) = map.at(z, x_lo);
+        let (x, _) = frame.map.at(z, frame.x_lo);
         let _ = writeln!(
             s,
             r#"<text x="{x:.2}" y="{:.2}" font-size="10" text-anchor="{anchor}">Z{}</text>"#,
