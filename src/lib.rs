@@ -45,4 +45,5 @@ pub mod thread;
 pub mod threads;
 pub mod toolpath;
 pub mod translate;
+pub mod turning;
 pub mod units;

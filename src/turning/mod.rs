@@ -1,0 +1,141 @@
+//! Turning cycles, machine-neutral: the cycles that turn a part to a contour — stock removal along
+//! Z or X (Fanuc's G71/G72, type I and II), pattern repeating (G73), finishing (G70) — the single
+//! box cycles (G90 along Z, G94 along X) and the peck cycles (G74 along Z, G75 along X), as every
+//! controller that has them states them (Fanuc systems A/B/C, GSK 980TDi, Haas, LinuxCNC 2.9,
+//! Sinumerik CYCLE95). A dialect reads its words into a [`TurningJob`]; the motion is made here
+//! and nowhere else, as `toolpath` makes a thread's.
+//!
+//! Coordinates are absolute millimetres, X a radius, as everywhere in the model. A contour is the
+//! finished shape as the program's blocks give it (Fanuc's blocks `ns`…`nf`, LinuxCNC's o-word
+//! profile), starting at the cycle's start point's first move.
+
+use serde::Serialize;
+
+use crate::diag::Span;
+use crate::units::{Pos, Units};
+
+/// One piece of a contour: a line or a circular arc to `to`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Segment {
+    pub to: Pos,
+    pub shape: Shape,
+    /// The program line of the block that gave it.
+    pub line: u32,
+}
+
+/// The shape of a contour segment.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum Shape {
+    Line,
+    /// A circular arc about `centre` (X radius, Z), clockwise as the program's G2 (`clockwise`) or
+    /// counter-clockwise as its G3: the direction as written, whatever side of the axis the tool
+    /// post is on.
+    Arc { centre: Pos, clockwise: bool },
+}
+
+/// The finished shape a cycle turns to: from `start` through each segment in order.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Contour {
+    pub start: Pos,
+    pub segments: Vec<Segment>,
+}
+
+/// The axis the cutting passes of a stock-removal or peck cycle run along.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Along {
+    /// Longitudinal passes (G71, G74): the depth of cut is taken in X.
+    Z,
+    /// Facing passes (G72, G75): the depth of cut is taken in Z.
+    X,
+}
+
+/// Stock removal to a contour (Fanuc G71/G72, Haas's one-block G71/G72, GSK's, LinuxCNC's
+/// G71/G72): passes along one axis, each `depth` deeper, down to the contour plus the finishing
+/// allowance, each followed by a retract of `retract`; the last roughing pass may follow the
+/// contour's outline.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Rough {
+    pub along: Along,
+    /// The cycle's start point (where the tool is when the cycle begins).
+    pub start: Pos,
+    /// Δd: the depth of each cut (mm; X radius for G71, Z for G72).
+    pub depth: f64,
+    /// e: the retract after each cut (mm, away from the part, along the depth's axis).
+    pub retract: f64,
+    /// The finishing allowance left on the contour: X (radius, signed as programmed: Fanuc's U/2)
+    /// and Z (W).
+    pub allowance_x: f64,
+    pub allowance_z: f64,
+    /// Type II: the passes follow pockets (a contour that is not monotonic along the depth axis).
+    pub pockets: bool,
+    pub contour: Contour,
+}
+
+/// Pattern repeating (G73): the contour shifted outward by the relief and brought in, in `passes`
+/// equal steps, to the contour plus the finishing allowance.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Pattern {
+    pub start: Pos,
+    /// Δi, Δk: the total relief in X (radius) and Z (mm).
+    pub relief_x: f64,
+    pub relief_z: f64,
+    /// d: the number of passes.
+    pub passes: u32,
+    pub allowance_x: f64,
+    pub allowance_z: f64,
+    pub contour: Contour,
+}
+
+/// Finishing (G70): the contour once, from the cycle's start point, back to it at the end.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Finish {
+    pub start: Pos,
+    pub contour: Contour,
+}
+
+/// A single box cycle: G90 (along Z: in X, along Z to `end.z`, out in X, back in Z) or G94 (along
+/// X: in Z, along X to `end.x`, out in Z, back in X), with a taper (`taper`: Fanuc's R, X at the
+/// start minus X at the end for G90, Z for G94; 0: none).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BoxCycle {
+    pub along: Along,
+    pub start: Pos,
+    pub end: Pos,
+    pub taper: f64,
+}
+
+/// A peck cycle (G74 along Z, G75 along X): pecks of `peck` with a retract of `retract` after
+/// each, to `end`, then shifts of `shift` across (X for G74, Z for G75) to the other end of the
+/// groove or hole pattern; `relief` at the bottom of each peck run.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Peck {
+    pub along: Along,
+    pub start: Pos,
+    pub end: Pos,
+    pub peck: f64,
+    pub shift: f64,
+    pub retract: f64,
+    pub relief: f64,
+}
+
+/// A turning cycle of one of the kinds above.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum Cycle {
+    Rough(Rough),
+    Pattern(Pattern),
+    Finish(Finish),
+    Box(BoxCycle),
+    Peck(Peck),
+}
+
+/// A turning cycle as a dialect read it: the cycle, and where it was written.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TurningJob {
+    pub cycle: Cycle,
+    /// The program line of the cycle's (last) block, and its span.
+    pub line: u32,
+    #[serde(skip)]
+    pub span: Span,
+    pub units: Units,
+    pub controller: &'static str,
+}
