@@ -22,6 +22,12 @@ pub enum MotionKind {
         dlead: f64,
         phase_deg: f64,
     },
+    /// A circular feed move about `centre` (X radius, Z; mm), clockwise as the program's G2
+    /// (`clockwise`) or counter-clockwise as its G3: a turning cycle's contour.
+    Arc {
+        centre: Pos,
+        clockwise: bool,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

@@ -132,6 +132,8 @@ pub fn write<R: BufRead>(
                         writeln!(out, "{line}")?;
                     }
                     MotionKind::Rapid => writeln!(out, "{line}")?,
+                    // APT/CL motion is GOTOs: the reader makes no arc.
+                    MotionKind::Arc { .. } => unreachable!("an APT program has no arc move"),
                 }
                 at = Some(m.to);
             }

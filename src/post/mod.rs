@@ -471,6 +471,14 @@ pub fn write_moves(
                 }
                 _ => (format.thread, Some(lead), None),
             },
+            // The plain-move writer writes lines; a path with arcs (a turning cycle's contour)
+            // is written by its own writer. This is the last guard.
+            MotionKind::Arc { .. } => {
+                return Err(io::Error::new(
+                    io::ErrorKind::InvalidData,
+                    "refusing to write an arc as a straight move",
+                ))
+            }
         };
         text.put(code.as_bytes());
         text.put(b" X");
@@ -690,7 +698,8 @@ pub fn long_axis_lead(path_lead: f64, d: crate::units::Vec2) -> f64 {
     }
 }
 
-/// One motion as a JSON object in program units, X as a radius:
+/// One motion as a JSON object in program units, X as a radius (an arc: `"kind":"arc"` with `"cw"` and
+/// its centre `"cx"`, `"cz"`):
 /// `{"kind":"thread","x":…,"z":…,"lead":…,"pass":n,"line":l}` (`"dlead"` after `"lead"` when the
 /// lead varies, then `"phase"`, the run's start angle in degrees, when it is not 0).
 pub fn motion_json(m: &Motion, units: Units) -> String {
@@ -716,6 +725,17 @@ pub fn motion_json(m: &Motion, units: Units) -> String {
             dlead,
             phase_deg,
         } => (lead, dlead, phase_deg),
+        MotionKind::Arc { centre, clockwise } => {
+            return format!(
+                r#"{{"kind":"arc","x":{},"z":{},"cw":{clockwise},"cx":{},"cz":{},"pass":{},"line":{}}}"#,
+                json_num(x),
+                json_num(z),
+                json_num(units.from_mm(centre.x)),
+                json_num(units.from_mm(centre.z)),
+                m.pass,
+                m.line
+            )
+        }
     };
     let mut out = format!(
         r#"{{"kind":"thread","x":{},"z":{},"lead":{}"#,

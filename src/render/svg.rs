@@ -547,6 +547,7 @@ fn path_moves(s: &mut String, c: &CyclePlot, frame: &PathFrame) {
             MotionKind::Rapid => "stroke-width=\"0.8\" stroke-dasharray=\"4 3\"",
             MotionKind::Feed => "stroke-width=\"1\"",
             MotionKind::Thread { .. } => "stroke-width=\"2.4\"",
+            MotionKind::Arc { .. } => "stroke-width=\"1\"",
         };
         let _ = writeln!(
             s,

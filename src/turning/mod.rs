@@ -30,7 +30,10 @@ pub enum Shape {
     /// A circular arc about `centre` (X radius, Z), clockwise as the program's G2 (`clockwise`) or
     /// counter-clockwise as its G3: the direction as written, whatever side of the axis the tool
     /// post is on.
-    Arc { centre: Pos, clockwise: bool },
+    Arc {
+        centre: Pos,
+        clockwise: bool,
+    },
 }
 
 /// The finished shape a cycle turns to: from `start` through each segment in order.
