@@ -32,6 +32,8 @@
 //! | `--thread`: root diameter, lead, flank angles (and pitch diameter with the tool given) outside the class | error | E016 |
 //! | `--thread`: a taper thread's taper outside the standard's; where its gauge stands, with face and tip given | error | E016 |
 //! | `--thread`: pitch diameter outside the class with the tool's tip (or a taper thread's face) assumed | warning | W009 |
+//! | the spindle stopped (M5, M19, end of program, a stop the manual says stops it), reversed, or another tool, at or between passes of one thread ([`state`]) | error | E017 |
+//! | the same, on an assumption (a stop the machine builder decides, M1; the same tool selected again) | warning | W010 |
 //!
 //! A finding that repeats on every pass is reported once per thread, naming the passes; one that
 //! repeats on several blocks (a dialect's warning on each block of a modal G92) once, naming the
