@@ -94,11 +94,18 @@ pub enum Code {
     /// `check --thread`: outside the class's limits on an assumption — the tool's form, or a taper
     /// thread's face — or shorter than a taper thread's effective length (E016's twin).
     OutOfClassAssumed,
+    /// `check`: the machine's state at a thread ruins it — the spindle stopped (M5, M19, the end
+    /// of the program, a stop the manual says stops it), turned the other way, or another tool,
+    /// between passes of one thread.
+    MachineState,
+    /// `check`: E017's twin where it rests on an assumption (a program stop that stops the
+    /// spindle on most machines, the same tool restated between passes).
+    MachineStateAssumed,
 }
 
 impl Code {
     /// Every code, in the order of their numbers' introduction.
-    pub const ALL: [Code; 25] = [
+    pub const ALL: [Code; 27] = [
         Code::Syntax,
         Code::BadNumber,
         Code::MissingWord,
@@ -124,6 +131,8 @@ impl Code {
         Code::RunOut,
         Code::CollisionAssumed,
         Code::OutOfClassAssumed,
+        Code::MachineState,
+        Code::MachineStateAssumed,
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -153,6 +162,8 @@ impl Code {
             Code::RunOut => "W007",
             Code::CollisionAssumed => "W008",
             Code::OutOfClassAssumed => "W009",
+            Code::MachineState => "E017",
+            Code::MachineStateAssumed => "W010",
         }
     }
 }
@@ -292,7 +303,9 @@ mod tests {
             | Code::DecimalPoint
             | Code::RunOut
             | Code::CollisionAssumed
-            | Code::OutOfClassAssumed => Code::ALL.contains(&c),
+            | Code::OutOfClassAssumed
+            | Code::MachineState
+            | Code::MachineStateAssumed => Code::ALL.contains(&c),
         };
         assert!(Code::ALL.iter().all(|&c| listed(c)));
         let mut names: Vec<&str> = Code::ALL.iter().map(|c| c.as_str()).collect();

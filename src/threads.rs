@@ -173,10 +173,11 @@ pub enum Crest {
     Standard { external: f64, internal: f64 },
 }
 
-/// What the collector hands out: a thread with the caller's context at its first pass, or a cycle
-/// that cannot be planned (its error, at its block).
+/// What the collector hands out: a thread with the caller's context at each of its passes (a
+/// cycle's once, for all its passes; then one for each pass written after it; never empty), or a
+/// cycle that cannot be planned (its error, at its block).
 pub enum Found<C> {
-    Thread(Box<Thread>, C),
+    Thread(Box<Thread>, Vec<C>),
     Failed {
         job: Box<Job>,
         error: Diagnostic,
@@ -192,7 +193,8 @@ struct PassMoves {
 
 /// A thread being read.
 struct Building<C> {
-    ctx: C,
+    /// The caller's context at each pass.
+    ctxs: Vec<C>,
     setting: Setting,
     approach: Option<Move>,
     passes: Vec<PassMoves>,
@@ -203,7 +205,8 @@ struct Building<C> {
 /// A cycle's thread that passes written after it may still continue.
 struct Open<C> {
     thread: Thread,
-    ctx: C,
+    /// The caller's context at the cycle, then at each pass written after it.
+    ctxs: Vec<C>,
     key: Key,
     units: Units,
 }
@@ -253,6 +256,33 @@ impl Key {
             && (self.start - other.start).abs() < self.lead
             && (self.end - other.end).abs() < self.lead
             && crate::translate::same_angle(self.phase, other.phase)
+    }
+}
+
+/// Where a thread's groove lies, to tell whether a later thread cuts the same groove
+/// ([`Thread::first_groove`], [`Thread::last_groove`]): the same lead, axis, direction and start
+/// angle, its start and end each within one lead — as passes are joined into one thread.
+#[derive(Clone, Copy, Debug)]
+pub struct Groove(Key);
+
+impl Groove {
+    /// Whether `later` cuts the same groove (its passes would be passes of this thread).
+    pub fn same(&self, later: &Groove) -> bool {
+        self.0.same_thread(&later.0)
+    }
+}
+
+impl Thread {
+    /// The groove of the thread's first pass.
+    pub fn first_groove(&self) -> Option<Groove> {
+        let n = self.passes.first()?.n;
+        chain_of(&self.path, n).map(|c| Groove(Key::of(&c)))
+    }
+
+    /// The groove of the thread's last pass.
+    pub fn last_groove(&self) -> Option<Groove> {
+        let n = self.passes.last()?.n;
+        chain_of(&self.path, n).map(|c| Groove(Key::of(&c)))
     }
 }
 
@@ -422,14 +452,14 @@ impl<C: Clone> Collector<C> {
                     Some(key) => {
                         self.open = Some(Open {
                             thread,
-                            ctx: ctx(),
+                            ctxs: vec![ctx()],
                             key,
                             units,
                         });
                         self.after.clear();
                         self.last = None;
                     }
-                    None => out(Found::Thread(Box::new(thread), ctx())),
+                    None => out(Found::Thread(Box::new(thread), vec![ctx()])),
                 }
             }
             Err(error) => {
@@ -467,6 +497,7 @@ impl<C: Clone> Collector<C> {
             if o.key.same_thread(&key) && o.units == setting.units {
                 let before = std::mem::take(&mut self.after);
                 append(&mut o.thread, before, chain);
+                o.ctxs.push(ctx);
                 return;
             }
         }
@@ -477,6 +508,7 @@ impl<C: Clone> Collector<C> {
             let before = std::mem::take(&mut self.after);
             if let Some(b) = self.building.as_mut() {
                 b.passes.push(PassMoves { before, chain });
+                b.ctxs.push(ctx);
             }
             return;
         }
@@ -485,7 +517,7 @@ impl<C: Clone> Collector<C> {
             m.kind == MotionKind::Rapid && m.to.distance(chain[0].from) <= POINT_TOLERANCE
         });
         self.building = Some(Building {
-            ctx,
+            ctxs: vec![ctx],
             setting,
             approach,
             passes: vec![PassMoves {
@@ -515,7 +547,7 @@ impl<C: Clone> Collector<C> {
                     });
                 }
             }
-            out(Found::Thread(Box::new(o.thread), o.ctx));
+            out(Found::Thread(Box::new(o.thread), o.ctxs));
         }
         let Some(b) = self.building.take() else {
             self.after.clear();
@@ -531,7 +563,7 @@ impl<C: Clone> Collector<C> {
             b.from_cycles,
             self.crest,
         );
-        out(Found::Thread(Box::new(thread), b.ctx));
+        out(Found::Thread(Box::new(thread), b.ctxs));
     }
 }
 
@@ -623,7 +655,7 @@ pub fn each_gcode_with<R: BufRead>(
     let mut drain = |queue: &mut Vec<Found<()>>| -> Result<(), Error> {
         for f in queue.drain(..) {
             match f {
-                Found::Thread(t, ()) => each(*t)?,
+                Found::Thread(t, _) => each(*t)?,
                 Found::Failed { error, .. } => return Err(Error::Input(error)),
             }
         }
@@ -665,7 +697,7 @@ pub fn each_apt<R: BufRead>(
     let mut drain = |queue: &mut Vec<Found<()>>| -> Result<(), Error> {
         for f in queue.drain(..) {
             match f {
-                Found::Thread(t, ()) => each(*t)?,
+                Found::Thread(t, _) => each(*t)?,
                 Found::Failed { error, .. } => return Err(Error::Input(error)),
             }
         }
@@ -1200,7 +1232,7 @@ mod tests {
         cuts: &[(f64, f64, f64)],
     ) {
         let mut push = |f: Found<()>| {
-            if let Found::Thread(t, ()) = f {
+            if let Found::Thread(t, _) = f {
                 out.push(*t);
             }
         };
@@ -1243,7 +1275,7 @@ mod tests {
 
     fn finish(c: Collector<()>, out: &mut Vec<Thread>) {
         c.finish(&mut |f| {
-            if let Found::Thread(t, ()) = f {
+            if let Found::Thread(t, _) = f {
                 out.push(*t);
             }
         });
@@ -1317,7 +1349,7 @@ mod tests {
         let mut c = Collector::new(Some(Crest::Stock(20.0)));
         let mut out = Vec::new();
         let mut push = |f: Found<()>| {
-            if let Found::Thread(t, ()) = f {
+            if let Found::Thread(t, _) = f {
                 out.push(*t);
             }
         };
@@ -1372,7 +1404,7 @@ mod tests {
         let mut out = Vec::new();
         passes(&mut c, &mut out, 2.0, &[(15.0, 5.0, -30.0)]);
         c.boundary(&mut |f| {
-            if let Found::Thread(t, ()) = f {
+            if let Found::Thread(t, _) = f {
                 out.push(*t);
             }
         });

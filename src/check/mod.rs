@@ -32,6 +32,8 @@
 //! | `--thread`: root diameter, lead, flank angles (and pitch diameter with the tool given) outside the class | error | E016 |
 //! | `--thread`: a taper thread's taper outside the standard's; where its gauge stands, with face and tip given | error | E016 |
 //! | `--thread`: pitch diameter outside the class with the tool's tip (or a taper thread's face) assumed | warning | W009 |
+//! | the spindle stopped (M5, M19, end of program, a stop the manual says stops it), reversed, or another tool, at or between passes of one thread ([`state`]) | error | E017 |
+//! | the same, on an assumption (a stop the machine builder decides, M1; the same tool selected again) | warning | W010 |
 //!
 //! A finding that repeats on every pass is reported once per thread, naming the passes; one that
 //! repeats on several blocks (a dialect's warning on each block of a modal G92) once, naming the
@@ -43,6 +45,7 @@ mod decimal;
 mod measure;
 pub mod spindle;
 pub mod standard;
+pub mod state;
 mod taper;
 
 use std::io::BufRead;
@@ -62,6 +65,7 @@ pub use crate::source::Source;
 pub use blank::{Blank, Known};
 pub use cut::{check_thread, DEFAULT_LEAD_ERROR, DEFAULT_SERVO_TIME_CONSTANT};
 pub use spindle::{Rpm, Spindle, SpindleSpeed};
+pub use state::State;
 
 /// What the check is told about the part, the tool and the thread.
 #[derive(Clone, Debug)]
@@ -208,13 +212,29 @@ struct Sink<'a> {
     found: Vec<Diagnostic>,
     notes: Vec<Note>,
     threads: u32,
+    /// The thread before, for one over the same groove right after it.
+    last: Option<state::Last>,
+    restart: state::Restart,
 }
 
-impl Sink<'_> {
-    fn take(&mut self, f: Found<Spindle>) {
+impl<'a> Sink<'a> {
+    fn new(machine: &'a Machine, opts: &'a Options, restart: state::Restart) -> Sink<'a> {
+        Sink {
+            machine,
+            opts,
+            found: Vec::new(),
+            notes: Vec::new(),
+            threads: 0,
+            last: None,
+            restart,
+        }
+    }
+
+    fn take(&mut self, f: Found<State>) {
         match f {
-            Found::Thread(t, spindle) => {
+            Found::Thread(t, states) => {
                 self.threads += 1;
+                let spindle = states.first().map(|s| s.spindle).unwrap_or_default();
                 check_thread(
                     &t,
                     self.machine,
@@ -223,9 +243,11 @@ impl Sink<'_> {
                     &mut self.found,
                     &mut self.notes,
                 );
+                state::judge(&t, &states, &mut self.last, &self.restart, &mut self.found);
             }
             Found::Failed { error, .. } => {
                 self.threads += 1;
+                self.last = None;
                 self.found.push(error);
             }
         }
@@ -234,22 +256,16 @@ impl Sink<'_> {
 
 fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Result<Report, Error> {
     let d = crate::dialect::open(machine).map_err(Error::Setup)?;
-    let set_position = d.conventions().set_position;
     let controller = d.name();
     let mut report = Report {
         thread_codes: d.vocabulary().thread_codes(),
         ..Report::default()
     };
-    let mut sink = Sink {
-        machine,
-        opts,
-        found: Vec::new(),
-        notes: Vec::new(),
-        threads: 0,
-    };
-    let mut spindle = Spindle::default();
+    let meanings = d.meanings();
+    let mut sink = Sink::new(machine, opts, state::Restart::of(&meanings));
+    let mut machine_state = state::Reader::new(&meanings, d.conventions().set_position);
     let mut decimals = decimal::DecimalWords::new(machine);
-    let mut collector: Collector<Spindle> = Collector::new(crest(opts));
+    let mut collector: Collector<State> = Collector::new(crest(opts));
     let mut unknown_starts = Vec::new();
     let run = program::Options {
         max_blocks: opts.max_blocks,
@@ -264,28 +280,32 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
         let mut take = |f| sink.take(f);
         match ev {
             Event::Plain { line, mv } => {
-                spindle.read(line, set_position);
+                machine_state.before(line);
                 if let Some(dw) = decimals.as_mut() {
                     dw.line(line, modal.units, modal.motion == MotionMode::Thread);
                 }
-                let now = spindle;
-                if let Some(w) = collector.plain(line, mv, setting, || now, &mut take) {
+                let at = move_span(line);
+                let now = || machine_state.now(at);
+                if let Some(w) = collector.plain(line, mv, setting, now, &mut take) {
                     unknown_starts.push(w);
                 }
+                machine_state.after(line);
             }
             Event::Settings { line } => {
-                spindle.read(line, set_position);
+                machine_state.before(line);
                 if let Some(dw) = decimals.as_mut() {
                     dw.line(line, modal.units, true);
                 }
+                machine_state.after(line);
             }
             Event::Cycle { line, job, .. } => {
-                spindle.read(line, set_position);
+                machine_state.before(line);
                 if let Some(dw) = decimals.as_mut() {
                     dw.line(line, modal.units, true);
                 }
-                let now = spindle;
-                collector.cycle(*job, modal.diameter_x, || now, &mut take);
+                let at = job.span;
+                collector.cycle(*job, modal.diameter_x, || machine_state.now(at), &mut take);
+                machine_state.after(line);
             }
         }
         Ok(())
@@ -331,23 +351,21 @@ fn check_apt<R: BufRead>(
         thread_codes: crate::apt::THREAD_STATEMENTS.into(),
         ..Report::default()
     };
-    let mut sink = Sink {
+    let lexicon = crate::dialect::open(machine)
+        .map_err(Error::Setup)?
+        .meanings();
+    let mut sink = Sink::new(
         machine,
         opts,
-        found: Vec::new(),
-        notes: Vec::new(),
-        threads: 0,
-    };
-    let mut spindle = Spindle::default();
-    let mut collector: Collector<Spindle> = Collector::new(crest(opts));
+        state::Restart("SPINDL/n,CLW or SPINDL/n,CCLW".into()),
+    );
+    let mut machine_state = state::Reader::new(&lexicon, 0);
+    let mut collector: Collector<State> = Collector::new(crest(opts));
     let mut at: Option<Pos> = None;
     let result = crate::apt::run(input, |interp, ev| {
         let mut take = |f| sink.take(f);
         match ev {
-            crate::apt::Event::Spindle(s) => {
-                spindle.s = s.map(|(rpm, _)| rpm);
-                spindle.css = false;
-            }
+            crate::apt::Event::Spindle(s) => machine_state.apt_spindle(s),
             crate::apt::Event::Move(m) => {
                 if let Some(from) = at {
                     let setting = Setting {
@@ -362,13 +380,12 @@ fn check_apt<R: BufRead>(
                         line: m.line,
                         span: Span::new(0, 0, m.line, 1),
                     };
-                    let now = spindle;
-                    collector.motion(mv, setting, false, || now, &mut take);
+                    collector.motion(mv, setting, false, || machine_state.now(mv.span), &mut take);
                 }
             }
             crate::apt::Event::Cycle(job) => {
-                let now = spindle;
-                collector.cycle(*job, false, || now, &mut take);
+                let at = job.span;
+                collector.cycle(*job, false, || machine_state.now(at), &mut take);
             }
             crate::apt::Event::End => collector.boundary(&mut take),
             _ => {}
@@ -461,6 +478,15 @@ fn merge_repeats(diags: Vec<Diagnostic>) -> Vec<Diagnostic> {
             d
         })
         .collect()
+}
+
+/// Where a move is written: its G word, else the block's first word (as the thread reader has it).
+fn move_span(line: &crate::gcode::Line) -> Span {
+    line.words
+        .iter()
+        .find(|w| w.letter == b'G')
+        .or(line.words.first())
+        .map_or(line.span(), |w| w.span)
 }
 
 /// Passes as `pass 3`, `passes 1–4`, `passes 1, 3, 5–8`.

@@ -386,6 +386,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                 Function::SpindleCw
                 | Function::SpindleCcw
                 | Function::SpindleStop
+                | Function::SpindleOrient
                 | Function::CoolantOn
                 | Function::MistOn
                 | Function::CoolantOff

@@ -54,6 +54,7 @@ pub static LEXICON: Lexicon = Lexicon {
     thread_words: b"FE",
     thread_settings: &[],
     only_units: None,
+    pause_spindle: lexicon::PauseSpindle::BuilderDecides,
 };
 
 /// The G codes of an Allen-Bradley 9/Series lathe. The seed's chapter (25, thread cutting) names

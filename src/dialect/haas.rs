@@ -123,9 +123,11 @@ pub static LEXICON: Lexicon = Lexicon {
         lexicon::COMPENSATION,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
+        lexicon::ORIENT,
     ],
     dwell: Some(DwellForm::PSecondsOrMilliseconds),
     thread_words: b"FEQ",
+    pause_spindle: lexicon::PauseSpindle::Stops,
     ..fanuc_family::FANUC_LEXICON
 };
 

@@ -80,6 +80,9 @@ pub enum Function {
     SpindleCw,
     SpindleCcw,
     SpindleStop,
+    /// The spindle stops at an angle and is held there (`M19`, ISO 6983-1's oriented spindle
+    /// stop): it does not turn again before `M3`/`M4`.
+    SpindleOrient,
     CoolantOn,
     MistOn,
     CoolantOff,
@@ -134,6 +137,7 @@ impl Function {
             Function::SpindleCw => "spindle on clockwise".into(),
             Function::SpindleCcw => "spindle on counter-clockwise".into(),
             Function::SpindleStop => "spindle stop".into(),
+            Function::SpindleOrient => "spindle orientation".into(),
             Function::CoolantOn => "coolant on".into(),
             Function::MistOn => "mist coolant on".into(),
             Function::CoolantOff => "coolant off".into(),
@@ -214,6 +218,20 @@ pub enum LimitForm {
     OnSurfaceSpeed(u8),
 }
 
+/// What a program stop (`M0`, and `M1` with the optional stop switch on) does to the spindle,
+/// as the controller's manual says.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PauseSpindle {
+    /// The manual says the stop stops the spindle (Haas: "M00 … stops the axes, spindle").
+    Stops,
+    /// The manual leaves it to the machine builder (the M code goes to the ladder, which on most
+    /// machines stops the spindle): Fanuc-format controls, Sinumerik.
+    BuilderDecides,
+    /// The program pauses and the spindle keeps turning (LinuxCNC: its interpreter stops the
+    /// spindle at the end of a program, not at `M0`/`M1`).
+    Keeps,
+}
+
 /// How a block returns axes straight to the reference point.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ReturnForm {
@@ -261,6 +279,8 @@ pub struct Lexicon {
     pub thread_settings: &'static [&'static str],
     /// The only units the controller is programmed in, where it has one (OmniTurn: inch).
     pub only_units: Option<Units>,
+    /// What a program stop does to the spindle.
+    pub pause_spindle: PauseSpindle,
 }
 
 /// A controller's meanings for conversion: its [`Lexicon`], with the codes its reader's
@@ -408,6 +428,10 @@ pub const ISO_M: &[(Code, Function)] = &[
     (Code::M(9), Function::CoolantOff),
     (Code::M(30), Function::EndRewind),
 ];
+
+/// `M19`, the oriented spindle stop of ISO 6983-1, on the controls whose manual (or whose
+/// builders' common list) has it (the dialects' pages say which).
+pub const ORIENT: &[(Code, Function)] = &[(Code::M(19), Function::SpindleOrient)];
 
 /// `G0`–`G3`.
 pub const MOTION: &[(Code, Function)] = &[

@@ -43,6 +43,7 @@ pub static LEXICON: Lexicon = Lexicon {
         lexicon::G94_G95,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
+        lexicon::ORIENT,
         &[(C::M(6), F::ToolChange), (C::M(7), F::MistOn)],
     ],
     tool: ToolForm::ChangeAndOffset,
@@ -57,6 +58,7 @@ pub static LEXICON: Lexicon = Lexicon {
     thread_words: b"K",
     thread_settings: &[],
     only_units: None,
+    pause_spindle: lexicon::PauseSpindle::Keeps,
 };
 
 /// The G codes of LinuxCNC's rs274ngc interpreter (its G-code reference, 2.9/2.10: docs/dialects/linuxcnc-g76.md,

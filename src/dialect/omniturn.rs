@@ -57,6 +57,7 @@ pub static LEXICON: Lexicon = Lexicon {
     thread_words: b"",
     thread_settings: &[],
     only_units: Some(Units::Inch),
+    pause_spindle: lexicon::PauseSpindle::BuilderDecides,
 };
 
 /// The G codes of an OmniTurn control. The seed documents only G33, G35, G36, G72, G73, G90, G92,

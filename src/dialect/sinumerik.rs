@@ -209,6 +209,7 @@ pub static LEXICON: Lexicon = Lexicon {
         lexicon::G94_G95,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
+        lexicon::ORIENT,
     ],
     tool: ToolForm::ToolAndEdge,
     dwell: Some(DwellForm::FSeconds),
@@ -222,6 +223,7 @@ pub static LEXICON: Lexicon = Lexicon {
     thread_words: b"KI",
     thread_settings: &["SF"],
     only_units: None,
+    pause_spindle: lexicon::PauseSpindle::BuilderDecides,
 };
 
 /// Sinumerik's G functions; G33 with its words `X Z I K` (SF= is a named word).

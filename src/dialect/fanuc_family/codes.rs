@@ -3,7 +3,7 @@
 //! mean in each system ([`lexicon`]).
 
 use crate::dialect::lexicon::{
-    self, Code as G, DwellForm, Function, Lexicon, LimitForm, ReturnForm, ToolForm,
+    self, Code as G, DwellForm, Function, Lexicon, LimitForm, PauseSpindle, ReturnForm, ToolForm,
 };
 use crate::gcode::modal::GCode;
 use crate::gcode::{Conventions, PositionCodes, Syntax};
@@ -321,6 +321,7 @@ pub static LEXICON_A: Lexicon = Lexicon {
         lexicon::COMPENSATION,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
+        lexicon::ORIENT,
     ],
     ..FANUC_LEXICON
 };
@@ -339,6 +340,7 @@ pub static LEXICON_B: Lexicon = Lexicon {
         lexicon::G94_G95,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
+        lexicon::ORIENT,
     ],
     ..FANUC_LEXICON
 };
@@ -359,6 +361,7 @@ pub static LEXICON_C: Lexicon = Lexicon {
         lexicon::G94_G95,
         lexicon::SPINDLE_MODES,
         lexicon::ISO_M,
+        lexicon::ORIENT,
     ],
     ..FANUC_LEXICON
 };
@@ -387,6 +390,7 @@ pub const FANUC_LEXICON: Lexicon = Lexicon {
     thread_words: b"FQ",
     thread_settings: &[],
     only_units: None,
+    pause_spindle: PauseSpindle::BuilderDecides,
 };
 
 /// The lexicon of a Fanuc-format control in `system`.
