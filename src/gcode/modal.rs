@@ -941,7 +941,7 @@ fn plain_motion(g: &Word) -> MotionMode {
 pub fn centre_from_radius(from: Pos, to: Pos, r: f64, clockwise: bool, slack: f64) -> Option<Pos> {
     let (dz, dx) = (to.z - from.z, to.x - from.x);
     let d = dz.hypot(dx);
-    if !(d > 0.0) || !r.is_finite() || r == 0.0 {
+    if d.is_nan() || d <= 0.0 || !r.is_finite() || r == 0.0 {
         return None;
     }
     let half = d / 2.0;
