@@ -437,9 +437,9 @@ impl Part {
         self.rings.iter().map(|r| r.pts.len()).sum()
     }
 
-    /// The outline's rings (mm), each vertex with the origin of the edge that leaves it; material
-    /// lies left of each edge (outer rings counter-clockwise with Z to the right and X up... in
-    /// (x, z): counter-clockwise with X as the first axis).
+    /// The outline's rings (mm), each vertex with the origin of the edge that leaves it. Material
+    /// lies left of each edge in (x, z) with X as the first axis: outer rings run
+    /// counter-clockwise there, holes clockwise.
     pub fn outline(&self) -> Vec<Vec<(Pos, Origin)>> {
         self.rings
             .iter()
