@@ -474,3 +474,49 @@ const BOUND_NOSE: usize = 2_000;
 
 /// The most vertices [`the_outline_stays_small_on_a_long_program`] may reach.
 const BOUND_ROUGHING: usize = 200;
+
+#[test]
+fn an_internal_thread_and_a_retract_through_it() {
+    // An M20x2.5 internal thread in a tube Ø40 × Ø17.294 bore (face Z0): passes at R9.0, R9.6
+    // and the major R10 from Z5 (in front of the face) to Z-20 (line 30). The tool works in the
+    // bore, so its body reaches toward the axis: the tube's outside stays Ø40.
+    let stock = Stock {
+        bore: Dim::given(17.294),
+        ..bar(40.0, 0.0, 40.0)
+    };
+    let mut part = Part::new(&stock, TOL).unwrap();
+    let tool = Tool::point(Body::Radial);
+    let mut moves = Vec::new();
+    for (n, x) in [(1, 9.0), (2, 9.6), (3, 10.0)] {
+        moves.extend([
+            rapid(x, 5.0, 30),
+            thread(x, -20.0, 30, n),
+            rapid(8.0, -20.0, 30),
+            rapid(8.0, 5.0, 30),
+        ]);
+    }
+    run(&mut part, Pos::new(8.0, 5.0), &moves, &tool);
+    let r = part.radius_at(-10.0).unwrap();
+    assert!(near(r.outer, 20.0) && near(r.bore.unwrap(), 10.0), "{r:?}");
+    // Beyond the thread the bore is the stock's R8.647.
+    assert!(near(part.radius_at(-25.0).unwrap().bore.unwrap(), 8.647));
+    // G0 Z-10 then G0 X40 inside the bore: from (8, −10) out to (20, −10), into the thread's
+    // root (its major diameter Ø20) at R10.
+    let hit = part
+        .rapid_hits(Pos::new(8.0, -10.0), Pos::new(20.0, -10.0))
+        .unwrap();
+    assert!(near(hit.at.x, 10.0));
+    assert_eq!(
+        hit.describe(Units::Mm),
+        "the thread's root Ø20 at Z-10 (cut at line 30)"
+    );
+    // A pass that runs on into a step of the bore (Z-20 to Z-25 at R9.6 where the bore stays
+    // R8.647) meets material more than its 0.4 depth toward the axis: 9.6 − 0.4 = 9.2 down to
+    // 8.647 over Z-20..-25, 0.553 × 5 = 2.765 mm², first met at Z-20.
+    let deeper = [rapid(9.6, 5.0, 31), thread(9.6, -25.0, 31, 1)];
+    let s = part
+        .shoulder(Pos::new(8.0, 5.0), &deeper, &tool, 0.4)
+        .unwrap()
+        .expect("a shoulder");
+    assert!(near(s.z, -20.0) && (s.area - 2.765).abs() < 1e-6, "{s:?}");
+}
