@@ -11,7 +11,7 @@ const FLOORS: &[&[&str]] = &[
     &["units", "diag", "eol", "text"],
     &["thread", "machine"],
     &["toolpath", "sim"],
-    &["post", "turning"],
+    &["post", "turning", "part"],
     &["gcode", "mill"],
     &["interp"],
     &["dialect"],

@@ -152,8 +152,6 @@ pub struct LinuxCnc {
     cutter_comp: bool,
     /// Active plane ×10 (G17 170, G18 180, G19 190).
     plane: u16,
-    /// G90.1: arc centres I/K are absolute (G91.1, incremental, at power-on).
-    ijk_absolute: bool,
 }
 
 impl LinuxCnc {
@@ -187,7 +185,6 @@ impl LinuxCnc {
             motion: None,
             cutter_comp: false,
             plane: 180,
-            ijk_absolute: false,
         }
     }
 
@@ -203,8 +200,9 @@ impl LinuxCnc {
                 (b'G', Some(70)) => modal.diameter_x = true,
                 (b'G', Some(80)) => modal.diameter_x = false,
                 (b'G', Some(c @ (170 | 180 | 190))) => self.plane = c,
-                (b'G', Some(901)) => self.ijk_absolute = true,
-                (b'G', Some(911)) => self.ijk_absolute = false,
+                // G90.1: arc centres I/K are absolute (G91.1, incremental, at power-on).
+                (b'G', Some(901)) => modal.arc_centre_absolute = true,
+                (b'G', Some(911)) => modal.arc_centre_absolute = false,
                 (b'G', Some(400)) => self.cutter_comp = false,
                 (b'G', Some(410 | 411 | 420 | 421)) => self.cutter_comp = true,
                 (b'M', Some(30 | 40)) => match selected {
@@ -246,13 +244,11 @@ impl LinuxCnc {
         let Some(at) = i.or(k) else {
             return Ok(());
         };
-        let units = after.units;
-        let offset = |w: Option<&crate::gcode::Word>| w.map_or(0.0, |w| after.length_mm(w));
-        let centre = if self.ijk_absolute {
-            Pos::new(offset(i), offset(k))
-        } else {
-            Pos::new(from.x + offset(i), from.z + offset(k))
+        // The centre as the interpreter computes it for every arc (`Modal::arc_centre`).
+        let Some(centre) = mv.centre else {
+            return Ok(());
         };
+        let units = after.units;
         // In program units, as LinuxCNC computes and prints them.
         let p = |q: Pos| (units.from_mm(q.z), units.from_mm(q.x));
         let ((sz, sx), (cz, cx), (ez, ex)) = (p(from), p(centre), p(mv.to));

@@ -362,6 +362,11 @@ pub struct PlainMove {
     /// Spindle angle (degrees) at which a thread move begins when it starts a chain of thread
     /// moves; 0 unless a dialect states one (Sinumerik `SF=`).
     pub phase_deg: f64,
+    /// The centre of a G2/G3 arc (mm, X a radius), from its I/K or R words
+    /// ([`Modal::arc_centre`]); `None` for other moves, and for an arc whose centre its words do
+    /// not give (no I, K or R; R with the end point on the start point or out of its reach; a
+    /// start not known).
+    pub centre: Option<Pos>,
 }
 
 #[derive(Clone, Debug)]
@@ -390,6 +395,9 @@ pub struct Modal {
     /// The G codes the controller has; `None`: every code is accepted (a reader that only reads
     /// back text threadcut wrote).
     pub vocabulary: Option<&'static Vocabulary>,
+    /// An arc's I/K are the centre itself, not its distance from the start (LinuxCNC's G90.1,
+    /// which its dialect tracks; false at power-on and on every other control).
+    pub arc_centre_absolute: bool,
 }
 
 impl Modal {
@@ -411,6 +419,7 @@ impl Modal {
             references: [Position::UNKNOWN; 2],
             work_system: conv.positions.power_on_work_system,
             vocabulary: None,
+            arc_centre_absolute: false,
         }
     }
 
@@ -575,6 +584,7 @@ impl Modal {
             to,
             lead: None,
             phase_deg: 0.0,
+            centre: self.arc_centre(line, from, to),
         }))
     }
 
@@ -696,13 +706,53 @@ impl Modal {
         } else {
             None
         };
+        let centre = from.known().and_then(|f| self.arc_centre(line, f, to));
         Ok(Some(PlainMove {
             mode: self.motion,
             from,
             to,
             lead,
             phase_deg: 0.0,
+            centre,
         }))
+    }
+
+    /// The centre of the arc from `from` to `to` that `line` describes in the motion mode in
+    /// force (mm, X a radius); `None` when the mode is not G2/G3 or the words give no centre.
+    ///
+    /// * R (it takes precedence over I/K, as on Fanuc's controls: "If I, J, K, and R addresses are
+    ///   specified simultaneously, the arc specified by address R takes precedence"): the centre
+    ///   on the side of the chord that gives the shorter arc for R > 0, the longer for R < 0
+    ///   (RS274/NGC's rule, which LinuxCNC's `arc_data_r` follows). A half chord longer than |R|
+    ///   by at most the program's resolution puts the centre on the chord's midpoint; further
+    ///   out, or an end on the start, there is no centre.
+    /// * I/K: the distance from the start to the centre, I a radius whatever the X convention
+    ///   (Fanuc's lathe controls and LinuxCNC's `arc_data_ijk`, G7 or not); the centre itself
+    ///   under [`arc_centre_absolute`](Modal::arc_centre_absolute) (LinuxCNC's G90.1).
+    ///
+    /// The arc runs clockwise for G2 as seen with Z to the right and X up (the ZX plane seen from
+    /// +Y, ISO 6983's G18).
+    pub fn arc_centre(&self, line: &Line, from: Pos, to: Pos) -> Option<Pos> {
+        let clockwise = match self.motion {
+            MotionMode::ArcCw => true,
+            MotionMode::ArcCcw => false,
+            _ => return None,
+        };
+        if let Some(r) = line.word(b'R') {
+            let r = self.length_mm(r);
+            return centre_from_radius(from, to, r, clockwise, self.resolution().increment_mm());
+        }
+        let (i, k) = (line.word(b'I'), line.word(b'K'));
+        if i.is_none() && k.is_none() {
+            return None;
+        }
+        let offset = |w: Option<&Word>| w.map_or(0.0, |w| self.length_mm(w));
+        let centre = if self.arc_centre_absolute {
+            Pos::new(offset(i), offset(k))
+        } else {
+            Pos::new(from.x + offset(i), from.z + offset(k))
+        };
+        centre.is_finite().then_some(centre)
     }
 
     /// Where a move to `to` starts, when the start is known on every axis the move runs along:
@@ -883,6 +933,36 @@ const AXES: [u8; 128] = {
 fn plain_motion(g: &Word) -> MotionMode {
     const TWO_POW_52: f64 = 4_503_599_627_370_496.0;
     PLAIN_MOTION[(g.value + TWO_POW_52).to_bits() as usize & 3]
+}
+
+/// The centre of an arc of radius `r` (mm; negative: the longer arc) from `from` to `to`,
+/// clockwise (G2) or not, in the ZX plane with Z as the first axis ([`Modal::arc_centre`]). A
+/// half chord longer than |r| by at most `slack` (mm) puts the centre on the chord's midpoint.
+pub fn centre_from_radius(from: Pos, to: Pos, r: f64, clockwise: bool, slack: f64) -> Option<Pos> {
+    let (dz, dx) = (to.z - from.z, to.x - from.x);
+    let d = dz.hypot(dx);
+    if d.is_nan() || d <= 0.0 || !r.is_finite() || r == 0.0 {
+        return None;
+    }
+    let half = d / 2.0;
+    let excess = half - r.abs();
+    if excess > slack {
+        return None;
+    }
+    let h = if excess >= 0.0 {
+        0.0
+    } else {
+        (r * r - half * half).sqrt()
+    };
+    // Seen with Z to the right and X up, the centre of a clockwise arc shorter than a half
+    // circle lies right of the chord: the chord's direction (dz, dx) turned a quarter clockwise,
+    // (dx, −dz); a counter-clockwise or a longer arc's lies left.
+    let side = if clockwise == (r > 0.0) { 1.0 } else { -1.0 };
+    let k = side * h / d;
+    Some(Pos::new(
+        (from.x + to.x) / 2.0 - k * dz,
+        (from.z + to.z) / 2.0 + k * dx,
+    ))
 }
 
 /// G0, G1, G2, G3.

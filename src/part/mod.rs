@@ -1,0 +1,757 @@
+//! The part, as the program makes it: the material of an axisymmetric part in the XZ half-plane
+//! (X ≥ 0 a radius, Z along the axis, mm), from the stock, cut by every feed move.
+//!
+//! The material is a set of closed rings on an integer grid of [`GRID`] mm, cut with the same
+//! exact boolean engine as the thread's section ([`crate::sim`]). Every edge of the outline keeps
+//! where it came from ([`Origin`]): the stock as given, the stock as assumed, or the program line
+//! that cut it and how (a feed move, an arc, a thread pass). After each cut the outline is
+//! simplified within the program's resolution, so its size stays bounded on long programs.
+//!
+//! Rapids never cut: [`Part::rapid_hits`] says where one would enter material and what it hits.
+//! The model and its decisions are described in docs/simulation.md, "The part".
+
+mod outline;
+pub mod sweep;
+
+use serde::Serialize;
+
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::toolpath::{Motion, MotionKind};
+use crate::units::{Pos, Units};
+
+use outline::{Bounds, Engine, Point, Ring};
+use sweep::{Reach, Sweeper};
+
+/// The grid (mm) the booleans run on: 0.1 µm, a tenth of the finest resolution the controls
+/// threadcut reads write (0.001 mm; 0.0001 inch is 2.54 µm).
+pub const GRID: f64 = 1e-4;
+
+/// The largest coordinate (mm) the part holds: the grid's i32 coordinates reach ±107 m, and the
+/// boolean engine wants them within ±2^30; 10 m leaves room for any lathe.
+pub const MAX_COORD: f64 = 10_000.0;
+
+/// How far (mm) a tool's body reaches beyond the stock: out of the material, whatever it is.
+const BEYOND: f64 = 1.0;
+
+/// Samples along a rapid between two crossings of the outline, to find how deep it runs.
+const DEPTH_SAMPLES: usize = 5;
+
+/// Whether a dimension of the stock was given or assumed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Known {
+    Given,
+    Assumed,
+}
+
+/// One dimension of the stock (mm), given or assumed.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Dim {
+    pub value: f64,
+    pub known: Known,
+}
+
+impl Dim {
+    pub fn given(value: f64) -> Dim {
+        Dim {
+            value,
+            known: Known::Given,
+        }
+    }
+
+    pub fn assumed(value: f64) -> Dim {
+        Dim {
+            value,
+            known: Known::Assumed,
+        }
+    }
+
+    /// The given value, else the assumed one.
+    pub fn given_or(given: Option<f64>, assumed: f64) -> Dim {
+        given.map_or(Dim::assumed(assumed), Dim::given)
+    }
+}
+
+/// The stock: a bar (or tube) of `diameter`, whose face is at Z `face`, `length` long toward −Z,
+/// with a bore of `bore` (0: none). All mm, diameters as diameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Stock {
+    pub diameter: Dim,
+    pub face: Dim,
+    pub length: Dim,
+    pub bore: Dim,
+}
+
+impl Stock {
+    /// Refuses a stock the part cannot hold: a bore not inside the bar, no length, a value not a
+    /// number or beyond [`MAX_COORD`].
+    pub fn validate(&self) -> Result<()> {
+        let bad = |what: String| Err(Diagnostic::error(Code::Geometry, Span::default(), what));
+        let dims = [
+            ("diameter", self.diameter),
+            ("face", self.face),
+            ("length", self.length),
+            ("bore", self.bore),
+        ];
+        for (name, d) in dims {
+            if !d.value.is_finite() || d.value.abs() > MAX_COORD {
+                return bad(format!(
+                    "the stock's {name} ({}) is not a length the part can hold (at most {MAX_COORD} mm)",
+                    d.value
+                ));
+            }
+        }
+        if self.diameter.value <= 0.0 || self.length.value <= 0.0 {
+            return bad("the stock needs a diameter and a length above 0".into());
+        }
+        if self.bore.value < 0.0 || self.bore.value >= self.diameter.value {
+            return bad(format!(
+                "the stock's bore Ø{} must lie inside its diameter Ø{}",
+                self.bore.value, self.diameter.value
+            ));
+        }
+        if (self.face.value - self.length.value).abs() > MAX_COORD {
+            return bad("the stock's end lies beyond what the part can hold".into());
+        }
+        Ok(())
+    }
+}
+
+/// Which surface of the stock an edge is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StockEdge {
+    /// The bar's outside diameter.
+    Outside,
+    /// The face (the +Z end).
+    Face,
+    /// The far end (toward the chuck).
+    End,
+    /// The bore's wall.
+    Bore,
+    /// The axis of a solid bar: no surface.
+    Axis,
+}
+
+/// How a program line cut a surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CutKind {
+    /// A straight feed move (turning, facing, boring).
+    Feed,
+    /// A circular feed move.
+    Arc,
+    /// An arc whose centre the program does not give, cut as its chord.
+    Chord,
+    /// A thread pass.
+    Thread,
+}
+
+/// A program line's cut.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Cut {
+    pub line: u32,
+    /// The pass of its cycle (0 outside a cycle).
+    pub pass: u32,
+    pub kind: CutKind,
+}
+
+/// Where an edge of the outline came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(tag = "from", rename_all = "lowercase")]
+pub enum Origin {
+    Stock {
+        edge: StockEdge,
+        known: Known,
+    },
+    Cut(Cut),
+    /// Never on an outline the part made (a fallback the tests rule out).
+    Unknown,
+}
+
+/// The tool's body behind its nose, which removes what the nose passes under.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Body {
+    /// A turning or boring tool: its body reaches away from the axis (toward it in a bore) and
+    /// toward +Z (its end cutting edge), so a move along Z takes the material outside the path
+    /// and a facing move toward the axis takes the material in front of it.
+    Turning,
+    /// A threading or grooving tool: its body reaches only away from the axis (toward it in a
+    /// bore), as wide as its nose.
+    Radial,
+    /// A drill or a tool that enters along the axis: its body reaches only toward +Z, as wide as
+    /// its nose (for a drill, its radius, the programmed point on its axis).
+    Axial,
+}
+
+/// The cutting tool: its nose radius (mm; 0 for a point) and its body. The moves give the
+/// programmed point, as without nose compensation (G40): for a turning tool the imaginary tip
+/// (the nose's centre `r` outward and `r` toward +Z of it), for a radial tool its lowest point
+/// (the centre `r` outward of it).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Tool {
+    pub nose_radius: f64,
+    pub body: Body,
+}
+
+impl Tool {
+    pub fn point(body: Body) -> Tool {
+        Tool {
+            nose_radius: 0.0,
+            body,
+        }
+    }
+
+    /// The nose centre's offset from the programmed point; `internal`: the tool works in a bore.
+    fn centre_offset(&self, internal: bool) -> (f64, f64) {
+        let r = self.nose_radius;
+        let dx = if internal { -r } else { r };
+        match self.body {
+            Body::Turning => (dx, r),
+            Body::Radial => (dx, 0.0),
+            Body::Axial => (0.0, 0.0),
+        }
+    }
+}
+
+/// The kind of surface a rapid hits.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "lowercase")]
+pub enum Surface {
+    /// A surface along Z: an outside diameter, or a bore's wall (`bore`), of this diameter (mm).
+    Diameter { diameter: f64, bore: bool },
+    /// A surface along X at this Z (mm).
+    Face { z: f64 },
+    /// A taper or an arc, this diameter (mm) where it is hit.
+    Slope { diameter: f64 },
+}
+
+/// Where a rapid enters material and what it hits.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Hit {
+    /// The first point in the material (mm, X a radius).
+    pub at: Pos,
+    pub origin: Origin,
+    pub surface: Surface,
+}
+
+impl Hit {
+    /// Whether the surface is the stock's alone, and how its dimension is known: `None` when the
+    /// program cut it (a fact: material lies behind it, whatever the stock).
+    pub fn stock_only(&self) -> Option<Known> {
+        match self.origin {
+            Origin::Stock { known, .. } => Some(known),
+            _ => None,
+        }
+    }
+
+    /// The hit in words, numbers in `units` (diameters as diameters): "the thread's root
+    /// Ø16.933 at Z-10 (line 12)".
+    pub fn describe(&self, units: Units) -> String {
+        let n = |mm: f64| number(units.from_mm(mm), units);
+        let z = n(self.at.z);
+        let what = match self.surface {
+            Surface::Diameter { diameter, bore } => {
+                let d = n(diameter);
+                match (self.origin, bore) {
+                    (Origin::Cut(c), _) if c.kind == CutKind::Thread => {
+                        format!("the thread's root Ø{d} at Z{z}")
+                    }
+                    (Origin::Stock { .. }, false) => format!("the stock's outside Ø{d} at Z{z}"),
+                    (Origin::Stock { .. }, true) => format!("the stock's bore Ø{d} at Z{z}"),
+                    (_, false) => format!("the turned diameter Ø{d} at Z{z}"),
+                    (_, true) => format!("the bore wall Ø{d} at Z{z}"),
+                }
+            }
+            Surface::Face { z } => {
+                let z = n(z);
+                match self.origin {
+                    Origin::Stock {
+                        edge: StockEdge::End,
+                        ..
+                    } => format!("the stock's end at Z{z}"),
+                    Origin::Stock { .. } => format!("the stock's face at Z{z}"),
+                    Origin::Cut(c) if c.kind == CutKind::Thread => {
+                        format!("the thread's groove wall at Z{z}")
+                    }
+                    _ => format!("the face at Z{z}"),
+                }
+            }
+            Surface::Slope { diameter } => {
+                let d = n(diameter);
+                match self.origin {
+                    Origin::Cut(c) if c.kind == CutKind::Thread => {
+                        format!("the thread's root Ø{d} at Z{z}")
+                    }
+                    Origin::Stock { .. } => format!("the stock at Ø{d}, Z{z}"),
+                    _ => format!("the profile at Ø{d}, Z{z}"),
+                }
+            }
+        };
+        match self.origin {
+            Origin::Cut(c) => format!("{what} (cut at line {})", c.line),
+            Origin::Stock { known, .. } => format!(
+                "{what} ({})",
+                if known == Known::Given {
+                    "stock as given"
+                } else {
+                    "stock as assumed"
+                }
+            ),
+            Origin::Unknown => what,
+        }
+    }
+}
+
+/// A number as a program writes it: 3 decimals in mm, 4 in inches, trailing zeros dropped.
+fn number(v: f64, units: Units) -> String {
+    let digits = if units == Units::Inch { 4 } else { 3 };
+    let s = format!("{v:.digits$}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
+/// The material's radii at one Z (mm).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Radii {
+    /// The outermost material.
+    pub outer: f64,
+    /// Where the material begins from the axis, when it does not reach it (a bore).
+    pub bore: Option<f64>,
+}
+
+/// Material a path meets beyond the depth it should cut at ([`Part::shoulder`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Shoulder {
+    /// Where along Z the path first meets it (mm).
+    pub z: f64,
+    /// The area of the material beyond the depth that the move would take (mm², in the
+    /// half-section).
+    pub area: f64,
+    pub line: u32,
+    pub pass: u32,
+}
+
+/// The part: its material, the tolerance and the stock it started from (and the boolean
+/// engine's buffers, kept from one cut to the next).
+pub struct Part {
+    rings: Vec<Ring>,
+    stock: Stock,
+    tolerance: f64,
+    reach: (f64, f64),
+    engine: Engine,
+}
+
+impl Clone for Part {
+    fn clone(&self) -> Part {
+        Part {
+            rings: self.rings.clone(),
+            stock: self.stock,
+            tolerance: self.tolerance,
+            reach: self.reach,
+            engine: Engine::new(),
+        }
+    }
+}
+
+impl std::fmt::Debug for Part {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Part")
+            .field("stock", &self.stock)
+            .field("tolerance", &self.tolerance)
+            .field("outline", &self.outline())
+            .finish()
+    }
+}
+
+fn to_grid(x: f64, z: f64) -> Point {
+    Point::new((x / GRID).round() as i32, (z / GRID).round() as i32)
+}
+
+fn to_pos(p: (f64, f64)) -> Pos {
+    Pos::new(p.0 * GRID, p.1 * GRID)
+}
+
+impl Part {
+    /// The stock's half-section (minus the bore), at `tolerance` (mm, the program's resolution;
+    /// at least a few grid steps).
+    pub fn new(stock: &Stock, tolerance: f64) -> Result<Part> {
+        stock.validate()?;
+        let tolerance = if tolerance.is_finite() {
+            tolerance.max(10.0 * GRID)
+        } else {
+            0.001
+        };
+        let (outer, inner) = (stock.diameter.value / 2.0, stock.bore.value / 2.0);
+        let (face, end) = (stock.face.value, stock.face.value - stock.length.value);
+        let o = |edge, d: Dim| Origin::Stock {
+            edge,
+            known: d.known,
+        };
+        let inner_edge = if inner > 0.0 {
+            o(StockEdge::Bore, stock.bore)
+        } else {
+            Origin::Stock {
+                edge: StockEdge::Axis,
+                known: Known::Given,
+            }
+        };
+        let ring = Ring {
+            pts: vec![
+                to_grid(inner, end),
+                to_grid(outer, end),
+                to_grid(outer, face),
+                to_grid(inner, face),
+            ],
+            origins: vec![
+                o(StockEdge::End, stock.length),
+                o(StockEdge::Outside, stock.diameter),
+                o(StockEdge::Face, stock.face),
+                inner_edge,
+            ],
+        };
+        Ok(Part {
+            rings: vec![ring],
+            stock: *stock,
+            tolerance,
+            reach: (outer + BEYOND, face + BEYOND),
+            engine: Engine::new(),
+        })
+    }
+
+    pub fn stock(&self) -> &Stock {
+        &self.stock
+    }
+
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
+    }
+
+    /// The vertices of the outline: its size.
+    pub fn vertex_count(&self) -> usize {
+        self.rings.iter().map(|r| r.pts.len()).sum()
+    }
+
+    /// The outline's rings (mm), each vertex with the origin of the edge that leaves it. Material
+    /// lies left of each edge in (x, z) with X as the first axis: outer rings run
+    /// counter-clockwise there, holes clockwise.
+    pub fn outline(&self) -> Vec<Vec<(Pos, Origin)>> {
+        self.rings
+            .iter()
+            .map(|r| {
+                r.pts
+                    .iter()
+                    .zip(&r.origins)
+                    .map(|(p, o)| (to_pos(outline::float(*p)), *o))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Removes what the tool sweeps along the feed move from `from` to `motion.to`: a straight
+    /// feed or thread move, or an arc about its centre. Rapids cut nothing (see
+    /// [`rapid_hits`](Part::rapid_hits)). A move with a coordinate beyond [`MAX_COORD`] is
+    /// refused.
+    pub fn cut(&mut self, from: Pos, motion: &Motion, tool: &Tool) -> Result<()> {
+        let kind = match motion.kind {
+            MotionKind::Rapid => return Ok(()),
+            MotionKind::Feed => CutKind::Feed,
+            MotionKind::Thread { .. } => CutKind::Thread,
+            MotionKind::Arc { .. } => CutKind::Arc,
+        };
+        self.cut_as(from, motion, tool, kind)
+    }
+
+    /// Cuts a circular move whose centre the program does not give as its chord, from `from` to
+    /// `motion.to`, marking the surface as a chord ([`CutKind::Chord`]).
+    pub fn cut_chord(&mut self, from: Pos, motion: &Motion, tool: &Tool) -> Result<()> {
+        let straight = Motion {
+            kind: MotionKind::Feed,
+            ..*motion
+        };
+        self.cut_as(from, &straight, tool, CutKind::Chord)
+    }
+
+    fn cut_as(&mut self, from: Pos, motion: &Motion, tool: &Tool, kind: CutKind) -> Result<()> {
+        let pieces = self.sweep(from, motion, tool)?;
+        let made = Origin::Cut(Cut {
+            line: motion.line,
+            pass: motion.pass,
+            kind,
+        });
+        let Some(cutter) = Bounds::of(pieces.iter().flatten()) else {
+            return Ok(());
+        };
+        let Some(material) = Bounds::of(self.rings.iter().flat_map(|r| &r.pts)) else {
+            return Ok(());
+        };
+        if !cutter.overlaps(&material) {
+            return Ok(());
+        }
+        let mut rings = self.engine.cut(&self.rings, &pieces, made);
+        outline::simplify(&mut rings, self.tolerance / 2.0 / GRID);
+        self.rings = rings;
+        Ok(())
+    }
+
+    /// The convex pieces the tool sweeps along one move.
+    fn sweep(&self, from: Pos, motion: &Motion, tool: &Tool) -> Result<Vec<Vec<Point>>> {
+        let to = motion.to;
+        let fits = |p: Pos| p.is_finite() && p.x.abs() <= MAX_COORD && p.z.abs() <= MAX_COORD;
+        let r = tool.nose_radius;
+        let centre = match motion.kind {
+            MotionKind::Arc { centre, .. } => Some(centre),
+            _ => None,
+        };
+        if !fits(from)
+            || !fits(to)
+            || centre.is_some_and(|c| !fits(c))
+            || !(0.0..=100.0).contains(&r)
+        {
+            return Err(Diagnostic::error(
+                Code::Geometry,
+                Span::new(0, 0, motion.line, 1),
+                format!(
+                    "the move to X{} Z{} lies beyond what the part model holds (±{MAX_COORD} mm), or the nose radius {r} mm is not one",
+                    to.x, to.z
+                ),
+            ));
+        }
+        let internal = self.in_bore(from, to);
+        let (dx, dz) = tool.centre_offset(internal);
+        let shift = |p: Pos| Pos::new(p.x + dx, p.z + dz);
+        let sweeper = Sweeper {
+            tool,
+            reach: Reach {
+                x_ray: if internal { -BEYOND } else { self.reach.0 },
+                z_ray: self.reach.1,
+                inward: internal,
+            },
+            tolerance: self.tolerance,
+        };
+        let mut pieces = Vec::new();
+        match motion.kind {
+            MotionKind::Arc { centre, clockwise } => sweeper.arc(
+                shift(from),
+                shift(to),
+                shift(centre),
+                clockwise,
+                &mut pieces,
+            ),
+            _ => sweeper.line(shift(from), shift(to), &mut pieces),
+        }
+        Ok(pieces)
+    }
+
+    /// Whether the tool moving from `a` to `b` works in a bore: somewhere along the move the
+    /// material at its Z does not reach the axis, and the tool is nearer the bore than the
+    /// outside (below the middle of the material's extent there).
+    fn in_bore(&self, a: Pos, b: Pos) -> bool {
+        (0..=4).any(|i| {
+            let k = f64::from(i) / 4.0;
+            let p = Pos::new(a.x + k * (b.x - a.x), a.z + k * (b.z - a.z));
+            let xs = outline::crossings_at_z(&self.rings, p.z);
+            match (xs.first(), xs.last()) {
+                (Some(&inner), Some(&outer)) => {
+                    inner > self.tolerance / 2.0 && p.x < (inner + outer) / 2.0
+                }
+                _ => false,
+            }
+        })
+    }
+
+    /// The first point where the rapid from `from` to `to` enters material deeper than half the
+    /// tolerance (a rapid that only touches a surface, or grazes it within the resolution, hits
+    /// nothing), with the surface it crosses there.
+    pub fn rapid_hits(&self, from: Pos, to: Pos) -> Option<Hit> {
+        let (a, b) = ((from.x / GRID, from.z / GRID), (to.x / GRID, to.z / GRID));
+        let mut ts = vec![0.0, 1.0];
+        for (p, q, _) in self.rings.iter().flat_map(Ring::edges) {
+            if let Some(t) = crossing(a, b, outline::float(p), outline::float(q)) {
+                ts.push(t);
+            }
+        }
+        ts.sort_by(f64::total_cmp);
+        ts.dedup();
+        let deep = self.tolerance / 2.0 / GRID;
+        let at = |t: f64| (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+        for w in ts.windows(2) {
+            let (t0, t1) = (w[0], w[1]);
+            let inside = (1..=DEPTH_SAMPLES).any(|i| {
+                let p = at(t0 + (t1 - t0) * i as f64 / (DEPTH_SAMPLES + 1) as f64);
+                outline::inside(&self.rings, p)
+                    && outline::nearest_edge(&self.rings, p).is_some_and(|e| e.0 > deep)
+            });
+            if inside {
+                let entry = at(t0);
+                let (_, p, q, origin) = outline::nearest_edge(&self.rings, entry)?;
+                return Some(Hit {
+                    at: to_pos(entry),
+                    origin,
+                    surface: self.surface(p, q, entry),
+                });
+            }
+        }
+        None
+    }
+
+    /// What kind of surface the edge `p` → `q` is, at the point `at` (grid steps).
+    fn surface(&self, p: Point, q: Point, at: (f64, f64)) -> Surface {
+        let (dx, dz) = (f64::from(q.x - p.x), f64::from(q.y - p.y));
+        let len = dx.hypot(dz);
+        let d = 2.0 * at.0 * GRID;
+        if dx.abs() <= 1e-3 * len {
+            // Material lies left of the edge: inward for an edge toward +Z.
+            Surface::Diameter {
+                diameter: 2.0 * f64::from(p.x + q.x) / 2.0 * GRID,
+                bore: dz < 0.0,
+            }
+        } else if dz.abs() <= 1e-3 * len {
+            Surface::Face {
+                z: f64::from(p.y + q.y) / 2.0 * GRID,
+            }
+        } else {
+            Surface::Slope { diameter: d }
+        }
+    }
+
+    /// The material's radii at `z` (mm): the outermost, and the bore's when the material does not
+    /// reach the axis; `None` where there is no material.
+    pub fn radius_at(&self, z: f64) -> Option<Radii> {
+        let xs = outline::crossings_at_z(&self.rings, z);
+        let (first, last) = (*xs.first()?, *xs.last()?);
+        Some(Radii {
+            outer: last,
+            bore: (first > self.tolerance / 2.0).then_some(first),
+        })
+    }
+
+    /// Where the material begins on the face side (the largest Z of any material, mm).
+    pub fn face_z(&self) -> Option<f64> {
+        self.rings
+            .iter()
+            .flat_map(|r| &r.pts)
+            .map(|p| f64::from(p.y) * GRID)
+            .max_by(f64::total_cmp)
+    }
+
+    /// Where the material begins on the face side at radius `x` (mm).
+    pub fn face_at(&self, x: f64) -> Option<f64> {
+        outline::crossings_at_x(&self.rings, x).last().copied()
+    }
+
+    /// Whether the moves from `from` (a thread's passes) meet material more than `depth` (mm)
+    /// beyond the programmed point, away from the axis (toward it in a bore): the first move that
+    /// does, with where along Z it first meets it and the area it would take there. Each move
+    /// cuts before the next is judged, on a copy: the part itself does not change.
+    pub fn shoulder(
+        &self,
+        from: Pos,
+        motions: &[Motion],
+        tool: &Tool,
+        depth: f64,
+    ) -> Result<Option<Shoulder>> {
+        let mut part = self.clone();
+        let mut at = from;
+        for m in motions {
+            let start = at;
+            at = m.to;
+            if m.kind == MotionKind::Rapid {
+                continue;
+            }
+            let pieces = part.sweep(start, m, tool)?;
+            let chip = part.engine.chip(&part.rings, &pieces);
+            let internal = part.in_bore(start, m.to);
+            let limit = if internal {
+                start.x.min(m.to.x) - depth
+            } else {
+                start.x.max(m.to.x) + depth
+            };
+            // Beyond the limit (mm; positive away from the path).
+            let beyond = |p: (f64, f64), by: f64| {
+                let x = p.0 * GRID;
+                if internal {
+                    limit - by - x
+                } else {
+                    x - limit - by
+                }
+            };
+            let (mut area, mut zs) = (0.0, Vec::new());
+            for c in &chip {
+                let pts: Vec<(f64, f64)> = c.iter().map(|&p| outline::float(p)).collect();
+                area += signed_area(&clip_half(&pts, |p| beyond(p, 0.0))) * GRID * GRID;
+                // Where it lies along Z, from what lies a tolerance beyond (the chip's edge along
+                // the limit itself has no area).
+                let clear = clip_half(&pts, |p| beyond(p, self.tolerance));
+                zs.extend(clear.iter().map(|p| p.1 * GRID));
+            }
+            if area.abs() > self.tolerance * self.tolerance && !zs.is_empty() {
+                let toward_minus_z = m.to.z < start.z;
+                let z = zs
+                    .into_iter()
+                    .reduce(|a, b| if toward_minus_z { a.max(b) } else { a.min(b) })
+                    .unwrap_or(start.z);
+                return Ok(Some(Shoulder {
+                    z,
+                    area: area.abs(),
+                    line: m.line,
+                    pass: m.pass,
+                }));
+            }
+            part.cut(start, m, tool)?;
+        }
+        Ok(None)
+    }
+}
+
+/// The parameter along `a` → `b` where it meets the segment `p`–`q`, if it does.
+fn crossing(a: (f64, f64), b: (f64, f64), p: (f64, f64), q: (f64, f64)) -> Option<f64> {
+    let (rx, ry) = (b.0 - a.0, b.1 - a.1);
+    let (sx, sy) = (q.0 - p.0, q.1 - p.1);
+    let den = rx * sy - ry * sx;
+    if den == 0.0 {
+        return None;
+    }
+    let (wx, wy) = (p.0 - a.0, p.1 - a.1);
+    let t = (wx * sy - wy * sx) / den;
+    let u = (wx * ry - wy * rx) / den;
+    ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then_some(t)
+}
+
+/// The part of a polygon where `side` ≥ 0 (Sutherland–Hodgman); for a polygon that is not
+/// convex the result may run back and forth along the line, but its signed area is the part's.
+fn clip_half(pts: &[(f64, f64)], side: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)> {
+    let n = pts.len();
+    let mut out = Vec::with_capacity(n + 2);
+    for i in 0..n {
+        let (a, b) = (pts[i], pts[(i + 1) % n]);
+        let (sa, sb) = (side(a), side(b));
+        if sa >= 0.0 {
+            out.push(a);
+        }
+        if (sa >= 0.0) != (sb >= 0.0) {
+            let k = sa / (sa - sb);
+            out.push((a.0 + k * (b.0 - a.0), a.1 + k * (b.1 - a.1)));
+        }
+    }
+    out
+}
+
+fn signed_area(pts: &[(f64, f64)]) -> f64 {
+    let m = pts.len();
+    (0..m)
+        .map(|i| {
+            let (a, b) = (pts[i], pts[(i + 1) % m]);
+            a.0 * b.1 - b.0 * a.1
+        })
+        .sum::<f64>()
+        / 2.0
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,446 @@
+//! The material's outline: closed rings on the grid, each edge with where it came from; the
+//! boolean cut that keeps those origins, and the simplification that keeps the outline small.
+//!
+//! Rings run counter-clockwise around material and clockwise around holes in (x, z), so the
+//! material always lies left of an edge.
+
+use std::collections::HashMap;
+
+use i_overlay::core::extract::BooleanExtractionBuffer;
+use i_overlay::core::fill_rule::FillRule;
+use i_overlay::core::overlay::{IntOverlayOptions, Overlay};
+use i_overlay::core::overlay_rule::OverlayRule;
+use i_overlay::core::solver::Solver;
+use i_overlay::i_float::int::point::IntPoint;
+
+use super::{Origin, GRID};
+
+pub type Point = IntPoint<i32>;
+
+/// One closed ring: `origins[i]` is the origin of the edge from `pts[i]` to `pts[i + 1]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Ring {
+    pub pts: Vec<Point>,
+    pub origins: Vec<Origin>,
+}
+
+impl Ring {
+    /// The edges as (start, end, origin).
+    pub fn edges(&self) -> impl Iterator<Item = (Point, Point, Origin)> + '_ {
+        let n = self.pts.len();
+        (0..n).map(move |i| (self.pts[i], self.pts[(i + 1) % n], self.origins[i]))
+    }
+}
+
+/// A box on the grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    pub min: Point,
+    pub max: Point,
+}
+
+impl Bounds {
+    pub fn of<'a>(pts: impl IntoIterator<Item = &'a Point>) -> Option<Bounds> {
+        let mut it = pts.into_iter();
+        let first = *it.next()?;
+        Some(it.fold(
+            Bounds {
+                min: first,
+                max: first,
+            },
+            |b, p| Bounds {
+                min: Point::new(b.min.x.min(p.x), b.min.y.min(p.y)),
+                max: Point::new(b.max.x.max(p.x), b.max.y.max(p.y)),
+            },
+        ))
+    }
+
+    pub fn overlaps(&self, o: &Bounds) -> bool {
+        self.min.x <= o.max.x
+            && o.min.x <= self.max.x
+            && self.min.y <= o.max.y
+            && o.min.y <= self.max.y
+    }
+
+    pub fn contains(&self, p: Point, margin: i32) -> bool {
+        p.x >= self.min.x - margin
+            && p.x <= self.max.x + margin
+            && p.y >= self.min.y - margin
+            && p.y <= self.max.y + margin
+    }
+}
+
+/// A result edge this close (grid steps) to an edge of the cutter or of the old outline lies on it.
+const ON_EDGE: f64 = 2.0;
+
+/// The boolean engine with its buffers, kept from one cut to the next. Every vertex of the input
+/// is kept in the output, so that an edge's origin can be found from its ends.
+pub struct Engine {
+    overlay: Overlay<i32>,
+    buf: BooleanExtractionBuffer<i32>,
+}
+
+impl Engine {
+    pub fn new() -> Engine {
+        Engine {
+            overlay: Overlay::new_custom(
+                64,
+                IntOverlayOptions::keep_all_points(),
+                Solver::default(),
+            ),
+            buf: BooleanExtractionBuffer::default(),
+        }
+    }
+
+    /// The rings of `material` with `op` applied against `cutter` (its pieces convex and
+    /// counter-clockwise, their union the cutter).
+    fn run(
+        &mut self,
+        material: &[Ring],
+        cutter: &[Vec<Point>],
+        rule: OverlayRule,
+    ) -> Vec<Vec<Point>> {
+        let subj: Vec<&[Point]> = material.iter().map(|r| r.pts.as_slice()).collect();
+        let clip: Vec<&[Point]> = cutter.iter().map(|c| c.as_slice()).collect();
+        self.overlay.reinit_with_subj_and_clip(&subj, &clip);
+        match self.overlay.build_graph_view(FillRule::NonZero) {
+            Some(graph) => graph
+                .extract_shapes(rule, &mut self.buf)
+                .into_iter()
+                .flatten()
+                .collect(),
+            None if rule == OverlayRule::Difference => {
+                material.iter().map(|r| r.pts.clone()).collect()
+            }
+            None => Vec::new(),
+        }
+    }
+
+    /// material − cutter, each new edge with its origin: `made` where it lies on the cutter's
+    /// boundary (the surface this cut leaves), else the origin of the old edge it lies on.
+    pub fn cut(&mut self, material: &[Ring], cutter: &[Vec<Point>], made: Origin) -> Vec<Ring> {
+        let rest = self.run(material, cutter, OverlayRule::Difference);
+        let old = OldEdges::new(material);
+        let cut = CutterEdges::new(cutter);
+        rest.into_iter()
+            .map(|pts| {
+                let n = pts.len();
+                let origins = (0..n)
+                    .map(|i| {
+                        let (a, b) = (pts[i], pts[(i + 1) % n]);
+                        // A surface the cutter only runs along keeps its origin: the
+                        // edges found from their ends first.
+                        old.by_ends(a, b)
+                            .or_else(|| cut.holds(a, b).then_some(made))
+                            .unwrap_or_else(|| old.nearest(a, b))
+                    })
+                    .collect();
+                Ring { pts, origins }
+            })
+            .collect()
+    }
+
+    /// material ∩ cutter: the chip, without origins.
+    pub fn chip(&mut self, material: &[Ring], cutter: &[Vec<Point>]) -> Vec<Vec<Point>> {
+        self.run(material, cutter, OverlayRule::Intersect)
+    }
+}
+
+/// The old outline's edges, found by their ends.
+struct OldEdges<'m> {
+    material: &'m [Ring],
+    by_start: HashMap<(i32, i32), (Point, Origin)>,
+    by_end: HashMap<(i32, i32), (Point, Origin)>,
+}
+
+impl<'m> OldEdges<'m> {
+    fn new(material: &'m [Ring]) -> OldEdges<'m> {
+        let n: usize = material.iter().map(|r| r.pts.len()).sum();
+        let (mut by_start, mut by_end) = (HashMap::with_capacity(n), HashMap::with_capacity(n));
+        for (a, b, o) in material.iter().flat_map(Ring::edges) {
+            by_start.insert((a.x, a.y), (b, o));
+            by_end.insert((b.x, b.y), (a, o));
+        }
+        OldEdges {
+            material,
+            by_start,
+            by_end,
+        }
+    }
+
+    /// The origin of the old edge that the result edge `a` → `b` is part of, found from its
+    /// ends: the old edge leaving `a` or reaching `b` along the same line.
+    fn by_ends(&self, a: Point, b: Point) -> Option<Origin> {
+        if let Some(&(end, o)) = self.by_start.get(&(a.x, a.y)) {
+            if along(a, end, b) {
+                return Some(o);
+            }
+        }
+        if let Some(&(start, o)) = self.by_end.get(&(b.x, b.y)) {
+            if along(b, start, a) {
+                return Some(o);
+            }
+        }
+        None
+    }
+
+    /// The origin of the old edge nearest the midpoint of `a` → `b` (an old edge cut at both
+    /// ends by the cutter).
+    fn nearest(&self, a: Point, b: Point) -> Origin {
+        let m = mid(a, b);
+        self.material
+            .iter()
+            .flat_map(Ring::edges)
+            .map(|(p, q, o)| (segment_distance(m, p, q), o))
+            .min_by(|x, y| x.0.total_cmp(&y.0))
+            .map_or(Origin::Unknown, |(_, o)| o)
+    }
+}
+
+/// The cutter's edges, piece by piece with each piece's box.
+struct CutterEdges<'c> {
+    pieces: Vec<(Bounds, &'c [Point])>,
+    all: Option<Bounds>,
+}
+
+impl<'c> CutterEdges<'c> {
+    fn new(cutter: &'c [Vec<Point>]) -> CutterEdges<'c> {
+        let pieces: Vec<(Bounds, &[Point])> = cutter
+            .iter()
+            .filter_map(|c| Some((Bounds::of(c)?, c.as_slice())))
+            .collect();
+        let all = Bounds::of(pieces.iter().flat_map(|(b, _)| [&b.min, &b.max]));
+        CutterEdges { pieces, all }
+    }
+
+    /// Whether the edge `a` → `b` lies on the cutter's boundary (its midpoint and both ends on
+    /// one of the pieces' edges).
+    fn holds(&self, a: Point, b: Point) -> bool {
+        let m = mid(a, b);
+        let near = |p: (f64, f64)| (p.0.round() as i32, p.1.round() as i32);
+        let (mx, my) = near(m);
+        let margin = ON_EDGE.ceil() as i32;
+        if !self
+            .all
+            .is_some_and(|bx| bx.contains(Point::new(mx, my), margin))
+        {
+            return false;
+        }
+        self.pieces
+            .iter()
+            .filter(|(bx, _)| bx.contains(Point::new(mx, my), margin))
+            .any(|(_, c)| {
+                let n = c.len();
+                (0..n).any(|i| {
+                    let (p, q) = (c[i], c[(i + 1) % n]);
+                    segment_distance(m, p, q) <= ON_EDGE
+                        && segment_distance(float(a), p, q) <= ON_EDGE
+                        && segment_distance(float(b), p, q) <= ON_EDGE
+                })
+            })
+    }
+}
+
+/// Whether `b` lies on the ray from `a` through `end` (within [`ON_EDGE`] of its line).
+fn along(a: Point, end: Point, b: Point) -> bool {
+    let (ux, uy) = (f64::from(end.x - a.x), f64::from(end.y - a.y));
+    let (wx, wy) = (f64::from(b.x - a.x), f64::from(b.y - a.y));
+    let len = ux.hypot(uy);
+    len > 0.0 && (ux * wy - uy * wx).abs() <= ON_EDGE * len && ux * wx + uy * wy > 0.0
+}
+
+pub fn float(p: Point) -> (f64, f64) {
+    (f64::from(p.x), f64::from(p.y))
+}
+
+fn mid(a: Point, b: Point) -> (f64, f64) {
+    (
+        (f64::from(a.x) + f64::from(b.x)) / 2.0,
+        (f64::from(a.y) + f64::from(b.y)) / 2.0,
+    )
+}
+
+/// Distance (grid steps) from `p` to the segment `a`–`b`.
+pub fn segment_distance(p: (f64, f64), a: Point, b: Point) -> f64 {
+    let (a, b) = (float(a), float(b));
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let k = if len2 > 0.0 {
+        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p.0 - a.0 - k * dx).hypot(p.1 - a.1 - k * dy)
+}
+
+/// Twice the signed area of a ring (grid steps², counter-clockwise positive).
+pub fn twice_area(pts: &[Point]) -> i128 {
+    let n = pts.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (pts[i], pts[(i + 1) % n]);
+            i128::from(a.x) * i128::from(b.y) - i128::from(b.x) * i128::from(a.y)
+        })
+        .sum()
+}
+
+/// Simplifies the outline within `eps` grid steps: a vertex between two edges of one origin that
+/// lies within `eps` of the line through its neighbours goes, and so does the tip of a spike
+/// whose neighbours are within `eps` of each other; a ring thinner than `2·eps` (twice its area
+/// over its perimeter, its mean width) goes whole. Each ring is walked at most until a full turn
+/// passes without a removal, so the work is bounded by its length times its removals.
+pub fn simplify(rings: &mut Vec<Ring>, eps: f64) {
+    for r in rings.iter_mut() {
+        simplify_ring(r, eps);
+    }
+    rings.retain(|r| {
+        if r.pts.len() < 3 {
+            return false;
+        }
+        let perimeter: f64 = r
+            .edges()
+            .map(|(a, b, _)| f64::from(b.x - a.x).hypot(f64::from(b.y - a.y)))
+            .sum();
+        let area = twice_area(&r.pts).unsigned_abs() as f64 / 2.0;
+        2.0 * area / perimeter >= 2.0 * eps
+    });
+}
+
+fn simplify_ring(r: &mut Ring, eps: f64) {
+    let mut i = 0;
+    let mut since_removal = 0;
+    while r.pts.len() > 3 && since_removal <= r.pts.len() {
+        let n = r.pts.len();
+        i %= n;
+        let prev = (i + n - 1) % n;
+        let (a, b, c) = (r.pts[prev], r.pts[i], r.pts[(i + 1) % n]);
+        let (ux, uy) = (f64::from(c.x - a.x), f64::from(c.y - a.y));
+        let (wx, wy) = (f64::from(b.x - a.x), f64::from(b.y - a.y));
+        let len = ux.hypot(uy);
+        let spike = len <= eps;
+        let straight = r.origins[prev] == r.origins[i] && (ux * wy - uy * wx).abs() <= eps * len;
+        if spike || straight {
+            // The edge a → c keeps a → b's origin.
+            r.pts.remove(i);
+            r.origins.remove(i);
+            since_removal = 0;
+            i = i.saturating_sub(1);
+        } else {
+            i += 1;
+            since_removal += 1;
+        }
+    }
+}
+
+/// The x (mm) where the outline crosses the line z = `z` (mm), sorted: between the first and
+/// the second, the third and the fourth, … lies material.
+pub fn crossings_at_z(rings: &[Ring], z: f64) -> Vec<f64> {
+    let y = z / GRID;
+    let mut xs: Vec<f64> = rings
+        .iter()
+        .flat_map(Ring::edges)
+        .filter_map(|(a, b, _)| {
+            let (ay, by) = (f64::from(a.y), f64::from(b.y));
+            // Half-open: a vertex on the line counts once.
+            if (ay <= y) == (by <= y) {
+                return None;
+            }
+            let k = (y - ay) / (by - ay);
+            Some((f64::from(a.x) + k * f64::from(b.x - a.x)) * GRID)
+        })
+        .collect();
+    xs.sort_by(f64::total_cmp);
+    xs
+}
+
+/// The z (mm) where the outline crosses the line x = `x` (mm), sorted.
+pub fn crossings_at_x(rings: &[Ring], x: f64) -> Vec<f64> {
+    let gx = x / GRID;
+    let mut zs: Vec<f64> = rings
+        .iter()
+        .flat_map(Ring::edges)
+        .filter_map(|(a, b, _)| {
+            let (ax, bx) = (f64::from(a.x), f64::from(b.x));
+            if (ax <= gx) == (bx <= gx) {
+                return None;
+            }
+            let k = (gx - ax) / (bx - ax);
+            Some((f64::from(a.y) + k * f64::from(b.y - a.y)) * GRID)
+        })
+        .collect();
+    zs.sort_by(f64::total_cmp);
+    zs
+}
+
+/// Whether the point (grid steps) lies in the material (non-zero winding).
+pub fn inside(rings: &[Ring], p: (f64, f64)) -> bool {
+    let mut winding = 0i32;
+    for (a, b, _) in rings.iter().flat_map(Ring::edges) {
+        let (a, b) = (float(a), float(b));
+        if (a.1 <= p.1) != (b.1 <= p.1) {
+            let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+            if x > p.0 {
+                winding += if b.1 > a.1 { 1 } else { -1 };
+            }
+        }
+    }
+    winding != 0
+}
+
+/// The distance (grid steps) from `p` to the nearest edge, with that edge.
+pub fn nearest_edge(rings: &[Ring], p: (f64, f64)) -> Option<(f64, Point, Point, Origin)> {
+    rings
+        .iter()
+        .flat_map(Ring::edges)
+        .map(|(a, b, o)| (segment_distance(p, a, b), a, b, o))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ring(pts: &[(i32, i32)], o: Origin) -> Ring {
+        Ring {
+            pts: pts.iter().map(|&(x, y)| Point::new(x, y)).collect(),
+            origins: vec![o; pts.len()],
+        }
+    }
+
+    #[test]
+    fn simplify_merges_collinear_edges_of_one_origin_only() {
+        // A square 0..100 with an extra vertex at (50, 0) on its bottom edge (one origin): it goes.
+        let o = Origin::Unknown;
+        let mut rings = vec![ring(&[(0, 0), (50, 0), (100, 0), (100, 100), (0, 100)], o)];
+        simplify(&mut rings, 5.0);
+        assert_eq!(rings[0].pts.len(), 4);
+        // With two origins on the bottom edge it stays.
+        let mut r = ring(&[(0, 0), (50, 0), (100, 0), (100, 100), (0, 100)], o);
+        r.origins[1] = Origin::Cut(super::super::Cut {
+            line: 3,
+            pass: 0,
+            kind: super::super::CutKind::Feed,
+        });
+        let mut rings = vec![r];
+        simplify(&mut rings, 5.0);
+        assert_eq!(rings[0].pts.len(), 5);
+        // A ring 2 steps thick (mean width 2·200/204 ≈ 1.96 < 2·5) is a sliver: it goes.
+        let mut rings = vec![ring(&[(0, 0), (100, 0), (100, 2), (0, 2)], o)];
+        simplify(&mut rings, 5.0);
+        assert!(rings.is_empty());
+    }
+
+    #[test]
+    fn crossings_and_inside() {
+        // Material 0..10 (x) × −5..0 (z) in grid steps of 0.1 µm: a ring of 10 µm × 5 µm.
+        let rings = vec![ring(
+            &[(0, -50), (100, -50), (100, 0), (0, 0)],
+            Origin::Unknown,
+        )];
+        let xs = crossings_at_z(&rings, -2.0 * GRID);
+        assert_eq!(xs.len(), 2);
+        assert!((xs[1] - 100.0 * GRID).abs() < 1e-12);
+        assert!(inside(&rings, (50.0, -20.0)));
+        assert!(!inside(&rings, (150.0, -20.0)));
+    }
+}
