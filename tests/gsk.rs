@@ -780,6 +780,7 @@ proptest! {
                     prop_assert!((mv.lead.unwrap() - lead).abs() <= 0.000_050_1);
                 }
                 MotionKind::Feed => prop_assert_eq!(mv.mode, MotionMode::Feed),
+                MotionKind::Arc { .. } => prop_assert!(false, "a thread cycle makes no arc"),
             }
         }
     }
