@@ -11,6 +11,12 @@
 
 use serde::Serialize;
 
+// issue 23: the motion of the contour cycles (G71/G72, G73, G70) and their shared geometry.
+mod contour;
+pub mod finish;
+pub mod pattern;
+pub mod rough;
+
 use crate::diag::Span;
 use crate::units::{Pos, Units};
 
