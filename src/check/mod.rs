@@ -287,6 +287,8 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                 let now = spindle;
                 collector.cycle(*job, modal.diameter_x, || now, &mut take);
             }
+            // issue 23: a turning cycle's moves are not judged yet.
+            Event::Turning { line, .. } => spindle.read(line, set_position),
         }
         Ok(())
     });

@@ -11,6 +11,9 @@
 
 use serde::Serialize;
 
+// issue 23: roughing and finishing along an offset profile (LinuxCNC's G70/G71/G72).
+pub mod profile_rough;
+
 use crate::diag::Span;
 use crate::units::{Pos, Units};
 
@@ -72,6 +75,43 @@ pub struct Rough {
     /// Type II: the passes follow pockets (a contour that is not monotonic along the depth axis).
     pub pockets: bool,
     pub contour: Contour,
+    // issue 23: how the passes are laid out (added for LinuxCNC's G71/G72).
+    pub strategy: Strategy,
+}
+
+/// How a stock removal's passes are laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum Strategy {
+    /// Layers along the cutting axis down to the contour shifted by the allowance, then a pass
+    /// along the outline (Fanuc's G71/G72 and the family's).
+    Layers,
+    /// Along an offset profile ([`profile_rough`]): the contour offset normal to itself by
+    /// `distance` and shifted by the allowance (in the working frame: passes along Z toward −Z,
+    /// the depth decreasing), cut in layers from the start point's side, each ended by a 45°
+    /// retract of `retract` in both axes and a rapid back; the tool then follows the offset
+    /// contour. `pockets`: which pockets are cut.
+    Offset { distance: f64, pockets: Pockets },
+}
+
+/// Which pockets an offset-profile roughing cuts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Pockets {
+    /// Every pocket, each when the walk along the contour reaches it.
+    All,
+    /// None: the layers, then the climbing parts of the contour only.
+    None,
+    /// Only after the first pocket: the first layers are skipped (a cycle with `None` cut
+    /// them), from where the contour first climbs.
+    AfterFirst,
+}
+
+/// Finishing passes at decreasing offsets from the contour: pass k of `passes` (counted down)
+/// at (k−1)·(first−last)/passes + last.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FinishOffsets {
+    pub first: f64,
+    pub last: f64,
+    pub passes: f64,
 }
 
 /// Pattern repeating (G73): the contour shifted outward by the relief and brought in, in `passes`
@@ -94,6 +134,8 @@ pub struct Pattern {
 pub struct Finish {
     pub start: Pos,
     pub contour: Contour,
+    // issue 23: LinuxCNC's G70 D E P (None: one pass on the contour).
+    pub offsets: Option<FinishOffsets>,
 }
 
 /// A single box cycle: G90 (along Z: in X, along Z to `end.z`, out in X, back in Z) or G94 (along
@@ -141,4 +183,21 @@ pub struct TurningJob {
     pub span: Span,
     pub units: Units,
     pub controller: &'static str,
+}
+
+// issue 23: the motion of the turning cycles this branch expands (offset-profile roughing and
+// finishing); the other strategies are refused until they are written.
+/// The moves of a turning cycle, from its start (absolute mm, X radius).
+pub fn toolpath(job: &TurningJob) -> crate::diag::Result<crate::toolpath::Toolpath> {
+    match &job.cycle {
+        Cycle::Rough(r) if matches!(r.strategy, Strategy::Offset { .. }) => {
+            profile_rough::rough(r, job.units, job.span)
+        }
+        Cycle::Finish(f) if f.offsets.is_some() => profile_rough::finish(f, job.units, job.span),
+        _ => Err(crate::diag::Diagnostic::error(
+            crate::diag::Code::Input,
+            job.span,
+            "this turning cycle's moves are not expanded yet",
+        )),
+    }
 }
