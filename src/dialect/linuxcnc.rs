@@ -226,7 +226,7 @@ impl LinuxCnc {
     }
 
     /// A G70/G71/G72 block: its words read, its profile subroutine to be called.
-    fn read_g7x(&mut self, line: &Line, modal: &Modal, code: u16, at: Span) -> Result<Read> {
+    fn read_g7x(&mut self, line: &Line, modal: &mut Modal, code: u16, at: Span) -> Result<Read> {
         if self.plane != 180 {
             return Err(g76_error(
                 at,
@@ -240,7 +240,10 @@ impl LinuxCnc {
         }
         // The cycle's rapid to its start leaves G0 in force while the profile is read.
         let state = (0, self.ijk_absolute, self.cutter_comp);
-        self.g7x = Some(turning::Pending::read(line, modal, code, at, state)?);
+        let pending = turning::Pending::read(line, modal, code, at, state)?;
+        // The cycle's rapid to its start comes first: the profile reads the position from there.
+        modal.position = crate::gcode::Position::at(pending.start());
+        self.g7x = Some(pending);
         self.g7x_call = true;
         Ok(Read::Applied(None))
     }
@@ -812,17 +815,17 @@ impl Dialect for LinuxCnc {
         self.g7x.as_ref().map(turning::Pending::q)
     }
 
-    fn profile_block(&mut self, line: &Line, modal: &Modal) -> Result<()> {
+    fn profile_block(&mut self, line: &Line, modal: &mut Modal) -> Result<()> {
         match self.g7x.as_mut() {
             Some(p) => p.block(line, modal),
             None => Ok(()),
         }
     }
 
-    fn profile_end(&mut self, modal: &mut Modal) -> Result<Read> {
+    fn profile_end(&mut self, modal: &mut Modal, end: Span) -> Result<Read> {
         match self.g7x.take() {
             Some(p) => {
-                let (job, last) = p.finish(modal)?;
+                let (job, last) = p.finish(modal, end)?;
                 // The cycle's last move leaves its motion mode in force.
                 self.motion = Some(last);
                 modal.motion = match last {

@@ -200,12 +200,14 @@ pub trait Dialect {
     fn profile_call(&mut self) -> Option<f64> {
         None
     }
-    /// A block of the profile subroutine: read, not executed.
-    fn profile_block(&mut self, _line: &Line, _modal: &Modal) -> Result<()> {
+    /// A block of the profile subroutine: read, not executed (the position may follow it, as
+    /// the parameters that report it do in LinuxCNC).
+    fn profile_block(&mut self, _line: &Line, _modal: &mut Modal) -> Result<()> {
         Ok(())
     }
-    /// The profile subroutine returned: the cycle it completes.
-    fn profile_end(&mut self, _modal: &mut Modal) -> Result<Read> {
+    /// The profile subroutine returned (at `end`, the block that returned): the cycle it
+    /// completes.
+    fn profile_end(&mut self, _modal: &mut Modal, _end: Span) -> Result<Read> {
         Ok(Read::Settings)
     }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no

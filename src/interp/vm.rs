@@ -34,8 +34,9 @@ pub trait Host {
     fn profile_call(&mut self) -> Option<f64> {
         None
     }
-    /// The profile subroutine returned; `line` is the block that called it.
-    fn profile_end(&mut self, _line: TextLine<'_>) -> Result<(), Self::Error> {
+    /// The profile subroutine returned; `line` is the block that called it, `end` the one that
+    /// returned.
+    fn profile_end(&mut self, _line: TextLine<'_>, _end: TextLine<'_>) -> Result<(), Self::Error> {
         Ok(())
     }
 }
@@ -1079,7 +1080,7 @@ impl<'c> Vm<'c> {
             self.state.value = v;
         }
         if frame.profile {
-            host.profile_end(self.line(frame.call))?;
+            host.profile_end(self.line(frame.call), self.line(pc))?;
         }
         match to_label {
             Some(n) => {

@@ -200,7 +200,7 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         self.summary.lines = self.summary.lines.max(line.number);
         // issue 23: a profile's block is read by the dialect, not executed.
         if self.profile.is_some() {
-            return Ok(self.dialect.profile_block(&line, &self.modal)?);
+            return Ok(self.dialect.profile_block(&line, &mut self.modal)?);
         }
         if !self.dialect.prefilter(&line) {
             let mv = self.modal.apply(&self.conv, &line)?;
@@ -288,8 +288,12 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         self.call.take()
     }
 
-    fn profile_end(&mut self, text: interp::text::TextLine<'_>) -> Result<(), Error> {
-        let read = self.dialect.profile_end(&mut self.modal)?;
+    fn profile_end(
+        &mut self,
+        text: interp::text::TextLine<'_>,
+        end: interp::text::TextLine<'_>,
+    ) -> Result<(), Error> {
+        let read = self.dialect.profile_end(&mut self.modal, end.whole())?;
         let Read::Turning(job) = read else {
             return Ok(());
         };

@@ -68,28 +68,26 @@ impl Pending {
                 format!("G{cycle}.{sub} cannot be used with cutter compensation enabled"),
             ));
         }
-        let Some(from) = modal.position.known() else {
-            return Err(error(
-                code_span,
-                Code::MissingWord,
-                format!(
-                    "the tool's position ({} unknown) is where G{cycle} starts: move to X and Z before it",
-                    modal.position.unknown_axes().join(", ")
-                ),
-            ));
+        let named = |axis: u8| modal.absolute && line.word(axis).is_some();
+        let from = match modal.position.known() {
+            Some(p) => p,
+            // X and Z of the block name the start: where the tool was does not matter.
+            None if named(b'X') && named(b'Z') => Pos::new(0.0, 0.0),
+            None => {
+                return Err(error(
+                    code_span,
+                    Code::MissingWord,
+                    format!(
+                        "the tool's position ({} unknown) is where G{cycle} starts: move to X and Z before it, or give them on the block",
+                        modal.position.unknown_axes().join(", ")
+                    ),
+                ))
+            }
         };
         let start = start_point(line, modal, from);
         let mut words = [None; 7];
         for (slot, letter) in words.iter_mut().zip(LETTERS) {
             *slot = line.word(letter).map(|w| modal.value(w));
-        }
-        if words[2].is_some_and(|i| i <= 0.0) {
-            let i = line.word(b'I').map_or(code_span, |w| w.span);
-            return Err(error(
-                i,
-                Code::OutOfRange,
-                "G7X error: I must be greater than zero.",
-            ));
         }
         Ok(Pending {
             code,
@@ -108,13 +106,17 @@ impl Pending {
         })
     }
 
+    pub(super) fn start(&self) -> Pos {
+        self.start
+    }
+
     pub(super) fn q(&self) -> f64 {
         self.q
     }
 
     /// A block of the profile: its motion code and end point (X, Z, or U, W as increments in
     /// G90), an arc's centre (I, K, or R).
-    pub(super) fn block(&mut self, line: &Line, modal: &Modal) -> Result<()> {
+    pub(super) fn block(&mut self, line: &Line, modal: &mut Modal) -> Result<()> {
         for w in line.words {
             if w.letter == b'G' {
                 let c = (w.value * 10.0).round() as u16;
@@ -135,6 +137,7 @@ impl Pending {
         if to == self.at {
             return Ok(());
         }
+        modal.position = Position::at(to);
         let shape = match self.motion {
             20 | 30 => Shape::Arc {
                 centre: self.centre(line, modal, to)?,
@@ -251,8 +254,25 @@ impl Pending {
 
     /// The profile is read: the cycle, and where it leaves the tool (the modal position is set).
     /// The motion mode its last move leaves (×10).
-    pub(super) fn finish(self, modal: &mut Modal) -> Result<(TurningJob, u16)> {
+    /// Errors found once the profile is read are reported where LinuxCNC reports them: at the
+    /// block that ended the subroutine (`end`), the hint naming the cycle's line.
+    pub(super) fn finish(self, modal: &mut Modal, end: Span) -> Result<(TurningJob, u16)> {
         let [d, e, i, p, r, u, w] = self.words;
+        let at_end = |d: Diagnostic| Diagnostic {
+            span: end,
+            ..d.with_hint(format!(
+                "in the profile of the G{} at line {}",
+                self.code / 10,
+                self.line
+            ))
+        };
+        if i.is_some_and(|i| i <= 0.0) {
+            return Err(at_end(error(
+                end,
+                Code::OutOfRange,
+                "G7X error: I must be greater than zero.",
+            )));
+        }
         let mm = |v: Option<f64>, default: f64| self.units.to_mm(v.unwrap_or(default));
         let contour = Contour {
             start: self.start,
@@ -295,7 +315,7 @@ impl Pending {
             units: self.units,
             controller: "LinuxCNC",
         };
-        let path = crate::turning::toolpath(&job)?;
+        let path = crate::turning::toolpath(&job).map_err(at_end)?;
         modal.position = Position::at(path.end());
         let last = match path.motions.last().map(|m| m.kind) {
             Some(MotionKind::Rapid) | None => 0,
