@@ -926,3 +926,144 @@ fn finish_passes(
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::turning::{Along, Contour, Segment};
+
+    fn line(x: f64, z: f64) -> Segment {
+        Segment {
+            to: Pos::new(x, z),
+            shape: Shape::Line,
+            line: 5,
+        }
+    }
+
+    /// A shoulder: from (X10 Z2) radius down to X5 at Z0, along to Z−10, up to X10.
+    fn shoulder() -> Contour {
+        Contour {
+            start: Pos::new(10.0, 2.0),
+            segments: vec![line(5.0, 0.0), line(5.0, -10.0), line(10.0, -10.0)],
+        }
+    }
+
+    fn moves(path: &Toolpath) -> Vec<(char, f64, f64)> {
+        path.motions
+            .iter()
+            .map(|m| {
+                let k = match m.kind {
+                    MotionKind::Rapid => 'R',
+                    MotionKind::Feed => 'F',
+                    _ => 'A',
+                };
+                (k, m.to.x, m.to.z)
+            })
+            .collect()
+    }
+
+    fn same(got: &[(char, f64, f64)], want: &[(char, f64, f64)]) {
+        assert_eq!(got.len(), want.len(), "{got:?}");
+        for (g, w) in got.iter().zip(want) {
+            assert!(
+                g.0 == w.0 && (g.1 - w.1).abs() < 1e-9 && (g.2 - w.2).abs() < 1e-9,
+                "{g:?} != {w:?} in {got:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn layers_end_on_the_contour_with_a_45_degree_retract() {
+        let rough = Rough {
+            along: Along::Z,
+            start: Pos::new(10.0, 2.0),
+            depth: 2.0,
+            retract: 0.5,
+            allowance_x: 0.0,
+            allowance_z: 0.0,
+            pockets: true,
+            contour: shoulder(),
+            strategy: Strategy::Offset {
+                distance: 0.0,
+                pockets: Pockets::All,
+            },
+        };
+        let path = rough_path(&rough);
+        // Layers at X10, 8, 6 (2 apart from the start's X10); each meets the lead-in line
+        // (X10 Z2 → X5 Z0: z = 2 − 2·(10 − x)/5, so 1.2 at X8 and 0.4 at X6), cuts to the
+        // shoulder at Z−10, retracts 0.5 in X and Z and rapids back. The layer at X4 lies below
+        // the contour's X5: the tool goes to X5 Z0 and follows the contour out.
+        same(
+            &moves(&path),
+            &[
+                ('R', 10.0, 2.0),
+                ('R', 10.0, 2.0),
+                ('R', 10.0, 2.0),
+                ('F', 10.0, -10.0),
+                ('R', 10.5, -9.5),
+                ('R', 10.5, 1.5),
+                ('R', 10.0, 2.0),
+                ('R', 8.0, 1.2),
+                ('F', 8.0, -10.0),
+                ('R', 8.5, -9.5),
+                ('R', 8.5, 0.7),
+                ('R', 8.0, 1.2),
+                ('R', 6.0, 0.4),
+                ('F', 6.0, -10.0),
+                ('R', 6.5, -9.5),
+                ('R', 6.5, -0.1),
+                ('R', 6.0, 0.4),
+                ('R', 5.0, 0.0),
+                ('F', 5.0, -10.0),
+                ('F', 10.0, -10.0),
+            ],
+        );
+    }
+
+    fn rough_path(rough: &Rough) -> Toolpath {
+        super::rough(rough, Units::Mm, Span::default()).unwrap()
+    }
+
+    #[test]
+    fn finishing_follows_the_contour_once_from_a_rapid_to_its_first_point() {
+        let f = Finish {
+            start: Pos::new(10.0, 2.0),
+            contour: shoulder(),
+            offsets: None,
+        };
+        let path = finish(&f, Units::Mm, Span::default()).unwrap();
+        same(
+            &moves(&path),
+            &[
+                ('R', 10.0, 2.0),
+                ('R', 10.0, 2.0),
+                ('R', 5.0, 0.0),
+                ('F', 5.0, -10.0),
+                ('F', 10.0, -10.0),
+            ],
+        );
+    }
+
+    #[test]
+    fn a_contour_that_turns_back_in_z_is_refused() {
+        // Along Z the contour must not turn back toward the start: Z−10 then Z−4 does.
+        let mut contour = shoulder();
+        contour.segments.push(line(12.0, -4.0));
+        let rough = Rough {
+            along: Along::Z,
+            start: Pos::new(10.0, 2.0),
+            depth: 1.0,
+            retract: 0.5,
+            allowance_x: 0.0,
+            allowance_z: 0.0,
+            pockets: true,
+            contour,
+            strategy: Strategy::Offset {
+                distance: 0.0,
+                pockets: Pockets::All,
+            },
+        };
+        let e = super::rough(&rough, Units::Mm, Span::default()).unwrap_err();
+        assert_eq!(e.message, "G7X error: Not monotonic");
+    }
+}
