@@ -50,6 +50,13 @@ pub enum Event<'a, 'l> {
         job: Box<Job>,
         dialect: &'a dyn dialect::Dialect,
     },
+    // issue 23 (turning cycles).
+    /// A complete turning cycle (the modal position is already where it ends).
+    Turning {
+        line: &'a Line<'l>,
+        job: Box<crate::turning::TurningJob>,
+        dialect: &'a dyn dialect::Dialect,
+    },
 }
 
 mod interpreted;
@@ -407,6 +414,15 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
             }
         }
         Read::Settings => sink.event(modal, Event::Settings { line: &line })?,
+        // issue 23: a turning cycle (the dialect has set the position where it ends).
+        Read::Turning(job) => sink.event(
+            modal,
+            Event::Turning {
+                line: &line,
+                job,
+                dialect,
+            },
+        )?,
         Read::Cycle(job) => {
             summary.cycles += 1;
             // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
@@ -599,7 +615,8 @@ fn expand_event(
         ..base_format.clone()
     };
     match ev {
-        Event::Plain { line, .. } => out.write_all(line.raw)?,
+        // issue 23: a turning cycle stays as written.
+        Event::Plain { line, .. } | Event::Turning { line, .. } => out.write_all(line.raw)?,
         Event::Settings { line } => {
             if let Some(c) = format.comment(&format!(
                 "threadcut: line {} sets the cycle that follows",
@@ -756,6 +773,13 @@ pub fn expand_jsonl_with<R: BufRead>(
             }
             Event::Cycle { job, .. } => {
                 for m in &toolpath::build(&job)?.motions {
+                    writeln!(out, "{}", post::motion_json(m, job.units))?;
+                }
+            }
+            // issue 23: a turning cycle's moves.
+            Event::Turning { job, .. } => {
+                let path = crate::turning::toolpath(&job).map_err(Error::Input)?;
+                for m in &path.motions {
                     writeln!(out, "{}", post::motion_json(m, job.units))?;
                 }
             }

@@ -675,7 +675,8 @@ pub fn each_gcode_with<R: BufRead>(
                     warnings.push(w);
                 }
             }
-            Event::Settings { .. } => {}
+            // issue 23: turning cycles cut no thread.
+            Event::Settings { .. } | Event::Turning { .. } => {}
             Event::Cycle { job, .. } => collector.cycle(*job, modal.diameter_x, || (), &mut push),
         }
         drain(&mut queue)

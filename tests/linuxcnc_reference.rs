@@ -22,7 +22,7 @@
 //! | `STRAIGHT_TRAVERSE(x, y, z, …)` | `rapid` to (x, z) |
 //! | `STRAIGHT_FEED(x, y, z, …)` outside synchronisation | `feed` to (x, z) |
 //! | `STRAIGHT_FEED` after `START_SPEED_FEED_SYNC(k, 0)`, before `STOP_SPEED_FEED_SYNCH()` | `thread` to (x, z) with lead k |
-//! | `ARC_FEED(z, x, cz, cx, rotation, …)` (plane XZ: first axis Z, second X) | `arc` to (x, z), `cw` when rotation < 0 |
+//! | `ARC_FEED(z, x, cz, cx, rotation, …)` (plane XZ: first axis Z, second X) | `arc` to (x, z) about (cx, cz), `cw` when rotation < 0 (the centre compared where threadcut's stream gives it: a turning cycle's arcs) |
 //!
 //! * Positions: canon X is the radius (also under G7, checked), in the program's units (after
 //!   `USE_LENGTH_UNITS(CANON_UNITS_INCHES)` inches, checked with G20 programs), as is threadcut's
@@ -65,6 +65,11 @@ const KNOWN: &[(&str, &str)] = &[
          G28 is unknown, and the moves after it are the same",
     ),
     (
+        "g71-fillet-chamfer.ngc",
+        "threadcut does not read a G7x profile's corner fillets (A) and chamfers (C) yet and refuses \
+         the block (docs/dialects/linuxcnc-turning.md, Differences)",
+    ),
+    (
         "quirk-break-then-do.ngc",
         "LinuxCNC interpreter quirk: a `break` of a while loop (executed, or only passed over when \
          the loop ends) leaves `doing_break` set, and the next do-while loop ends after one run; \
@@ -89,8 +94,11 @@ enum Kind {
     Feed,
     /// Synchronised, with the travel per revolution along the move's path.
     Thread(f64),
+    /// A circular move, clockwise or not, about (cx radius, cz).
     Arc {
         cw: bool,
+        cx: f64,
+        cz: f64,
     },
 }
 
@@ -213,6 +221,8 @@ fn parse_canon(text: &str) -> Vec<Motion> {
             "ARC_FEED" => motions.push(Motion {
                 kind: Kind::Arc {
                     cw: number(args[4]) < 0.0,
+                    cx: number(args[3]),
+                    cz: number(args[2]),
                 },
                 x: number(args[1]),
                 z: number(args[0]),
@@ -266,6 +276,9 @@ fn threadcut(file: &Path) -> Result<Vec<Motion>, (String, u32)> {
             "feed" => Kind::Feed,
             "arc" => Kind::Arc {
                 cw: v["cw"].as_bool().unwrap(),
+                // A plain G2/G3 block's arc is streamed without its centre (NaN: not compared).
+                cx: v["cx"].as_f64().unwrap_or(f64::NAN),
+                cz: v["cz"].as_f64().unwrap_or(f64::NAN),
             },
             "thread" => {
                 let lead = v["lead"].as_f64().unwrap();
@@ -296,6 +309,19 @@ fn difference(reference: &[Motion], ours: &[Motion]) -> Option<String> {
     for (i, (r, o)) in reference.iter().zip(ours).enumerate() {
         let same_kind = match (r.kind, o.kind) {
             (Kind::Thread(a), Kind::Thread(b)) => (a - b).abs() <= LEAD_TOLERANCE,
+            // Centres as positions are compared: at rs274's four decimals.
+            (
+                Kind::Arc { cw, cx, cz },
+                Kind::Arc {
+                    cw: cw2,
+                    cx: cx2,
+                    cz: cz2,
+                },
+            ) => {
+                cw == cw2
+                    && (cx2.is_nan() || (cx - cx2).abs() <= POSITION_TOLERANCE)
+                    && (cz2.is_nan() || (cz - cz2).abs() <= POSITION_TOLERANCE)
+            }
             (a, b) => a == b,
         };
         if !same_kind
@@ -534,8 +560,16 @@ fn canon_lines_map_onto_motions() {
             Kind::Rapid,
             Kind::Feed,
             Kind::Thread(1.70568),
-            Kind::Arc { cw: true },
-            Kind::Arc { cw: false },
+            Kind::Arc {
+                cw: true,
+                cx: 7.0,
+                cz: 0.0
+            },
+            Kind::Arc {
+                cw: false,
+                cx: 7.0,
+                cz: -4.0
+            },
             Kind::Rapid
         ]
     );

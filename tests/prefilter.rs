@@ -21,6 +21,10 @@ fn with_prefilter(src: &str, machine: &Machine) -> Trace {
             Event::Plain { line, mv } => format!("{} plain {mv:?} {modal:?}", line.number),
             Event::Settings { line } => format!("{} settings {modal:?}", line.number),
             Event::Cycle { line, job, .. } => format!("{} cycle {job:?} {modal:?}", line.number),
+            // issue 23: a turning cycle.
+            Event::Turning { line, job, .. } => {
+                format!("{} turning {job:?} {modal:?}", line.number)
+            }
         });
         Ok(())
     });
@@ -88,6 +92,10 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
                 seen.push(format!("{} plain {mv:?} {modal:?}", line.number))
             }
             Ok(Read::Settings) => seen.push(format!("{} settings {modal:?}", line.number)),
+            // issue 23: a turning cycle (the dialect has set the position where it ends).
+            Ok(Read::Turning(job)) => {
+                seen.push(format!("{} turning {job:?} {modal:?}", line.number))
+            }
             Ok(Read::Cycle(job)) => {
                 cycles += 1;
                 modal.position = threadcut::gcode::Position::at(job.end_point());

@@ -307,6 +307,11 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                 collector.cycle(*job, modal.diameter_x, || machine_state.now(at), &mut take);
                 machine_state.after(line);
             }
+            // A turning cycle's moves are not judged yet (issue 23): its block's codes are read.
+            Event::Turning { line, .. } => {
+                machine_state.before(line);
+                machine_state.after(line);
+            }
         }
         Ok(())
     });

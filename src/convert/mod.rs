@@ -190,6 +190,12 @@ impl program::Output for Conversion<'_, '_, '_> {
                     w.header_before(line)?;
                     w.comment_only(&block::comments(line.text, self.src.paren_comments))
                 }
+                // issue 23: turning cycles are not converted yet.
+                Event::Turning { line, .. } => Err(Error::Input(crate::diag::Diagnostic::error(
+                    crate::diag::Code::Unsupported,
+                    line.span(),
+                    "threadcut does not convert turning cycles (G70/G71/G72) yet",
+                ))),
                 Event::Cycle { line, job, .. } => {
                     w.header_before(line)?;
                     w.cycle(
@@ -266,7 +272,10 @@ impl program::Output for Conversion<'_, '_, '_> {
 
 fn event_line<'a, 'l>(ev: &Event<'a, 'l>) -> &'a Line<'l> {
     match ev {
-        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => line,
+        Event::Plain { line, .. }
+        | Event::Settings { line }
+        | Event::Cycle { line, .. }
+        | Event::Turning { line, .. } => line,
     }
 }
 

@@ -133,6 +133,7 @@ pub static VOCABULARY: Vocabulary = Vocabulary {
     others: super::others_with,
 };
 
+mod turning;
 mod words;
 
 const G76: u16 = 760;
@@ -152,6 +153,9 @@ pub struct LinuxCnc {
     cutter_comp: bool,
     /// Active plane ×10 (G17 170, G18 180, G19 190).
     plane: u16,
+    /// A G70/G71/G72 reading its profile, and whether its subroutine is still to be called.
+    g7x: Option<turning::Pending>,
+    g7x_call: bool,
 }
 
 impl LinuxCnc {
@@ -185,6 +189,8 @@ impl LinuxCnc {
             motion: None,
             cutter_comp: false,
             plane: 180,
+            g7x: None,
+            g7x_call: false,
         }
     }
 
@@ -217,6 +223,29 @@ impl LinuxCnc {
                 _ => {}
             }
         }
+    }
+
+    /// A G70/G71/G72 block: its words read, its profile subroutine to be called.
+    fn read_g7x(&mut self, line: &Line, modal: &mut Modal, code: u16, at: Span) -> Result<Read> {
+        if self.plane != 180 {
+            return Err(g76_error(
+                at,
+                Code::Conflict,
+                &format!(
+                    "G{}.{} can only be used in XZ plane (G18)",
+                    code / 10,
+                    code % 10
+                ),
+            ));
+        }
+        // The cycle's rapid to its start leaves G0 in force while the profile is read.
+        let state = (0, modal.arc_centre_absolute, self.cutter_comp);
+        let pending = turning::Pending::read(line, modal, code, at, state)?;
+        // The cycle's rapid to its start comes first: the profile reads the position from there.
+        modal.position = crate::gcode::Position::at(pending.start());
+        self.g7x = Some(pending);
+        self.g7x_call = true;
+        Ok(Read::Applied(None))
     }
 
     /// LinuxCNC's arc checks in plane XZ, when the arc's start is known; the line's own G20/G21,
@@ -742,6 +771,10 @@ impl Dialect for LinuxCnc {
         if matches!(motion, Some(G2 | G3)) && self.plane == 180 {
             self.check_arc(line, modal)?;
         }
+        if let Some(code @ (700 | 710 | 711 | 712 | 720 | 721 | 722)) = motion {
+            let at = block.motion_span().unwrap_or_else(|| line.span());
+            return self.read_g7x(line, modal, code, at);
+        }
         if motion != Some(G76) {
             return Ok(Read::Plain);
         }
@@ -770,6 +803,38 @@ impl Dialect for LinuxCnc {
             lead_decimals: [6, 7],
             lead_along_path: true,
             ..Format::lathe(&self.machine, "G33", 'K')
+        }
+    }
+
+    fn profile_call(&mut self) -> Option<f64> {
+        if !std::mem::take(&mut self.g7x_call) {
+            return None;
+        }
+        self.g7x.as_ref().map(turning::Pending::q)
+    }
+
+    fn profile_block(&mut self, line: &Line, modal: &mut Modal) -> Result<()> {
+        match self.g7x.as_mut() {
+            Some(p) => p.block(line, modal),
+            None => Ok(()),
+        }
+    }
+
+    fn profile_end(&mut self, modal: &mut Modal, end: Span) -> Result<Read> {
+        match self.g7x.take() {
+            Some(p) => {
+                let (job, last) = p.finish(modal, end)?;
+                // The cycle's last move leaves its motion mode in force.
+                self.motion = Some(last);
+                modal.motion = match last {
+                    0 => crate::gcode::MotionMode::Rapid,
+                    20 => crate::gcode::MotionMode::ArcCw,
+                    30 => crate::gcode::MotionMode::ArcCcw,
+                    _ => crate::gcode::MotionMode::Feed,
+                };
+                Ok(Read::Turning(Box::new(job)))
+            }
+            None => Ok(Read::Settings),
         }
     }
 

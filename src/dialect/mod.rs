@@ -43,6 +43,9 @@ pub enum Read {
         mv: Option<crate::gcode::PlainMove>,
         words: Vec<crate::gcode::Word>,
     },
+    // issue 23 (turning cycles): a complete turning cycle.
+    /// A complete turning cycle (stock removal, finishing, …), with where the tool ends.
+    Turning(Box<crate::turning::TurningJob>),
 }
 
 /// How a controller's threading cycle takes a taper: the word and its sign and scale, as the
@@ -188,6 +191,24 @@ pub trait Dialect {
     /// expressions). `None` (the default): every line is a plain block.
     fn macros(&self) -> Option<crate::interp::Syntax> {
         None
+    }
+    // issue 23 (turning cycles with an o-word profile): the interpreter's hand-over.
+    /// After [`read`](Dialect::read): the o-word subroutine (its number) whose blocks the last
+    /// block takes as its profile (LinuxCNC's G70/G71/G72 `Q`). The interpreter then hands its
+    /// blocks to [`profile_block`](Dialect::profile_block) instead of `read`, and calls
+    /// [`profile_end`](Dialect::profile_end) when it returns.
+    fn profile_call(&mut self) -> Option<f64> {
+        None
+    }
+    /// A block of the profile subroutine: read, not executed (the position may follow it, as
+    /// the parameters that report it do in LinuxCNC).
+    fn profile_block(&mut self, _line: &Line, _modal: &mut Modal) -> Result<()> {
+        Ok(())
+    }
+    /// The profile subroutine returned (at `end`, the block that returned): the cycle it
+    /// completes.
+    fn profile_end(&mut self, _modal: &mut Modal, _end: Span) -> Result<Read> {
+        Ok(Read::Settings)
     }
     /// Writes an expanded cycle in a form of the controller's own, for a controller that has no
     /// plain synchronised move. `None` (the default): the cycle is written as plain moves in

@@ -29,6 +29,16 @@ pub trait Host {
     /// The input resolution in the current units (Fanuc rounds computed lengths to it).
     fn resolution(&self, units: Units) -> f64;
     fn warn(&mut self, d: Diagnostic);
+    /// After a block: the o-word subroutine (its number) the block asks to be run as a profile
+    /// (LinuxCNC's G70/G71/G72 `Q`): its blocks are read, not executed, until it returns.
+    fn profile_call(&mut self) -> Option<f64> {
+        None
+    }
+    /// The profile subroutine returned; `line` is the block that called it, `end` the one that
+    /// returned.
+    fn profile_end(&mut self, _line: TextLine<'_>, _end: TextLine<'_>) -> Result<(), Self::Error> {
+        Ok(())
+    }
 }
 
 /// Where a block runs.
@@ -60,6 +70,8 @@ struct Frame {
     named: HashMap<u32, f64>,
     /// LinuxCNC: counts of the repeat loops running in this call.
     repeats: Vec<i64>,
+    /// A profile read for a turning cycle ([`Host::profile_call`]).
+    profile: bool,
 }
 
 impl Frame {
@@ -72,6 +84,7 @@ impl Frame {
             saved: None,
             named: HashMap::new(),
             repeats: vec![0; slots as usize],
+            profile: false,
         }
     }
 }
@@ -344,11 +357,11 @@ impl<'c> Vm<'c> {
             Inst::Nop => next,
             Inst::Plain => {
                 self.plain(pc, host)?;
-                next
+                self.profile_call(pc, host)?.unwrap_or(next)
             }
             Inst::Block(b) => {
                 self.block(pc, &self.code.blocks[*b as usize], host)?;
-                next
+                self.profile_call(pc, host)?.unwrap_or(next)
             }
             Inst::Jump(t) => Next::Go(*t),
             Inst::JumpUnless { cond, target } => {
@@ -733,6 +746,48 @@ impl<'c> Vm<'c> {
         })
     }
 
+    /// The subroutine a block asked to read as its profile: called with no arguments, its frame
+    /// marked so that its return tells the host.
+    fn profile_call<H: Host>(&mut self, pc: u32, host: &mut H) -> Result<Option<Next>, Diagnostic> {
+        let Some(q) = host.profile_call() else {
+            return Ok(None);
+        };
+        let line = self.line(pc);
+        let name = format!("{q}");
+        let entry = self
+            .code
+            .exprs
+            .find(&name)
+            .and_then(|id| self.code.subs.get(&id).copied());
+        let Some(entry) = entry else {
+            return Err(Diagnostic::error(
+                DiagCode::MissingWord,
+                line.whole(),
+                format!("EOF seeking o-word: o<{name}> from line: {}", line.number),
+            )
+            .with_hint(format!(
+                "define the profile's subroutine in the file: o{name} sub … o{name} endsub"
+            )));
+        };
+        if self.frames.len() >= self.syntax.max_call_depth as usize {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                line.whole(),
+                "Too many subroutine levels",
+            ));
+        }
+        let mut saved = Box::new([0.0; 30]);
+        saved.copy_from_slice(&self.state.params[1..31]);
+        self.state.params[1..31].fill(0.0);
+        self.state.value = None;
+        let mut frame = Frame::new(CallKind::OWord, pc, entry, self.code.repeat_slots);
+        frame.saved = Some(saved);
+        frame.profile = true;
+        self.frames.push(frame);
+        self.callers.push(line.number);
+        Ok(Some(Next::Go(entry)))
+    }
+
     fn call<H: Host>(&mut self, pc: u32, call: &Call, host: &mut H) -> R<Next, H::Error> {
         match call.kind {
             CallKind::OWord => self.call_oword(pc, call, host).map_err(Into::into),
@@ -1023,6 +1078,9 @@ impl<'c> Vm<'c> {
         }
         if self.code.lang == Lang::Ngc {
             self.state.value = v;
+        }
+        if frame.profile {
+            host.profile_end(self.line(frame.call), self.line(pc))?;
         }
         match to_label {
             Some(n) => {

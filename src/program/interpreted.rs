@@ -134,6 +134,8 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         sink,
         summary,
         machine,
+        profile: None,
+        call: None,
     };
     let limits = interp::Limits {
         max_blocks: options.max_blocks,
@@ -158,6 +160,10 @@ struct RunHost<'m, D, S> {
     sink: S,
     summary: Summary,
     machine: &'m Machine,
+    // issue 23: while a turning cycle's profile subroutine runs, the cycle block's words.
+    profile: Option<Vec<Word>>,
+    /// The profile subroutine the last block asked for.
+    call: Option<f64>,
 }
 
 impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
@@ -192,6 +198,10 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
             verbatim: ctx.verbatim,
         };
         self.summary.lines = self.summary.lines.max(line.number);
+        // issue 23: a profile's block is read by the dialect, not executed.
+        if self.profile.is_some() {
+            return Ok(self.dialect.profile_block(&line, &mut self.modal)?);
+        }
         if !self.dialect.prefilter(&line) {
             let mv = self.modal.apply(&self.conv, &line)?;
             return self
@@ -206,6 +216,11 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
             if w.span.line == 0 {
                 w.span = line.span();
             }
+        }
+        // issue 23: the block takes a subroutine as its profile.
+        if let Some(q) = self.dialect.profile_call() {
+            self.call = Some(q);
+            self.profile = Some(words.to_vec());
         }
         match read {
             Read::Plain => {
@@ -229,6 +244,17 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
                 self.sink
                     .interpreted(&self.modal, Event::Settings { line: &line }, &at)
             }
+            // issue 23: a turning cycle read whole in one block (none does yet in an
+            // interpreted program; LinuxCNC's come through `profile_end`).
+            Read::Turning(job) => self.sink.interpreted(
+                &self.modal,
+                Event::Turning {
+                    line: &line,
+                    job,
+                    dialect: &self.dialect,
+                },
+                &at,
+            ),
             Read::Cycle(job) => {
                 self.summary.cycles += 1;
                 self.modal.position = Position::at(job.end_point());
@@ -255,6 +281,53 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
 
     fn warn(&mut self, d: Diagnostic) {
         self.summary.warnings.push(d);
+    }
+
+    // issue 23: a turning cycle's profile subroutine (LinuxCNC's G7x Q).
+    fn profile_call(&mut self) -> Option<f64> {
+        self.call.take()
+    }
+
+    fn profile_end(
+        &mut self,
+        text: interp::text::TextLine<'_>,
+        end: interp::text::TextLine<'_>,
+    ) -> Result<(), Error> {
+        let read = self.dialect.profile_end(&mut self.modal, end.whole())?;
+        let Read::Turning(job) = read else {
+            return Ok(());
+        };
+        let words = self.profile.take().unwrap_or_default();
+        let mut index: WordIndex = [0; 32];
+        index_words(&words, &mut index);
+        let line = Line {
+            number: text.number,
+            offset: text.offset,
+            text: text.text,
+            raw: text.raw,
+            words: &words,
+            shape: LineShape {
+                block_delete: false,
+                percent: false,
+                unread: false,
+            },
+            before: &[],
+            summary: WordSummary::of(&words),
+            index: &index,
+        };
+        let at = Where {
+            callers: &[],
+            verbatim: false,
+        };
+        self.sink.interpreted(
+            &self.modal,
+            Event::Turning {
+                line: &line,
+                job,
+                dialect: &self.dialect,
+            },
+            &at,
+        )
     }
 }
 
@@ -311,9 +384,10 @@ pub(super) fn expand_recorded(
     ev: Event,
 ) -> Result<(), Error> {
     let line = match &ev {
-        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
-            (line.number, line.offset)
-        }
+        Event::Plain { line, .. }
+        | Event::Settings { line }
+        | Event::Cycle { line, .. }
+        | Event::Turning { line, .. } => (line.number, line.offset),
     };
     if line.1 >= interp::PREFIX_KEPT as u64 {
         sink.interp.prefix = None;
@@ -370,14 +444,16 @@ pub(super) fn expand_interpreted(
         };
     }
     let (line, start) = match &ev {
-        Event::Plain { .. } => return Ok(()),
+        // issue 23: a turning cycle stays as written (the control runs it).
+        Event::Plain { .. } | Event::Turning { .. } => return Ok(()),
         Event::Settings { line } => (line.number, None),
         Event::Cycle { line, job, .. } => (line.number, Some(job.start)),
     };
     let span = match &ev {
-        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
-            line.span()
-        }
+        Event::Plain { line, .. }
+        | Event::Settings { line }
+        | Event::Cycle { line, .. }
+        | Event::Turning { line, .. } => line.span(),
     };
     let mut place = describe(at, start, modal);
     if let Event::Settings { line } | Event::Cycle { line, .. } = &ev {

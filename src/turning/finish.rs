@@ -93,6 +93,7 @@ mod tests {
         };
         let f = Finish {
             start,
+            offsets: None,
             contour: Contour {
                 start,
                 segments: vec![
@@ -146,6 +147,7 @@ mod tests {
         let start = Pos::new(26.0, 2.0);
         let f = Finish {
             start,
+            offsets: None,
             contour: Contour {
                 start,
                 segments: vec![Segment {

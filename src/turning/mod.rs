@@ -11,10 +11,10 @@
 
 use serde::Serialize;
 
-// issue 23: the motion of the contour cycles (G71/G72, G73, G70) and their shared geometry.
 mod contour;
 pub mod finish;
 pub mod pattern;
+pub mod profile_rough;
 pub mod rough;
 
 use crate::diag::Span;
@@ -78,6 +78,43 @@ pub struct Rough {
     /// Type II: the passes follow pockets (a contour that is not monotonic along the depth axis).
     pub pockets: bool,
     pub contour: Contour,
+    // issue 23: how the passes are laid out (added for LinuxCNC's G71/G72).
+    pub strategy: Strategy,
+}
+
+/// How a stock removal's passes are laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub enum Strategy {
+    /// Layers along the cutting axis down to the contour shifted by the allowance, then a pass
+    /// along the outline (Fanuc's G71/G72 and the family's).
+    Layers,
+    /// Along an offset profile ([`profile_rough`]): the contour offset normal to itself by
+    /// `distance` and shifted by the allowance (in the working frame: passes along Z toward −Z,
+    /// the depth decreasing), cut in layers from the start point's side, each ended by a 45°
+    /// retract of `retract` in both axes and a rapid back; the tool then follows the offset
+    /// contour. `pockets`: which pockets are cut.
+    Offset { distance: f64, pockets: Pockets },
+}
+
+/// Which pockets an offset-profile roughing cuts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Pockets {
+    /// Every pocket, each when the walk along the contour reaches it.
+    All,
+    /// None: the layers, then the climbing parts of the contour only.
+    None,
+    /// Only after the first pocket: the first layers are skipped (a cycle with `None` cut
+    /// them), from where the contour first climbs.
+    AfterFirst,
+}
+
+/// Finishing passes at decreasing offsets from the contour: pass k of `passes` (counted down)
+/// at (k−1)·(first−last)/passes + last.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FinishOffsets {
+    pub first: f64,
+    pub last: f64,
+    pub passes: f64,
 }
 
 /// Pattern repeating (G73): the contour shifted outward by the relief and brought in, in `passes`
@@ -100,6 +137,8 @@ pub struct Pattern {
 pub struct Finish {
     pub start: Pos,
     pub contour: Contour,
+    // issue 23: LinuxCNC's G70 D E P (None: one pass on the contour).
+    pub offsets: Option<FinishOffsets>,
 }
 
 /// A single box cycle: G90 (along Z: in X, along Z to `end.z`, out in X, back in Z) or G94 (along
@@ -147,4 +186,42 @@ pub struct TurningJob {
     pub span: Span,
     pub units: Units,
     pub controller: &'static str,
+}
+
+/// The moves of a turning cycle, from its start (absolute mm, X radius): each kind by the module
+/// that makes it. Box and peck cycles are not made yet: they are refused, never skipped.
+pub fn toolpath(job: &TurningJob) -> crate::diag::Result<crate::toolpath::Toolpath> {
+    let start = job.cycle.start();
+    let motions = match &job.cycle {
+        Cycle::Rough(r) => match r.strategy {
+            Strategy::Offset { .. } => return profile_rough::rough(r, job.units, job.span),
+            Strategy::Layers => rough::moves(r, job.line)?,
+        },
+        Cycle::Finish(f) if f.offsets.is_some() => {
+            return profile_rough::finish(f, job.units, job.span)
+        }
+        Cycle::Finish(f) => finish::moves(f, job.line)?,
+        Cycle::Pattern(p) => pattern::moves(p, job.line)?,
+        Cycle::Box(_) | Cycle::Peck(_) => {
+            return Err(crate::diag::Diagnostic::error(
+                crate::diag::Code::Input,
+                job.span,
+                "this turning cycle's moves are not made yet",
+            ))
+        }
+    };
+    Ok(crate::toolpath::Toolpath { start, motions })
+}
+
+impl Cycle {
+    /// Where the cycle starts: the tool's position when it begins.
+    pub fn start(&self) -> Pos {
+        match self {
+            Cycle::Rough(r) => r.start,
+            Cycle::Pattern(p) => p.start,
+            Cycle::Finish(f) => f.start,
+            Cycle::Box(b) => b.start,
+            Cycle::Peck(p) => p.start,
+        }
+    }
 }

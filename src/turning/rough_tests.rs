@@ -3,7 +3,7 @@
 use proptest::prelude::*;
 
 use super::*;
-use crate::turning::{Contour, Segment, Shape};
+use crate::turning::{Contour, Segment, Shape, Strategy};
 use crate::units::Pos;
 
 /// A straight block of the shape.
@@ -44,6 +44,7 @@ fn rough(start: Pos, segments: Vec<Segment>, w: Words) -> Rough {
         allowance_z: w.allowance.1,
         pockets: w.pockets,
         contour: Contour { start, segments },
+        strategy: Strategy::Layers,
     }
 }
 
