@@ -9,9 +9,12 @@
 //! finished shape as the program's blocks give it (Fanuc's blocks `ns`…`nf`, LinuxCNC's o-word
 //! profile), starting at the cycle's start point's first move.
 
+pub mod simple;
+
 use serde::Serialize;
 
-use crate::diag::Span;
+use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::toolpath::Motion;
 use crate::units::{Pos, Units};
 
 /// One piece of a contour: a line or a circular arc to `to`.
@@ -109,7 +112,10 @@ pub struct BoxCycle {
 
 /// A peck cycle (G74 along Z, G75 along X): pecks of `peck` with a retract of `retract` after
 /// each, to `end`, then shifts of `shift` across (X for G74, Z for G75) to the other end of the
-/// groove or hole pattern; `relief` at the bottom of each peck run.
+/// groove or hole pattern; `relief` at the bottom of each peck run. `peck`, `shift` and `retract`
+/// are lengths (mm, ≥ 0; a `peck` or `shift` of 0: one feed, one column); `relief` is a signed
+/// displacement across (mm, + toward +X for G74, +Z for G75): the dialect gives it its direction
+/// ([`simple`] has the moves).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Peck {
     pub along: Along,
@@ -141,4 +147,46 @@ pub struct TurningJob {
     pub span: Span,
     pub units: Units,
     pub controller: &'static str,
+}
+
+impl TurningJob {
+    /// The cycle's moves, from its start point (where the tool is when it begins) back to it.
+    pub fn moves(&self) -> Result<Vec<Motion>> {
+        match &self.cycle {
+            Cycle::Box(b) => Ok(simple::box_moves(b, self.line)),
+            Cycle::Peck(p) => simple::peck_moves(p, self.line, self.span),
+            Cycle::Rough(_) => Err(not_in_build(self, "stock removal", "rough")),
+            Cycle::Pattern(_) => Err(not_in_build(self, "pattern repeating", "pattern")),
+            Cycle::Finish(_) => Err(not_in_build(self, "finishing", "finish")),
+        }
+    }
+
+    /// Where the tool is when the cycle is done: its start point (every cycle of the model
+    /// returns to it).
+    pub fn end_point(&self) -> Pos {
+        self.start()
+    }
+
+    /// The cycle's start point.
+    pub fn start(&self) -> Pos {
+        match &self.cycle {
+            Cycle::Rough(r) => r.start,
+            Cycle::Pattern(p) => p.start,
+            Cycle::Finish(f) => f.start,
+            Cycle::Box(b) => b.start,
+            Cycle::Peck(p) => p.start,
+        }
+    }
+}
+
+/// The error of a cycle whose motion is made by a module this build does not have.
+fn not_in_build(job: &TurningJob, what: &str, module: &str) -> Diagnostic {
+    Diagnostic::error(
+        Code::Unsupported,
+        job.span,
+        format!(
+            "the {} {what} cycle of line {} is read; its motion is made by turning::{module}, which is not in this build",
+            job.controller, job.line
+        ),
+    )
 }
