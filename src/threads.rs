@@ -643,7 +643,8 @@ pub fn each_gcode_with<R: BufRead>(
                     warnings.push(w);
                 }
             }
-            Event::Settings { .. } => {}
+            // A turning cycle is no thread (its moves are not synchronised).
+            Event::Settings { .. } | Event::Turning { .. } => {}
             Event::Cycle { job, .. } => collector.cycle(*job, modal.diameter_x, || (), &mut push),
         }
         drain(&mut queue)

@@ -224,6 +224,8 @@ pub fn verify(
                 None
             }
             Ok(Read::Settings) => None,
+            // A threading cycle's native text has no turning cycle in it.
+            Ok(Read::Turning(_)) => return Err(unreadable("it reads as a turning cycle")),
             Ok(Read::Applied(mv) | Read::Own { mv, .. }) => mv,
             Ok(Read::Plain) => modal
                 .apply(&conv, &line)

@@ -273,7 +273,8 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                     unknown_starts.push(w);
                 }
             }
-            Event::Settings { line } => {
+            // A turning cycle's blocks: their words, as a cycle's; no thread.
+            Event::Settings { line } | Event::Turning { line, .. } => {
                 spindle.read(line, set_position);
                 if let Some(dw) = decimals.as_mut() {
                     dw.line(line, modal.units, true);

@@ -198,6 +198,7 @@ impl program::Output for Conversion<'_, '_, '_> {
                         &block::comments(line.text, self.src.paren_comments),
                     )
                 }
+                Event::Turning { line, .. } => Err(turning_not_converted(line)),
             },
         }
     }
@@ -265,9 +266,7 @@ impl program::Output for Conversion<'_, '_, '_> {
 }
 
 fn event_line<'a, 'l>(ev: &Event<'a, 'l>) -> &'a Line<'l> {
-    match ev {
-        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => line,
-    }
+    ev.line()
 }
 
 /// The same profile's header comment, before the first line that is not a `%` delimiter.
@@ -298,4 +297,20 @@ pub fn convert_text(
             e.to_string(),
         )),
     }
+}
+
+/// A turning cycle's block, for a conversion to another controller: not written in this build
+/// (a wrong contour would cut the part wrong).
+fn turning_not_converted(line: &Line) -> Error {
+    Error::Input(
+        Diagnostic::error(
+            Code::Unsupported,
+            line.span(),
+            format!(
+                "line {} belongs to a turning cycle, which threadcut does not convert to another controller yet",
+                line.number
+            ),
+        )
+        .with_hint("`threadcut expand` writes the cycle as plain moves, which convert then reads"),
+    )
 }

@@ -139,6 +139,7 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         max_blocks: options.max_blocks,
     };
     let outcome = interp::run(&code, &at.syntax, limits, at.line, &mut host)?;
+    host.dialect.end_of_input()?;
     let RunHost {
         mut sink,
         mut summary,
@@ -242,6 +243,21 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
                     &at,
                 )
             }
+            Read::Turning(job) => {
+                if let Some(job) = &job {
+                    self.summary.cycles += 1;
+                    self.modal.position = Position::at(job.end_point());
+                }
+                self.sink.interpreted(
+                    &self.modal,
+                    Event::Turning {
+                        line: &line,
+                        job,
+                        dialect: &self.dialect,
+                    },
+                    &at,
+                )
+            }
         }
     }
 
@@ -310,11 +326,7 @@ pub(super) fn expand_recorded(
     modal: &Modal,
     ev: Event,
 ) -> Result<(), Error> {
-    let line = match &ev {
-        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
-            (line.number, line.offset)
-        }
-    };
+    let line = (ev.line().number, ev.line().offset);
     if line.1 >= interp::PREFIX_KEPT as u64 {
         sink.interp.prefix = None;
         return expand_ending(
@@ -373,16 +385,11 @@ pub(super) fn expand_interpreted(
         Event::Plain { .. } => return Ok(()),
         Event::Settings { line } => (line.number, None),
         Event::Cycle { line, job, .. } => (line.number, Some(job.start)),
+        Event::Turning { line, job, .. } => (line.number, job.as_ref().map(|j| j.start())),
     };
-    let span = match &ev {
-        Event::Plain { line, .. } | Event::Settings { line } | Event::Cycle { line, .. } => {
-            line.span()
-        }
-    };
+    let span = ev.line().span();
     let mut place = describe(at, start, modal);
-    if let Event::Settings { line } | Event::Cycle { line, .. } = &ev {
-        computed_words(&mut place, line);
-    }
+    computed_words(&mut place, ev.line());
     let mut buf = Vec::new();
     expand_ending(
         &mut buf,
