@@ -285,7 +285,7 @@ impl Reading {
                         w.value, self.ns, self.nf
                     ),
                 )
-                .with_hint("a contour's blocks move with G00–G03; cycles, thread moves and coordinate changes are not allowed in them"));
+                .with_hint(format!("a contour's blocks move with G00–G03; cycles, thread moves and coordinate changes are not allowed in them (is the contour's last block, N{}, missing before this one?)", self.nf)));
             }
         }
         let m = &mut self.modal;
