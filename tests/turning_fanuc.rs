@@ -587,3 +587,88 @@ fn expand_writes_a_contour_s_blocks_as_comments() {
         }
     }
 }
+
+#[test]
+fn arcs_written_as_plain_moves_read_back_as_the_same_contour() {
+    use threadcut::toolpath::{Motion, MotionKind, Toolpath};
+    let m = machine("fanuc");
+    let mv = |kind, x, z| Motion {
+        kind,
+        to: Pos::new(x, z),
+        pass: 1,
+        line: 1,
+    };
+    let arc = |x, z, cx, cz, clockwise| {
+        mv(
+            MotionKind::Arc {
+                centre: Pos::new(cx, cz),
+                clockwise,
+            },
+            x,
+            z,
+        )
+    };
+    // A contour with a fillet, a convex and a concave arc, in mm and in inch.
+    let motions = vec![
+        mv(MotionKind::Feed, 10.0, 2.0),
+        mv(MotionKind::Feed, 10.0, -10.0),
+        arc(12.0, -12.0, 12.0, -10.0, false),
+        arc(17.0, -17.0, 17.0, -12.0, true),
+        mv(MotionKind::Feed, 25.0, -17.0),
+    ];
+    for units in [threadcut::units::Units::Mm, threadcut::units::Units::Inch] {
+        let path = Toolpath {
+            start: Pos::new(25.4, 2.54),
+            motions: motions.clone(),
+        };
+        let format = threadcut::dialect::open(&m).unwrap().format();
+        let mut out = Vec::new();
+        threadcut::post::write_moves(&mut out, &format, units, &path).unwrap();
+        let text = String::from_utf8(out).unwrap();
+        let lines: Vec<&str> = text.lines().collect();
+        let n = lines.len();
+        let mut src = String::from(if units == threadcut::units::Units::Mm {
+            "G21\nG0 X50.8 Z2.54\nG71 U1. R0.5\nG71 P10 Q20 U0. W0. F0.2\n"
+        } else {
+            "G20\nG0 X2. Z0.1\nG71 U0.04 R0.02\nG71 P10 Q20 U0. W0. F0.008\n"
+        });
+        for (i, l) in lines.iter().enumerate() {
+            let n_word = if i == 0 {
+                "N10 "
+            } else if i == n - 1 {
+                "N20 "
+            } else {
+                ""
+            };
+            src.push_str(&format!("{n_word}{l}\n"));
+        }
+        let (jobs, _) = turning(&src, &m).unwrap();
+        let Cycle::Rough(r) = &jobs[0].cycle else {
+            panic!()
+        };
+        // Written at 0.001 mm / 0.0001 inch: the same contour within one increment.
+        let tol = if units == threadcut::units::Units::Mm {
+            0.0011
+        } else {
+            0.0026
+        };
+        assert_eq!(r.contour.segments.len(), motions.len(), "{src}");
+        for (s, m) in r.contour.segments.iter().zip(&motions) {
+            assert!(s.to.distance(m.to) < tol, "{s:?} ≠ {m:?}\n{src}");
+            match (s.shape, m.kind) {
+                (Shape::Line, MotionKind::Feed) => {}
+                (
+                    Shape::Arc { centre, clockwise },
+                    MotionKind::Arc {
+                        centre: c,
+                        clockwise: cw,
+                    },
+                ) => {
+                    assert_eq!(clockwise, cw);
+                    assert!(centre.distance(c) < tol, "{centre:?} ≠ {c:?}\n{src}");
+                }
+                _ => panic!("{s:?} ≠ {m:?}"),
+            }
+        }
+    }
+}

@@ -21,6 +21,12 @@ use crate::units::{Pos, Tolerance};
 /// The most blocks a contour (and the blocks before its N(ns)) may have.
 pub const MAX_CONTOUR_BLOCKS: u32 = 10_000;
 
+/// How far (in least input increments) an arc's end may lie from the circle its start and centre
+/// give (I/K) before PS0020: the start, the end and I/K are each rounded to the increment, so a
+/// correct arc written by a CAM system (or by `expand`) differs by up to about two. The control's
+/// own limit is its parameter 3410, which a profile does not state.
+pub const ARC_RADIUS_INCREMENTS: f64 = 2.0;
+
 /// The most contours kept for a later G70 (the oldest is forgotten first).
 pub const MAX_CONTOURS: usize = 32;
 
@@ -85,8 +91,10 @@ pub struct Written {
 
 impl Written {
     /// The contour from `start`. `tol` is the program's resolution for lengths: an arc whose end
-    /// is not on its circle (I/K) or farther from its start than 2R is the control's alarm PS0020.
+    /// is farther than [`ARC_RADIUS_INCREMENTS`] increments from its circle (I/K), or farther from
+    /// its start than 2R, is the control's alarm PS0020.
     pub fn contour(&self, start: Pos, tol: Tolerance, name: &str) -> Result<Contour> {
+        let arc_tol = Tolerance::mm(tol.get() * ARC_RADIUS_INCREMENTS);
         let mut p = start;
         let mut segments = Vec::with_capacity(self.blocks.len());
         for b in &self.blocks {
@@ -96,7 +104,7 @@ impl Written {
                 Kind::Centre { cw, i, k } => {
                     let centre = Pos::new(p.x + i, p.z + k);
                     let (r0, r1) = (p.distance(centre), to.distance(centre));
-                    if !tol.eq(r0, r1) {
+                    if !arc_tol.eq(r0, r1) {
                         return Err(radius_alarm(
                             b.span,
                             name,
