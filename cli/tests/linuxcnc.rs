@@ -41,7 +41,7 @@ fn ours(src: &str) -> Vec<Canon> {
                 z: m.to.z,
                 pitch: path_lead(lead, m.to.minus(from)),
             },
-            MotionKind::Feed => panic!("G76 makes no plain feed"),
+            MotionKind::Feed | MotionKind::Arc { .. } => panic!("G76 makes no plain feed"),
         })
         .collect()
 }

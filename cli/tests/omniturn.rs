@@ -159,7 +159,7 @@ fn internal_example_cuts_outward() {
                     assert!(close(m.to.z, end.z) && close(m.to.x / IN, 0.4125));
                 }
             }
-            MotionKind::Feed => panic!("no feed moves in G33"),
+            MotionKind::Feed | MotionKind::Arc { .. } => panic!("no feed moves in G33"),
         }
     }
     assert!(path.motions.iter().all(|m| m.to.x / IN <= 0.46875 + EPS));

@@ -159,7 +159,7 @@ pub fn centre_of(
     if tol.is_zero(chord) {
         return Err("an arc given by R must not end where it starts".into());
     }
-    if !(r > 0.0) {
+    if r.is_nan() || r <= 0.0 {
         return Err(format!(
             "R{r} must be positive: an arc by R turns less than half a circle"
         ));
