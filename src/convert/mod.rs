@@ -307,7 +307,7 @@ fn turning_not_converted(line: &Line) -> Error {
             Code::Unsupported,
             line.span(),
             format!(
-                "line {} belongs to a turning cycle, which threadcut does not convert to another controller yet",
+                "line {} belongs to a turning cycle, a canned cycle other than threading: threadcut does not convert it",
                 line.number
             ),
         )
