@@ -368,6 +368,14 @@ impl FanucFamily {
         let t = self.codes.turning;
         let name = g_name(code);
         let has_pq = line.word(b'P').is_some() || line.word(b'Q').is_some();
+        if code != t.finish && matches!(self.flavour.g76, G76Form::OneBlock(_)) {
+            return Err(one_block_not_read(
+                line,
+                span,
+                &name,
+                self.flavour.controller,
+            ));
+        }
         if !has_pq {
             if code == t.finish {
                 return Err(alarm_61(span, &name));
@@ -605,6 +613,20 @@ fn non_negative(modal: &Modal, w: &Word, name: &str, word: &str) -> Result<f64> 
         ));
     }
     Ok(v)
+}
+
+/// The one-block stock removal and pattern cycles of the FS15 program format and Haas
+/// (`G71 P Q U W D F`, `G73 P Q U W I K D F`): not read in this build. Haas's retract is its
+/// Setting 73 (named in the G71 figure of Haas's documentation) and the FS15 format's a parameter;
+/// neither is in a profile, and a guessed retract would make wrong moves.
+fn one_block_not_read(line: &Line, span: Span, name: &str, controller: &str) -> Diagnostic {
+    let at = line.word(b'D').map_or(span, |w| w.span);
+    Diagnostic::error(
+        Code::Unsupported,
+        at,
+        format!("{controller}'s one-block {name} (P Q U W D …) is not read by threadcut yet"),
+    )
+    .with_hint("its retract is a machine setting (Haas: Setting 73) that the profile does not state; the cycle's moves would be guessed")
 }
 
 fn alarm_61(span: Span, name: &str) -> Diagnostic {
