@@ -680,7 +680,7 @@ fn the_one_block_stock_removal_of_haas_and_fs15_is_refused_at_its_d_word() {
     for m in ["haas", "fanuc15"] {
         let e = error(src, &machine(m));
         assert!(
-            e.starts_with("2:28 ") && e.contains("one-block G71"),
+            e.starts_with("2:24 ") && e.contains("one-block G71"),
             "{m}: {e}"
         );
     }
