@@ -57,6 +57,15 @@ impl FanucFamily {
         let Some((gword, code)) = self.turning_code(line) else {
             return self.box_repeat(conv, line, modal);
         };
+        let t = self.codes.turning;
+        let bare = line.words.iter().all(|w| matches!(w.letter, b'G' | b'N'));
+        if bare || ((code == t.box_z || code == t.box_x) && !self.box_block(line, code)) {
+            // A cycle's code without any of its words sets nothing: read as before, a mode
+            // change without a move (G70–G75 and G90/G94 mean other things on other controls,
+            // whose programs are often checked against this one).
+            self.turning.box_modal = None;
+            return Ok(None);
+        }
         self.turning.box_modal = None;
         self.g92 = None;
         self.run_phase = None;
@@ -70,7 +79,6 @@ impl FanucFamily {
                 _ => {}
             }
         }
-        let t = self.codes.turning;
         let span = gword.span;
         let read = if code == t.box_z || code == t.box_x {
             Read::Turning(Some(Box::new(
@@ -82,6 +90,27 @@ impl FanucFamily {
             self.read_with_contour(line, modal, span, code)?
         };
         Ok(Some(read))
+    }
+
+    /// Whether a block with the box cycle's code `code` runs the cycle: it names an end point, and
+    /// no motion code of its group (G0–G3, the thread move) comes after the box code in it ("when
+    /// G codes of one group share a block, the last one is effective"). A box code alone is read
+    /// as before, a mode without a move (`G90` is absolute distance on most other controls, and a
+    /// program for one of them is often checked against this one).
+    fn box_block(&self, line: &Line, code: u16) -> bool {
+        let axes = line
+            .words
+            .iter()
+            .any(|w| matches!(w.letter, b'X' | b'Z' | b'U' | b'W'));
+        let group_01 = [0, 10, 20, 30, self.codes.thread_move, code];
+        let last = line
+            .words
+            .iter()
+            .filter(|w| w.letter == b'G')
+            .filter_map(|w| g_code(w.value))
+            .filter(|c| group_01.contains(c))
+            .last();
+        axes && last == Some(code)
     }
 
     /// A block while a contour is read: part of it, or its last block (the cycle complete).
