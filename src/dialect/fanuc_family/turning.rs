@@ -108,8 +108,7 @@ impl FanucFamily {
             .iter()
             .filter(|w| w.letter == b'G')
             .filter_map(|w| g_code(w.value))
-            .filter(|c| group_01.contains(c))
-            .last();
+            .rfind(|c| group_01.contains(c));
         axes && last == Some(code)
     }
 
