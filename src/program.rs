@@ -14,6 +14,7 @@ use crate::machine::Machine;
 use crate::post::{self, json_num};
 use crate::thread::{Job, Pass, PassKind};
 use crate::toolpath::{self, Motion, MotionKind};
+use crate::turning::TurningJob;
 use crate::units::Units;
 
 #[derive(Debug, thiserror::Error)]
@@ -50,13 +51,28 @@ pub enum Event<'a, 'l> {
         job: Box<Job>,
         dialect: &'a dyn dialect::Dialect,
     },
-    // issue 23 (turning cycles).
-    /// A complete turning cycle (the modal position is already where it ends).
+    /// A turning cycle's block: the cycle complete (`job`), or a block the control does not run
+    /// where it stands (`None`: the cycle's block that reads the contour that follows, and that
+    /// contour's blocks). A cycle with a contour is complete at the contour's last block, which
+    /// is then `line` (`job.line` is the cycle's own); the tool is back at the cycle's start point
+    /// after it.
     Turning {
         line: &'a Line<'l>,
-        job: Box<crate::turning::TurningJob>,
+        job: Option<Box<TurningJob>>,
         dialect: &'a dyn dialect::Dialect,
     },
+}
+
+impl<'a, 'l> Event<'a, 'l> {
+    /// The line of the event.
+    pub fn line(&self) -> &'a Line<'l> {
+        match self {
+            Event::Plain { line, .. }
+            | Event::Settings { line }
+            | Event::Cycle { line, .. }
+            | Event::Turning { line, .. } => line,
+        }
+    }
 }
 
 mod interpreted;
@@ -325,6 +341,7 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
                     if S::BATCH && pending > 0 {
                         sink.pass(handed_out(&reader, pending, 0)?)?;
                     }
+                    dialect.end_of_input()?;
                     let unrun = reader.pass_rest(|b| sink.unrun(b))?;
                     summary.lines += unrun as u32;
                     return Ok(summary);
@@ -350,6 +367,7 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     if S::BATCH && pending > 0 {
         sink.pass(handed_out(&reader, pending, 0)?)?;
     }
+    dialect.end_of_input()?;
     Ok(summary)
 }
 
@@ -414,15 +432,6 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
             }
         }
         Read::Settings => sink.event(modal, Event::Settings { line: &line })?,
-        // issue 23: a turning cycle (the dialect has set the position where it ends).
-        Read::Turning(job) => sink.event(
-            modal,
-            Event::Turning {
-                line: &line,
-                job,
-                dialect,
-            },
-        )?,
         Read::Cycle(job) => {
             summary.cycles += 1;
             // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
@@ -430,6 +439,21 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
             sink.event(
                 modal,
                 Event::Cycle {
+                    line: &line,
+                    job,
+                    dialect,
+                },
+            )?;
+        }
+        Read::Turning(job) => {
+            if let Some(job) = &job {
+                summary.cycles += 1;
+                // Every turning cycle ends at its start point.
+                modal.position = crate::gcode::Position::at(job.end_point());
+            }
+            sink.event(
+                modal,
+                Event::Turning {
                     line: &line,
                     job,
                     dialect,
@@ -615,8 +639,7 @@ fn expand_event(
         ..base_format.clone()
     };
     match ev {
-        // issue 23: a turning cycle stays as written.
-        Event::Plain { line, .. } | Event::Turning { line, .. } => out.write_all(line.raw)?,
+        Event::Plain { line, .. } => out.write_all(line.raw)?,
         Event::Settings { line } => {
             if let Some(c) = format.comment(&format!(
                 "threadcut: line {} sets the cycle that follows",
@@ -662,6 +685,70 @@ fn expand_event(
                 }
             }
         }
+        Event::Turning { line, job, .. } => {
+            expand_turning(out, &format, distance_words, modal, line, job.as_deref())?
+        }
+    }
+    Ok(())
+}
+
+/// `expand_gcode` for a turning cycle's block. A block the control does not run where it stands
+/// (the cycle's block that reads a contour, the contour's blocks) is written as a comment (or left
+/// out where the controller has none), so that the expanded program does not run it either; at
+/// the block that completes the cycle, its moves follow (`docs/dialects/fanuc.md`, "Turning
+/// cycles").
+fn expand_turning(
+    out: &mut dyn Write,
+    format: &post::Format,
+    distance_words: bool,
+    modal: &Modal,
+    line: &Line,
+    job: Option<&TurningJob>,
+) -> Result<(), Error> {
+    let text = String::from_utf8_lossy(line.text);
+    let own = job.is_some_and(|j| j.line == line.number);
+    if !own {
+        let note = format!("threadcut: not run here: {}", text.trim());
+        if let Some(c) = format.comment(&note) {
+            writeln!(out, "{c}")?;
+        }
+    }
+    let Some(job) = job else {
+        return Ok(());
+    };
+    let moves = job.moves()?;
+    let note = format!(
+        "threadcut: {} turning cycle of line {} as {}",
+        job.controller,
+        job.line,
+        crate::text::count(moves.len(), "move", "moves")
+    );
+    if let Some(c) = format.comment(&note) {
+        writeln!(out, "{c}")?;
+    }
+    let path = toolpath::Toolpath {
+        start: job.start(),
+        motions: moves,
+    };
+    let incremental = distance_words && !modal.absolute;
+    if incremental {
+        writeln!(out, "G90")?;
+    }
+    post::write_moves(out, format, job.units, &path)?;
+    if incremental {
+        writeln!(out, "G91")?;
+    }
+    // The motion mode of before the cycle (a box cycle stays modal: the program's next block of
+    // axis words repeats it, as the original does — the expanded text has none to repeat).
+    let mode = match modal.motion {
+        MotionMode::Feed => Some(format.feed),
+        MotionMode::ArcCw => Some("G2"),
+        MotionMode::ArcCcw => Some("G3"),
+        MotionMode::Thread => Some(format.thread),
+        MotionMode::Rapid | MotionMode::Cycle => None,
+    };
+    if let Some(m) = mode {
+        writeln!(out, "{m}")?;
     }
     Ok(())
 }
@@ -776,10 +863,8 @@ pub fn expand_jsonl_with<R: BufRead>(
                     writeln!(out, "{}", post::motion_json(m, job.units))?;
                 }
             }
-            // issue 23: a turning cycle's moves.
-            Event::Turning { job, .. } => {
-                let path = crate::turning::toolpath(&job).map_err(Error::Input)?;
-                for m in &path.motions {
+            Event::Turning { job: Some(job), .. } => {
+                for m in &job.moves()? {
                     writeln!(out, "{}", post::motion_json(m, job.units))?;
                 }
             }

@@ -675,7 +675,7 @@ pub fn each_gcode_with<R: BufRead>(
                     warnings.push(w);
                 }
             }
-            // issue 23: turning cycles cut no thread.
+            // A turning cycle is no thread (its moves are not synchronised).
             Event::Settings { .. } | Event::Turning { .. } => {}
             Event::Cycle { job, .. } => collector.cycle(*job, modal.diameter_x, || (), &mut push),
         }

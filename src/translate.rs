@@ -224,8 +224,8 @@ pub fn verify(
                 None
             }
             Ok(Read::Settings) => None,
-            // issue 23: no thread cycle is read back as a turning cycle.
-            Ok(Read::Turning(_)) => return Err(unreadable("a turning cycle")),
+            // A threading cycle's native text has no turning cycle in it.
+            Ok(Read::Turning(_)) => return Err(unreadable("it reads as a turning cycle")),
             Ok(Read::Applied(mv) | Read::Own { mv, .. }) => mv,
             Ok(Read::Plain) => modal
                 .apply(&conv, &line)

@@ -780,7 +780,10 @@ proptest! {
                     prop_assert!((mv.lead.unwrap() - lead).abs() <= 0.000_050_1);
                 }
                 MotionKind::Feed => prop_assert_eq!(mv.mode, MotionMode::Feed),
-                MotionKind::Arc { .. } => prop_assert!(false, "a thread cycle makes no arc"),
+                MotionKind::Arc { clockwise, .. } => prop_assert_eq!(
+                    mv.mode,
+                    if clockwise { MotionMode::ArcCw } else { MotionMode::ArcCcw }
+                ),
             }
         }
     }

@@ -21,7 +21,6 @@ fn with_prefilter(src: &str, machine: &Machine) -> Trace {
             Event::Plain { line, mv } => format!("{} plain {mv:?} {modal:?}", line.number),
             Event::Settings { line } => format!("{} settings {modal:?}", line.number),
             Event::Cycle { line, job, .. } => format!("{} cycle {job:?} {modal:?}", line.number),
-            // issue 23: a turning cycle.
             Event::Turning { line, job, .. } => {
                 format!("{} turning {job:?} {modal:?}", line.number)
             }
@@ -92,14 +91,17 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
                 seen.push(format!("{} plain {mv:?} {modal:?}", line.number))
             }
             Ok(Read::Settings) => seen.push(format!("{} settings {modal:?}", line.number)),
-            // issue 23: a turning cycle (the dialect has set the position where it ends).
-            Ok(Read::Turning(job)) => {
-                seen.push(format!("{} turning {job:?} {modal:?}", line.number))
-            }
             Ok(Read::Cycle(job)) => {
                 cycles += 1;
                 modal.position = threadcut::gcode::Position::at(job.end_point());
                 seen.push(format!("{} cycle {job:?} {modal:?}", line.number));
+            }
+            Ok(Read::Turning(job)) => {
+                if let Some(job) = &job {
+                    cycles += 1;
+                    modal.position = threadcut::gcode::Position::at(job.end_point());
+                }
+                seen.push(format!("{} turning {job:?} {modal:?}", line.number));
             }
         }
         for w in &mut warnings[before..] {
@@ -110,6 +112,9 @@ fn without_prefilter(src: &str, machine: &Machine) -> Trace {
         if end {
             break;
         }
+    }
+    if let Err(e) = d.end_of_input() {
+        return (seen, format!("error {:?}", program::Error::Input(e)));
     }
     (seen, format!("ok {cycles} {warnings:?}"))
 }
@@ -186,6 +191,15 @@ const WORDS: &[&str] = &[
     "G76 P2.5 Z-30 I-1.0 J0.3 K1.5335",
     "G7",
     "G8",
+    // Fanuc-family turning cycles: a contour read after its cycle, a modal box cycle.
+    "G71 U1.5 R0.5",
+    "G71 P10 Q20 U0.4 W0.1 F0.2",
+    "N10 G0 X20",
+    "N20 G1 Z-10",
+    "G70 P10 Q20",
+    "G90 X30 Z-10 F0.2",
+    "G74 R0.5",
+    "G74 Z-10 Q3000 F0.1",
     // Sinumerik: its cycle, its start angle, parameters, diameter and unit codes, tool offsets.
     "CYCLE97(1.5,,0,-20,24,24,2,1,0.92,0.05,30,0,5,1,3,1)",
     "CYCLE97(R1,,0,-20,24,24,2,1,0.92,0.05,-29,0,5,1,3,2)",

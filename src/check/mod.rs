@@ -291,7 +291,9 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                 }
                 machine_state.after(line);
             }
-            Event::Settings { line } => {
+            // A turning cycle's blocks: their words, as a cycle's; no thread (its moves are not
+            // judged yet, issue 23).
+            Event::Settings { line } | Event::Turning { line, .. } => {
                 machine_state.before(line);
                 if let Some(dw) = decimals.as_mut() {
                     dw.line(line, modal.units, true);
@@ -305,11 +307,6 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                 }
                 let at = job.span;
                 collector.cycle(*job, modal.diameter_x, || machine_state.now(at), &mut take);
-                machine_state.after(line);
-            }
-            // A turning cycle's moves are not judged yet (issue 23): its block's codes are read.
-            Event::Turning { line, .. } => {
-                machine_state.before(line);
                 machine_state.after(line);
             }
         }

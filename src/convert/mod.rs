@@ -190,12 +190,6 @@ impl program::Output for Conversion<'_, '_, '_> {
                     w.header_before(line)?;
                     w.comment_only(&block::comments(line.text, self.src.paren_comments))
                 }
-                // issue 23: turning cycles are not converted yet.
-                Event::Turning { line, .. } => Err(Error::Input(crate::diag::Diagnostic::error(
-                    crate::diag::Code::Unsupported,
-                    line.span(),
-                    "threadcut does not convert turning cycles (G70/G71/G72) yet",
-                ))),
                 Event::Cycle { line, job, .. } => {
                     w.header_before(line)?;
                     w.cycle(
@@ -204,6 +198,7 @@ impl program::Output for Conversion<'_, '_, '_> {
                         &block::comments(line.text, self.src.paren_comments),
                     )
                 }
+                Event::Turning { line, .. } => Err(turning_not_converted(line)),
             },
         }
     }
@@ -271,12 +266,7 @@ impl program::Output for Conversion<'_, '_, '_> {
 }
 
 fn event_line<'a, 'l>(ev: &Event<'a, 'l>) -> &'a Line<'l> {
-    match ev {
-        Event::Plain { line, .. }
-        | Event::Settings { line }
-        | Event::Cycle { line, .. }
-        | Event::Turning { line, .. } => line,
-    }
+    ev.line()
 }
 
 /// The same profile's header comment, before the first line that is not a `%` delimiter.
@@ -307,4 +297,20 @@ pub fn convert_text(
             e.to_string(),
         )),
     }
+}
+
+/// A turning cycle's block, for a conversion to another controller: not written in this build
+/// (a wrong contour would cut the part wrong).
+fn turning_not_converted(line: &Line) -> Error {
+    Error::Input(
+        Diagnostic::error(
+            Code::Unsupported,
+            line.span(),
+            format!(
+                "line {} belongs to a turning cycle, a canned cycle other than threading: threadcut does not convert it",
+                line.number
+            ),
+        )
+        .with_hint("`threadcut expand` writes the cycle as plain moves, which convert then reads"),
+    )
 }

@@ -127,6 +127,10 @@ impl Dialect for Fanuc {
         self.family.prefilter(line, 0, |_| false)
     }
 
+    fn end_of_input(&mut self) -> Result<()> {
+        self.family.end_of_input()
+    }
+
     fn read(
         &mut self,
         line: &Line,

@@ -683,6 +683,10 @@ impl Dialect for Gsk {
         &LEXICON
     }
 
+    fn end_of_input(&mut self) -> Result<()> {
+        self.family.end_of_input()
+    }
+
     fn read(
         &mut self,
         line: &Line,

@@ -260,6 +260,10 @@ impl Dialect for Haas {
             })
     }
 
+    fn end_of_input(&mut self) -> Result<()> {
+        self.family.end_of_input()
+    }
+
     fn read(
         &mut self,
         line: &Line,

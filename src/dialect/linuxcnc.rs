@@ -832,7 +832,7 @@ impl Dialect for LinuxCnc {
                     30 => crate::gcode::MotionMode::ArcCcw,
                     _ => crate::gcode::MotionMode::Feed,
                 };
-                Ok(Read::Turning(Box::new(job)))
+                Ok(Read::Turning(Some(Box::new(job))))
             }
             None => Ok(Read::Settings),
         }

@@ -30,6 +30,10 @@ pub enum Read {
     Settings,
     /// A complete cycle.
     Cycle(Box<Job>),
+    /// A turning cycle's block: the cycle complete (`Some`), or a block the control does not run
+    /// where it stands (`None`): a cycle's block that reads the contour that follows it, and the
+    /// blocks of that contour up to its last, where the cycle is complete.
+    Turning(Option<Box<crate::turning::TurningJob>>),
     /// A block that is not a threading cycle, which the dialect has applied to the modal state
     /// itself (a block in its own syntax, or one whose move it completes, e.g. with a start
     /// angle): the move it makes, if any. It passes through unchanged, as a `Plain` block does.
@@ -43,9 +47,6 @@ pub enum Read {
         mv: Option<crate::gcode::PlainMove>,
         words: Vec<crate::gcode::Word>,
     },
-    // issue 23 (turning cycles): a complete turning cycle.
-    /// A complete turning cycle (stock removal, finishing, …), with where the tool ends.
-    Turning(Box<crate::turning::TurningJob>),
 }
 
 /// How a controller's threading cycle takes a taper: the word and its sign and scale, as the
@@ -133,6 +134,11 @@ pub trait Dialect {
     /// warning, so the caller may skip it. The default offers every line.
     fn prefilter(&self, _line: &Line) -> bool {
         true
+    }
+    /// The input has ended (or the program has, at M2/M30): a cycle still waiting for blocks (a
+    /// contour's last block) is the control's alarm. The default: nothing waits.
+    fn end_of_input(&mut self) -> Result<()> {
+        Ok(())
     }
     /// Offers a line to the dialect. Warnings go to `warnings`; alarms are errors.
     fn read(

@@ -6,7 +6,7 @@ use std::io::{self, Write};
 use crate::machine::{CommentStyle, Machine};
 use crate::thread::StartIndexing;
 use crate::toolpath::{Motion, MotionKind, Toolpath};
-use crate::units::Units;
+use crate::units::{Pos, Units};
 
 /// How a controller writes plain moves.
 #[derive(Clone, Debug, PartialEq)]
@@ -40,6 +40,29 @@ pub struct Format {
     /// another kind). `None`: a job with a start angle, or with starts reached by turning the
     /// spindle, cannot be written as plain moves, and callers refuse it ([`expressible`]).
     pub start_angle: Option<StartAngleWord>,
+    /// The circular moves, if the controller's plain moves have them (a turning cycle's contour
+    /// written as plain moves). `None`: a path with an arc cannot be written.
+    pub arc: Option<ArcCodes>,
+}
+
+/// How a controller writes a circular move: its codes, the end point as every move's, and the
+/// centre as `I` (X, a radius whatever X's mode) and `K` (Z), signed, from the arc's start point
+/// to its centre (Fanuc's lathe manuals, "circular interpolation"; the same words on GSK, Haas,
+/// LinuxCNC and Sinumerik). I and K are computed from the start point as it was written, so that
+/// the control's centre is the written start plus I/K and the arc's end lies on its circle within
+/// the output's rounding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ArcCodes {
+    /// Clockwise, with Z to the right and X up (the model's `clockwise`): G2.
+    pub cw: &'static str,
+    pub ccw: &'static str,
+}
+
+impl ArcCodes {
+    pub const G2_G3: ArcCodes = ArcCodes {
+        cw: "G2",
+        ccw: "G3",
+    };
 }
 
 /// How a controller's thread move states its start angle.
@@ -114,6 +137,7 @@ impl Format {
             lead_along_path: false,
             steep_lead_letter: None,
             start_angle: None,
+            arc: Some(ArcCodes::G2_G3),
         }
     }
 
@@ -152,6 +176,30 @@ impl Format {
         c.push_str(close);
         Some(c)
     }
+}
+
+/// ` I… K…`: an arc's centre from its start point as written (rounded as the writer rounds it),
+/// so that the written start plus I/K is the centre to the output's resolution.
+fn push_arc_centre(
+    out: &mut Vec<u8>,
+    format: &Format,
+    units: Units,
+    from: Pos,
+    centre: Pos,
+) -> io::Result<()> {
+    let nd = format.digits(units);
+    let scale = 10f64.powi(nd as i32);
+    let round = |v: f64| (v * scale).round() / scale;
+    let per_radius = if format.diameter_x { 2.0 } else { 1.0 };
+    let start_x = round(finite(format.x_word(from.x, units))?) / per_radius;
+    let start_z = round(finite(units.from_mm(from.z))?);
+    let i = finite(units.from_mm(centre.x))? - start_x;
+    let k = finite(units.from_mm(centre.z))? - start_z;
+    out.extend_from_slice(b" I");
+    push_number(out, i, nd, format.trailing_zeros);
+    out.extend_from_slice(b" K");
+    push_number(out, k, nd, format.trailing_zeros);
+    Ok(())
 }
 
 /// Formats `value` rounded to `decimals`, always with a decimal point (`10.`, `-0.5`), never with an
@@ -471,14 +519,16 @@ pub fn write_moves(
                 }
                 _ => (format.thread, Some(lead), None),
             },
-            // The plain-move writer writes lines; a path with arcs (a turning cycle's contour)
-            // is written by its own writer. This is the last guard.
-            MotionKind::Arc { .. } => {
-                return Err(io::Error::new(
-                    io::ErrorKind::InvalidData,
-                    "refusing to write an arc as a straight move",
-                ))
-            }
+            MotionKind::Arc { clockwise, .. } => match format.arc {
+                Some(a) => (if clockwise { a.cw } else { a.ccw }, None, None),
+                // Never an arc as a straight move: the last guard.
+                None => {
+                    return Err(io::Error::new(
+                        io::ErrorKind::InvalidData,
+                        "refusing to write an arc as a straight move: this controller's plain moves have no arc",
+                    ))
+                }
+            },
         };
         text.put(code.as_bytes());
         text.put(b" X");
@@ -513,6 +563,11 @@ pub fn write_moves(
                 push_start_angle(&mut scratch, format, phase_deg)?;
                 text.put(&scratch);
             }
+        }
+        if let MotionKind::Arc { centre, .. } = m.kind {
+            scratch.clear();
+            push_arc_centre(&mut scratch, format, units, from, centre)?;
+            text.put(&scratch);
         }
         in_run = matches!(m.kind, MotionKind::Thread { .. });
         text.put(b"\n");
@@ -1115,5 +1170,53 @@ mod tests {
     fn json_numbers_are_plain() {
         assert_eq!(json_num(-0.0), "0.0");
         assert_eq!(json_num(1.5), "1.5");
+    }
+
+    /// An arc is written with its end point and its centre from its start point as written:
+    /// I a radius whatever X's mode, K along Z.
+    #[test]
+    fn arcs_with_their_centre_from_the_written_start() {
+        let m = Machine::built_in("fanuc").unwrap();
+        let arc = |to, centre, clockwise| Motion {
+            kind: MotionKind::Arc { centre, clockwise },
+            to,
+            pass: 1,
+            line: 1,
+        };
+        // From r15 Z-20 clockwise about (20, −20) to r20 Z-25: I = 20 − 15 = 5, K = 0; X Ø40.
+        // Then counter-clockwise about (20, −30) to r25 Z-30: I = 0, K = −30 − (−25) = −5.
+        let path = Toolpath {
+            start: Pos::new(15.0, -20.0),
+            motions: vec![
+                arc(Pos::new(20.0, -25.0), Pos::new(20.0, -20.0), true),
+                arc(Pos::new(25.0, -30.0), Pos::new(20.0, -30.0), false),
+            ],
+        };
+        let format = Format::lathe(&m, "G32", 'F');
+        let mut out = Vec::new();
+        write_moves(&mut out, &format, Units::Mm, &path).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "G2 X40. Z-25. I5. K0.\nG3 X50. Z-30. I0. K-5.\n"
+        );
+        // A start point off the output's grid: K from the start as written (Z0.0016 is written
+        // Z0.002; the centre at Z0.0004 is −0.0016 from it, written −0.002, where the unrounded
+        // start would give −0.0012, −0.001).
+        let path = Toolpath {
+            start: Pos::new(10.0, 0.0016),
+            motions: vec![arc(Pos::new(15.0, -2.5), Pos::new(12.5, 0.0004), false)],
+        };
+        let mut out = Vec::new();
+        write_moves(&mut out, &format, Units::Mm, &path).unwrap();
+        assert_eq!(
+            String::from_utf8(out).unwrap(),
+            "G3 X30. Z-2.5 I2.5 K-0.002\n"
+        );
+        // A controller without arcs refuses them.
+        let none = Format {
+            arc: None,
+            ..format
+        };
+        assert!(write_moves(&mut Vec::new(), &none, Units::Mm, &path).is_err());
     }
 }

@@ -141,6 +141,7 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         max_blocks: options.max_blocks,
     };
     let outcome = interp::run(&code, &at.syntax, limits, at.line, &mut host)?;
+    host.dialect.end_of_input()?;
     let RunHost {
         mut sink,
         mut summary,
@@ -244,23 +245,27 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
                 self.sink
                     .interpreted(&self.modal, Event::Settings { line: &line }, &at)
             }
-            // issue 23: a turning cycle read whole in one block (none does yet in an
-            // interpreted program; LinuxCNC's come through `profile_end`).
-            Read::Turning(job) => self.sink.interpreted(
-                &self.modal,
-                Event::Turning {
-                    line: &line,
-                    job,
-                    dialect: &self.dialect,
-                },
-                &at,
-            ),
             Read::Cycle(job) => {
                 self.summary.cycles += 1;
                 self.modal.position = Position::at(job.end_point());
                 self.sink.interpreted(
                     &self.modal,
                     Event::Cycle {
+                        line: &line,
+                        job,
+                        dialect: &self.dialect,
+                    },
+                    &at,
+                )
+            }
+            Read::Turning(job) => {
+                if let Some(job) = &job {
+                    self.summary.cycles += 1;
+                    self.modal.position = Position::at(job.end_point());
+                }
+                self.sink.interpreted(
+                    &self.modal,
+                    Event::Turning {
                         line: &line,
                         job,
                         dialect: &self.dialect,
@@ -294,9 +299,11 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         end: interp::text::TextLine<'_>,
     ) -> Result<(), Error> {
         let read = self.dialect.profile_end(&mut self.modal, end.whole())?;
-        let Read::Turning(job) = read else {
+        // The dialect has set where the cycle leaves the tool.
+        let Read::Turning(Some(job)) = read else {
             return Ok(());
         };
+        self.summary.cycles += 1;
         let words = self.profile.take().unwrap_or_default();
         let mut index: WordIndex = [0; 32];
         index_words(&words, &mut index);
@@ -323,7 +330,7 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
             &self.modal,
             Event::Turning {
                 line: &line,
-                job,
+                job: Some(job),
                 dialect: &self.dialect,
             },
             &at,
@@ -383,12 +390,7 @@ pub(super) fn expand_recorded(
     modal: &Modal,
     ev: Event,
 ) -> Result<(), Error> {
-    let line = match &ev {
-        Event::Plain { line, .. }
-        | Event::Settings { line }
-        | Event::Cycle { line, .. }
-        | Event::Turning { line, .. } => (line.number, line.offset),
-    };
+    let line = (ev.line().number, ev.line().offset);
     if line.1 >= interp::PREFIX_KEPT as u64 {
         sink.interp.prefix = None;
         return expand_ending(
@@ -444,21 +446,14 @@ pub(super) fn expand_interpreted(
         };
     }
     let (line, start) = match &ev {
-        // issue 23: a turning cycle stays as written (the control runs it).
-        Event::Plain { .. } | Event::Turning { .. } => return Ok(()),
+        Event::Plain { .. } => return Ok(()),
         Event::Settings { line } => (line.number, None),
         Event::Cycle { line, job, .. } => (line.number, Some(job.start)),
+        Event::Turning { line, job, .. } => (line.number, job.as_ref().map(|j| j.start())),
     };
-    let span = match &ev {
-        Event::Plain { line, .. }
-        | Event::Settings { line }
-        | Event::Cycle { line, .. }
-        | Event::Turning { line, .. } => line.span(),
-    };
+    let span = ev.line().span();
     let mut place = describe(at, start, modal);
-    if let Event::Settings { line } | Event::Cycle { line, .. } = &ev {
-        computed_words(&mut place, line);
-    }
+    computed_words(&mut place, ev.line());
     let mut buf = Vec::new();
     expand_ending(
         &mut buf,

@@ -9,6 +9,8 @@
 //! finished shape as the program's blocks give it (Fanuc's blocks `ns`…`nf`, LinuxCNC's o-word
 //! profile), starting at the cycle's start point's first move.
 
+pub mod simple;
+
 use serde::Serialize;
 
 mod contour;
@@ -17,7 +19,8 @@ pub mod pattern;
 pub mod profile_rough;
 pub mod rough;
 
-use crate::diag::Span;
+use crate::diag::{Result, Span};
+use crate::toolpath::{Motion, Toolpath};
 use crate::units::{Pos, Units};
 
 /// One piece of a contour: a line or a circular arc to `to`.
@@ -154,7 +157,10 @@ pub struct BoxCycle {
 
 /// A peck cycle (G74 along Z, G75 along X): pecks of `peck` with a retract of `retract` after
 /// each, to `end`, then shifts of `shift` across (X for G74, Z for G75) to the other end of the
-/// groove or hole pattern; `relief` at the bottom of each peck run.
+/// groove or hole pattern; `relief` at the bottom of each peck run. `peck`, `shift` and `retract`
+/// are lengths (mm, ≥ 0; a `peck` or `shift` of 0: one feed, one column); `relief` is a signed
+/// displacement across (mm, + toward +X for G74, +Z for G75): the dialect gives it its direction
+/// ([`simple`] has the moves).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Peck {
     pub along: Along,
@@ -189,9 +195,8 @@ pub struct TurningJob {
 }
 
 /// The moves of a turning cycle, from its start (absolute mm, X radius): each kind by the module
-/// that makes it. Box and peck cycles are not made yet: they are refused, never skipped.
-pub fn toolpath(job: &TurningJob) -> crate::diag::Result<crate::toolpath::Toolpath> {
-    let start = job.cycle.start();
+/// that makes it.
+pub fn toolpath(job: &TurningJob) -> Result<Toolpath> {
     let motions = match &job.cycle {
         Cycle::Rough(r) => match r.strategy {
             Strategy::Offset { .. } => return profile_rough::rough(r, job.units, job.span),
@@ -202,21 +207,30 @@ pub fn toolpath(job: &TurningJob) -> crate::diag::Result<crate::toolpath::Toolpa
         }
         Cycle::Finish(f) => finish::moves(f, job.line)?,
         Cycle::Pattern(p) => pattern::moves(p, job.line)?,
-        Cycle::Box(_) | Cycle::Peck(_) => {
-            return Err(crate::diag::Diagnostic::error(
-                crate::diag::Code::Input,
-                job.span,
-                "this turning cycle's moves are not made yet",
-            ))
-        }
+        Cycle::Box(b) => simple::box_moves(b, job.line),
+        Cycle::Peck(p) => simple::peck_moves(p, job.line, job.span)?,
     };
-    Ok(crate::toolpath::Toolpath { start, motions })
+    Ok(Toolpath {
+        start: job.start(),
+        motions,
+    })
 }
 
-impl Cycle {
-    /// Where the cycle starts: the tool's position when it begins.
+impl TurningJob {
+    /// The cycle's moves, from its start point (where the tool is when it begins): [`toolpath`].
+    pub fn moves(&self) -> Result<Vec<Motion>> {
+        toolpath(self).map(|p| p.motions)
+    }
+
+    /// Where the tool is when the cycle is done: its start point (every cycle of the model
+    /// returns to it).
+    pub fn end_point(&self) -> Pos {
+        self.start()
+    }
+
+    /// The cycle's start point.
     pub fn start(&self) -> Pos {
-        match self {
+        match &self.cycle {
             Cycle::Rough(r) => r.start,
             Cycle::Pattern(p) => p.start,
             Cycle::Finish(f) => f.start,

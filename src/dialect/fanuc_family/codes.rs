@@ -152,7 +152,59 @@ pub struct GCodes {
     /// The other systems' fractional codes whose whole number this system has for another
     /// function: the preset of the other systems (`Vocabulary::foreign`).
     pub foreign: &'static [u16],
+    /// The turning cycles' numbers.
+    pub turning: TurningCodes,
 }
+
+/// The G numbers (×10) of the turning cycles in one G-code system (the G code list, rows
+/// "multiple repetitive cycles" and "single-pass cycles": `G_CODE_LIST`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TurningCodes {
+    /// Finishing: G70 (A, B), G72 (C).
+    pub finish: u16,
+    /// Stock removal in turning: G71 (A, B), G73 (C).
+    pub rough_z: u16,
+    /// Stock removal in facing: G72 (A, B), G74 (C).
+    pub rough_x: u16,
+    /// Pattern repeating: G73 (A, B), G75 (C).
+    pub pattern: u16,
+    /// End-face peck drilling: G74 (A, B), G76 (C).
+    pub peck_z: u16,
+    /// Outer/inner diameter grooving: G75 (A, B), G77 (C).
+    pub peck_x: u16,
+    /// The turning box cycle: G90 (A), G77 (B), G20 (C).
+    pub box_z: u16,
+    /// The facing box cycle: G94 (A), G79 (B), G24 (C).
+    pub box_x: u16,
+}
+
+impl TurningCodes {
+    /// Every code, for a quick test of a block.
+    pub const fn all(&self) -> [u16; 8] {
+        [
+            self.finish,
+            self.rough_z,
+            self.rough_x,
+            self.pattern,
+            self.peck_z,
+            self.peck_x,
+            self.box_z,
+            self.box_x,
+        ]
+    }
+}
+
+/// System A's and B's multiple repetitive cycles.
+const TURNING_AB: TurningCodes = TurningCodes {
+    finish: 700,
+    rough_z: 710,
+    rough_x: 720,
+    pattern: 730,
+    peck_z: 740,
+    peck_x: 750,
+    box_z: 900,
+    box_x: 940,
+};
 
 impl GCodes {
     /// The table of `system`.
@@ -172,6 +224,7 @@ impl GCodes {
                 ],
                 offset_changes: &[100, 520, 503],
                 foreign: &[921],
+                turning: TURNING_AB,
             },
             GCodeSystem::B => GCodes {
                 system,
@@ -187,6 +240,11 @@ impl GCodes {
                 ],
                 offset_changes: &[100, 520, 921],
                 foreign: &[503],
+                turning: TurningCodes {
+                    box_z: 770,
+                    box_x: 790,
+                    ..TURNING_AB
+                },
             },
             GCodeSystem::C => GCodes {
                 system,
@@ -202,6 +260,16 @@ impl GCodes {
                 ],
                 offset_changes: &[100, 520, 921],
                 foreign: &[503],
+                turning: TurningCodes {
+                    finish: 720,
+                    rough_z: 730,
+                    rough_x: 740,
+                    pattern: 750,
+                    peck_z: 760,
+                    peck_x: 770,
+                    box_z: 200,
+                    box_x: 240,
+                },
             },
         }
     }

@@ -11,6 +11,7 @@ use crate::thread::{tan_deg, Exit, Side};
 use crate::units::{Pos, Tolerance, Units};
 
 use super::codes::{g_name, GCodes};
+use super::contour::TurningState;
 use crate::dialect::one_block;
 
 /// Parameters of the threading cycles. The first G76 block rewrites them, as on the controller.
@@ -135,6 +136,9 @@ pub struct FanucFamily {
     pub(super) run_phase: Option<f64>,
     /// The letters whose words make any line the family's business (a [`WordSummary`] mask).
     pub(super) letters: u32,
+    /// The turning cycles' state: their first blocks' values, a modal box cycle, a contour being
+    /// read, the contours read.
+    pub(super) turning: TurningState,
 }
 
 impl FanucFamily {
@@ -177,6 +181,7 @@ impl FanucFamily {
             ],
             g92: None,
             run_phase: None,
+            turning: TurningState::default(),
             // E: a lead or an exponent to refuse; Q: a start angle.
             letters: WordSummary::letter_mask(if flavour.start_angle { b"EQ" } else { b"E" }),
         }
@@ -186,7 +191,7 @@ impl FanucFamily {
     /// block of axis words repeats it) or a run of thread moves begun with a start angle goes on.
     #[inline(always)]
     pub fn in_progress(&self) -> bool {
-        self.g92.is_some() | self.run_phase.is_some()
+        self.g92.is_some() | self.run_phase.is_some() | self.turning_in_progress()
     }
 
     /// Whether a member's `read` may act on `line`: the family's blocks ([`wants`](Self::wants)),
@@ -230,6 +235,8 @@ impl FanucFamily {
             || line.has_g(self.codes.multiple)
             || line.has_g(self.codes.single)
             || (self.flavour.start_angle && line.summary.has_letter(b'Q'))
+            || self.turning_in_progress()
+            || self.wants_turning(line)
     }
 
     /// The pull-out of a pass for lead `lead` (mm), as the parameters (and M23/M24) give it.

@@ -15,10 +15,12 @@
 //! decision is a row of `docs/dialects/fanuc.md` (or `haas.md`).
 
 mod codes;
+pub mod contour;
 mod family;
 mod g76;
 mod g92;
 pub mod start_angle;
+mod turning;
 
 use crate::diag::{Code, Diagnostic, Result};
 use crate::gcode::reader::g_code;
@@ -41,6 +43,10 @@ impl FanucFamily {
         modal: &mut Modal,
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Option<Read>> {
+        // A turning cycle's block, a block of the contour it reads, a repeat of a box cycle.
+        if let Some(read) = self.read_turning(conv, line, modal)? {
+            return Ok(Some(read));
+        }
         let codes = self.codes;
         // No allocation: this runs on every line offered.
         let gs = || {
@@ -72,6 +78,7 @@ impl FanucFamily {
             };
         };
         self.run_phase = None;
+        self.turning.box_modal = None;
         let name = g_name(code);
         // In systems B and C a G90/G91 may share the cycle's block: it applies to the block's own
         // words (and stays in force), as on the modal reader's blocks.
