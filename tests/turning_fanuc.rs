@@ -562,29 +562,35 @@ fn expanded_box_and_peck_cycles_read_back_to_the_same_moves() {
 
 #[test]
 fn expand_writes_a_contour_s_blocks_as_comments() {
-    // Rough's motion is another module's: here the G70 alone after a G73's contour… both need
-    // it. What expand writes before that error: the contour's blocks, commented out.
+    // The control does not run the contour's blocks where they stand: expand writes them as
+    // comments, then the cycles' moves; the expanded program moves as the original does.
+    let m = machine("fanuc");
     let mut out = Vec::new();
-    let r = program::expand_gcode(G71.as_bytes(), &mut out, &machine("fanuc"));
+    program::expand_gcode(G71.as_bytes(), &mut out, &m).unwrap();
     let text = String::from_utf8(out).unwrap();
-    match r {
-        Ok(_) => {
-            // With the roughing module in the build: no contour block runs as written.
-            for l in ["N10 G0 X20.\n", "X30. Z-20.\n", "N20 G1 X50.\n"] {
-                assert!(!text.contains(l), "{text}");
-            }
-        }
-        Err(e) => {
-            assert!(e.to_string().contains("turning::rough"), "{e}");
-            assert!(
-                text.contains("(threadcut: not run here: G71 P10 Q20"),
-                "{text}"
-            );
-            assert!(
-                text.contains("(threadcut: not run here: X30. Z-20.)"),
-                "{text}"
-            );
-        }
+    assert!(
+        text.contains("(threadcut: not run here: G71 P10 Q20"),
+        "{text}"
+    );
+    for block in ["N10 G0 X20.", "X30. Z-20.", "N20 G1 X50."] {
+        assert!(
+            text.contains(&format!("(threadcut: not run here: {block})")),
+            "{text}"
+        );
+        assert!(
+            text.lines().all(|l| l.trim() != block),
+            "{block} runs:\n{text}"
+        );
+    }
+    // The same moves, at the program's resolution (X on diameter to 0.001: a radius within
+    // 0.0005; Z within 0.0005).
+    let (back, cycle) = (jsonl(&text, &m).unwrap(), jsonl(G71, &m).unwrap());
+    assert_eq!(back.len(), cycle.len(), "{text}");
+    for (b, c) in back.iter().zip(&cycle) {
+        assert!(
+            b.0 == c.0 && (b.1 - c.1).abs() <= 0.000_500_1 && (b.2 - c.2).abs() <= 0.000_500_1,
+            "{b:?} vs {c:?}"
+        );
     }
 }
 
