@@ -694,3 +694,27 @@ fn the_one_block_stock_removal_of_haas_and_fs15_is_refused_at_its_d_word() {
     let e = error(src, &machine("fanuc"));
     assert!(e.contains("D is not a word"), "{e}");
 }
+
+/// GSK's first G71/G72/G73 block takes F, S and T ("G71 U(Δd) R(e) F S T;" in the GSK 980TDi
+/// and 988T manuals); Fanuc's first block does not (its F S T are on the second).
+#[test]
+fn gsk_takes_f_s_t_on_the_first_block_fanuc_does_not() {
+    let gsk = "G0 X22. Z2.\nG71 U1. R0.5 F0.2 S900 T0101\nG71 P10 Q20 U0.3 W0.05\n\
+               N10 G0 X12.8\nG1 Z0. F0.1\nX15.8 Z-1.5\nZ-25.\nN20 X22.\nG0 X100. Z100.\n";
+    let (jobs, _) = turning(gsk, &machine("gsk980")).unwrap();
+    assert_eq!(jobs.len(), 1);
+    match &jobs[0].cycle {
+        Cycle::Rough(r) => {
+            // U1. is the depth of cut (radius), R0.5 the retract; U0.3 the allowance (diameter).
+            assert!(same(r.depth, 1.0) && same(r.retract, 0.5));
+            assert!(same(r.allowance_x, 0.15) && same(r.allowance_z, 0.05));
+            assert_eq!(r.contour.segments.len(), 5);
+        }
+        other => panic!("{other:?}"),
+    }
+    let e = error(
+        "G0 X22. Z2.\nG71 U1. R0.5 F0.2\nG71 P10 Q20 U0.3 W0.05\nN10 G0 X12.8\nN20 X22.\n",
+        &machine("fanuc"),
+    );
+    assert!(e.contains("F is not a word of the first G71 block"), "{e}");
+}

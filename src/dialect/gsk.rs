@@ -207,6 +207,7 @@ impl Gsk {
                     gsk_g92_words: true,
                     // GSK's G92 cuts further starts with L, not by a start angle.
                     start_angle: false,
+                    turning_fst_first: true,
                     ..Flavour::fanuc("gsk980", |_| &VOCABULARY)
                 },
                 ThreadParameters::fanuc(

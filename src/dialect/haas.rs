@@ -40,6 +40,7 @@ pub const FLAVOUR: Flavour = Flavour {
     taper_letter: b'I',
     start_angle: true,
     e_is_lead: true,
+    turning_fst_first: false,
     g76: G76Form::OneBlock(G76_WORDS),
     chamfer_name: "the thread chamfer (Setting 95)",
     allowance_name: "the thread finish allowance (Setting 86)",

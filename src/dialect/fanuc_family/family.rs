@@ -79,6 +79,9 @@ pub struct Flavour {
     pub start_angle: bool,
     /// Haas's `F(E)`: E is the lead as F is; elsewhere E is refused.
     pub e_is_lead: bool,
+    /// GSK's first G71/G72/G73 block takes F, S and T beside its own words ("G71 U(Δd) R(e) F S
+    /// T", GSK 980TDi/988T manuals); Fanuc's takes them on the second block only.
+    pub turning_fst_first: bool,
     pub g76: G76Form,
     /// What messages call the setting of the pull-out, e.g. "the chamfer (parameter 5130)".
     pub chamfer_name: &'static str,
@@ -101,6 +104,7 @@ impl Flavour {
             taper_letter: b'R',
             start_angle: true,
             e_is_lead: false,
+            turning_fst_first: false,
             g76: G76Form::TwoBlock,
             chamfer_name: "the chamfer (parameter 5130)",
             allowance_name: "the finishing allowance d",

@@ -524,10 +524,16 @@ impl FanucFamily {
         let t = self.codes.turning;
         let name = g_name(code);
         let first = &mut self.turning.first;
+        // GSK's first block also takes F, S and T (valid for the roughing, as on its second).
+        let fst: &[u8] = if self.flavour.turning_fst_first {
+            b"FST"
+        } else {
+            b""
+        };
         if code == t.pattern {
             only_words(
                 line,
-                b"GNUWR",
+                &[&b"GNUWR"[..], fst].concat(),
                 &format!("the first {name} block"),
                 "U(Δi) W(Δk) R(d)",
             )?;
@@ -558,7 +564,7 @@ impl FanucFamily {
         } else {
             "W(Δd)"
         };
-        let mut letters = b"GNR".to_vec();
+        let mut letters = [&b"GNR"[..], fst].concat();
         letters.push(d);
         only_words(
             line,
