@@ -123,7 +123,8 @@ fn every_bundled_example_checks_without_an_error() {
 /// taper, G-code system B's G33 passes under G90/G91, a Sinumerik 840D internal CYCLE97 among
 /// G54/G500/G641 ADIS=/G710/LIMS=; a Fanuc program between two `G28 U0. W0.`, Haas's `G28` and `G54` before
 /// its G76, LinuxCNC named parameters in the G76 words, GSK blocks ended by `;`, Sinumerik's
-/// `G96 S… LIMS=… M3` on one block. None may give an error; each is read as the threads it cuts.
+/// `G96 S… LIMS=… M3` on one block; Fanuc G71/G70 then G76, GSK G71 (F on its first block)/G70 then
+/// G92 passes. None may give an error; each is read as the threads it cuts.
 #[test]
 fn real_style_programs_have_no_false_error() {
     let files = programs(&root().join("tests/data/real"));
