@@ -16,6 +16,7 @@ pub mod sweep;
 use serde::Serialize;
 
 use crate::diag::{Code, Diagnostic, Result, Span};
+use crate::sim::{clip_half, signed_area};
 use crate::toolpath::{Motion, MotionKind};
 use crate::units::{Pos, Units};
 
@@ -721,36 +722,6 @@ fn crossing(a: (f64, f64), b: (f64, f64), p: (f64, f64), q: (f64, f64)) -> Optio
     let t = (wx * sy - wy * sx) / den;
     let u = (wx * ry - wy * rx) / den;
     ((0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u)).then_some(t)
-}
-
-/// The part of a polygon where `side` ≥ 0 (Sutherland–Hodgman); for a polygon that is not
-/// convex the result may run back and forth along the line, but its signed area is the part's.
-fn clip_half(pts: &[(f64, f64)], side: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)> {
-    let n = pts.len();
-    let mut out = Vec::with_capacity(n + 2);
-    for i in 0..n {
-        let (a, b) = (pts[i], pts[(i + 1) % n]);
-        let (sa, sb) = (side(a), side(b));
-        if sa >= 0.0 {
-            out.push(a);
-        }
-        if (sa >= 0.0) != (sb >= 0.0) {
-            let k = sa / (sa - sb);
-            out.push((a.0 + k * (b.0 - a.0), a.1 + k * (b.1 - a.1)));
-        }
-    }
-    out
-}
-
-fn signed_area(pts: &[(f64, f64)]) -> f64 {
-    let m = pts.len();
-    (0..m)
-        .map(|i| {
-            let (a, b) = (pts[i], pts[(i + 1) % m]);
-            a.0 * b.1 - b.0 * a.1
-        })
-        .sum::<f64>()
-        / 2.0
 }
 
 #[cfg(test)]

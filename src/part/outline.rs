@@ -262,15 +262,7 @@ fn mid(a: Point, b: Point) -> (f64, f64) {
 
 /// Distance (grid steps) from `p` to the segment `a`–`b`.
 pub fn segment_distance(p: (f64, f64), a: Point, b: Point) -> f64 {
-    let (a, b) = (float(a), float(b));
-    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len2 = dx * dx + dy * dy;
-    let k = if len2 > 0.0 {
-        (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p.0 - a.0 - k * dx).hypot(p.1 - a.1 - k * dy)
+    crate::sim::segment_distance(p, float(a), float(b))
 }
 
 /// Twice the signed area of a ring (grid steps², counter-clockwise positive).

@@ -344,7 +344,7 @@ pub fn profile_deviation(section: &Section, target: &[(f64, f64)], margin: f64) 
 }
 
 /// Distance from `p` to the segment `a`–`b`.
-fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+pub(crate) fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len2 = dx * dx + dy * dy;
     let k = if len2 > 0.0 {
@@ -458,7 +458,7 @@ fn clipped_area(c: &Contour, at: f64) -> f64 {
 /// The part of a polygon where the affine function `side` is ≥ 0 (Sutherland–Hodgman). For a
 /// non-convex polygon the result may run back and forth along the line, but its signed area is
 /// still the area of the part.
-fn clip_half(pts: &[(f64, f64)], side: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)> {
+pub(crate) fn clip_half(pts: &[(f64, f64)], side: impl Fn((f64, f64)) -> f64) -> Vec<(f64, f64)> {
     let n = pts.len();
     let mut out: Vec<(f64, f64)> = Vec::with_capacity(n + 2);
     for i in 0..n {
@@ -476,7 +476,7 @@ fn clip_half(pts: &[(f64, f64)], side: impl Fn((f64, f64)) -> f64) -> Vec<(f64, 
 }
 
 /// Shoelace area of a closed polygon, positive for counter-clockwise in (u, v).
-fn signed_area(pts: &[(f64, f64)]) -> f64 {
+pub(crate) fn signed_area(pts: &[(f64, f64)]) -> f64 {
     let m = pts.len();
     let twice: f64 = (0..m)
         .map(|i| {
