@@ -47,6 +47,7 @@ pub mod spindle;
 pub mod standard;
 pub mod state;
 mod taper;
+mod turned;
 
 use std::io::BufRead;
 
@@ -215,6 +216,8 @@ struct Sink<'a> {
     /// The thread before, for one over the same groove right after it.
     last: Option<state::Last>,
     restart: state::Restart,
+    /// The part as the program turns it, for the blank at each thread.
+    turned: turned::Turned,
 }
 
 impl<'a> Sink<'a> {
@@ -227,6 +230,7 @@ impl<'a> Sink<'a> {
             threads: 0,
             last: None,
             restart,
+            turned: turned::Turned::new(opts.stock_diameter, opts.stock_start),
         }
     }
 
@@ -235,10 +239,26 @@ impl<'a> Sink<'a> {
             Found::Thread(t, states) => {
                 self.threads += 1;
                 let spindle = states.first().map(|s| s.spindle).unwrap_or_default();
+                // Where the program turned the bar along the thread, the blank is the turned
+                // diameter: a fact of the program, not the bar's.
+                let turned = self.turned.diameter_at(&t).map(|d| {
+                    self.notes.push(Note::new(
+                        t.job.span,
+                        format!(
+                            "blank: the surface along the thread is Ø{} as the program turned it (the bar Ø{} given)",
+                            length(Units::Mm, d),
+                            length(Units::Mm, self.opts.stock_diameter.unwrap_or(d)),
+                        ),
+                    ));
+                    Options {
+                        stock_diameter: Some(d),
+                        ..self.opts.clone()
+                    }
+                });
                 check_thread(
                     &t,
                     self.machine,
-                    self.opts,
+                    turned.as_ref().unwrap_or(self.opts),
                     &spindle,
                     &mut self.found,
                     &mut self.notes,
@@ -289,14 +309,21 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                 if let Some(w) = collector.plain(line, mv, setting, now, &mut take) {
                     unknown_starts.push(w);
                 }
+                if let Some(mv) = &mv {
+                    let tolerance = modal.resolution().increment_mm();
+                    sink.turned.plain(mv, modal.units, tolerance);
+                }
                 machine_state.after(line);
             }
-            // A turning cycle's blocks: their words, as a cycle's; no thread (its moves are not
-            // judged yet, issue 23).
+            // A turning cycle's blocks: their words, as a cycle's; no thread. Its moves cut the
+            // part the blank at a later thread is taken from.
             Event::Settings { line } | Event::Turning { line, .. } => {
                 machine_state.before(line);
                 if let Some(dw) = decimals.as_mut() {
                     dw.line(line, modal.units, true);
+                }
+                if let Event::Turning { job: Some(job), .. } = &ev {
+                    sink.turned.turning(job, modal.resolution().increment_mm());
                 }
                 machine_state.after(line);
             }
