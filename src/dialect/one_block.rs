@@ -572,20 +572,7 @@ fn choices(
     if g.side.is_face() {
         return Err(format!("{name} threads along Z, and this is a face thread"));
     }
-    if job.return_path != ReturnPath::Box
-        || job.retract
-            != (Retract {
-                x: job.start.x,
-                z: job.start.z,
-            })
-    {
-        return Err(
-            format!("{name} retracts to the start point's X and returns to its Z after every pass, and this job does not"),
-        );
-    }
-    if job.entry != Entry::Direct {
-        return Err(format!("{name} has no entry ramp"));
-    }
+    box_return_direct_entry(job, name)?;
     if job.lead.dlead != 0.0 || job.lead.starts != 1 {
         return Err(if start_angle {
             format!("{name} cuts one start of a constant lead (a start angle Q shifts it)")
@@ -760,4 +747,25 @@ fn text(machine: &Machine, name: &str, job: &Job, first: f64, angle: u32, p: Inf
         ));
     }
     block
+}
+
+/// What a box-returning cycle written in one or two blocks cannot express: a retract other than
+/// the start point's X followed by a return to its Z, or an entry ramp (`name`: the cycle, for the
+/// reason given).
+pub(crate) fn box_return_direct_entry(job: &Job, name: &str) -> std::result::Result<(), String> {
+    if job.return_path != ReturnPath::Box
+        || job.retract
+            != (Retract {
+                x: job.start.x,
+                z: job.start.z,
+            })
+    {
+        return Err(
+            format!("{name} retracts to the start point's X and returns to its Z after every pass, and this job does not"),
+        );
+    }
+    if job.entry != Entry::Direct {
+        return Err(format!("{name} has no entry ramp"));
+    }
+    Ok(())
 }

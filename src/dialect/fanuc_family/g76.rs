@@ -360,20 +360,7 @@ pub(super) fn g76_words(
             "the two-block {name} has no start angle: its Q is the first depth"
         ));
     }
-    if job.return_path != ReturnPath::Box
-        || job.retract
-            != (Retract {
-                x: job.start.x,
-                z: job.start.z,
-            })
-    {
-        return Err(
-            format!("{name} retracts to the start point's X and returns to its Z after every pass, and this job does not"),
-        );
-    }
-    if job.entry != Entry::Direct {
-        return Err(format!("{name} has no entry ramp"));
-    }
+    crate::dialect::one_block::box_return_direct_entry(job, &name)?;
     if job.lead.dlead != 0.0 || job.lead.starts != 1 {
         return Err(format!("{name} cuts one start of a constant lead"));
     }
