@@ -91,6 +91,8 @@ pub enum Code {
     /// `check`: a rapid move enters the blank, which the program and the options do not give but
     /// `check` assumed (E011's twin for an assumed blank).
     CollisionAssumed,
+    /// A thread's passes run into material the program left (a shoulder, a face).
+    Shoulder,
     /// `check --thread`: outside the class's limits on an assumption — the tool's form, or a taper
     /// thread's face — or shorter than a taper thread's effective length (E016's twin).
     OutOfClassAssumed,
@@ -105,7 +107,7 @@ pub enum Code {
 
 impl Code {
     /// Every code, in the order of their numbers' introduction.
-    pub const ALL: [Code; 27] = [
+    pub const ALL: [Code; 28] = [
         Code::Syntax,
         Code::BadNumber,
         Code::MissingWord,
@@ -130,6 +132,7 @@ impl Code {
         Code::DecimalPoint,
         Code::RunOut,
         Code::CollisionAssumed,
+        Code::Shoulder,
         Code::OutOfClassAssumed,
         Code::MachineState,
         Code::MachineStateAssumed,
@@ -164,6 +167,7 @@ impl Code {
             Code::OutOfClassAssumed => "W009",
             Code::MachineState => "E017",
             Code::MachineStateAssumed => "W010",
+            Code::Shoulder => "E018",
         }
     }
 }
@@ -303,6 +307,7 @@ mod tests {
             | Code::DecimalPoint
             | Code::RunOut
             | Code::CollisionAssumed
+            | Code::Shoulder
             | Code::OutOfClassAssumed
             | Code::MachineState
             | Code::MachineStateAssumed => Code::ALL.contains(&c),

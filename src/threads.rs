@@ -328,6 +328,12 @@ impl<C: Clone> Collector<C> {
         }
     }
 
+    /// Whether a thread written as moves (or as single-pass cycles) is being read: the moves now
+    /// may still belong to its toolpath.
+    pub fn is_reading(&self) -> bool {
+        self.building.is_some() || !self.chain.is_empty()
+    }
+
     /// A move of the program (or of a single-pass cycle, `from_cycle`). `ctx` gives the caller's
     /// context, asked for when a pass begins.
     pub fn motion(

@@ -64,7 +64,7 @@ fn a_bar_turned_down_by_g71_and_g70_is_the_blank_at_the_thread() {
     // The note says which surface the blank is, and that the program made it.
     assert!(
         r.notes.iter().any(|n| n.message.contains(
-            "the surface along the thread is Ø19.8 as the program turned it (the bar Ø25 given)"
+            "the surface along the thread is Ø19.8 as the program turned it at line 15 (the bar Ø25 given)"
         )),
         "{:?}",
         r.notes

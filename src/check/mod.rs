@@ -47,13 +47,13 @@ pub mod spindle;
 pub mod standard;
 pub mod state;
 mod taper;
-mod turned;
+pub mod whole;
 
 use std::io::BufRead;
 
 use serde::Serialize;
 
-use crate::diag::{Diagnostic, Severity, Span};
+use crate::diag::{Code, Diagnostic, Severity, Span};
 use crate::gcode::MotionMode;
 use crate::machine::Machine;
 use crate::program::{self, Error, Event};
@@ -77,6 +77,11 @@ pub struct Options {
     /// Z of the blank's face on the thread's start side, in the program's units; `None`: Z0 is
     /// assumed when the thread runs into the part through it.
     pub stock_start: Option<f64>,
+    /// The bar's length from its face toward the chuck (`--stock-length`), program units.
+    pub stock_length: Option<f64>,
+    /// The diameter of a bore through the bar (`--stock-bore`: a tube, a cored casting), program
+    /// units; it is an internal thread's blank where the program does not turn the bore.
+    pub stock_bore: Option<f64>,
     /// The tool's tip, its sizes in the program's units at each thread; its angle is the cycle's.
     /// `None`: not given (the section is cut with a sharp tool; judging against a standard assumes
     /// the standard's root form).
@@ -93,6 +98,8 @@ impl Default for Options {
         Options {
             stock_diameter: None,
             stock_start: None,
+            stock_length: None,
+            stock_bore: None,
             tip: None,
             thread: None,
             max_blocks: program::Options::default().max_blocks,
@@ -130,6 +137,35 @@ pub struct Report {
     pub stopped: bool,
     /// The codes the controller threads with (`G32, G76, G92`), for a program with no thread.
     pub thread_codes: String,
+    /// The part as the program made it (an empty outline for APT programs).
+    pub part: whole::View,
+    /// Each thread's blank, in the order the threads were checked.
+    pub blanks: Vec<ThreadBlank>,
+}
+
+/// How a boundary of a thread's blank is known.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Basis {
+    /// Measured on the part as the program cut it.
+    Measured,
+    /// Given in the options (`--stock-diameter`, `--stock-bore`, `--stock-start`).
+    Given,
+    /// Assumed (the thread's crest as the stock; Z0 as the face).
+    Assumed,
+    /// Not known (the first pass, or the start point, stands in for it).
+    Unknown,
+}
+
+/// A thread's blank as `check` took it (program units, X as a diameter): the surface the thread
+/// is cut in (its crest) and the face where the part begins, each with how it is known.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ThreadBlank {
+    pub line: u32,
+    pub crest: f64,
+    pub crest_from: Basis,
+    pub face: f64,
+    pub face_from: Basis,
 }
 
 impl Report {
@@ -185,6 +221,73 @@ pub struct Finding {
     pub hint: Option<String>,
 }
 
+/// A crest the program turned outside the named thread's class (its major diameter for an
+/// external thread, its minor for an internal one), measured at the program's resolution.
+struct CrestFinding {
+    diameter: f64,
+    name: &'static str,
+    limits: String,
+    thread: String,
+    line: u32,
+}
+
+impl CrestFinding {
+    fn at(self, span: Span, units: Units) -> Diagnostic {
+        Diagnostic::error(
+            Code::OutOfClass,
+            span,
+            format!(
+                "the crest turned at line {} is Ø{}, outside the {} diameter of {} ({})",
+                self.line,
+                length(units, self.diameter),
+                self.name,
+                self.thread,
+                self.limits
+            ),
+        )
+        .with_hint("turn the crest within the class's limits before threading")
+    }
+}
+
+fn crest_outside_class(
+    thread: &StandardThread,
+    internal: bool,
+    diameter_mm: f64,
+    line: u32,
+    res: crate::units::Resolution,
+) -> Option<CrestFinding> {
+    let (limits, name) = if internal {
+        (thread.internal.as_ref()?.minor, "minor")
+    } else {
+        (thread.external.as_ref()?.major, "major")
+    };
+    let tol = res.x();
+    let low = limits.min.is_some_and(|min| tol.lt(diameter_mm, min));
+    let high = limits.max.is_some_and(|max| tol.lt(max, diameter_mm));
+    if !(low || high) {
+        return None;
+    }
+    let show = |v: f64| length(thread.units, thread.units.to_mm(thread.units.from_mm(v)));
+    let limits = match (limits.min, limits.max) {
+        (Some(a), Some(b)) => format!("{}–{} mm", show(a), show(b)),
+        (Some(a), None) => format!("at least {} mm", show(a)),
+        (None, Some(b)) => format!("at most {} mm", show(b)),
+        (None, None) => String::new(),
+    };
+    let class = if internal {
+        thread.internal.as_ref().map(|l| l.class.to_string())
+    } else {
+        thread.external.as_ref().map(|l| l.class.to_string())
+    };
+    Some(CrestFinding {
+        diameter: diameter_mm,
+        name,
+        limits,
+        thread: format!("{}-{}", thread.name, class.unwrap_or_default()),
+        line,
+    })
+}
+
 /// Checks a whole program.
 pub fn check<R: BufRead>(input: R, source: Source<'_>, opts: &Options) -> Result<Report, Error> {
     match source {
@@ -216,11 +319,131 @@ struct Sink<'a> {
     /// The thread before, for one over the same groove right after it.
     last: Option<state::Last>,
     restart: state::Restart,
-    /// The part as the program turns it, for the blank at each thread.
-    turned: turned::Turned,
+    /// The part as the program makes it: the blank at each thread, and every rapid judged.
+    whole: whole::Whole,
+    /// The blanks of cycles that ran, until the thread reader hands their threads over.
+    cycles: Vec<(Span, Option<whole::Measured>)>,
+    blanks: Vec<ThreadBlank>,
 }
 
 impl<'a> Sink<'a> {
+    /// A threading cycle as it runs: its blank is the part as it stands now, and its teeth are
+    /// in the part for the moves after it (the thread reader may hand the cycle over later).
+    fn cycle(&mut self, job: &crate::thread::Job, diameter_x: bool) {
+        let Ok(t) = crate::threads::Thread::from_cycle(job.clone(), diameter_x) else {
+            return;
+        };
+        if t.passes.len() <= 1 {
+            // A single pass (a modal G92's block) is read with the passes around it.
+            return;
+        }
+        let measured = self.whole.measured(&t);
+        let opts = Options {
+            stock_diameter: measured.map(|m| m.diameter).or(
+                if t.job.geometry.side == crate::thread::Side::Internal {
+                    self.opts.stock_bore
+                } else {
+                    self.opts.stock_diameter
+                },
+            ),
+            ..self.opts.clone()
+        };
+        self.teeth(&t, &opts);
+        if self.cycles.len() >= 64 {
+            self.cycles.remove(0);
+        }
+        self.cycles.push((job.span, measured));
+    }
+
+    /// The thread's blank as the report states it.
+    fn blank_of(&mut self, t: &crate::threads::Thread, opts: &Options, measured: bool) {
+        let res = self.machine.program_resolution(t.job.units, t.diameter_x);
+        let b = blank::Blank::new(
+            &t.job,
+            t.path.start,
+            opts.stock_diameter,
+            opts.stock_start,
+            t.crest_known(),
+            res,
+        );
+        let from = |k: Known| match k {
+            Known::Given => Basis::Given,
+            Known::Assumed => Basis::Assumed,
+            Known::Unknown => Basis::Unknown,
+        };
+        let units = t.job.units;
+        self.blanks.push(ThreadBlank {
+            line: t.job.line,
+            crest: units.from_mm(2.0 * b.x_face.abs()),
+            crest_from: if measured {
+                Basis::Measured
+            } else {
+                from(b.surface)
+            },
+            face: units.from_mm(b.z_face),
+            face_from: from(b.face),
+        });
+    }
+
+    /// The thread's teeth in the part, from its blank.
+    fn teeth(&mut self, t: &crate::threads::Thread, opts: &Options) {
+        let res = self.machine.program_resolution(t.job.units, t.diameter_x);
+        let blank = blank::Blank::new(
+            &t.job,
+            t.path.start,
+            opts.stock_diameter,
+            opts.stock_start,
+            t.crest_known(),
+            res,
+        );
+        self.whole.thread(t, &blank, res.increment_mm());
+        self.whole.settle();
+    }
+
+    /// The options a thread is checked with: its blank's surface as the program cut it (a note
+    /// says so), else the bar (`--stock-diameter`) for an external thread, the bore
+    /// (`--stock-bore`) for an internal one.
+    fn blank_options(
+        &mut self,
+        t: &crate::threads::Thread,
+        measured: Option<whole::Measured>,
+    ) -> Options {
+        let internal = t.job.geometry.side == crate::thread::Side::Internal;
+        let given = if internal {
+            self.opts.stock_bore
+        } else {
+            self.opts.stock_diameter
+        };
+        if let Some(m) = measured {
+            let by = m.line.map_or(String::new(), |l| format!(" at line {l}"));
+            let bar = given.map_or(String::new(), |d| {
+                format!(
+                    " (the {} Ø{} given)",
+                    if internal { "bore" } else { "bar" },
+                    length(Units::Mm, d)
+                )
+            });
+            self.notes.push(Note::new(
+                t.job.span,
+                format!(
+                    "blank: the surface along the thread is Ø{} as the program turned it{by}{bar}",
+                    length(Units::Mm, m.diameter),
+                ),
+            ));
+            if let (Some(thread), Some(line)) = (&self.opts.thread, m.line) {
+                let res = self.machine.program_resolution(t.job.units, t.diameter_x);
+                let mm = t.job.units.to_mm(m.diameter);
+                if let Some(d) = crest_outside_class(thread, internal, mm, line, res) {
+                    self.found.push(d.at(t.job.span, t.job.units));
+                }
+            }
+        }
+        Options {
+            stock_diameter: measured.map(|m| m.diameter).or(given),
+            ..self.opts.clone()
+        }
+    }
+
     fn new(machine: &'a Machine, opts: &'a Options, restart: state::Restart) -> Sink<'a> {
         Sink {
             machine,
@@ -230,7 +453,20 @@ impl<'a> Sink<'a> {
             threads: 0,
             last: None,
             restart,
-            turned: turned::Turned::new(opts.stock_diameter, opts.stock_start),
+            whole: whole::Whole::new(
+                whole::StockWords {
+                    diameter: opts.stock_diameter,
+                    face: opts.stock_start,
+                    length: opts.stock_length,
+                    bore: opts.stock_bore,
+                },
+                match opts.tip {
+                    Some(Tip::Radius { radius }) => Some(radius),
+                    _ => None,
+                },
+            ),
+            cycles: Vec::new(),
+            blanks: Vec::new(),
         }
     }
 
@@ -239,30 +475,30 @@ impl<'a> Sink<'a> {
             Found::Thread(t, states) => {
                 self.threads += 1;
                 let spindle = states.first().map(|s| s.spindle).unwrap_or_default();
-                // Where the program turned the bar along the thread, the blank is the turned
-                // diameter: a fact of the program, not the bar's.
-                let turned = self.turned.diameter_at(&t).map(|d| {
-                    self.notes.push(Note::new(
-                        t.job.span,
-                        format!(
-                            "blank: the surface along the thread is Ø{} as the program turned it (the bar Ø{} given)",
-                            length(Units::Mm, d),
-                            length(Units::Mm, self.opts.stock_diameter.unwrap_or(d)),
-                        ),
-                    ));
-                    Options {
-                        stock_diameter: Some(d),
-                        ..self.opts.clone()
-                    }
-                });
+                // A cycle's blank and teeth were taken when the cycle ran ([`Sink::cycle`]).
+                let at_cycle = matches!(t.origin, crate::threads::Origin::Cycle)
+                    .then(|| {
+                        let i = self.cycles.iter().position(|c| c.0 == t.job.span)?;
+                        Some(self.cycles.remove(i).1)
+                    })
+                    .flatten();
+                let measured = match at_cycle {
+                    Some(m) => m,
+                    None => self.whole.measured(&t),
+                };
+                let opts = self.blank_options(&t, measured);
                 check_thread(
                     &t,
                     self.machine,
-                    turned.as_ref().unwrap_or(self.opts),
+                    &opts,
                     &spindle,
                     &mut self.found,
                     &mut self.notes,
                 );
+                if at_cycle.is_none() {
+                    self.teeth(&t, &opts);
+                }
+                self.blank_of(&t, &opts, measured.is_some());
                 state::judge(&t, &states, &mut self.last, &self.restart, &mut self.found);
             }
             Found::Failed { error, .. } => {
@@ -310,8 +546,8 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                     unknown_starts.push(w);
                 }
                 if let Some(mv) = &mv {
-                    let tolerance = modal.resolution().increment_mm();
-                    sink.turned.plain(mv, modal.units, tolerance);
+                    sink.whole
+                        .plain(mv, at, whole_at(modal), collector.is_reading());
                 }
                 machine_state.after(line);
             }
@@ -323,7 +559,7 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                     dw.line(line, modal.units, true);
                 }
                 if let Event::Turning { job: Some(job), .. } = &ev {
-                    sink.turned.turning(job, modal.resolution().increment_mm());
+                    sink.whole.turning(job, job.span, whole_at(modal));
                 }
                 machine_state.after(line);
             }
@@ -333,6 +569,8 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                     dw.line(line, modal.units, true);
                 }
                 let at = job.span;
+                sink.cycle(&job, modal.diameter_x);
+                let mut take = |f| sink.take(f);
                 collector.cycle(*job, modal.diameter_x, || machine_state.now(at), &mut take);
                 machine_state.after(line);
             }
@@ -351,6 +589,7 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
         }
         Err(e) => return Err(e),
     }
+    report.part = sink.whole.view();
     report.diagnostics.extend(unknown_starts);
     if let Some(w) = decimals.and_then(decimal::DecimalWords::finding) {
         report.diagnostics.push(w);
@@ -438,9 +677,11 @@ fn check_apt<R: BufRead>(
 }
 
 /// The report with the threads' findings, repeats merged, in line order.
-fn finish(mut report: Report, sink: Sink) -> Report {
+fn finish(mut report: Report, mut sink: Sink) -> Report {
     report.threads = sink.threads;
     report.diagnostics.extend(sink.found);
+    report.diagnostics.append(&mut sink.whole.found);
+    report.blanks = sink.blanks;
     report.diagnostics = merge_repeats(std::mem::take(&mut report.diagnostics));
     report
         .diagnostics
@@ -507,6 +748,15 @@ fn merge_repeats(diags: Vec<Diagnostic>) -> Vec<Diagnostic> {
             d
         })
         .collect()
+}
+
+/// The units, X mode and resolution a move of the part is read at.
+fn whole_at(modal: &crate::gcode::Modal) -> whole::At {
+    whole::At {
+        units: modal.units,
+        diameter_x: modal.diameter_x,
+        tolerance: modal.resolution().increment_mm(),
+    }
 }
 
 /// Where a move is written: its G word, else the block's first word (as the thread reader has it).

@@ -37,12 +37,14 @@ const BEYOND: f64 = 1.0;
 /// Samples along a rapid between two crossings of the outline, to find how deep it runs.
 const DEPTH_SAMPLES: usize = 5;
 
-/// Whether a dimension of the stock was given or assumed.
+/// Whether a dimension of the stock was given, assumed, or is not known at all (the model then
+/// holds material there so that cuts have something to remove, and claims nothing about it).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Known {
     Given,
     Assumed,
+    Unknown,
 }
 
 /// One dimension of the stock (mm), given or assumed.
@@ -64,6 +66,13 @@ impl Dim {
         Dim {
             value,
             known: Known::Assumed,
+        }
+    }
+
+    pub fn unknown(value: f64) -> Dim {
+        Dim {
+            value,
+            known: Known::Unknown,
         }
     }
 
@@ -294,10 +303,10 @@ impl Hit {
             Origin::Cut(c) => format!("{what} (cut at line {})", c.line),
             Origin::Stock { known, .. } => format!(
                 "{what} ({})",
-                if known == Known::Given {
-                    "stock as given"
-                } else {
-                    "stock as assumed"
+                match known {
+                    Known::Given => "stock as given",
+                    Known::Assumed => "stock as assumed",
+                    Known::Unknown => "stock not known",
                 }
             ),
             Origin::Unknown => what,
@@ -336,6 +345,8 @@ pub struct Shoulder {
     pub area: f64,
     pub line: u32,
     pub pass: u32,
+    /// The surface of the part the material lies behind (where the chip begins).
+    pub origin: Origin,
 }
 
 /// The part: its material, the tolerance and the stock it started from (and the boolean
@@ -459,13 +470,27 @@ impl Part {
     /// [`rapid_hits`](Part::rapid_hits)). A move with a coordinate beyond [`MAX_COORD`] is
     /// refused.
     pub fn cut(&mut self, from: Pos, motion: &Motion, tool: &Tool) -> Result<()> {
+        let internal = self.in_bore(from, motion.to);
+        self.cut_oriented(from, motion, tool, internal)
+    }
+
+    /// [`cut`](Part::cut) with the side the tool works on stated (`internal`: in a bore, its body
+    /// reaching toward the axis), for a move whose side the program says (a turning cycle's
+    /// contour, a chain of moves that retracts toward the axis) rather than the model.
+    pub fn cut_oriented(
+        &mut self,
+        from: Pos,
+        motion: &Motion,
+        tool: &Tool,
+        internal: bool,
+    ) -> Result<()> {
         let kind = match motion.kind {
             MotionKind::Rapid => return Ok(()),
             MotionKind::Feed => CutKind::Feed,
             MotionKind::Thread { .. } => CutKind::Thread,
             MotionKind::Arc { .. } => CutKind::Arc,
         };
-        self.cut_as(from, motion, tool, kind)
+        self.cut_as(from, motion, tool, kind, internal)
     }
 
     /// Cuts a circular move whose centre the program does not give as its chord, from `from` to
@@ -475,11 +500,19 @@ impl Part {
             kind: MotionKind::Feed,
             ..*motion
         };
-        self.cut_as(from, &straight, tool, CutKind::Chord)
+        let internal = self.in_bore(from, motion.to);
+        self.cut_as(from, &straight, tool, CutKind::Chord, internal)
     }
 
-    fn cut_as(&mut self, from: Pos, motion: &Motion, tool: &Tool, kind: CutKind) -> Result<()> {
-        let pieces = self.sweep(from, motion, tool)?;
+    fn cut_as(
+        &mut self,
+        from: Pos,
+        motion: &Motion,
+        tool: &Tool,
+        kind: CutKind,
+        internal: bool,
+    ) -> Result<()> {
+        let pieces = self.sweep(from, motion, tool, internal)?;
         let made = Origin::Cut(Cut {
             line: motion.line,
             pass: motion.pass,
@@ -501,7 +534,13 @@ impl Part {
     }
 
     /// The convex pieces the tool sweeps along one move.
-    fn sweep(&self, from: Pos, motion: &Motion, tool: &Tool) -> Result<Vec<Vec<Point>>> {
+    fn sweep(
+        &self,
+        from: Pos,
+        motion: &Motion,
+        tool: &Tool,
+        internal: bool,
+    ) -> Result<Vec<Vec<Point>>> {
         let to = motion.to;
         let fits = |p: Pos| p.is_finite() && p.x.abs() <= MAX_COORD && p.z.abs() <= MAX_COORD;
         let r = tool.nose_radius;
@@ -523,7 +562,6 @@ impl Part {
                 ),
             ));
         }
-        let internal = self.in_bore(from, to);
         let (dx, dz) = tool.centre_offset(internal);
         let shift = |p: Pos| Pos::new(p.x + dx, p.z + dz);
         let sweeper = Sweeper {
@@ -564,6 +602,38 @@ impl Part {
                 _ => false,
             }
         })
+    }
+
+    /// [`rapid_hits`](Part::rapid_hits) for a rapid that may start inside material the model
+    /// holds (a gap it does not know of: a groove cut wider than the model's tool, a hole drilled
+    /// to a size not given): judged from where it leaves that material, so that only an entry
+    /// from the air into material is a hit.
+    pub fn rapid_enters(&self, from: Pos, to: Pos) -> Option<Hit> {
+        let deep = |p: (f64, f64)| {
+            outline::inside(&self.rings, p)
+                && outline::nearest_edge(&self.rings, p)
+                    .is_some_and(|e| e.0 > self.tolerance / 2.0 / GRID)
+        };
+        if !deep((from.x / GRID, from.z / GRID)) {
+            return self.rapid_hits(from, to);
+        }
+        // Where it leaves: the first crossing of the outline after the start.
+        let (a, b) = ((from.x / GRID, from.z / GRID), (to.x / GRID, to.z / GRID));
+        let exit = self
+            .rings
+            .iter()
+            .flat_map(Ring::edges)
+            .filter_map(|(p, q, _)| crossing(a, b, outline::float(p), outline::float(q)))
+            .filter(|&t| t > 0.0)
+            .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.min(t))))?;
+        let at = |t: f64| Pos::new(from.x + t * (to.x - from.x), from.z + t * (to.z - from.z));
+        // Just past the exit, then on.
+        let len = from.distance(to).max(f64::MIN_POSITIVE);
+        let past = (exit + self.tolerance / len).min(1.0);
+        if past >= 1.0 {
+            return None;
+        }
+        self.rapid_hits(at(past), to)
     }
 
     /// The first point where the rapid from `from` to `to` enters material deeper than half the
@@ -632,6 +702,17 @@ impl Part {
         })
     }
 
+    /// The outermost surface at `z` (mm): its radius and where it came from; with `inner`, the
+    /// innermost instead (a bore's wall, or the axis).
+    pub fn surface_at(&self, z: f64, inner: bool) -> Option<(f64, Origin)> {
+        let xs = outline::surfaces_at_z(&self.rings, z);
+        if inner {
+            xs.first().copied()
+        } else {
+            xs.last().copied()
+        }
+    }
+
     /// Where the material begins on the face side (the largest Z of any material, mm).
     pub fn face_z(&self) -> Option<f64> {
         self.rings
@@ -657,6 +738,19 @@ impl Part {
         tool: &Tool,
         depth: f64,
     ) -> Result<Option<Shoulder>> {
+        self.shoulder_oriented(from, motions, tool, depth, None)
+    }
+
+    /// [`shoulder`](Part::shoulder) with the side stated (`Some(true)`: an internal thread's
+    /// passes, whatever the model says about a bore it may not know).
+    pub fn shoulder_oriented(
+        &self,
+        from: Pos,
+        motions: &[Motion],
+        tool: &Tool,
+        depth: f64,
+        side: Option<bool>,
+    ) -> Result<Option<Shoulder>> {
         let mut part = self.clone();
         let mut at = from;
         for m in motions {
@@ -665,9 +759,9 @@ impl Part {
             if m.kind == MotionKind::Rapid {
                 continue;
             }
-            let pieces = part.sweep(start, m, tool)?;
+            let internal = side.unwrap_or_else(|| part.in_bore(start, m.to));
+            let pieces = part.sweep(start, m, tool, internal)?;
             let chip = part.engine.chip(&part.rings, &pieces);
-            let internal = part.in_bore(start, m.to);
             let limit = if internal {
                 start.x.min(m.to.x) - depth
             } else {
@@ -689,22 +783,32 @@ impl Part {
                 // Where it lies along Z, from what lies a tolerance beyond (the chip's edge along
                 // the limit itself has no area).
                 let clear = clip_half(&pts, |p| beyond(p, self.tolerance));
-                zs.extend(clear.iter().map(|p| p.1 * GRID));
+                zs.extend(clear);
             }
             if area.abs() > self.tolerance * self.tolerance && !zs.is_empty() {
                 let toward_minus_z = m.to.z < start.z;
-                let z = zs
+                let first = zs
                     .into_iter()
-                    .reduce(|a, b| if toward_minus_z { a.max(b) } else { a.min(b) })
-                    .unwrap_or(start.z);
+                    .reduce(|a, b| {
+                        if (toward_minus_z && b.1 > a.1) || (!toward_minus_z && b.1 < a.1) {
+                            b
+                        } else {
+                            a
+                        }
+                    })
+                    .unwrap_or((start.x / GRID, start.z / GRID));
+                // The surface the chip lies behind: the outline's edge nearest where it begins.
+                let origin =
+                    outline::nearest_edge(&part.rings, first).map_or(Origin::Unknown, |e| e.3);
                 return Ok(Some(Shoulder {
-                    z,
+                    z: first.1 * GRID,
                     area: area.abs(),
                     line: m.line,
                     pass: m.pass,
+                    origin,
                 }));
             }
-            part.cut(start, m, tool)?;
+            part.cut_oriented(start, m, tool, internal)?;
         }
         Ok(None)
     }

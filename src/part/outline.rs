@@ -345,6 +345,26 @@ pub fn crossings_at_z(rings: &[Ring], z: f64) -> Vec<f64> {
     xs
 }
 
+/// Where the outline crosses the line z = `z` (mm): each radius (mm) with the origin of the edge
+/// crossing there, sorted by radius.
+pub fn surfaces_at_z(rings: &[Ring], z: f64) -> Vec<(f64, Origin)> {
+    let y = z / GRID;
+    let mut xs: Vec<(f64, Origin)> = rings
+        .iter()
+        .flat_map(Ring::edges)
+        .filter_map(|(a, b, o)| {
+            let (ay, by) = (f64::from(a.y), f64::from(b.y));
+            if (ay <= y) == (by <= y) {
+                return None;
+            }
+            let k = (y - ay) / (by - ay);
+            Some(((f64::from(a.x) + k * f64::from(b.x - a.x)) * GRID, o))
+        })
+        .collect();
+    xs.sort_by(|p, q| p.0.total_cmp(&q.0));
+    xs
+}
+
 /// The z (mm) where the outline crosses the line x = `x` (mm), sorted.
 pub fn crossings_at_x(rings: &[Ring], x: f64) -> Vec<f64> {
     let gx = x / GRID;

@@ -228,6 +228,24 @@ impl TurningJob {
         self.start()
     }
 
+    /// Whether the cycle works in a bore: its contour (or its end) lies on the axis's side of its
+    /// start point, as an internal cycle's does (Fanuc: "U … negative for internal machining";
+    /// the sign of U may be 0, the contour's side never is). `None` for a peck along Z (a drill
+    /// or a face groove: no side).
+    pub fn internal(&self) -> Option<bool> {
+        let below = |start: Pos, c: &Contour| {
+            let top = c.segments.iter().map(|s| s.to.x).fold(c.start.x, f64::max);
+            top > start.x
+        };
+        match &self.cycle {
+            Cycle::Rough(r) => Some(below(r.start, &r.contour)),
+            Cycle::Pattern(p) => Some(below(p.start, &p.contour)),
+            Cycle::Finish(f) => Some(below(f.start, &f.contour)),
+            Cycle::Box(b) => Some(b.end.x > b.start.x),
+            Cycle::Peck(p) => (p.along == Along::X).then_some(p.end.x > p.start.x),
+        }
+    }
+
     /// The cycle's start point.
     pub fn start(&self) -> Pos {
         match &self.cycle {

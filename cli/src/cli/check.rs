@@ -18,6 +18,8 @@ use super::{
 pub struct Args<'a> {
     pub stock_diameter: Option<f64>,
     pub stock_start: Option<f64>,
+    pub stock_length: Option<f64>,
+    pub stock_bore: Option<f64>,
     pub tool: &'a ToolArgs,
     pub thread: Option<&'a str>,
     pub format: ReportFormat,
@@ -34,6 +36,8 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
     let opts = Options {
         stock_diameter: args.stock_diameter,
         stock_start: args.stock_start,
+        stock_length: args.stock_length,
+        stock_bore: args.stock_bore,
         tip: args.tool.given_tip()?,
         thread,
         max_blocks: args.run.max_blocks,

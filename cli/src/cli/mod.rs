@@ -256,13 +256,19 @@ struct CheckArgs {
     input: InputArg,
     #[command(flatten)]
     machine: MachineArgs,
-    /// Diameter of the blank (program units); default: the thread's crest is assumed.
+    /// Diameter of the bar (program units): the part every move of the program cuts; default:
+    /// not known (only the surfaces the program cuts are facts; a thread's crest is assumed).
     #[arg(long, value_name = "D")]
     stock_diameter: Option<f64>,
-    /// Z of the blank's face on the thread's start side (program units); default: Z0 is
-    /// assumed when the thread runs into the part through it.
+    /// Z of the bar's face (program units); default: Z0 is assumed.
     #[arg(long, value_name = "Z", allow_negative_numbers = true)]
     stock_start: Option<f64>,
+    /// Length of the bar from its face toward the chuck (program units); default: not known.
+    #[arg(long, value_name = "L")]
+    stock_length: Option<f64>,
+    /// Diameter of a bore through the bar (a tube; program units); default: none is known.
+    #[arg(long, value_name = "D")]
+    stock_bore: Option<f64>,
     #[command(flatten)]
     tool: ToolArgs,
     /// Judge the thread cut against a standard thread's class limits (`M50x2-6g`,
@@ -652,6 +658,8 @@ fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
         &check::Args {
             stock_diameter: args.stock_diameter,
             stock_start: args.stock_start,
+            stock_length: args.stock_length,
+            stock_bore: args.stock_bore,
             tool: &args.tool,
             thread: args.thread.as_deref(),
             format: args.format,

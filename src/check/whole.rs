@@ -1,0 +1,709 @@
+//! The whole program's part (issue 23; docs/simulation.md, "The part as the program makes it"):
+//! every feed and arc move and every move of a turning cycle cuts it ([`crate::part`]), every
+//! thread leaves its teeth in it, and every rapid move of the program — plain blocks and turning
+//! cycles alike — is judged against it.
+//!
+//! * **The stock** is what the options give (`--stock-diameter`, `--stock-start`,
+//!   `--stock-length`, `--stock-bore`). Where the diameter is not given, the bar is held as
+//!   material of a size not known: cuts have something to remove, and nothing is claimed about
+//!   it. With the diameter given and no face, the face is assumed at Z0.
+//! * **A cut surface is a fact**: material lies behind every surface the program cut. A rapid
+//!   that crosses one into the material behind it is an error; one into stock that was only given
+//!   is an error, only assumed a warning, not known nothing.
+//! * **A thread's teeth are a fact**: the region between a thread's crest and its root, and as
+//!   deep again behind the root, along the blank, is material once the thread is cut. Thread
+//!   passes cut nothing from the model (their teeth stay); a rapid into that region is an error.
+//! * **Which side a tool works on**, for moves the program writes itself: a turning cycle's
+//!   contour says it; a chain of feed moves is in a bore when, after its last move along Z, the
+//!   tool leaves toward the axis (the retract of a boring pass), outside when it leaves away from
+//!   it; otherwise the model says (material that does not reach the axis around the move). A move
+//!   along X alone is a grooving or parting tool's (its body reaches away from the surface only),
+//!   a move along the axis a drill's. The tool's nose is `--nose-radius` when given, else a point
+//!   one resolution step wide.
+//! * **Rapids from inside material** (a place the model does not know was opened: a groove cut
+//!   by a tool wider than the model's, a hole drilled to a size not given) are judged from where
+//!   they leave it: the model claims nothing about its own gaps.
+//!
+//! Threads written as moves are the thread reader's ([`crate::threads`]) until it hands them
+//! over; while it reads one, a rapid into the stock is judged by the thread's blank
+//! ([`super::cut`]), not twice here.
+
+use crate::diag::{Code, Diagnostic, Span};
+use crate::gcode::{MotionMode, PlainMove};
+use crate::part::{Body, CutKind, Dim, Known, Origin, Part, Stock, StockEdge, Tool};
+use crate::thread::Side;
+use crate::threads::Thread;
+use crate::toolpath::{Motion, MotionKind};
+use crate::turning::TurningJob;
+use crate::units::{Pos, Units};
+
+use super::blank::{self, Blank};
+use super::length;
+
+/// The bar's diameter (mm) when it is not given: larger than any lathe's swing.
+const UNKNOWN_DIAMETER: f64 = 2000.0;
+/// The bar's length (mm) toward the chuck when it is not given.
+const UNKNOWN_LENGTH: f64 = 5000.0;
+/// A chain of feed moves longer than this is cut before it ends (memory stays bounded).
+const CHAIN_MAX: usize = 256;
+/// The threads' teeth kept for the rapids after them (the latest; a long program's early threads
+/// are far behind).
+const ZONES_MAX: usize = 256;
+/// Points along a thread at which its blank's surface is looked up.
+const SAMPLES: usize = 16;
+/// Rapids kept for judging while a thread written as moves is read.
+const PENDING_MAX: usize = 4096;
+/// Rapids into material kept for drawing ([`View`]).
+pub const VIEW_HITS_MAX: usize = 1000;
+
+/// The stock as the options give it (program units; diameters as diameters).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StockWords {
+    pub diameter: Option<f64>,
+    pub face: Option<f64>,
+    pub length: Option<f64>,
+    pub bore: Option<f64>,
+}
+
+/// A rapid move that runs into material, for drawing (mm, X a radius).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct RapidHit {
+    pub line: u32,
+    pub from: Pos,
+    pub to: Pos,
+    /// Where it enters the material.
+    pub at: Pos,
+    /// An error (a fact), else a warning (an assumption).
+    pub error: bool,
+}
+
+/// The region a thread's teeth occupy (mm, X a radius): a quadrilateral from the blank's surface
+/// to as deep behind the root as the thread is deep, between the blank's face and the thread's
+/// end.
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct Teeth {
+    pub line: u32,
+    pub side: Side,
+    /// The crest and the root, each from the face to the end.
+    pub crest: (Pos, Pos),
+    pub root: (Pos, Pos),
+    /// The face and the end along Z.
+    pub z: (f64, f64),
+    #[serde(skip)]
+    corners: [Pos; 4],
+}
+
+/// The part as the program made it, for `plot` and the page: its outline, the threads' teeth and
+/// the rapids that run into material.
+#[derive(Clone, Debug, Default)]
+pub struct View {
+    pub stock: Option<Stock>,
+    /// The outline's rings (mm), each vertex with the origin of the edge leaving it.
+    pub outline: Vec<Vec<(Pos, Origin)>>,
+    pub teeth: Vec<Teeth>,
+    pub hits: Vec<RapidHit>,
+}
+
+/// The surface a thread's blank was measured on.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Measured {
+    /// Its diameter (program units).
+    pub diameter: f64,
+    /// The line that cut it, when the program did.
+    pub line: Option<u32>,
+}
+
+/// Where the program's units and resolution stand for a move.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct At {
+    pub units: Units,
+    pub diameter_x: bool,
+    /// One increment of the program's resolution (mm).
+    pub tolerance: f64,
+}
+
+/// The part the program makes, and what was found against it.
+pub(super) struct Whole {
+    stock: StockWords,
+    /// The nose radius (program units), when given.
+    nose: Option<f64>,
+    part: Option<Part>,
+    failed: bool,
+    chain: Vec<(Pos, Motion)>,
+    chain_at: Option<At>,
+    teeth: Vec<Teeth>,
+    hits: Vec<RapidHit>,
+    /// Rapids made while the thread reader reads a thread written as moves: judged once it hands
+    /// the thread over (its teeth are then in the part), at most [`PENDING_MAX`].
+    pending: Vec<(Pos, Pos, Span, At)>,
+    /// What rapids and threads ran into.
+    pub found: Vec<Diagnostic>,
+}
+
+impl Whole {
+    pub fn new(stock: StockWords, nose: Option<f64>) -> Whole {
+        Whole {
+            stock,
+            nose,
+            part: None,
+            failed: false,
+            chain: Vec::new(),
+            chain_at: None,
+            teeth: Vec::new(),
+            hits: Vec::new(),
+            pending: Vec::new(),
+            found: Vec::new(),
+        }
+    }
+
+    /// The stock as the part holds it (mm), in the program's `units`.
+    fn stock_of(&self, units: Units) -> Stock {
+        let w = self.stock;
+        let mm = |v: Option<f64>| v.map(|v| units.to_mm(v));
+        match mm(w.diameter) {
+            Some(d) => Stock {
+                diameter: Dim::given(d),
+                face: Dim::given_or(mm(w.face), 0.0),
+                length: mm(w.length).map_or(Dim::unknown(UNKNOWN_LENGTH), Dim::given),
+                bore: mm(w.bore).map_or(Dim::unknown(0.0), Dim::given),
+            },
+            None => Stock {
+                diameter: Dim::unknown(UNKNOWN_DIAMETER),
+                face: Dim::unknown(mm(w.face).unwrap_or(0.0)),
+                length: mm(w.length).map_or(Dim::unknown(UNKNOWN_LENGTH), Dim::given),
+                bore: mm(w.bore).map_or(Dim::unknown(0.0), Dim::given),
+            },
+        }
+    }
+
+    /// The part, made from the stock at the first move (in the program's units then).
+    fn part(&mut self, at: At) -> Option<&mut Part> {
+        if self.part.is_none() && !self.failed {
+            match Part::new(&self.stock_of(at.units), at.tolerance) {
+                Ok(p) => self.part = Some(p),
+                Err(_) => self.failed = true,
+            }
+        }
+        self.part.as_mut()
+    }
+
+    fn tool(&self, at: At, body: Body) -> Tool {
+        Tool {
+            nose_radius: self.nose.map_or(0.0, |r| at.units.to_mm(r)),
+            body,
+        }
+    }
+
+    /// A plain block's move. Feeds and arcs join the chain being cut; a rapid ends it and is
+    /// judged (`reading_thread`: the thread reader holds a thread the rapid may belong to).
+    pub fn plain(&mut self, mv: &PlainMove, span: Span, at: At, reading_thread: bool) {
+        let Some(from) = mv.from.known() else {
+            self.flush(None);
+            return;
+        };
+        let line = span.line;
+        let kind = match (mv.mode, mv.centre) {
+            (MotionMode::Feed, _) | (MotionMode::ArcCw | MotionMode::ArcCcw, None) => {
+                MotionKind::Feed
+            }
+            (MotionMode::ArcCw, Some(centre)) => MotionKind::Arc {
+                centre,
+                clockwise: true,
+            },
+            (MotionMode::ArcCcw, Some(centre)) => MotionKind::Arc {
+                centre,
+                clockwise: false,
+            },
+            (MotionMode::Rapid, _) => {
+                self.flush(Some(mv.to.x - from.x));
+                if reading_thread {
+                    if self.pending.len() >= PENDING_MAX {
+                        let (a, b, s, w) = self.pending.remove(0);
+                        self.rapid(a, b, s, w, true);
+                    }
+                    self.pending.push((from, mv.to, span, at));
+                } else {
+                    self.settle();
+                    self.rapid(from, mv.to, span, at, false);
+                }
+                return;
+            }
+            _ => {
+                self.flush(None);
+                return;
+            }
+        };
+        if self.chain.len() >= CHAIN_MAX {
+            self.flush(None);
+        }
+        self.chain_at = Some(at);
+        self.chain.push((
+            from,
+            Motion {
+                kind,
+                to: mv.to,
+                pass: 0,
+                line,
+            },
+        ));
+    }
+
+    /// Cuts the chain of feed moves, on the side its moves say (`leaving`: the X the next rapid
+    /// moves by).
+    pub fn flush(&mut self, leaving: Option<f64>) {
+        let Some(at) = self.chain_at else {
+            return;
+        };
+        let chain = std::mem::take(&mut self.chain);
+        let tol = at.tolerance;
+        // After the chain's last move along Z, the first move in X says where the tool leaves.
+        let last_along_z = chain
+            .iter()
+            .rposition(|(from, m)| (m.to.z - from.z).abs() > tol);
+        let internal = last_along_z.and_then(|i| {
+            chain[i + 1..]
+                .iter()
+                .map(|(from, m)| m.to.x - from.x)
+                .chain(leaving)
+                .find(|dx| dx.abs() > tol)
+                .map(|dx| dx < 0.0)
+        });
+        for (from, m) in &chain {
+            let (dx, dz) = (m.to.x - from.x, m.to.z - from.z);
+            let body = if from.x.abs() <= tol && m.to.x.abs() <= tol {
+                Body::Axial
+            } else if dz.abs() <= tol && dx.abs() > tol && !matches!(m.kind, MotionKind::Arc { .. })
+            {
+                Body::Radial
+            } else {
+                Body::Turning
+            };
+            let tool = self.tool(at, body);
+            if let Some(part) = self.part(at) {
+                // A move the part refuses (beyond what it holds) leaves it as it was.
+                let _ = match internal {
+                    Some(i) => part.cut_oriented(*from, m, &tool, i),
+                    None => part.cut(*from, m, &tool),
+                };
+            }
+        }
+    }
+
+    /// A turning cycle: its feed and arc moves cut the part on the cycle's side, its rapids are
+    /// judged.
+    pub fn turning(&mut self, job: &TurningJob, span: Span, at: At) {
+        self.flush(None);
+        let Ok(path) = crate::turning::toolpath(job) else {
+            return;
+        };
+        let body = match job.cycle {
+            crate::turning::Cycle::Peck(p) if p.along == crate::turning::Along::Z => Body::Axial,
+            crate::turning::Cycle::Peck(_) => Body::Radial,
+            _ => Body::Turning,
+        };
+        let tool = self.tool(at, body);
+        let side = job.internal();
+        for (from, m) in path.segments() {
+            match m.kind {
+                MotionKind::Rapid => self.rapid(from, m.to, span, at, false),
+                _ => {
+                    if let Some(part) = self.part(at) {
+                        let _ = match side {
+                            Some(i) => part.cut_oriented(from, m, &tool, i),
+                            None => part.cut(from, m, &tool),
+                        };
+                    }
+                }
+            }
+        }
+    }
+
+    /// Judges a rapid move against the threads' teeth and the part.
+    fn rapid(&mut self, from: Pos, to: Pos, span: Span, at: At, reading_thread: bool) {
+        let units = at.units;
+        let show_x = |x: f64| length(units, if at.diameter_x { 2.0 * x } else { x });
+        let target = format!("X{} Z{}", show_x(to.x), length(units, to.z));
+        if let Some((t, p)) = self.teeth_hit(from, to, at.tolerance) {
+            let root = if t.side == Side::Internal {
+                t.root.0.x.max(t.root.1.x)
+            } else {
+                t.root.0.x.min(t.root.1.x)
+            };
+            let message = format!(
+                "a rapid move to {target} runs through the thread cut at line {} (its teeth and root Ø{}, Z{} to Z{}), at X{} Z{}",
+                t.line,
+                length(units, 2.0 * root),
+                length(units, t.z.0),
+                length(units, t.z.1),
+                show_x(p.x),
+                length(units, p.z),
+            );
+            let hit = RapidHit {
+                line: span.line,
+                from,
+                to,
+                at: p,
+                error: true,
+            };
+            self.report(span, message, true, hit);
+            return;
+        }
+        let Some(part) = self.part(at) else {
+            return;
+        };
+        let Some(hit) = part.rapid_enters(from, to) else {
+            return;
+        };
+        let error = match hit.origin {
+            Origin::Cut(c) if c.kind == CutKind::Thread => return,
+            Origin::Cut(_) => true,
+            Origin::Stock {
+                edge: StockEdge::Axis,
+                ..
+            } => return,
+            Origin::Stock { known, .. } if !reading_thread => match known {
+                Known::Given => true,
+                Known::Assumed => false,
+                Known::Unknown => return,
+            },
+            _ => return,
+        };
+        let assumed = match hit.origin {
+            Origin::Stock {
+                edge: StockEdge::Face,
+                known: Known::Assumed,
+            } => ", with the part's face at Z0 assumed (--stock-start gives it)",
+            _ => "",
+        };
+        let message = format!(
+            "a rapid move to {target} runs into {}{assumed}",
+            hit.describe(units)
+        );
+        self.report(
+            span,
+            message,
+            error,
+            RapidHit {
+                line: span.line,
+                from,
+                to,
+                at: hit.at,
+                error,
+            },
+        );
+    }
+
+    /// Judges the rapids made while a thread was read. Those may be the thread's own (its
+    /// approach, retracts and returns), which its blank judges: here they answer only for the
+    /// surfaces the program cut and the teeth of threads.
+    pub fn settle(&mut self) {
+        for (from, to, span, at) in std::mem::take(&mut self.pending) {
+            self.rapid(from, to, span, at, true);
+        }
+    }
+
+    fn report(&mut self, span: Span, message: String, error: bool, hit: RapidHit) {
+        let hint = "a rapid cuts nothing: move clear of the part along the surface the tool came in on before crossing it";
+        self.found.push(if error {
+            Diagnostic::error(Code::Collision, span, message).with_hint(hint)
+        } else {
+            Diagnostic::warning(Code::CollisionAssumed, span, message).with_hint(hint)
+        });
+        if self.hits.len() < VIEW_HITS_MAX {
+            self.hits.push(hit);
+        }
+    }
+
+    /// The thread's teeth the rapid from `from` to `to` runs into deeper than half the
+    /// tolerance, and where.
+    fn teeth_hit(&self, from: Pos, to: Pos, tolerance: f64) -> Option<(&Teeth, Pos)> {
+        self.teeth.iter().rev().find_map(|t| {
+            let (t0, t1) = clip_convex(&t.corners, from, to)?;
+            // A rapid from inside the teeth (after one that ran into them) is not judged again.
+            if t0 <= 0.0 {
+                return None;
+            }
+            let len = from.distance(to) * (t1 - t0);
+            (len > tolerance / 2.0).then(|| {
+                let p = Pos::new(from.x + t0 * (to.x - from.x), from.z + t0 * (to.z - from.z));
+                (t, p)
+            })
+        })
+    }
+
+    /// The blank's surface along `t`, as the program cut it: the outermost material along the
+    /// thread's crest line (the innermost for an internal thread) where the program cut it there
+    /// (`None`: the stock's surface stands, or nothing was cut there).
+    pub fn measured(&mut self, t: &Thread) -> Option<Measured> {
+        self.flush(None);
+        let part = self.part.as_ref()?;
+        let g = &t.job.geometry;
+        let inner = g.side == Side::Internal;
+        // The surface where the thread runs: the middle of what lies along it (a chamfer at its
+        // start, a relief groove or a shoulder at its end are not its crest).
+        let mut found: Vec<(f64, Origin)> = (0..=SAMPLES)
+            .filter_map(|i| {
+                let k = i as f64 / SAMPLES as f64;
+                let z = g.crest_start.z + (g.crest_end.z - g.crest_start.z) * k;
+                part.surface_at(z, inner)
+            })
+            .collect();
+        if found.is_empty() {
+            return None;
+        }
+        found.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let (r, origin) = found[found.len() / 2];
+        let Origin::Cut(c) = origin else {
+            return None;
+        };
+        if c.kind == CutKind::Thread || (inner && r <= part.tolerance()) {
+            return None;
+        }
+        let units = t.job.units;
+        // At the program's resolution (the outline's vertices lie on a finer grid).
+        let step = part.tolerance();
+        let d = (2.0 * r / step).round() * step;
+        Some(Measured {
+            diameter: units.from_mm(d),
+            line: Some(c.line),
+        })
+    }
+
+    /// The thread's teeth, from its blank, for the rapids after it; and the material its passes
+    /// run into beyond their depth (a shoulder or face the program left).
+    pub fn thread(&mut self, t: &Thread, blank: &Blank, tolerance: f64) {
+        self.shoulder(t, blank, tolerance);
+        if blank.face == blank::Known::Unknown || t.passes.is_empty() {
+            return;
+        }
+        let out = blank.side.outward().x;
+        let depth = t.passes.iter().map(|p| p.depth).fold(0.0, f64::max);
+        if depth <= 0.0 {
+            return;
+        }
+        // The thread ends where its synchronised moves end farthest from the face.
+        let mut at = t.path.start;
+        let mut far = blank.z_end;
+        for m in &t.path.motions {
+            if matches!(m.kind, MotionKind::Thread { .. }) {
+                for z in [at.z, m.to.z] {
+                    if (blank.z_face - z) * blank.backward > (blank.z_face - far) * blank.backward {
+                        far = z;
+                    }
+                }
+            }
+            at = m.to;
+        }
+        let blank = Blank {
+            x_end: blank.x_face
+                + (blank.x_end - blank.x_face) * (far - blank.z_face)
+                    / (blank.z_end - blank.z_face).abs().max(1e-12)
+                    * (blank.z_end - blank.z_face).signum(),
+            z_end: far,
+            ..*blank
+        };
+        let blank = &blank;
+        // One resolution step inside the blank all round: a move along its face, its end or its
+        // surface (a thread's own retract) runs beside the teeth, not into them.
+        let inward = blank.backward * tolerance;
+        let (z_face, z_end) = (blank.z_face - inward, blank.z_end + inward);
+        if (z_face - z_end) * blank.backward <= 0.0 {
+            return;
+        }
+        let crest = (
+            Pos::new(blank.x_face - out * tolerance, z_face),
+            Pos::new(blank.x_end - out * tolerance, z_end),
+        );
+        let g = &t.job.geometry;
+        let crest_x = |z: f64| {
+            let dz = g.crest_end.z - g.crest_start.z;
+            if dz.abs() < 1e-12 {
+                g.crest_start.x
+            } else {
+                g.crest_start.x + (g.crest_end.x - g.crest_start.x) * (z - g.crest_start.z) / dz
+            }
+        };
+        let root = (
+            Pos::new(crest_x(z_face) - out * depth, z_face),
+            Pos::new(crest_x(z_end) - out * depth, z_end),
+        );
+        let behind = |p: Pos| Pos::new((p.x - out * depth).max(0.0), p.z);
+        let teeth = Teeth {
+            line: t.job.line,
+            side: blank.side,
+            crest,
+            root,
+            z: (blank.z_face, blank.z_end),
+            corners: [crest.0, crest.1, behind(root.1), behind(root.0)],
+        };
+        if blank.side == Side::Internal {
+            self.open_bore(blank, tolerance);
+        }
+        if self.teeth.len() >= ZONES_MAX {
+            self.teeth.remove(0);
+        }
+        self.teeth.push(teeth);
+    }
+
+    /// An internal thread's bore is a fact, whatever the model knew of the hole (a drill's
+    /// diameter is not in the program): the part is opened to the blank's surface along it.
+    fn open_bore(&mut self, blank: &Blank, tolerance: f64) {
+        let Some(part) = self.part.as_mut() else {
+            return;
+        };
+        let from = Pos::new(blank.x_face, blank.z_face + blank.backward * tolerance);
+        // Cut as the thread's: its surfaces are the teeth's business, not a turned surface.
+        let m = Motion {
+            kind: MotionKind::Thread {
+                lead: 0.0,
+                dlead: 0.0,
+                phase_deg: 0.0,
+            },
+            to: Pos::new(blank.x_end, blank.z_end),
+            pass: 0,
+            line: 0,
+        };
+        let _ = part.cut_oriented(from, &m, &Tool::point(Body::Radial), true);
+    }
+
+    /// Material standing beyond the blank's surface where the thread's passes run: a shoulder or
+    /// a face the program left, which the passes would meet deeper than their depth. The first
+    /// such place from the thread's start, with the chip it would take there.
+    fn shoulder(&mut self, t: &Thread, blank: &Blank, tolerance: f64) {
+        let Some(part) = self.part.as_ref() else {
+            return;
+        };
+        let inner = blank.side == Side::Internal;
+        let out = blank.side.outward().x;
+        let Some(last) = t.passes.last() else {
+            return;
+        };
+        // Where the passes run in Z: their synchronised moves.
+        let mut at = t.path.start;
+        let mut spans: Vec<(f64, f64)> = Vec::new();
+        for m in &t.path.motions {
+            if matches!(m.kind, MotionKind::Thread { .. }) {
+                spans.push((at.z, m.to.z));
+            }
+            at = m.to;
+        }
+        let Some(&(z0, _)) = spans.first() else {
+            return;
+        };
+        let z_lo = spans
+            .iter()
+            .map(|s| s.0.min(s.1))
+            .fold(f64::INFINITY, f64::min);
+        let z_hi = spans
+            .iter()
+            .map(|s| s.0.max(s.1))
+            .fold(f64::NEG_INFINITY, f64::max);
+        let surface = |z: f64| {
+            let dz = blank.z_end - blank.z_face;
+            if dz.abs() < 1e-12 {
+                blank.x_face
+            } else {
+                blank.x_face + (blank.x_end - blank.x_face) * (z - blank.z_face) / dz
+            }
+        };
+        let root = last.start.x;
+        let steps = (((z_hi - z_lo) / tolerance).ceil() as usize).clamp(1, 4000);
+        let toward_minus = (z0 - z_lo).abs() < (z0 - z_hi).abs();
+        for i in 0..=steps {
+            let k = i as f64 / steps as f64;
+            let z = if toward_minus {
+                z_hi - (z_hi - z_lo) * k
+            } else {
+                z_lo + (z_hi - z_lo) * k
+            };
+            let Some((r, origin)) = part.surface_at(z, inner) else {
+                continue;
+            };
+            if (r - surface(z)) * out <= tolerance {
+                continue;
+            }
+            let what = match origin {
+                Origin::Cut(c) if c.kind != CutKind::Thread => {
+                    format!("as the program cut it at line {}", c.line)
+                }
+                Origin::Stock {
+                    known: Known::Given,
+                    edge,
+                } if edge != StockEdge::Axis => "the stock as given".to_string(),
+                _ => return,
+            };
+            let units = t.job.units;
+            let d = |x: f64| length(units, 2.0 * x);
+            let (pass, span) = (t.passes[0].n, t.pass_span(t.passes[0].n));
+            self.found.push(
+                Diagnostic::error(
+                    Code::Shoulder,
+                    span,
+                    format!(
+                        "the thread runs into a shoulder at Z{}: the part stands at Ø{} there ({what}), above the thread's blank Ø{}; pass {pass} would meet it, and the last pass take a chip {} deep (Ø{} down to the root Ø{})",
+                        length(units, z),
+                        d(r),
+                        d(surface(z)),
+                        length(units, (r - root) * out),
+                        d(r),
+                        d(root),
+                    ),
+                )
+                .with_hint("end the thread before the shoulder (its pull-out included) or turn a relief groove for it to run into"),
+            );
+            return;
+        }
+    }
+
+    /// What the part looks like now, for drawing.
+    pub fn view(&mut self) -> View {
+        self.flush(None);
+        self.settle();
+        View {
+            stock: self.part.as_ref().map(|p| *p.stock()),
+            outline: self.part.as_ref().map(Part::outline).unwrap_or_default(),
+            teeth: self.teeth.clone(),
+            hits: self.hits.clone(),
+        }
+    }
+}
+
+/// The parameters (0..1) of the part of the segment `a` → `b` inside the convex polygon `poly`
+/// (Cyrus–Beck), if any.
+fn clip_convex(poly: &[Pos; 4], a: Pos, b: Pos) -> Option<(f64, f64)> {
+    let area: f64 = (0..4)
+        .map(|i| {
+            let (p, q) = (poly[i], poly[(i + 1) % 4]);
+            p.x * q.z - q.x * p.z
+        })
+        .sum();
+    if area.abs() < 1e-12 {
+        return None;
+    }
+    let sign = area.signum();
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    let d = (b.x - a.x, b.z - a.z);
+    for i in 0..4 {
+        let (p, q) = (poly[i], poly[(i + 1) % 4]);
+        // Inward normal of the edge p → q.
+        let n = (-(q.z - p.z) * sign, (q.x - p.x) * sign);
+        let num = n.0 * (a.x - p.x) + n.1 * (a.z - p.z);
+        let den = n.0 * d.0 + n.1 * d.1;
+        if den.abs() < 1e-15 {
+            if num < 0.0 {
+                return None;
+            }
+            continue;
+        }
+        let t = -num / den;
+        if den > 0.0 {
+            t0 = t0.max(t);
+        } else {
+            t1 = t1.min(t);
+        }
+        if t0 > t1 {
+            return None;
+        }
+    }
+    Some((t0, t1))
+}
