@@ -398,3 +398,53 @@ fn fs15_one_block_stock_removal_is_still_refused() {
     let e = error(src, &Machine::built_in("fanuc15").unwrap());
     assert!(e.starts_with("2:24 ") && e.contains("one-block G71"), "{e}");
 }
+
+/// Every reader of the Fanuc family (Fanuc, GSK, Haas) raises PS0064 at the block where a type I
+/// contour turns back in Z (N… `X36. Z-5.` after Z−10), through the one model.
+#[test]
+fn a_type_i_contour_turning_back_in_z_is_ps0064_at_that_block_on_every_reader() {
+    let shape = "N10 G0 X30.\nG1 Z-10.\nX36. Z-5.\nG1 Z-20.\nN20 X50.\n";
+    let two_block = format!("G0 X50. Z2.\nG71 U2. R1.\nG71 P10 Q20 U1. W0.1 F0.2\n{shape}");
+    for m in ["fanuc", "gsk980"] {
+        let e = expand_error(&two_block, &Machine::built_in(m).unwrap());
+        assert!(
+            e.starts_with("6 PS0064") && e.contains("turns back"),
+            "{m}: {e}"
+        );
+    }
+    let one_block = format!("G21\nG0 X50. Z2.\nG71 P10 Q20 U1. W0.1 D2. F0.2\n{shape}");
+    let e = expand_error(&one_block, &haas());
+    assert!(
+        e.starts_with("6 PS0064") && e.contains("turns back"),
+        "haas: {e}"
+    );
+}
+
+/// A G0 inside a G71 contour is a line of the contour: the pass along the outline follows it
+/// (as a feed, like every line of the shape), shifted by the allowance. Start X50 Z2, U1 W0.1 (0.5,
+/// 0.1), Δd 2, e 1: the last outline is (15.5, 2.1) → (15.5, −9.9) → G0 X36: (18.5, −9.9) →
+/// (18.5, −19.9) → (25.5, −19.9), then back to the start.
+#[test]
+fn a_g0_inside_a_contour_is_a_line_of_it() {
+    let src = "G0 X50. Z2.\nG71 U2. R1.\nG71 P10 Q20 U1. W0.1 F0.2\nN10 G0 X30.\nG1 Z-10.\nG0 X36.\nG1 Z-20.\nN20 X50.\n";
+    let got = jsonl(src, &Machine::built_in("fanuc").unwrap(), 1);
+    let tail = &got[got.len() - 6..];
+    assert_moves(
+        tail,
+        &[
+            ("R", 15.5, 2.1),
+            ("F", 15.5, -9.9),
+            ("F", 18.5, -9.9),
+            ("F", 18.5, -19.9),
+            ("F", 25.5, -19.9),
+            ("R", 25.0, 2.0),
+        ],
+    );
+    // The layers stop at the step too: the layer at radius 17 ends at Z−9.9 (the shape at radius
+    // 15.5 is below it only to Z−9.9), then retracts by 1 to (18, −8.9).
+    let at17: Vec<_> = got.iter().filter(|m| same(m.1, 17.0)).collect();
+    assert!(
+        at17.iter().any(|m| m.0 == "feed" && same(m.2, -9.9)),
+        "{got:?}"
+    );
+}
