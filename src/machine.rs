@@ -293,6 +293,14 @@ pub struct HaasSettings {
     pub chamfer_angle_deg: f64,
     /// Setting 99, thread minimum cut (radius).
     pub min_cut_in: f64,
+    /// Setting 73, G71/G72 retract: the retract after each roughing cut of the one-block G71 and
+    /// G72 (inch, radius). Absent: the profile does not state it, and those cycles are refused.
+    #[serde(default)]
+    pub roughing_retract_in: Option<f64>,
+    /// Whether `roughing_retract_in` is an assumed value (the built-in profile's: Haas's public
+    /// pages do not state the factory default), said in a warning at each cycle that uses it.
+    #[serde(default)]
+    pub roughing_retract_assumed: bool,
 }
 
 /// LinuxCNC settings that are not in the program.

@@ -373,16 +373,16 @@ fn g32_q_and_e() {
         (Code::OutOfRange, 4, 10)
     );
     // Elsewhere Q is another word's (a G71 P..Q.. block): not checked as a start angle. (Haas's
-    // one-block G71 is not read yet: refused at its D word, docs/dialects/haas.md.)
+    // one-block G71 reads Q20 as its contour's last block, which this program lacks.)
     let src = format!("{pre}G71 P10 Q20 U0.02 W0.005 D0.05 F0.01\nG00 X1.2\n");
     let e = error_on(&src, &haas());
     assert_eq!(
         (e.code, e.span.line, e.span.column),
-        (Code::Unsupported, 3, 26),
+        (Code::MissingWord, 3, 1),
         "{}",
         e.message
     );
-    assert!(e.message.contains("one-block G71"), "{}", e.message);
+    assert!(e.message.contains("N10 is not found"), "{}", e.message);
 }
 
 #[test]

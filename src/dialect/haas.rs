@@ -15,7 +15,9 @@ use crate::post::Format;
 use crate::thread::Job;
 use crate::units::MM_PER_INCH;
 
-use super::fanuc_family::{self, FanucFamily, Flavour, G76Form, GCodes, ThreadParameters};
+use super::fanuc_family::{
+    self, FanucFamily, Flavour, G76Form, GCodes, OneBlockTurning, ThreadParameters,
+};
 use super::one_block::{self, G76Words};
 use super::{Dialect, Read};
 
@@ -185,12 +187,17 @@ impl Haas {
     pub fn new(machine: &Machine) -> Haas {
         let settings = machine.haas.clone().unwrap_or_else(default_settings);
         let codes = GCodes::of(GCodeSystem::A);
+        let mut family = FanucFamily::new(FLAVOUR, parameters(&settings), codes, machine);
+        family.one_block_turning = settings.roughing_retract_in.map(|r| OneBlockTurning {
+            retract_mm: r * MM_PER_INCH,
+            assumed: settings.roughing_retract_assumed,
+        });
         Haas {
             conv: Conventions {
                 positions: POSITIONS,
                 ..codes.conventions(machine)
             },
-            family: FanucFamily::new(FLAVOUR, parameters(&settings), codes, machine),
+            family,
             machine: machine.clone(),
         }
     }

@@ -83,6 +83,12 @@ pub struct Rough {
     pub contour: Contour,
     // issue 23: how the passes are laid out (added for LinuxCNC's G71/G72).
     pub strategy: Strategy,
+    /// A further pass along the contour shifted by this finishing allowance alone (X radius,
+    /// Z), after the pass along the outline at `allowance_x`/`allowance_z`: Haas's G71/G72 with
+    /// a rough pass allowance I, K (the layers and the first outline stop at the finishing plus
+    /// the rough allowance). `None`: no such pass (Fanuc's, GSK's, LinuxCNC's).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub then_outline: Option<(f64, f64)>,
 }
 
 /// How a stock removal's passes are laid out.

@@ -987,6 +987,7 @@ mod tests {
                 distance: 0.0,
                 pockets: Pockets::All,
             },
+            then_outline: None,
         };
         let path = rough_path(&rough);
         // Layers at X10, 8, 6 (2 apart from the start's X10); each meets the lead-in line
@@ -1062,6 +1063,7 @@ mod tests {
                 distance: 0.0,
                 pockets: Pockets::All,
             },
+            then_outline: None,
         };
         let e = super::rough(&rough, Units::Mm, Span::default()).unwrap_err();
         assert_eq!(e.message, "G7X error: Not monotonic");

@@ -31,6 +31,10 @@ pub fn moves(cycle: &Rough, line: u32) -> Result<Vec<Motion>> {
     let mut out = Out::new(frame, plan.start, line);
     plan.cut_layers(&mut out);
     plan.along_contour(&mut out);
+    if let Some((x, z)) = cycle.then_outline {
+        let finish = pieces(frame, cycle.start, segs, Vec2::new(x, z))?;
+        plan.along(&mut out, &finish[1..]);
+    }
     Ok(out.moves)
 }
 
@@ -284,12 +288,18 @@ impl<'a> Plan<'a> {
 
     /// The pass along the shape shifted by the allowance, then back to the start point.
     fn along_contour(&self, out: &mut Out) {
+        self.along(out, self.profile);
+    }
+
+    /// A pass along `profile` (the shape after its first block, shifted), reached at rapid over
+    /// the material the layers left, then back to the start point.
+    fn along(&self, out: &mut Out, profile: &[Piece]) {
         out.pass += 1;
-        let first = self.profile[0].from;
+        let first = profile[0].from;
         let clear = self.clear_between(out.at.t, first.t);
         out.travel(clear, first.t);
         out.go(first, MotionKind::Rapid);
-        for p in self.profile {
+        for p in profile {
             out.follow(p);
         }
         out.go(self.start, MotionKind::Rapid);

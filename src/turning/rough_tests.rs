@@ -45,6 +45,7 @@ fn rough(start: Pos, segments: Vec<Segment>, w: Words) -> Rough {
         pockets: w.pockets,
         contour: Contour { start, segments },
         strategy: Strategy::Layers,
+        then_outline: None,
     }
 }
 

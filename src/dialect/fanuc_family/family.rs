@@ -143,6 +143,16 @@ pub struct FanucFamily {
     /// The turning cycles' state: their first blocks' values, a modal box cycle, a contour being
     /// read, the contours read.
     pub(super) turning: TurningState,
+    /// The one-block G71/G72/G73's settings (Haas's): `None` where they are not read (FS15's).
+    pub one_block_turning: Option<OneBlockTurning>,
+}
+
+/// What the one-block stock removal (`G71/G72 P Q U W D F [I K] [R1]`) takes from the machine:
+/// the retract after each cut (Haas's Setting 73, mm) and whether the profile's value is assumed.
+#[derive(Clone, Copy, Debug)]
+pub struct OneBlockTurning {
+    pub retract_mm: f64,
+    pub assumed: bool,
 }
 
 impl FanucFamily {
@@ -186,6 +196,7 @@ impl FanucFamily {
             g92: None,
             run_phase: None,
             turning: TurningState::default(),
+            one_block_turning: None,
             // E: a lead or an exponent to refuse; Q: a start angle.
             letters: WordSummary::letter_mask(if flavour.start_angle { b"EQ" } else { b"E" }),
         }

@@ -44,7 +44,7 @@ impl FanucFamily {
         warnings: &mut Vec<Diagnostic>,
     ) -> Result<Option<Read>> {
         // A turning cycle's block, a block of the contour it reads, a repeat of a box cycle.
-        if let Some(read) = self.read_turning(conv, line, modal)? {
+        if let Some(read) = self.read_turning(conv, line, modal, warnings)? {
             return Ok(Some(read));
         }
         let codes = self.codes;

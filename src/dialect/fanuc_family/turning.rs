@@ -23,6 +23,7 @@ use crate::gcode::{Conventions, Line, Modal, MotionMode, Word};
 use crate::turning::{
     Along, BoxCycle, Contour, Cycle, Finish, Pattern, Peck, Rough, Strategy, TurningJob,
 };
+use crate::units::Pos;
 
 use super::codes::{g_name, TurningCodes};
 use super::contour::{BoxModal, Pending, Reading, Step, Written};
@@ -52,6 +53,7 @@ impl FanucFamily {
         conv: &Conventions,
         line: &Line,
         modal: &mut Modal,
+        warnings: &mut Vec<Diagnostic>,
     ) -> Result<Option<Read>> {
         if self.turning.reading.is_some() {
             return self.contour_block(conv, line, modal).map(Some);
@@ -89,7 +91,7 @@ impl FanucFamily {
         } else if code == t.peck_z || code == t.peck_x {
             self.read_peck(conv, line, modal, span, code)?
         } else {
-            self.read_with_contour(line, modal, span, code)?
+            self.read_with_contour(line, modal, (span, code), warnings)?
         };
         Ok(Some(read))
     }
@@ -143,7 +145,8 @@ impl FanucFamily {
         match &mut job.cycle {
             Cycle::Rough(r) => {
                 r.contour = contour;
-                r.pockets = w.first_both_axes;
+                // Type II by the first block's two axes, or as the cycle's words chose (Haas's R1).
+                r.pockets = r.pockets || w.first_both_axes;
             }
             Cycle::Pattern(p) => p.contour = contour,
             Cycle::Finish(f) => f.contour = contour,
@@ -388,23 +391,29 @@ impl FanucFamily {
     }
 
     /// G70, G71, G72, G73: the first block (settings) or the cycle, which waits for its contour.
+    /// A member with the one-block form (Haas) writes G71/G72/G73 in one block
+    /// ([`Self::one_block_cycle`]).
     fn read_with_contour(
         &mut self,
         line: &Line,
         modal: &mut Modal,
-        span: Span,
-        code: u16,
+        (span, code): (Span, u16),
+        warnings: &mut Vec<Diagnostic>,
     ) -> Result<Read> {
         let t = self.codes.turning;
         let name = g_name(code);
         let has_pq = line.word(b'P').is_some() || line.word(b'Q').is_some();
-        if code != t.finish && matches!(self.flavour.g76, G76Form::OneBlock(_)) {
+        let one_block = code != t.finish && matches!(self.flavour.g76, G76Form::OneBlock(_));
+        if one_block && self.one_block_turning.is_none() {
             return Err(one_block_not_read(
                 line,
                 span,
                 &name,
                 self.flavour.controller,
             ));
+        }
+        if one_block && !has_pq {
+            return Err(one_block_needs_pq(span, &name, self.flavour.controller));
         }
         if !has_pq {
             if code == t.finish {
@@ -413,15 +422,14 @@ impl FanucFamily {
             self.first_block(line, modal, code)?;
             return Ok(Read::Settings);
         }
-        let words: &[u8] = if code == t.finish {
-            b"GNPQ"
+        let (words, format): (&[u8], &str) = if code == t.finish {
+            (b"GNPQ", "P(ns) Q(nf)")
+        } else if one_block && code == t.pattern {
+            (b"GNPQUWIKDFST", ONE_BLOCK_G73)
+        } else if one_block {
+            (b"GNPQUWDIKRFST", ONE_BLOCK_G71)
         } else {
-            b"GNPQUWFST"
-        };
-        let format = if code == t.finish {
-            "P(ns) Q(nf)"
-        } else {
-            "P(ns) Q(nf) U(Δu) W(Δw) F S T"
+            (b"GNPQUWFST", "P(ns) Q(nf) U(Δu) W(Δw) F S T")
         };
         only_words(
             line,
@@ -447,6 +455,9 @@ impl FanucFamily {
                 contour: Contour::default(),
                 offsets: None,
             })
+        } else if one_block {
+            let allowance = (allowance_x, allowance_z);
+            self.one_block_cycle(line, modal, (span, code), start, allowance, warnings)?
         } else if code == t.pattern {
             let first = self.turning.first;
             let unset = |what: &str, p: &str| {
@@ -485,6 +496,7 @@ impl FanucFamily {
             };
             Cycle::Rough(Rough {
                 strategy: Strategy::Layers,
+                then_outline: None,
                 along: if code == t.rough_z {
                     Along::Z
                 } else {
@@ -517,6 +529,115 @@ impl FanucFamily {
         let reading = Reading::new(ns, nf, line, span, modal, CONTOUR_CODES);
         self.turning.reading = Some(Box::new((reading, pending)));
         Ok(Read::Turning(None))
+    }
+
+    /// Haas's one-block G71/G72 `P Q U W D F [I K] [R1]` and G73 `P Q U W I K D F`
+    /// (docs/dialects/haas.md, "Turning cycles"): D the depth of cut (a radius) or G73's number of
+    /// passes; G71/G72's I, K the rough pass allowance (I a radius), beyond the finishing
+    /// allowance U, W: the layers and a first pass along the contour stop at both, a second pass
+    /// at U, W alone; R1 type II; the retract after each cut the machine's (Setting 73). G73's I,
+    /// K are the relief from the first cut to the last (I a radius).
+    fn one_block_cycle(
+        &self,
+        line: &Line,
+        modal: &Modal,
+        (span, code): (Span, u16),
+        start: Pos,
+        (allowance_x, allowance_z): (f64, f64),
+        warnings: &mut Vec<Diagnostic>,
+    ) -> Result<Cycle> {
+        let t = self.codes.turning;
+        let name = g_name(code);
+        let controller = self.flavour.controller;
+        let length = |letter: u8| line.word(letter).map_or(0.0, |w| modal.length_mm(w));
+        let tol = modal.resolution().length();
+        let d = line.word(b'D');
+        if code == t.pattern {
+            let Some(d) = d else {
+                return Err(Diagnostic::error(
+                    Code::MissingWord,
+                    span,
+                    format!("{controller}'s {name} needs D, the number of cutting passes"),
+                )
+                .with_hint(ONE_BLOCK_G73));
+            };
+            if d.value < 1.0 || d.value.fract() != 0.0 || d.value > 9999.0 {
+                return Err(Diagnostic::error(
+                    Code::OutOfRange,
+                    d.span,
+                    format!(
+                        "D{} of {name} is the number of cutting passes: a whole number from 1 to 9999",
+                        d.value
+                    ),
+                ));
+            }
+            return Ok(Cycle::Pattern(Pattern {
+                start,
+                relief_x: length(b'I'),
+                relief_z: length(b'K'),
+                passes: d.value as u32,
+                allowance_x,
+                allowance_z,
+                contour: Contour::default(),
+            }));
+        }
+        let Some(d) = d else {
+            return Err(Diagnostic::error(
+                Code::MissingWord,
+                span,
+                format!("{name} has no D, the depth of cut of each pass (a radius)"),
+            )
+            .with_hint("the control takes Setting 72 otherwise, which the machine profile does not state: write D on the block"));
+        };
+        let depth = modal.length_mm(d);
+        if !tol.gt(depth, 0.0) {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                d.span,
+                format!(
+                    "D{} of {name}, the depth of cut of each pass, must be a positive radius",
+                    d.value
+                ),
+            ));
+        }
+        let pockets = match line.word(b'R') {
+            None => false,
+            Some(r) if r.value == 1.0 => true,
+            Some(r) => {
+                return Err(Diagnostic::error(
+                    Code::OutOfRange,
+                    r.span,
+                    format!(
+                        "R{} of {name}: R takes only the value 1 (type 2 roughing)",
+                        r.value
+                    ),
+                ))
+            }
+        };
+        let Some(setting) = self.one_block_turning else {
+            return Err(one_block_not_read(line, span, &name, controller));
+        };
+        if setting.assumed {
+            warnings.push(assumed_retract(span, &name, setting.retract_mm, modal));
+        }
+        let (rough_x, rough_z) = (length(b'I'), length(b'K'));
+        let rough = !tol.is_zero(rough_x) || !tol.is_zero(rough_z);
+        Ok(Cycle::Rough(Rough {
+            strategy: Strategy::Layers,
+            along: if code == t.rough_z {
+                Along::Z
+            } else {
+                Along::X
+            },
+            start,
+            depth,
+            retract: setting.retract_mm,
+            allowance_x: allowance_x + rough_x,
+            allowance_z: allowance_z + rough_z,
+            pockets,
+            contour: Contour::default(),
+            then_outline: rough.then_some((allowance_x, allowance_z)),
+        }))
     }
 
     /// The first block of G71/G72 (`U(Δd) R(e)`, `W(Δd) R(e)`) or G73 (`U(Δi) W(Δk) R(d)`).
@@ -653,18 +774,59 @@ fn non_negative(modal: &Modal, w: &Word, name: &str, word: &str) -> Result<f64> 
     Ok(v)
 }
 
-/// The one-block stock removal and pattern cycles of the FS15 program format and Haas
-/// (`G71 P Q U W D F`, `G73 P Q U W I K D F`): not read in this build. Haas's retract is its
-/// Setting 73 (named in the G71 figure of Haas's documentation) and the FS15 format's a parameter;
-/// neither is in a profile, and a guessed retract would make wrong moves.
+/// The one-block forms' words, as Haas's G71 and G73 pages list them.
+const ONE_BLOCK_G71: &str = "P Q U W D F [I K] [R1] S T";
+const ONE_BLOCK_G73: &str = "P Q U W I K D F S T";
+
+/// The one-block stock removal and pattern cycles of the FS15 program format
+/// (`G71 P Q U W D F`, `G73 P Q U W I K D F`): not read in this build (the FS15 format's retract
+/// is a parameter no profile states). Haas's are read when its profile states Setting 73.
 fn one_block_not_read(line: &Line, span: Span, name: &str, controller: &str) -> Diagnostic {
     let at = line.word(b'D').map_or(span, |w| w.span);
     Diagnostic::error(
         Code::Unsupported,
         at,
-        format!("{controller}'s one-block {name} (P Q U W D …) is not read by threadcut yet"),
+        format!("{controller}'s one-block {name} (P Q U W D …) is not read by threadcut"),
     )
-    .with_hint("its retract is a machine setting (Haas: Setting 73) that the profile does not state; the cycle's moves would be guessed")
+    .with_hint("its retract is a machine setting (on a Haas, Setting 73: `roughing_retract_in` in the profile's [haas] table) that the profile does not state; the cycle's moves would be guessed")
+}
+
+/// A one-block G71/G72/G73 without P and Q (Fanuc's first block `U(Δd) R(e)` is not the form).
+fn one_block_needs_pq(span: Span, name: &str, controller: &str) -> Diagnostic {
+    Diagnostic::error(
+        Code::MissingWord,
+        span,
+        format!(
+            "{controller}'s {name} is one block: P and Q name the contour's first and last blocks"
+        ),
+    )
+    .with_hint(format!(
+        "{name} {}",
+        if name == "G73" {
+            ONE_BLOCK_G73
+        } else {
+            ONE_BLOCK_G71
+        }
+    ))
+}
+
+/// The warning at a stock removal that uses an assumed retract (the built-in Haas profile's
+/// Setting 73).
+fn assumed_retract(span: Span, name: &str, retract_mm: f64, modal: &Modal) -> Diagnostic {
+    let unit = if modal.units == crate::units::Units::Inch {
+        "in"
+    } else {
+        "mm"
+    };
+    Diagnostic::warning(
+        Code::Suspicious,
+        span,
+        format!(
+            "{name}'s retract after each cut is Setting 73, assumed {} {unit} (the profile's value, not one Haas publishes): the moves between cuts may differ on the machine",
+            modal.units.from_mm(retract_mm)
+        ),
+    )
+    .with_hint("state the machine's Setting 73 as `roughing_retract_in` in a profile's [haas] table, with `roughing_retract_assumed = false`")
 }
 
 fn alarm_61(span: Span, name: &str) -> Diagnostic {

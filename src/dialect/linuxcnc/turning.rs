@@ -306,6 +306,7 @@ impl Pending {
                     distance: mm(d, 0.0),
                     pockets,
                 },
+                then_outline: None,
             }),
         };
         let job = TurningJob {
