@@ -323,6 +323,8 @@ struct Sink<'a> {
     whole: whole::Whole,
     /// The blanks of cycles that ran, until the thread reader hands their threads over.
     cycles: Vec<(Span, Option<whole::Measured>)>,
+    /// A cycle the thread reader handed over as it ran (before [`Sink::cycle`] saw it).
+    handed: Option<Span>,
     blanks: Vec<ThreadBlank>,
 }
 
@@ -330,6 +332,9 @@ impl<'a> Sink<'a> {
     /// A threading cycle as it runs: its blank is the part as it stands now, and its teeth are
     /// in the part for the moves after it (the thread reader may hand the cycle over later).
     fn cycle(&mut self, job: &crate::thread::Job, diameter_x: bool) {
+        if self.handed.take() == Some(job.span) {
+            return;
+        }
         let Ok(t) = crate::threads::Thread::from_cycle(job.clone(), diameter_x) else {
             return;
         };
@@ -466,6 +471,7 @@ impl<'a> Sink<'a> {
                 },
             ),
             cycles: Vec::new(),
+            handed: None,
             blanks: Vec::new(),
         }
     }
@@ -476,12 +482,17 @@ impl<'a> Sink<'a> {
                 self.threads += 1;
                 let spindle = states.first().map(|s| s.spindle).unwrap_or_default();
                 // A cycle's blank and teeth were taken when the cycle ran ([`Sink::cycle`]).
-                let at_cycle = matches!(t.origin, crate::threads::Origin::Cycle)
+                let is_cycle = matches!(t.origin, crate::threads::Origin::Cycle);
+                let at_cycle = is_cycle
                     .then(|| {
                         let i = self.cycles.iter().position(|c| c.0 == t.job.span)?;
                         Some(self.cycles.remove(i).1)
                     })
                     .flatten();
+                if is_cycle && at_cycle.is_none() {
+                    // Handed over as it ran: its blank and teeth are taken here.
+                    self.handed = Some(t.job.span);
+                }
                 let measured = match at_cycle {
                     Some(m) => m,
                     None => self.whole.measured(&t),
@@ -569,9 +580,12 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
                     dw.line(line, modal.units, true);
                 }
                 let at = job.span;
-                sink.cycle(&job, modal.diameter_x);
+                // The thread being read before the cycle is handed over first (its teeth are in
+                // the part before the cycle's, for the rapids made while it was read).
+                let copy = (*job).clone();
                 let mut take = |f| sink.take(f);
                 collector.cycle(*job, modal.diameter_x, || machine_state.now(at), &mut take);
+                sink.cycle(&copy, modal.diameter_x);
                 machine_state.after(line);
             }
         }

@@ -281,10 +281,8 @@ impl Whole {
             let tool = self.tool(at, body);
             if let Some(part) = self.part(at) {
                 // A move the part refuses (beyond what it holds) leaves it as it was.
-                let _ = match internal {
-                    Some(i) => part.cut_oriented(*from, m, &tool, i),
-                    None => part.cut(*from, m, &tool),
-                };
+                let inside = internal.unwrap_or_else(|| part.in_bore(*from, m.to));
+                let _ = part.cut_oriented(*from, m, &tool, inside);
             }
         }
     }
@@ -308,10 +306,8 @@ impl Whole {
                 MotionKind::Rapid => self.rapid(from, m.to, span, at, false),
                 _ => {
                     if let Some(part) = self.part(at) {
-                        let _ = match side {
-                            Some(i) => part.cut_oriented(from, m, &tool, i),
-                            None => part.cut(from, m, &tool),
-                        };
+                        let inside = side.unwrap_or_else(|| part.in_bore(from, m.to));
+                        let _ = part.cut_oriented(from, m, &tool, inside);
                     }
                 }
             }
@@ -351,23 +347,37 @@ impl Whole {
         let Some(part) = self.part(at) else {
             return;
         };
-        let Some(hit) = part.rapid_enters(from, to) else {
-            return;
-        };
-        let error = match hit.origin {
-            Origin::Cut(c) if c.kind == CutKind::Thread => return,
-            Origin::Cut(_) => true,
+        // The entries it makes, judged: the first into a surface the program cut, else the
+        // first into stock given, else assumed; stock not known says nothing.
+        let judged = |h: &crate::part::Hit| match h.origin {
+            Origin::Cut(c) if c.kind == CutKind::Thread => None,
+            Origin::Cut(_) => Some(2),
             Origin::Stock {
                 edge: StockEdge::Axis,
                 ..
-            } => return,
-            Origin::Stock { known, .. } if !reading_thread => match known {
-                Known::Given => true,
-                Known::Assumed => false,
-                Known::Unknown => return,
+            } => None,
+            Origin::Stock { .. } | Origin::Cleared(_) if !reading_thread => match h.stock_only() {
+                Some(Known::Given) => Some(1),
+                Some(Known::Assumed) => Some(0),
+                _ => None,
             },
-            _ => return,
+            _ => None,
         };
+        let entries = part.rapid_enters(from, to);
+        let Some((rank, hit)) = entries
+            .iter()
+            .filter_map(|h| judged(h).map(|r| (r, *h)))
+            .fold(
+                None,
+                |best: Option<(u8, crate::part::Hit)>, (r, h)| match best {
+                    Some((b, _)) if b >= r => best,
+                    _ => Some((r, h)),
+                },
+            )
+        else {
+            return;
+        };
+        let error = rank > 0;
         let assumed = match hit.origin {
             Origin::Stock {
                 edge: StockEdge::Face,
@@ -445,7 +455,9 @@ impl Whole {
             .filter_map(|i| {
                 let k = i as f64 / SAMPLES as f64;
                 let z = g.crest_start.z + (g.crest_end.z - g.crest_start.z) * k;
-                part.surface_at(z, inner)
+                let crest = g.crest_start.x + (g.crest_end.x - g.crest_start.x) * k;
+                let root = crest - g.side.outward().x * g.depth;
+                part.surface_beyond(z, root, inner)
             })
             .collect();
         if found.is_empty() {
@@ -472,6 +484,12 @@ impl Whole {
     /// The thread's teeth, from its blank, for the rapids after it; and the material its passes
     /// run into beyond their depth (a shoulder or face the program left).
     pub fn thread(&mut self, t: &Thread, blank: &Blank, tolerance: f64) {
+        let at = At {
+            units: t.job.units,
+            diameter_x: t.diameter_x,
+            tolerance,
+        };
+        self.part(at);
         self.shoulder(t, blank, tolerance);
         if blank.face == blank::Known::Unknown || t.passes.is_empty() {
             return;
@@ -608,51 +626,100 @@ impl Whole {
         };
         let root = last.start.x;
         let steps = (((z_hi - z_lo) / tolerance).ceil() as usize).clamp(1, 4000);
-        let toward_minus = (z0 - z_lo).abs() < (z0 - z_hi).abs();
-        for i in 0..=steps {
-            let k = i as f64 / steps as f64;
-            let z = if toward_minus {
+        let toward_minus = (z0 - z_hi).abs() < (z0 - z_lo).abs();
+        let z_at = |k: f64| {
+            if toward_minus {
                 z_hi - (z_hi - z_lo) * k
             } else {
                 z_lo + (z_hi - z_lo) * k
-            };
-            let Some((r, origin)) = part.surface_at(z, inner) else {
-                continue;
-            };
-            if (r - surface(z)) * out <= tolerance {
-                continue;
             }
-            let what = match origin {
-                Origin::Cut(c) if c.kind != CutKind::Thread => {
-                    format!("as the program cut it at line {}", c.line)
-                }
-                Origin::Stock {
-                    known: Known::Given,
-                    edge,
-                } if edge != StockEdge::Axis => "the stock as given".to_string(),
-                _ => return,
-            };
-            let units = t.job.units;
-            let d = |x: f64| length(units, 2.0 * x);
-            let (pass, span) = (t.passes[0].n, t.pass_span(t.passes[0].n));
-            self.found.push(
-                Diagnostic::error(
-                    Code::Shoulder,
-                    span,
-                    format!(
-                        "the thread runs into a shoulder at Z{}: the part stands at Ø{} there ({what}), above the thread's blank Ø{}; pass {pass} would meet it, and the last pass take a chip {} deep (Ø{} down to the root Ø{})",
-                        length(units, z),
-                        d(r),
-                        d(surface(z)),
-                        length(units, (r - root) * out),
-                        d(r),
-                        d(root),
-                    ),
-                )
-                .with_hint("end the thread before the shoulder (its pull-out included) or turn a relief groove for it to run into"),
-            );
+        };
+        // Material beyond the blank's surface at z, and its surface.
+        let beyond = |z: f64| {
+            part.surface_beyond(z, root, inner)
+                .filter(|(r, _)| (r - surface(z)) * out > tolerance)
+        };
+        let Some(first) = (0..=steps).find(|&i| beyond(z_at(i as f64 / steps as f64)).is_some())
+        else {
             return;
+        };
+        // The shoulder's face: between the last sample clear of it and the first on it.
+        let (mut lo, mut hi) = (
+            first.saturating_sub(1) as f64 / steps as f64,
+            first as f64 / steps as f64,
+        );
+        for _ in 0..40 {
+            let mid = (lo + hi) / 2.0;
+            if beyond(z_at(mid)).is_some() {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
         }
+        let z_face = z_at(hi);
+        // What the passes meet beyond it: the highest material up to the thread's end whose
+        // surface is known (the program cut it, or the stock was given).
+        let stock_given = part.stock().diameter.known == Known::Given;
+        let known = |o: Origin| match o {
+            Origin::Cut(c) if c.kind != CutKind::Thread => {
+                Some(format!("as the program cut it at line {}", c.line))
+            }
+            Origin::Cleared(_) if stock_given => Some("the stock as given".to_string()),
+            Origin::Stock {
+                known: Known::Given,
+                edge,
+            } if edge != StockEdge::Axis => Some("the stock as given".to_string()),
+            _ => None,
+        };
+        // Samples along the run, and the outline's corners in it (where the highest lies).
+        let past = |z: f64| {
+            if toward_minus {
+                z <= z_face
+            } else {
+                z >= z_face
+            }
+        };
+        let corners: Vec<f64> = part
+            .outline()
+            .iter()
+            .flatten()
+            .map(|(p, _)| p.z)
+            .filter(|&z| past(z) && z >= z_lo && z <= z_hi)
+            .flat_map(|z| [z - tolerance / 4.0, z + tolerance / 4.0])
+            .collect();
+        let Some((r, what)) = (first..=steps)
+            .map(|i| z_at(i as f64 / steps as f64))
+            .chain(corners)
+            .filter_map(beyond)
+            .filter_map(|(r, o)| known(o).map(|w| (r, w)))
+            .fold(None, |m: Option<(f64, String)>, (r, w)| match m {
+                Some((b, _)) if (b - r) * out >= 0.0 => m,
+                _ => Some((r, w)),
+            })
+        else {
+            return;
+        };
+        let units = t.job.units;
+        // At the program's resolution (the outline lies on a finer grid).
+        let round = |mm: f64| (mm / tolerance).round() * tolerance;
+        let d = |x: f64| length(units, round(2.0 * x));
+        let (pass, span) = (t.passes[0].n, t.pass_span(t.passes[0].n));
+        self.found.push(
+            Diagnostic::error(
+                Code::Shoulder,
+                span,
+                format!(
+                    "the thread runs into a shoulder at Z{}: the part stands up to Ø{} beyond it ({what}), above the thread's blank Ø{}; pass {pass} would meet it, and the last pass take a chip {} deep (Ø{} down to the root Ø{})",
+                    length(units, round(z_face)),
+                    d(r),
+                    d(surface(z_face)),
+                    length(units, round((r - root) * out)),
+                    d(r),
+                    d(root),
+                ),
+            )
+            .with_hint("end the thread before the shoulder (its pull-out included) or turn a relief groove for it to run into"),
+        );
     }
 
     /// What the part looks like now, for drawing.

@@ -175,6 +175,10 @@ pub enum Origin {
         known: Known,
     },
     Cut(Cut),
+    /// Swept by the body of the tool of this line's cut, away from where its nose passed: the
+    /// material behind it is the stock's (as well known as the stock is), not a surface the
+    /// program cut.
+    Cleared(Cut),
     /// Never on an outline the part made (a fallback the tests rule out).
     Unknown,
 }
@@ -244,6 +248,8 @@ pub struct Hit {
     pub at: Pos,
     pub origin: Origin,
     pub surface: Surface,
+    /// How the stock's diameter is known (what a cleared surface's material rests on).
+    pub stock_diameter: Known,
 }
 
 impl Hit {
@@ -252,6 +258,7 @@ impl Hit {
     pub fn stock_only(&self) -> Option<Known> {
         match self.origin {
             Origin::Stock { known, .. } => Some(known),
+            Origin::Cleared(_) => Some(self.stock_diameter),
             _ => None,
         }
     }
@@ -301,6 +308,15 @@ impl Hit {
         };
         match self.origin {
             Origin::Cut(c) => format!("{what} (cut at line {})", c.line),
+            Origin::Cleared(c) => format!(
+                "{what} (where the tool of line {} passed above it; the stock's diameter {})",
+                c.line,
+                match self.stock_diameter {
+                    Known::Given => "as given",
+                    Known::Assumed => "as assumed",
+                    Known::Unknown => "not known",
+                }
+            ),
             Origin::Stock { known, .. } => format!(
                 "{what} ({})",
                 match known {
@@ -484,13 +500,28 @@ impl Part {
         tool: &Tool,
         internal: bool,
     ) -> Result<()> {
+        self.cut_within(from, motion, tool, internal, None)
+    }
+
+    /// [`cut_oriented`](Part::cut_oriented) with the body's reach bounded: away from the axis
+    /// (toward it in a bore) it reaches the radius `reach` (mm) and no further — where the tool
+    /// came from, above which it never was (a turning cycle's start point, the highest point of
+    /// a chain of moves). `None`: beyond the stock.
+    pub fn cut_within(
+        &mut self,
+        from: Pos,
+        motion: &Motion,
+        tool: &Tool,
+        internal: bool,
+        reach: Option<f64>,
+    ) -> Result<()> {
         let kind = match motion.kind {
             MotionKind::Rapid => return Ok(()),
             MotionKind::Feed => CutKind::Feed,
             MotionKind::Thread { .. } => CutKind::Thread,
             MotionKind::Arc { .. } => CutKind::Arc,
         };
-        self.cut_as(from, motion, tool, kind, internal)
+        self.cut_as(from, motion, tool, kind, (internal, reach))
     }
 
     /// Cuts a circular move whose centre the program does not give as its chord, from `from` to
@@ -501,7 +532,7 @@ impl Part {
             ..*motion
         };
         let internal = self.in_bore(from, motion.to);
-        self.cut_as(from, &straight, tool, CutKind::Chord, internal)
+        self.cut_as(from, &straight, tool, CutKind::Chord, (internal, None))
     }
 
     fn cut_as(
@@ -510,14 +541,21 @@ impl Part {
         motion: &Motion,
         tool: &Tool,
         kind: CutKind,
-        internal: bool,
+        side: (bool, Option<f64>),
     ) -> Result<()> {
-        let pieces = self.sweep(from, motion, tool, internal)?;
-        let made = Origin::Cut(Cut {
+        let pieces = self.sweep(from, motion, tool, side)?;
+        let cut = Cut {
             line: motion.line,
             pass: motion.pass,
             kind,
-        });
+        };
+        // What the body sweeps is cleared; where the nose passed becomes the program's surface
+        // below. A thread's cut is the thread's all through.
+        let made = if kind == CutKind::Thread {
+            Origin::Cut(cut)
+        } else {
+            Origin::Cleared(cut)
+        };
         let Some(cutter) = Bounds::of(pieces.iter().flatten()) else {
             return Ok(());
         };
@@ -529,8 +567,77 @@ impl Part {
         }
         let mut rings = self.engine.cut(&self.rings, &pieces, made);
         outline::simplify(&mut rings, self.tolerance / 2.0 / GRID);
+        if kind != CutKind::Thread {
+            // Only where the nose passed is the surface the program's: the rest of what the body
+            // swept is cleared, its material the stock's. A surface the nose runs along that an
+            // earlier body only cleared becomes this cut's.
+            let trace = self.trace(from, motion, tool, side.0);
+            let (r, tol) = (tool.nose_radius / GRID, self.tolerance / GRID);
+            // An edge the nose ran along: its middle on the trace, its ends on the line of the
+            // trace there (an edge the body cleared beyond the trace's end is the nose's too:
+            // split exactly it would differ by less than the next cut takes).
+            let segs: Vec<((f64, f64), (f64, f64))> = trace
+                .windows(2)
+                .map(|w| {
+                    (
+                        (w[0].x / GRID, w[0].z / GRID),
+                        (w[1].x / GRID, w[1].z / GRID),
+                    )
+                })
+                .collect();
+            let ran_along = |p: Point, q: Point| {
+                let m = (
+                    (f64::from(p.x) + f64::from(q.x)) / 2.0,
+                    (f64::from(p.y) + f64::from(q.y)) / 2.0,
+                );
+                let Some(&(a, b)) = segs.iter().min_by(|s, t| {
+                    crate::sim::segment_distance(m, s.0, s.1)
+                        .total_cmp(&crate::sim::segment_distance(m, t.0, t.1))
+                }) else {
+                    return false;
+                };
+                let line = |p: (f64, f64)| {
+                    let (dx, dz) = (b.0 - a.0, b.1 - a.1);
+                    let len = dx.hypot(dz);
+                    if len == 0.0 {
+                        (p.0 - a.0).hypot(p.1 - a.1)
+                    } else {
+                        ((p.0 - a.0) * dz - (p.1 - a.1) * dx).abs() / len
+                    }
+                };
+                crate::sim::segment_distance(m, a, b) <= r + tol
+                    && (line(outline::float(p)) - r).abs() <= tol
+                    && (line(outline::float(q)) - r).abs() <= tol
+            };
+            for ring in &mut rings {
+                let n = ring.pts.len();
+                for i in 0..n {
+                    if matches!(ring.origins[i], Origin::Cleared(_))
+                        && ran_along(ring.pts[i], ring.pts[(i + 1) % n])
+                    {
+                        ring.origins[i] = Origin::Cut(cut);
+                    }
+                }
+            }
+        }
         self.rings = rings;
         Ok(())
+    }
+
+    /// The path of the nose's centre along one move (mm): its ends, or the points of its arc.
+    fn trace(&self, from: Pos, motion: &Motion, tool: &Tool, internal: bool) -> Vec<Pos> {
+        let (dx, dz) = tool.centre_offset(internal);
+        let shift = |p: Pos| Pos::new(p.x + dx, p.z + dz);
+        match motion.kind {
+            MotionKind::Arc { centre, clockwise } => sweep::arc_points(
+                shift(from),
+                shift(motion.to),
+                shift(centre),
+                clockwise,
+                self.tolerance,
+            ),
+            _ => vec![shift(from), shift(motion.to)],
+        }
     }
 
     /// The convex pieces the tool sweeps along one move.
@@ -539,7 +646,7 @@ impl Part {
         from: Pos,
         motion: &Motion,
         tool: &Tool,
-        internal: bool,
+        (internal, reach): (bool, Option<f64>),
     ) -> Result<Vec<Vec<Point>>> {
         let to = motion.to;
         let fits = |p: Pos| p.is_finite() && p.x.abs() <= MAX_COORD && p.z.abs() <= MAX_COORD;
@@ -567,7 +674,11 @@ impl Part {
         let sweeper = Sweeper {
             tool,
             reach: Reach {
-                x_ray: if internal { -BEYOND } else { self.reach.0 },
+                x_ray: match (internal, reach) {
+                    (_, Some(x)) => x,
+                    (true, None) => -BEYOND,
+                    (false, None) => self.reach.0,
+                },
                 z_ray: self.reach.1,
                 inward: internal,
             },
@@ -590,7 +701,7 @@ impl Part {
     /// Whether the tool moving from `a` to `b` works in a bore: somewhere along the move the
     /// material at its Z does not reach the axis, and the tool is nearer the bore than the
     /// outside (below the middle of the material's extent there).
-    fn in_bore(&self, a: Pos, b: Pos) -> bool {
+    pub fn in_bore(&self, a: Pos, b: Pos) -> bool {
         (0..=4).any(|i| {
             let k = f64::from(i) / 4.0;
             let p = Pos::new(a.x + k * (b.x - a.x), a.z + k * (b.z - a.z));
@@ -604,42 +715,32 @@ impl Part {
         })
     }
 
-    /// [`rapid_hits`](Part::rapid_hits) for a rapid that may start inside material the model
-    /// holds (a gap it does not know of: a groove cut wider than the model's tool, a hole drilled
-    /// to a size not given): judged from where it leaves that material, so that only an entry
-    /// from the air into material is a hit.
-    pub fn rapid_enters(&self, from: Pos, to: Pos) -> Option<Hit> {
-        let deep = |p: (f64, f64)| {
-            outline::inside(&self.rings, p)
-                && outline::nearest_edge(&self.rings, p)
-                    .is_some_and(|e| e.0 > self.tolerance / 2.0 / GRID)
-        };
-        if !deep((from.x / GRID, from.z / GRID)) {
-            return self.rapid_hits(from, to);
+    /// [`rapid_entries`](Part::rapid_entries) for a rapid that may start inside material the
+    /// model holds (a gap it does not know of: a groove cut wider than the model's tool, a hole
+    /// drilled to a size not given): judged from where it leaves that material, so that only an
+    /// entry from the air into material is a hit.
+    pub fn rapid_enters(&self, from: Pos, to: Pos) -> Vec<Hit> {
+        let mut hits = self.rapid_entries(from, to);
+        if hits
+            .first()
+            .is_some_and(|h| h.at.distance(from) <= self.tolerance / 2.0)
+        {
+            hits.remove(0);
         }
-        // Where it leaves: the first crossing of the outline after the start.
-        let (a, b) = ((from.x / GRID, from.z / GRID), (to.x / GRID, to.z / GRID));
-        let exit = self
-            .rings
-            .iter()
-            .flat_map(Ring::edges)
-            .filter_map(|(p, q, _)| crossing(a, b, outline::float(p), outline::float(q)))
-            .filter(|&t| t > 0.0)
-            .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |m| m.min(t))))?;
-        let at = |t: f64| Pos::new(from.x + t * (to.x - from.x), from.z + t * (to.z - from.z));
-        // Just past the exit, then on.
-        let len = from.distance(to).max(f64::MIN_POSITIVE);
-        let past = (exit + self.tolerance / len).min(1.0);
-        if past >= 1.0 {
-            return None;
-        }
-        self.rapid_hits(at(past), to)
+        hits
     }
 
     /// The first point where the rapid from `from` to `to` enters material deeper than half the
     /// tolerance (a rapid that only touches a surface, or grazes it within the resolution, hits
     /// nothing), with the surface it crosses there.
     pub fn rapid_hits(&self, from: Pos, to: Pos) -> Option<Hit> {
+        self.rapid_entries(from, to).into_iter().next()
+    }
+
+    /// Every point where the rapid from `from` to `to` enters material deeper than half the
+    /// tolerance, in order along it, each with the surface it crosses there (one that starts in
+    /// material has its first entry at its start).
+    pub fn rapid_entries(&self, from: Pos, to: Pos) -> Vec<Hit> {
         let (a, b) = ((from.x / GRID, from.z / GRID), (to.x / GRID, to.z / GRID));
         let mut ts = vec![0.0, 1.0];
         for (p, q, _) in self.rings.iter().flat_map(Ring::edges) {
@@ -651,6 +752,8 @@ impl Part {
         ts.dedup();
         let deep = self.tolerance / 2.0 / GRID;
         let at = |t: f64| (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
+        let mut hits = Vec::new();
+        let mut was_inside = false;
         for w in ts.windows(2) {
             let (t0, t1) = (w[0], w[1]);
             let inside = (1..=DEPTH_SAMPLES).any(|i| {
@@ -658,17 +761,20 @@ impl Part {
                 outline::inside(&self.rings, p)
                     && outline::nearest_edge(&self.rings, p).is_some_and(|e| e.0 > deep)
             });
-            if inside {
+            if inside && !was_inside {
                 let entry = at(t0);
-                let (_, p, q, origin) = outline::nearest_edge(&self.rings, entry)?;
-                return Some(Hit {
-                    at: to_pos(entry),
-                    origin,
-                    surface: self.surface(p, q, entry),
-                });
+                if let Some((_, p, q, origin)) = outline::nearest_edge(&self.rings, entry) {
+                    hits.push(Hit {
+                        stock_diameter: self.stock.diameter.known,
+                        at: to_pos(entry),
+                        origin,
+                        surface: self.surface(p, q, entry),
+                    });
+                }
             }
+            was_inside = inside;
         }
-        None
+        hits
     }
 
     /// What kind of surface the edge `p` → `q` is, at the point `at` (grid steps).
@@ -710,6 +816,18 @@ impl Part {
             xs.first().copied()
         } else {
             xs.last().copied()
+        }
+    }
+
+    /// The first surface at `z` (mm) met going from radius `from` away from the axis (toward it
+    /// with `inward`): the outside of the material `from` lies in (a thread's root lies in its
+    /// blank), not of material beyond a gap.
+    pub fn surface_beyond(&self, z: f64, from: f64, inward: bool) -> Option<(f64, Origin)> {
+        let xs = outline::surfaces_at_z(&self.rings, z);
+        if inward {
+            xs.into_iter().rev().find(|s| s.0 < from)
+        } else {
+            xs.into_iter().find(|s| s.0 > from)
         }
     }
 
@@ -760,7 +878,7 @@ impl Part {
                 continue;
             }
             let internal = side.unwrap_or_else(|| part.in_bore(start, m.to));
-            let pieces = part.sweep(start, m, tool, internal)?;
+            let pieces = part.sweep(start, m, tool, (internal, None))?;
             let chip = part.engine.chip(&part.rings, &pieces);
             let limit = if internal {
                 start.x.min(m.to.x) - depth

@@ -203,12 +203,18 @@ fn a_bore_enlarged_by_a_boring_move() {
         hit.describe(Units::Mm),
         "the bore wall Ø12 at Z-10 (cut at line 2)"
     );
-    // Down the bore at R5.5 past Z-15: into the step the boring left at Z-15 (line 2).
+    // Down the bore at R5.5 past Z-15: into the step the boring left at Z-15 (line 2). The
+    // nose ran down the wall, not across the step: the step is cleared, its material the
+    // stock's as given.
     let hit = part
         .rapid_hits(Pos::new(5.5, -5.0), Pos::new(5.5, -25.0))
         .unwrap();
     assert!(near(hit.at.z, -15.0));
-    assert_eq!(cut_by(&hit), Some(2));
+    assert!(
+        matches!(hit.origin, Origin::Cleared(c) if c.line == 2),
+        "{hit:?}"
+    );
+    assert_eq!(hit.stock_only(), Some(Known::Given));
     assert!(matches!(hit.surface, Surface::Face { z } if near(z, -15.0)));
 }
 

@@ -1,0 +1,364 @@
+//! `check` sees the whole program (issue 23): the part the program turns, the threads it cuts in
+//! it, and every rapid move judged against both. Each fault program is written after the way real
+//! programs go wrong (a rapid straight to the next tool's start through the thread just cut; a
+//! boring bar retracted in X inside the bore; a thread run past its relief into the shoulder; the
+//! crest turned oversize), each with its correct twin, which must find nothing.
+
+use threadcut::check::{check, Basis, Options, Report, Source};
+use threadcut::diag::Code;
+use threadcut::machine::Machine;
+use threadcut::thread::standard;
+
+fn run_with(src: &str, controller: &str, opts: &Options) -> Report {
+    let m = Machine::built_in(controller).unwrap();
+    check(src.as_bytes(), Source::Gcode(&m), opts).unwrap()
+}
+
+fn run(src: &str, controller: &str) -> Report {
+    run_with(src, controller, &Options::default())
+}
+
+fn bar(d: f64) -> Options {
+    Options {
+        stock_diameter: Some(d),
+        stock_start: Some(0.0),
+        ..Options::default()
+    }
+}
+
+/// (code, line, message) of every error.
+fn errors(r: &Report) -> Vec<(Code, u32, String)> {
+    r.diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| (d.code, d.span.line, d.message.clone()))
+        .collect()
+}
+
+fn has(r: &Report, code: Code, line: u32, text: &str) -> bool {
+    r.diagnostics
+        .iter()
+        .any(|d| d.code == code && d.span.line == line && d.message.contains(text))
+}
+
+/// An M20x2.5 thread by a Fanuc two-block G76 from X22 Z5 to Z-30, root Ø16.933 (the crest
+/// X16.933 + 2 × 1.534 = Ø20.001), then `after` and the return.
+fn m20(after: &str) -> String {
+    format!(
+        "O0001\nG21 G18 G99\nT0303\nG97 S800 M3\nG0 X22. Z5.\nG76 P020060 Q100 R0.05\nG76 X16.933 Z-30. P1534 Q400 F2.5\n{after}G0 X100. Z100.\nM30\n"
+    )
+}
+
+#[test]
+fn a_rapid_through_the_thread_just_cut_is_an_error_at_its_line() {
+    // From the cycle's start (X22 Z5) straight to X15 Z-10: across the face into the teeth (the
+    // crest Ø20 over Z0..-30) and below the root Ø16.933.
+    let r = run(&m20("G0 X15. Z-10.\n"), "fanuc");
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            8,
+            "runs through the thread cut at line 7"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    assert!(has(&r, Code::Collision, 8, "root Ø16.933, Z0 to Z-30"));
+    // The move after it starts inside the thread: not reported again.
+    assert_eq!(errors(&r).len(), 1, "{:?}", errors(&r));
+    // The twin: back to the start first, then away.
+    assert_eq!(errors(&run(&m20("G0 X22. Z5.\n"), "fanuc")), vec![]);
+    // Along the crest at X22, clear of the teeth (radius 11 > 10.0005): nothing.
+    assert_eq!(errors(&run(&m20("G0 X22. Z-10.\n"), "fanuc")), vec![]);
+}
+
+#[test]
+fn a_retract_in_x_inside_the_bore_runs_through_an_internal_thread() {
+    // M20x2 internal (minor Ø17.294, major Ø20) from X16 Z5 to Z-25; then the bar's tool goes
+    // to Z-10 inside the bore (legal: X16 lies in the Ø17.294 hole) and out in X through the
+    // thread: the error is on that line, not on the one inside the bore.
+    let prog = |after: &str| {
+        format!(
+            "O0002\nG21 G18 G99\nT0505\nG97 S600 M3\nG0 X16. Z5.\nG76 P020060 Q100 R0.05\nG76 X20. Z-25. P1353 Q300 F2.\n{after}G0 Z100.\nM30\n"
+        )
+    };
+    let r = run(&prog("G0 Z-10.\nG0 X40.\n"), "fanuc");
+    assert_eq!(
+        errors(&r).iter().map(|e| (e.0, e.1)).collect::<Vec<_>>(),
+        vec![(Code::Collision, 9)],
+        "{:?}",
+        r.diagnostics
+    );
+    assert!(has(&r, Code::Collision, 9, "root Ø20"));
+    // With the bar given (Ø40) the same: the bore the thread needs is open, whatever the
+    // program drilled.
+    let r = run_with(&prog("G0 Z-10.\nG0 X40.\n"), "fanuc", &bar(40.0));
+    assert_eq!(
+        errors(&r).iter().map(|e| (e.0, e.1)).collect::<Vec<_>>(),
+        vec![(Code::Collision, 9)],
+        "{:?}",
+        r.diagnostics
+    );
+    // The twin: out of the bore along Z first.
+    let twin = prog("G0 Z-10.\nG0 Z5.\nG0 X40.\n");
+    assert_eq!(errors(&run(&twin, "fanuc")), vec![]);
+    assert_eq!(errors(&run_with(&twin, "fanuc", &bar(40.0))), vec![]);
+}
+
+/// G71/G70 turn Ø19.8 over Z0..-32 with a 1 mm chamfer and a shoulder Ø24 from Z-32 (a Ø25
+/// bar, the cycle from X26 Z2); then `thread`.
+fn turned(thread: &str) -> String {
+    format!(
+        "O0003\nG21 G18 G99\nT0101\nG97 S1000 M3\nG0 X26. Z2.\nG71 U1.5 R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X16.\nG1 X19.8 Z-1.\nZ-32.\nX24.\nN20 X26. Z-33.\nG70 P10 Q20\nG0 X100. Z100.\nT0303\nG97 S800 M3\nG0 X22. Z5.\n{thread}G0 X100. Z100.\nM30\n"
+    )
+}
+
+#[test]
+fn the_blank_is_the_diameter_the_program_turned() {
+    let r = run_with(
+        &turned("G76 P020060 Q100 R0.05\nG76 X16.933 Z-28. P1534 Q400 F2.5\n"),
+        "fanuc",
+        &bar(25.0),
+    );
+    assert_eq!(errors(&r), vec![]);
+    assert!(r.notes.iter().any(|n| n
+        .message
+        .contains("the surface along the thread is Ø19.8 as the program turned it at line 13 (the bar Ø25 given)")));
+    assert_eq!(r.blanks.len(), 1);
+    assert!((r.blanks[0].crest - 19.8).abs() < 1e-9, "{:?}", r.blanks);
+    assert_eq!(r.blanks[0].crest_from, Basis::Measured);
+    assert_eq!(r.blanks[0].face_from, Basis::Given);
+    // Without the bar: the turned surface is a fact all the same.
+    let r = run(
+        &turned("G76 P020060 Q100 R0.05\nG76 X16.933 Z-28. P1534 Q400 F2.5\n"),
+        "fanuc",
+    );
+    assert_eq!(errors(&r), vec![]);
+    assert_eq!(r.blanks[0].crest_from, Basis::Measured);
+}
+
+#[test]
+fn a_thread_run_into_the_shoulder_is_an_error_naming_it() {
+    // The thread runs to Z-34, past the shoulder at Z-32 (Ø24 > the Ø19.8 blank).
+    let r = run_with(
+        &turned("G76 P020060 Q100 R0.05\nG76 X16.933 Z-34. P1534 Q400 F2.5\n"),
+        "fanuc",
+        &bar(25.0),
+    );
+    assert!(
+        has(&r, Code::Shoulder, 19, "a shoulder at Z-32"),
+        "{:?}",
+        r.diagnostics
+    );
+    // Beyond the shoulder's chamfer (Ø24 to Ø26 over Z-32..-33) the Ø25 bar stands: the last
+    // pass would take Ø25 down to the root Ø16.933, a chip (25 − 16.933) / 2 = 4.0335 deep.
+    assert!(has(
+        &r,
+        Code::Shoulder,
+        19,
+        "up to Ø25 beyond it (the stock as given)"
+    ));
+    assert!(has(&r, Code::Shoulder, 19, "a chip 4.03"));
+    // Without the bar the shoulder's chamfer, cut at line 13, is the fact: up to Ø26.
+    let r = run(
+        &turned("G76 P020060 Q100 R0.05\nG76 X16.933 Z-34. P1534 Q400 F2.5\n"),
+        "fanuc",
+    );
+    assert!(
+        has(&r, Code::Shoulder, 19, "a shoulder at Z-32: the part stands up to Ø26 beyond it (as the program cut it at line 13)"),
+        "{:?}",
+        r.diagnostics
+    );
+    // Its twin ends 4 mm before the shoulder.
+    let r = run_with(
+        &turned("G76 P020060 Q100 R0.05\nG76 X16.933 Z-28. P1534 Q400 F2.5\n"),
+        "fanuc",
+        &bar(25.0),
+    );
+    assert!(!r.diagnostics.iter().any(|d| d.code == Code::Shoulder));
+}
+
+#[test]
+fn a_rapid_into_the_turned_shoulder_is_an_error() {
+    // After G70, from X100 Z100 straight to X22 Z-40: through the shoulder's chamfer (cut by
+    // the G70 at line 13) — behind a surface the program cut, whatever the bar.
+    let r = run(&turned("G0 X22. Z-40.\n"), "fanuc");
+    assert!(
+        r.diagnostics.iter().any(|d| d.code == Code::Collision
+            && d.span.line == 18
+            && d.message.contains("(cut at line 13)")),
+        "{:?}",
+        r.diagnostics
+    );
+    // The twin goes out in X first, then along Z above the shoulder, then in.
+    let r = run(&turned("G0 X30. Z5.\nG0 Z-40.\nG0 X26.\n"), "fanuc");
+    assert_eq!(errors(&r), vec![]);
+}
+
+#[test]
+fn a_crest_turned_oversize_is_judged_against_the_class() {
+    // G1 X20.3 turns the crest to Ø20.3; M20x2.5-6g's major diameter is 19.623–19.958.
+    let prog = |d: &str| {
+        format!(
+            "O0004\nG21 G18 G99\nT0101\nG97 S1000 M3\nG0 X21. Z2.\nG1 X{d} F0.2\nZ-32.\nX26.\nG0 X100. Z100.\nT0303\nG97 S800 M3\nG0 X22. Z5.\nG76 P020060 Q100 R0.05\nG76 X16.933 Z-28. P1534 Q400 F2.5\nG0 X100. Z100.\nM30\n"
+        )
+    };
+    let opts = Options {
+        thread: Some(standard::lookup("M20x2.5-6g").unwrap()),
+        ..Options::default()
+    };
+    let r = run_with(&prog("20.3"), "fanuc", &opts);
+    assert!(
+        has(
+            &r,
+            Code::OutOfClass,
+            14,
+            "the crest turned at line 7 is Ø20.3"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    assert!(has(&r, Code::OutOfClass, 14, "19.623–19.958"));
+    let r = run_with(&prog("19.85"), "fanuc", &opts);
+    assert!(
+        !r.diagnostics
+            .iter()
+            .any(|d| d.message.contains("the crest turned")),
+        "{:?}",
+        r.diagnostics
+    );
+}
+
+#[test]
+fn a_rapid_into_the_part_after_a_gsk_g78_is_found() {
+    // GSK 980TDi G78 M16x1.5 from X18 Z3 to Z-20 (the part's face at Z0; P(r)=1: left flank,
+    // k = 0.975 radius), then straight to the parting tool's start at X18 Z-25 — diagonally
+    // through the thread.
+    let prog = |after: &str| {
+        format!(
+            "G0 X100 Z100\nT0303\nM3 S600\nG0 X18 Z3\nG78 P020160 Q0.05 R0.05\nG78 X14.05 Z-20 P0.975 Q0.3 F1.5\n{after}G0 X100 Z100\nM30\n"
+        )
+    };
+    let r = run(&prog("G0 X15 Z-25\n"), "gsk980");
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            7,
+            "runs through the thread cut at line 6"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    let r = run(&prog("G0 X30\nZ-25\n"), "gsk980");
+    assert_eq!(errors(&r), vec![]);
+}
+
+#[test]
+fn a_rapid_into_the_bar_given_is_an_error_into_its_assumed_face_a_warning() {
+    // A Ø40 bar; the tool comes to X30 Z5 and on to Z-5: into the bar through its face.
+    let prog = "G21 G18 G99\nT0101\nG97 S800 M3\nG0 X30. Z5.\nG0 Z-5.\nG0 X100. Z100.\nT0303\nG0 X42. Z5.\nG32 Z-20. F2.\nG0 X45.\nZ5.\nM30\n";
+    let r = run_with(prog, "fanuc", &bar(40.0));
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            5,
+            "the stock's face at Z0 (stock as given)"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    // The face only assumed (no --stock-start): a warning that says so.
+    let opts = Options {
+        stock_diameter: Some(40.0),
+        ..Options::default()
+    };
+    let r = run_with(prog, "fanuc", &opts);
+    assert!(
+        r.diagnostics
+            .iter()
+            .any(|d| d.code == Code::CollisionAssumed
+                && d.span.line == 5
+                && d.message.contains("face at Z0 assumed")),
+        "{:?}",
+        r.diagnostics
+    );
+    // Nothing given: the bar is not known, and nothing is claimed about it.
+    let r = run(prog, "fanuc");
+    assert!(
+        !r.diagnostics.iter().any(|d| d.span.line == 5),
+        "{:?}",
+        r.diagnostics
+    );
+}
+
+#[test]
+fn a_relief_groove_and_a_drilled_and_bored_part_raise_nothing() {
+    // Turn Ø19.8, groove Ø16.5 at Z-30 with a grooving tool (plunge in X, rapid out), thread
+    // into the groove; drill on the axis, bore Ø18 with plain moves (retract toward the axis),
+    // rapid out of the bore.
+    let prog = "\
+G21 G18 G99
+T0101
+G97 S1000 M3
+G0 X26. Z2.
+G1 X19.8 F0.2
+Z-33.
+X26.
+G0 Z2.
+T0202
+G0 X22. Z-30.
+G1 X16.5 F0.05
+G0 X22.
+G0 X100. Z100.
+T0303
+G97 S800 M3
+G0 X22. Z5.
+G76 P020060 Q100 R0.05
+G76 X16.933 Z-29. P1534 Q400 F2.5
+G0 X100. Z100.
+T0404
+G0 X0. Z2.
+G1 Z-20. F0.1
+G0 Z2.
+T0505
+G0 X12. Z2.
+G1 Z-15. F0.15
+G1 X11.
+G0 Z2.
+G0 X100. Z100.
+M30
+";
+    let r = run_with(prog, "fanuc", &bar(25.0));
+    assert_eq!(errors(&r), vec![], "{:?}", r.diagnostics);
+    assert!(
+        !r.diagnostics
+            .iter()
+            .any(|d| d.code == Code::CollisionAssumed),
+        "{:?}",
+        r.diagnostics
+    );
+}
+
+#[test]
+fn a_rapid_through_a_linuxcnc_g76_thread_is_found() {
+    let prog = |after: &str| {
+        format!(
+            "G18 G21 G90 G7\nT1 M6\nS500 M3\nG0 X22 Z5\nG76 P2.5 Z-30 I-1 J0.4 K1.534 Q29.5 L0 E0 H0 R1.5\n{after}G0 X40 Z40\nM2\n"
+        )
+    };
+    let r = run(&prog("G0 X15 Z-12\n"), "linuxcnc");
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            6,
+            "runs through the thread cut at line 5"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    assert_eq!(errors(&run(&prog("G0 X22 Z5\n"), "linuxcnc")), vec![]);
+}
