@@ -19,8 +19,9 @@
 //! | --- | --- | --- |
 //! | the controller's alarm, a G code it does not have | error | its code, E015 |
 //! | the groove does not reach the cycle's depth | error | E013 |
-//! | a rapid move enters the blank the user gave | error | E011 |
-//! | a rapid move enters the blank check assumed | warning | W008 |
+//! | a rapid move enters the blank the user gave; any rapid into a thread's teeth, across a surface the program cut or into the stock given ([`whole`]) | error | E011 |
+//! | a rapid move enters the blank check assumed, or the bar's face assumed | warning | W008 |
+//! | a thread runs into a shoulder the program left or the stock given ([`whole`]) | error | E018 |
 //! | lead × spindle speed above the axis limit | error | E012 |
 //! | lead above the controller's maximum | error | E014 |
 //! | chamfer/tail-out longer than the thread; thread shorter than one lead | error | E007 |
@@ -29,7 +30,7 @@
 //! | ridge or pitch-diameter error in the simulated groove, or no section | warning | W004 |
 //! | spindle speed unknown, or constant surface speed (G96) | warning | W005 |
 //! | an axis or lead word without a decimal point read as least increments | warning | W006 |
-//! | `--thread`: root diameter, lead, flank angles (and pitch diameter with the tool given) outside the class | error | E016 |
+//! | `--thread`: root diameter, lead, flank angles (and pitch diameter with the tool given) outside the class; the crest the program turned outside it | error | E016 |
 //! | `--thread`: a taper thread's taper outside the standard's; where its gauge stands, with face and tip given | error | E016 |
 //! | `--thread`: pitch diameter outside the class with the tool's tip (or a taper thread's face) assumed | warning | W009 |
 //! | the spindle stopped (M5, M19, end of program, a stop the manual says stops it), reversed, or another tool, at or between passes of one thread ([`state`]) | error | E017 |
