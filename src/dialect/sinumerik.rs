@@ -64,6 +64,10 @@ const PASSIVE_SETTINGS: &[&str] = &[
 
 /// Calls that change nothing threadcut follows: messages, the simulation's blank, the master
 /// spindle.
+/// Sinumerik's turning cycles that remove material threadcut does not simulate (stock removal,
+/// grooving, undercuts).
+const TURNING_CALLS: &[&str] = &["CYCLE93", "CYCLE94", "CYCLE95", "CYCLE96"];
+
 const PASSIVE_CALLS: &[&str] = &["MSG", "WORKPIECE", "SETMS", "SETPIECE", "SPOS", "SUPD"];
 
 /// Program flow: threadcut reads a program from top to bottom and cannot follow these.
@@ -483,8 +487,18 @@ impl Sinumerik {
                     )
                     .with_hint("the public descriptions of its parameter list found for threadcut disagree on the order of its parameters; program the thread with CYCLE97 or G33 blocks")),
                     // Another cycle (stock removal, grooving, drilling): it passes through, and
-                    // threadcut does not know where it leaves the tool.
-                    n if n.starts_with("CYCLE") => leaves = Leaves::AllUnknown,
+                    // threadcut does not know where it leaves the tool. A turning cycle's
+                    // material is then missing from the part `check` simulates: said once per call.
+                    n if n.starts_with("CYCLE") => {
+                        leaves = Leaves::AllUnknown;
+                        if TURNING_CALLS.contains(&n) {
+                            warnings.push(Diagnostic::warning(
+                                Code::Suspicious,
+                                span,
+                                format!("{n} is not simulated by threadcut: the material it removes is not in the part `check` follows, and where it leaves the tool is not known"),
+                            ).with_hint("the blank at a thread after it is the bar given (--stock-diameter) or the thread's crest; docs/dialects/sinumerik.md, \"CYCLE95\""));
+                        }
+                    }
                     n if PASSIVE_CALLS.contains(&n) => {}
                     n => return Err(Diagnostic::error(
                         Code::Unsupported,
