@@ -135,7 +135,7 @@ pub(super) struct Whole {
     hits: Vec<RapidHit>,
     /// Rapids made while the thread reader reads a thread written as moves: judged once it hands
     /// the thread over (its teeth are then in the part), at most [`PENDING_MAX`].
-    pending: Vec<(Pos, Pos, Span, At)>,
+    pending: std::collections::VecDeque<(Pos, Pos, Span, At)>,
     /// What rapids and threads ran into.
     pub found: Vec<Diagnostic>,
 }
@@ -151,7 +151,7 @@ impl Whole {
             chain_at: None,
             teeth: Vec::new(),
             hits: Vec::new(),
-            pending: Vec::new(),
+            pending: std::collections::VecDeque::new(),
             found: Vec::new(),
         }
     }
@@ -218,10 +218,11 @@ impl Whole {
                 self.flush(Some(mv.to.x - from.x));
                 if reading_thread {
                     if self.pending.len() >= PENDING_MAX {
-                        let (a, b, s, w) = self.pending.remove(0);
-                        self.rapid(a, b, s, w, true);
+                        if let Some((a, b, s, w)) = self.pending.pop_front() {
+                            self.rapid(a, b, s, w, true);
+                        }
                     }
-                    self.pending.push((from, mv.to, span, at));
+                    self.pending.push_back((from, mv.to, span, at));
                 } else {
                     self.settle();
                     self.rapid(from, mv.to, span, at, false);

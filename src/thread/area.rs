@@ -48,17 +48,127 @@ fn covers(a: (f64, f64), b: (f64, f64), t: f64) -> bool {
 }
 
 /// The chip area of each pass in order: how much its tent adds to the groove cut before it.
+/// Incremental: each tent is inserted into the envelope of those before it (amortised O(log n)
+/// a pass), so a thread of n passes costs O(n log n), not the O(n² log n) of taking the union
+/// of every prefix ([`union_area`] stays the reference the tests compare with).
 pub fn chip_areas(tents: &[(f64, f64)], t: f64) -> Vec<f64> {
-    let mut before = 0.0;
-    (1..=tents.len())
-        .map(|n| {
-            let after = union_area(&tents[..n], t);
-            // Never negative, and never −0 (an empty f64 sum is −0.0).
-            let chip = if after > before { after - before } else { 0.0 };
-            before = after;
-            chip
-        })
-        .collect()
+    let mut envelope = Envelope::new(t);
+    tents.iter().map(|&tent| envelope.insert(tent)).collect()
+}
+
+/// The tents no other covers, by apex position, and the area of their union.
+struct Envelope {
+    t: f64,
+    kept: std::collections::BTreeMap<Key, f64>,
+    area: f64,
+}
+
+/// A position along Z as a map key: f64's total order.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Key(i64);
+
+impl Key {
+    fn of(z: f64) -> Key {
+        let bits = z.to_bits() as i64;
+        Key(bits ^ (((bits >> 63) as u64) >> 1) as i64)
+    }
+
+    fn z(self) -> f64 {
+        let bits = self.0 ^ ((((self.0 >> 63) as u64) >> 1) as i64);
+        f64::from_bits(bits as u64)
+    }
+}
+
+impl Envelope {
+    fn new(t: f64) -> Envelope {
+        Envelope {
+            t,
+            kept: std::collections::BTreeMap::new(),
+            area: 0.0,
+        }
+    }
+
+    /// The small V two neighbouring tents share (its area).
+    fn valley(&self, a: (f64, f64), b: (f64, f64)) -> f64 {
+        let v = (a.1 + b.1 - (b.0 - a.0) / self.t) / 2.0;
+        if v > 0.0 {
+            v * v * self.t
+        } else {
+            0.0
+        }
+    }
+
+    /// Adds a tent; the area it adds to the union.
+    fn insert(&mut self, tent: (f64, f64)) -> f64 {
+        let (z, d) = tent;
+        if self.t <= 0.0 || d <= 0.0 {
+            return 0.0;
+        }
+        let t = self.t;
+        let key = Key::of(z);
+        let left = self
+            .kept
+            .range(..=key)
+            .next_back()
+            .map(|(k, &d)| (k.z(), d));
+        let right = self
+            .kept
+            .range((std::ops::Bound::Excluded(key), std::ops::Bound::Unbounded))
+            .next()
+            .map(|(k, &d)| (k.z(), d));
+        if left.is_some_and(|l| covers(l, tent, t)) || right.is_some_and(|r| covers(r, tent, t)) {
+            return 0.0;
+        }
+        // The run of tents the new one covers, on each side, and the first it does not.
+        let mut removed: Vec<(f64, f64)> = Vec::new();
+        let mut outer_left = None;
+        for (k, &dk) in self.kept.range(..=key).rev() {
+            if covers(tent, (k.z(), dk), t) {
+                removed.push((k.z(), dk));
+            } else {
+                outer_left = Some((k.z(), dk));
+                break;
+            }
+        }
+        removed.reverse();
+        let mut outer_right = None;
+        for (k, &dk) in self
+            .kept
+            .range((std::ops::Bound::Excluded(key), std::ops::Bound::Unbounded))
+        {
+            if covers(tent, (k.z(), dk), t) {
+                removed.push((k.z(), dk));
+            } else {
+                outer_right = Some((k.z(), dk));
+                break;
+            }
+        }
+        // The chain before: outer_left, removed…, outer_right; after: outer_left, tent, outer_right.
+        let chain = |middle: &[(f64, f64)]| -> f64 {
+            let seq: Vec<(f64, f64)> = outer_left
+                .into_iter()
+                .chain(middle.iter().copied())
+                .chain(outer_right)
+                .collect();
+            let own: f64 = middle.iter().map(|&(_, d)| d * d * t).sum();
+            let shared: f64 = seq.windows(2).map(|w| self.valley(w[0], w[1])).sum();
+            own - shared
+        };
+        let before = chain(&removed);
+        let after = chain(&[tent]);
+        for (zk, _) in &removed {
+            self.kept.remove(&Key::of(*zk));
+        }
+        self.kept.insert(key, d);
+        let old = self.area;
+        self.area += after - before;
+        // Never negative, and never −0.
+        if self.area > old {
+            self.area - old
+        } else {
+            0.0
+        }
+    }
 }
 
 #[cfg(test)]
@@ -95,6 +205,24 @@ mod tests {
     }
 
     /// Numerical integral of the upper envelope, as an independent oracle.
+    proptest! {
+        /// The incremental chip areas are the differences of the prefixes' unions.
+        #[test]
+        fn chip_areas_are_the_prefix_unions_differences(
+            tents in proptest::collection::vec((-5.0f64..5.0, 0.0f64..2.0), 1..40),
+            t in 0.1f64..2.0,
+        ) {
+            let fast = chip_areas(&tents, t);
+            let mut before = 0.0;
+            for (n, chip) in fast.iter().enumerate() {
+                let after = union_area(&tents[..=n], t);
+                let slow = if after > before { after - before } else { 0.0 };
+                before = after;
+                prop_assert!((chip - slow).abs() < 1e-9 * after.max(1.0), "{chip} vs {slow} at {n}");
+            }
+        }
+    }
+
     fn brute(tents: &[(f64, f64)], t: f64) -> f64 {
         let lo = tents
             .iter()
