@@ -368,8 +368,8 @@ pub fn blank_text(b: &ThreadBlank) -> String {
 }
 
 /// [`passes_json`] with each thread's `blank` ([`blank_json`]) from `check` run over the same
-/// program with `check` (its stock and tool): the program is read twice (`open` gives it each
-/// time).
+/// program with `check` (its stock and tool): a G-code program is read twice (`open` gives it
+/// each time).
 pub fn passes_json_with<R: BufRead>(
     mut open: impl FnMut() -> std::io::Result<R>,
     source: Source,
@@ -382,7 +382,12 @@ pub fn passes_json_with<R: BufRead>(
         max_blocks: options.max_blocks,
         ..check.clone()
     };
-    let mut blanks = Blanks::of(open()?, source, &opts);
+    // APT/CL: `passes` of a CL file states no blank (the command line's, which reads it without
+    // a controller).
+    let mut blanks = match source {
+        Source::Gcode(_) => Blanks::of(open()?, source, &opts),
+        Source::Apt(_) => Blanks::default(),
+    };
     out.write_all(br#"{"cycles":["#)?;
     let mut first = true;
     let run = each_thread(open()?, source, options, |t| {
