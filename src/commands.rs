@@ -6,14 +6,16 @@
 //! | command | function |
 //! | --- | --- |
 //! | `controllers` | [`controllers`] |
-//! | `passes --json` | [`passes_json`] (text: [`each_thread`] and [`Thread::simulated`]) |
+//! | `passes --json` | [`passes_json`], [`passes_json_with`] (each thread's blank; text: [`each_thread`], [`Thread::simulated`], [`Blanks`]) |
 //! | `expand` (`--format gcode`/`jsonl`) | [`expand`] |
-//! | `plot` | [`plot`] |
+//! | `plot` | [`plot_program`] (the part the program makes, from `check`, and [`plot`]) |
 //! | `convert` | [`crate::convert::convert_text`] |
 //! | `check` | [`crate::check::check`] |
 //! | `post` | [`crate::apt::post::write`] |
 //! | `thread --json` | [`StandardThread::to_json`](crate::thread::standard::StandardThread::to_json) |
 //! | `mill` | [`crate::mill::Request::prepare`] |
+//!
+//! The stock the options give over a machine profile's `[stock]`: [`with_stock`].
 //!
 //! A program is G-code for a controller or APT/CL ([`Source`], as `check` takes it; [`source`]
 //! tells which from the text).
