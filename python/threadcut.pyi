@@ -64,7 +64,14 @@ def controllers() -> list[str]:
     controllers, then the milling ones (`centroid`, `fanuc-mill`, `linuxcnc-mill`, for `mill`)."""
 
 def passes(
-    program: str, controller: str, *, machine: _Machine | None = None
+    program: str,
+    controller: str,
+    *,
+    machine: _Machine | None = None,
+    stock_diameter: float | None = None,
+    stock_start: float | None = None,
+    stock_length: float | None = None,
+    stock_bore: float | None = None,
 ) -> list[dict[str, Any]]:
     """Each thread's pass table: the `cycles` of `threadcut passes --json`.
 
@@ -74,7 +81,10 @@ def passes(
     `"finish"`), `depth` (radius, from the crest), `increment`, `x` (as the program writes it)
     and `z` of the infeed point, `area` and `share` of a sharp V of the tool angle, and the
     simulated `sim_area`, `sim_share`, `cutting_flank` and `chip_thickness` (None where the section
-    cannot be simulated). Program units.
+    cannot be simulated), and for G-code `blank`: the thread's blank as `check` takes it, `{crest, crest_from,
+    face, face_from}` (the crest a diameter; `*_from` `"measured"` on the part the program turned,
+    `"given"`, `"assumed"` or `"unknown"`). Program units. The stock keywords are `check`'s; each
+    not given is the machine profile's `[stock]` value, if any.
 
     A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
     the controller refuses (at its line and column) or an unknown controller.
@@ -106,6 +116,12 @@ def expand(
     Raises `InputError` for a program the controller refuses or an unknown controller.
     """
 
+class CheckResult(list[dict[str, Any]]):
+    """`check`'s findings, a list, with each thread's blank and the rapids into material."""
+
+    blanks: list[dict[str, Any]]
+    hits: list[dict[str, Any]]
+
 def check(
     program: str,
     controller: str,
@@ -114,15 +130,24 @@ def check(
     thread: str | None = None,
     stock_diameter: float | None = None,
     stock_start: float | None = None,
-) -> list[dict[str, Any]]:
+    stock_length: float | None = None,
+    stock_bore: float | None = None,
+) -> CheckResult:
     """What the program will do wrong before the spindle turns: `threadcut check --format json`.
 
     One dict per finding: `line`, `column`, `level` (`"error"`, `"warning"` or `"note"`, an
     assumption), `code` (`"E013"`, None for a note), `message` and `hint` (or None); errors and
     warnings first, then the notes. A controller alarm is an error finding, not an exception.
     `thread` judges the thread cut against a standard thread's class (`"M30x2-6g"`);
-    `stock_diameter` is the blank's diameter and `stock_start` the Z of its face, in program
-    units (by default the crest and Z0 are assumed, and said in a note).
+    `stock_diameter` is the bar's diameter, `stock_start` the Z of its face, `stock_length` its
+    length toward the chuck and `stock_bore` a bore through it, in program units (`--stock-*`;
+    each not given is the machine profile's `[stock]` value, else not known: the crest and Z0
+    are assumed, and said in a note).
+
+    The list is a `CheckResult` with two more attributes: `blanks`, each thread's blank (`line`,
+    `crest`, `crest_from`, `face`, `face_from`, as `passes` gives it) and `hits`, the rapid moves
+    that run into material (`line`, `level` `"error"` or `"warning"`, and `from`, `to`, `at` —
+    where it enters the material — each `(x, z)` in mm, X a radius).
 
     A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for an unknown
     controller or thread.
@@ -134,9 +159,18 @@ def plot_svg(
     *,
     machine: _Machine | None = None,
     cycle: int | None = None,
+    part: bool = False,
+    stock_diameter: float | None = None,
+    stock_start: float | None = None,
+    stock_length: float | None = None,
+    stock_bore: float | None = None,
 ) -> str:
     """One SVG of the threads' pass diagrams and XZ toolpaths (`threadcut plot`): at most the first
     50 threads, the picture saying what it left out, or only the `cycle`th thread (1-based).
+
+    Above them, the part the program makes (where it cuts anything, a stock is given or a rapid
+    runs into material): the stock, the part, each thread's teeth, the rapids into material in red
+    at their line; `part=True` draws it alone (`--part`). The stock keywords are `check`'s.
 
     A program with no thread gives an empty drawing and an `InputWarning`; threads left out without
     `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an

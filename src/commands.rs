@@ -6,26 +6,30 @@
 //! | command | function |
 //! | --- | --- |
 //! | `controllers` | [`controllers`] |
-//! | `passes --json` | [`passes_json`] (text: [`each_thread`] and [`Thread::simulated`]) |
+//! | `passes --json` | [`passes_json`], [`passes_json_with`] (each thread's blank; text: [`each_thread`], [`Thread::simulated`], [`Blanks`]) |
 //! | `expand` (`--format gcode`/`jsonl`) | [`expand`] |
-//! | `plot` | [`plot`] |
+//! | `plot` | [`plot_program`] (the part the program makes, from `check`, and [`plot`]) |
 //! | `convert` | [`crate::convert::convert_text`] |
 //! | `check` | [`crate::check::check`] |
 //! | `post` | [`crate::apt::post::write`] |
 //! | `thread --json` | [`StandardThread::to_json`](crate::thread::standard::StandardThread::to_json) |
 //! | `mill` | [`crate::mill::Request::prepare`] |
 //!
+//! The stock the options give over a machine profile's `[stock]`: [`with_stock`].
+//!
 //! A program is G-code for a controller or APT/CL ([`Source`], as `check` takes it; [`source`]
 //! tells which from the text).
 
 use std::io::{BufRead, Write};
 
+use crate::check::{self, ThreadBlank};
 use crate::machine::{Machine, BUILT_IN};
 use crate::program::{self, Error, Summary};
-pub use crate::render::{Plot, Selection};
+pub use crate::render::{PartPicture, Plot, Selection};
 use crate::sim::Tip;
 pub use crate::source::{source, thread_codes, Source};
 use crate::threads::{self, Thread};
+use crate::units::Units;
 
 /// What a run over a program found besides its output: the reader's summary (lines, the
 /// dialect's warnings) and the number of threads.
@@ -194,6 +198,215 @@ pub fn plot<R: BufRead>(
         }
         Source::Apt(_) => crate::render::apt_plot(input, tip, selection),
     }
+}
+
+/// `check`'s options with the stock: each value the caller gives (`--stock-diameter`,
+/// `--stock-start`, `--stock-length`, `--stock-bore`), else the machine profile's `[stock]`.
+pub fn with_stock(
+    opts: check::Options,
+    given: crate::machine::Stock,
+    machine: Option<&Machine>,
+) -> check::Options {
+    let stock = given.over(machine.and_then(|m| m.stock).unwrap_or_default());
+    check::Options {
+        stock_diameter: stock.diameter,
+        stock_start: stock.face,
+        stock_length: stock.length,
+        stock_bore: stock.bore,
+        ..opts
+    }
+}
+
+/// The picture of the part `check` found ([`check::Report::part`]), labelled in `units`.
+pub fn part_picture(view: &check::whole::View, units: Units) -> PartPicture {
+    use crate::render::part::{Hit, TeethBand};
+    PartPicture {
+        stock: view.stock,
+        outline: view.outline.clone(),
+        teeth: view
+            .teeth
+            .iter()
+            .map(|t| TeethBand {
+                line: t.line,
+                crest: t.crest,
+                root: t.root,
+            })
+            .collect(),
+        hits: view
+            .hits
+            .iter()
+            .map(|h| Hit {
+                line: h.line,
+                from: h.from,
+                to: h.to,
+                at: h.at,
+                error: h.error,
+            })
+            .collect(),
+        hits_complete: view.hits.len() < check::whole::VIEW_HITS_MAX,
+        units,
+    }
+}
+
+/// What `plot` draws of the part the program makes.
+#[derive(Clone, Debug, Default)]
+pub struct PartPlot {
+    /// The check the part comes from: its stock and tool ([`with_stock`]).
+    pub check: check::Options,
+    /// The part alone, without the threads' panels (`plot --part`).
+    pub alone: bool,
+}
+
+/// `threadcut plot` with the part: the picture of [`plot`], with the part the program makes
+/// drawn above the threads where the program cut anything, a stock is given or a rapid runs into
+/// material ([`crate::render::part`]); or the part alone. The program is read twice (`open` gives
+/// it each time): once by `check`, once for the threads. APT/CL programs cut no part: their
+/// picture is [`plot`]'s, and the part alone is refused.
+pub fn plot_program<R: BufRead>(
+    mut open: impl FnMut() -> std::io::Result<R>,
+    source: Source,
+    tip: Tip,
+    selection: Selection,
+    options: &program::Options,
+    part: &PartPlot,
+) -> Result<Plot, Error> {
+    let Source::Gcode(machine) = source else {
+        if part.alone {
+            return Err(Error::Setup(
+                "the part is drawn for G-code programs: an APT/CL file's moves are not cut into a part".into(),
+            ));
+        }
+        return plot(open()?, source, tip, selection, options);
+    };
+    let opts = check::Options {
+        max_blocks: options.max_blocks,
+        ..part.check.clone()
+    };
+    let report = check::check(open()?, source, &opts)?;
+    let picture = part_picture(&report.part, machine.units);
+    if report.stopped {
+        // The controller's alarm: the threads' run stops at it with the same error.
+        return crate::render::program_plot_with(open()?, machine, tip, selection, options);
+    }
+    if part.alone {
+        return Ok(Plot {
+            svg: crate::render::part::svg(&picture),
+            summary: Summary {
+                lines: report.lines,
+                ..Summary::default()
+            },
+            threads: report.threads as usize,
+            drawn: Vec::new(),
+        });
+    }
+    let shown = picture.worth_drawing().then_some(&picture);
+    crate::render::program_plot_part(open()?, machine, tip, selection, options, shown)
+}
+
+/// Each thread's blank as `check` took it ([`check::Report::blanks`]), handed out in program
+/// order to the threads `passes` lists.
+#[derive(Debug, Default)]
+pub struct Blanks {
+    blanks: Vec<ThreadBlank>,
+    next: usize,
+}
+
+impl Blanks {
+    /// The blanks of `check` run over the program with `opts` (its stock and tool). A program
+    /// `check` cannot read has none.
+    pub fn of<R: BufRead>(input: R, source: Source, opts: &check::Options) -> Blanks {
+        Blanks {
+            blanks: check::check(input, source, opts)
+                .map(|r| r.blanks)
+                .unwrap_or_default(),
+            next: 0,
+        }
+    }
+
+    /// The blank of the next thread, which starts at `line`: the first blank from where the last
+    /// was taken that was checked at that line.
+    pub fn take(&mut self, line: u32) -> Option<&ThreadBlank> {
+        let i = self.blanks[self.next..]
+            .iter()
+            .position(|b| b.line == line)?
+            + self.next;
+        self.next = i + 1;
+        self.blanks.get(i)
+    }
+}
+
+/// A number of a blank: program units, to 6 decimals (finer than any control's resolution).
+fn blank_number(v: f64) -> f64 {
+    (v * 1e6).round() / 1e6
+}
+
+/// A thread's blank as `passes --format json` writes it: `{crest, crest_from, face, face_from}`,
+/// the crest a diameter, program units.
+pub fn blank_json(b: &ThreadBlank) -> serde_json::Value {
+    serde_json::json!({
+        "crest": blank_number(b.crest),
+        "crest_from": b.crest_from,
+        "face": blank_number(b.face),
+        "face_from": b.face_from,
+    })
+}
+
+/// A thread's blank as `passes` writes it in text: `blank: crest Ø19.8 (measured), face Z0
+/// (assumed)`.
+pub fn blank_text(b: &ThreadBlank) -> String {
+    let word = |k: check::Basis| match k {
+        check::Basis::Measured => "measured on the part the program turned",
+        check::Basis::Given => "given",
+        check::Basis::Assumed => "assumed",
+        check::Basis::Unknown => "not known",
+    };
+    format!(
+        "blank: crest Ø{} ({}), face Z{} ({})",
+        check::number(blank_number(b.crest)),
+        word(b.crest_from),
+        check::number(blank_number(b.face)),
+        word(b.face_from)
+    )
+}
+
+/// [`passes_json`] with each thread's `blank` ([`blank_json`]) from `check` run over the same
+/// program with `check` (its stock and tool): a G-code program is read twice (`open` gives it
+/// each time).
+pub fn passes_json_with<R: BufRead>(
+    mut open: impl FnMut() -> std::io::Result<R>,
+    source: Source,
+    tip: Tip,
+    options: &program::Options,
+    check: &check::Options,
+    out: &mut dyn Write,
+) -> Result<Run, Error> {
+    let opts = check::Options {
+        max_blocks: options.max_blocks,
+        ..check.clone()
+    };
+    // APT/CL: `passes` of a CL file states no blank (the command line's, which reads it without
+    // a controller).
+    let mut blanks = match source {
+        Source::Gcode(_) => Blanks::of(open()?, source, &opts),
+        Source::Apt(_) => Blanks::default(),
+    };
+    out.write_all(br#"{"cycles":["#)?;
+    let mut first = true;
+    let run = each_thread(open()?, source, options, |t| {
+        if !first {
+            out.write_all(b",")?;
+        }
+        first = false;
+        let section = t.simulated(tip);
+        let mut cycle = threads::passes_json(&t, section.as_ref());
+        if let (Some(o), Some(b)) = (cycle.as_object_mut(), blanks.take(t.job.line)) {
+            o.insert("blank".into(), blank_json(b));
+        }
+        serde_json::to_writer(&mut *out, &cycle).map_err(std::io::Error::other)?;
+        Ok(())
+    })?;
+    out.write_all(b"]}\n")?;
+    Ok(run)
 }
 
 #[cfg(test)]

@@ -337,6 +337,48 @@ pub struct ReferencePoints {
     pub g30: AxisPoint,
 }
 
+/// The stock this machine's programs are cut from, where the command does not say
+/// (`[stock]`): each value in the profile's `units` (the program's units at power-on), the
+/// diameters as diameters whatever `diameter_x` says. A value the command gives wins
+/// ([`Stock::over`]). Absent values are not known, as when the command gives none.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Stock {
+    /// The bar's diameter (`--stock-diameter`).
+    #[serde(default)]
+    pub diameter: Option<f64>,
+    /// Z of the bar's face (`--stock-start`).
+    #[serde(default)]
+    pub face: Option<f64>,
+    /// The bar's length from its face toward the chuck (`--stock-length`).
+    #[serde(default)]
+    pub length: Option<f64>,
+    /// The diameter of a bore through the bar (`--stock-bore`).
+    #[serde(default)]
+    pub bore: Option<f64>,
+}
+
+impl Stock {
+    /// These values where given, else `base`'s, value by value (the command line over the
+    /// profile).
+    pub fn over(self, base: Stock) -> Stock {
+        Stock {
+            diameter: self.diameter.or(base.diameter),
+            face: self.face.or(base.face),
+            length: self.length.or(base.length),
+            bore: self.bore.or(base.bore),
+        }
+    }
+
+    /// Whether any value is given.
+    pub fn any(&self) -> bool {
+        self.diameter.is_some()
+            || self.face.is_some()
+            || self.length.is_some()
+            || self.bore.is_some()
+    }
+}
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Machine {
@@ -367,6 +409,10 @@ pub struct Machine {
     /// Where reference returns leave the tool (absent: nowhere the program can know).
     #[serde(default)]
     pub reference: Option<ReferencePoints>,
+    /// The stock its programs are cut from, where the command does not give it (absent: not
+    /// known).
+    #[serde(default)]
+    pub stock: Option<Stock>,
 }
 
 impl Machine {
@@ -485,6 +531,34 @@ mod tests {
         assert!(Machine::from_toml(&text.replace("g30", "g31")).is_err());
         assert!(Machine::from_toml(&text.replace("z = 80.0", "y = 80.0")).is_err());
         assert_eq!(Machine::built_in("fanuc").unwrap().reference, None);
+    }
+
+    /// `[stock]` is optional value by value; the command line's values win over it one by one.
+    #[test]
+    fn stock_is_optional_and_the_command_line_wins() {
+        let text = format!(
+            "{}\n[stock]\ndiameter = 25.0\nface = 0.5\nbore = 8.0\n",
+            BUILT_IN[0].1
+        );
+        let m = Machine::from_toml(&text).unwrap();
+        let s = m.stock.unwrap();
+        assert_eq!(
+            (s.diameter, s.face, s.length, s.bore),
+            (Some(25.0), Some(0.5), None, Some(8.0))
+        );
+        let given = Stock {
+            diameter: Some(30.0),
+            length: Some(120.0),
+            ..Stock::default()
+        };
+        let both = given.over(s);
+        assert_eq!(
+            (both.diameter, both.face, both.length, both.bore),
+            (Some(30.0), Some(0.5), Some(120.0), Some(8.0))
+        );
+        assert!(!Stock::default().any() && both.any());
+        assert!(Machine::from_toml(&text.replace("bore =", "hole =")).is_err());
+        assert_eq!(Machine::built_in("fanuc").unwrap().stock, None);
     }
 
     #[test]

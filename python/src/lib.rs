@@ -12,12 +12,13 @@ use std::path::Path;
 use pyo3::create_exception;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyList};
 
 use threadcut::check::{self, Report};
 use threadcut::commands::{self, ExpandFormat, Source};
 use threadcut::diag::Diagnostic;
-use threadcut::machine::{built_in_name, Machine, NameError, ProfileKind};
+use threadcut::machine::{built_in_name, Machine, NameError, ProfileKind, Stock};
 use threadcut::mill::profile::MillProfile;
 use threadcut::mill::{Comp, Direction, Hand, LeadIn, Request, Side};
 use threadcut::program::{Error, Options, Summary};
@@ -299,28 +300,44 @@ fn controllers_py() -> Vec<&'static str> {
 /// `"finish"`), `depth` (radius, from the crest), `increment`, `x` (as the program writes it)
 /// and `z` of the infeed point, `area` and `share` of a sharp V of the tool angle, and the
 /// simulated `sim_area`, `sim_share`, `cutting_flank` and `chip_thickness` (None where the section
-/// cannot be simulated). Program units.
+/// cannot be simulated), and for G-code `blank`: the thread's blank as `check` takes it, `{crest, crest_from,
+/// face, face_from}` (the crest a diameter; `*_from` `"measured"` on the part the program turned,
+/// `"given"`, `"assumed"` or `"unknown"`). Program units. The stock keywords are `check`'s; each
+/// not given is the machine profile's `[stock]` value, if any.
 ///
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
 /// the controller refuses (at its line and column) or an unknown controller.
 #[pyfunction(name = "passes")]
-#[pyo3(signature = (program, controller, *, machine=None))]
+#[pyo3(signature = (program, controller, *, machine=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[allow(clippy::too_many_arguments)]
 fn passes_py<'py>(
     py: Python<'py>,
     program: String,
     controller: &str,
     machine: Option<&Bound<'py, PyAny>>,
+    stock_diameter: Option<f64>,
+    stock_start: Option<f64>,
+    stock_length: Option<f64>,
+    stock_bore: Option<f64>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let m = resolve(py, controller, machine)?;
     let src = source(&program, &m);
+    let stock = Stock {
+        diameter: stock_diameter,
+        face: stock_start,
+        length: stock_length,
+        bore: stock_bore,
+    };
+    let opts = commands::with_stock(check::Options::default(), stock, Some(&m));
     let mut out = Vec::new();
     let run = py
         .detach(|| {
-            commands::passes_json(
-                program.as_bytes(),
+            commands::passes_json_with(
+                || Ok(program.as_bytes()),
                 src,
                 Tip::Sharp,
                 &Options::default(),
+                &opts,
                 &mut out,
             )
         })
@@ -420,13 +437,21 @@ fn expand_py(
 /// assumption), `code` (`"E013"`, None for a note), `message` and `hint` (or None); errors and
 /// warnings first, then the notes. A controller alarm is an error finding, not an exception.
 /// `thread` judges the thread cut against a standard thread's class (`"M30x2-6g"`);
-/// `stock_diameter` is the blank's diameter and `stock_start` the Z of its face, in program
-/// units (by default the crest and Z0 are assumed, and said in a note).
+/// `stock_diameter` is the bar's diameter, `stock_start` the Z of its face, `stock_length` its
+/// length toward the chuck and `stock_bore` a bore through it, in program units (`--stock-*`;
+/// each not given is the machine profile's `[stock]` value, else not known: the crest and Z0
+/// are assumed, and said in a note).
+///
+/// The list is a `CheckResult` with two more attributes: `blanks`, each thread's blank (`line`,
+/// `crest`, `crest_from`, `face`, `face_from`, as `passes` gives it) and `hits`, the rapid moves
+/// that run into material (`line`, `level` `"error"` or `"warning"`, and `from`, `to`, `at` —
+/// where it enters the material — each `(x, z)` in mm, X a radius).
 ///
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for an unknown
 /// controller or thread.
 #[pyfunction(name = "check")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, stock_diameter=None, stock_start=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[allow(clippy::too_many_arguments)]
 fn check_py<'py>(
     py: Python<'py>,
     program: String,
@@ -435,7 +460,9 @@ fn check_py<'py>(
     thread: Option<&str>,
     stock_diameter: Option<f64>,
     stock_start: Option<f64>,
-) -> PyResult<Bound<'py, PyList>> {
+    stock_length: Option<f64>,
+    stock_bore: Option<f64>,
+) -> PyResult<Bound<'py, PyAny>> {
     let m = resolve(py, controller, machine)?;
     let thread = match thread {
         Some(name) => {
@@ -443,12 +470,20 @@ fn check_py<'py>(
         }
         None => None,
     };
-    let opts = check::Options {
-        stock_diameter,
-        stock_start,
-        thread,
-        ..check::Options::default()
+    let stock = Stock {
+        diameter: stock_diameter,
+        face: stock_start,
+        length: stock_length,
+        bore: stock_bore,
     };
+    let opts = commands::with_stock(
+        check::Options {
+            thread,
+            ..check::Options::default()
+        },
+        stock,
+        Some(&m),
+    );
     let src = source(&program, &m);
     let report = py
         .detach(|| check::check(program.as_bytes(), src, &opts))
@@ -456,7 +491,57 @@ fn check_py<'py>(
     if !report.stopped {
         warn_no_thread(py, report.threads, src)?;
     }
-    findings(py, &report)
+    let result = check_result_class(py)?.call1((findings(py, &report)?,))?;
+    result.setattr("blanks", blanks(py, &report)?)?;
+    result.setattr("hits", hits(py, &report)?)?;
+    Ok(result)
+}
+
+/// The class of `check`'s result: a list of findings (as it always was) with `blanks` and `hits`.
+static CHECK_RESULT: PyOnceLock<Py<PyAny>> = PyOnceLock::new();
+
+fn check_result_class(py: Python<'_>) -> PyResult<&Bound<'_, PyAny>> {
+    CHECK_RESULT
+        .get_or_try_init(py, || {
+            let m = PyModule::from_code(
+                py,
+                c"class CheckResult(list):\n    \"\"\"`check`'s findings, a list, with each thread's blank and the rapids into material.\"\"\"\n    __module__ = 'threadcut'\n    blanks = ()\n    hits = ()\n",
+                c"threadcut_check_result.py",
+                c"threadcut_check_result",
+            )?;
+            Ok(m.getattr("CheckResult")?.unbind())
+        })
+        .map(|c| c.bind(py))
+}
+
+/// Each thread's blank: `{line, crest, crest_from, face, face_from}` (`passes`' `blank` with the
+/// thread's line).
+fn blanks<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for b in &report.blanks {
+        let d = json_loads(py, &commands::blank_json(b).to_string())?;
+        d.set_item("line", b.line)?;
+        list.append(d)?;
+    }
+    Ok(list)
+}
+
+/// The rapids into material, in program order (at most the check's first 1000): `{line, level,
+/// from, to, at}`, each point `(x, z)` in mm with X a radius, `at` where it enters the material,
+/// `level` `"error"` (a surface the program cut, a thread, a stock given) or `"warning"` (a stock
+/// assumed).
+fn hits<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py, PyList>> {
+    let list = PyList::empty(py);
+    for h in &report.part.hits {
+        let d = PyDict::new(py);
+        d.set_item("line", h.line)?;
+        d.set_item("level", if h.error { "error" } else { "warning" })?;
+        d.set_item("from", (h.from.x, h.from.z))?;
+        d.set_item("to", (h.to.x, h.to.z))?;
+        d.set_item("at", (h.at.x, h.at.z))?;
+        list.append(d)?;
+    }
+    Ok(list)
 }
 
 /// `check --format json`'s objects without `file`: `{line, column, level, code, message, hint}`.
@@ -478,17 +563,27 @@ fn findings<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py, PyList
 /// One SVG of the threads' pass diagrams and XZ toolpaths (`threadcut plot`): at most the first
 /// 50 threads, the picture saying what it left out, or only the `cycle`th thread (1-based).
 ///
+/// Above them, the part the program makes (where it cuts anything, a stock is given or a rapid
+/// runs into material): the stock, the part, each thread's teeth, the rapids into material in red
+/// at their line; `part=True` draws it alone (`--part`). The stock keywords are `check`'s.
+///
 /// A program with no thread gives an empty drawing and an `InputWarning`; threads left out without
 /// `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an
 /// unknown controller, or a `cycle` the program does not have.
 #[pyfunction(name = "plot_svg")]
-#[pyo3(signature = (program, controller, *, machine=None, cycle=None))]
+#[pyo3(signature = (program, controller, *, machine=None, cycle=None, part=false, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[allow(clippy::too_many_arguments)]
 fn plot_svg_py(
     py: Python<'_>,
     program: String,
     controller: &str,
     machine: Option<&Bound<'_, PyAny>>,
     cycle: Option<usize>,
+    part: bool,
+    stock_diameter: Option<f64>,
+    stock_start: Option<f64>,
+    stock_length: Option<f64>,
+    stock_bore: Option<f64>,
 ) -> PyResult<String> {
     let m = resolve(py, controller, machine)?;
     let src = source(&program, &m);
@@ -499,18 +594,35 @@ fn plot_svg_py(
         only: cycle,
         ..commands::Selection::default()
     };
+    if part && cycle.is_some() {
+        return Err(Problem::usage("part=True draws the part alone: no cycle with it").error(py));
+    }
+    let stock = Stock {
+        diameter: stock_diameter,
+        face: stock_start,
+        length: stock_length,
+        bore: stock_bore,
+    };
+    let part_plot = commands::PartPlot {
+        check: commands::with_stock(check::Options::default(), stock, Some(&m)),
+        alone: part,
+    };
     let plot = py
         .detach(|| {
-            commands::plot(
-                program.as_bytes(),
+            commands::plot_program(
+                || Ok(program.as_bytes()),
                 src,
                 Tip::Sharp,
                 selection,
                 &Options::default(),
+                &part_plot,
             )
         })
         .map_err(|e| run_error(py, e))?;
     warn_all(py, &plot.summary)?;
+    if part {
+        return Ok(plot.svg);
+    }
     if let Some(n) = cycle.filter(|n| *n > plot.threads) {
         return Err(Problem::usage(format!(
             "cycle={n}: the program has {}",
@@ -782,7 +894,9 @@ fn threadcut_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
             "mill",
             "convert",
             "post",
+            "CheckResult",
         ],
     )?;
+    m.add("CheckResult", check_result_class(py)?)?;
     Ok(())
 }

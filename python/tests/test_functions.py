@@ -371,3 +371,75 @@ def test_plot_svg_draws_one_cycle_on_request():
     assert second.startswith("<svg") and len(second) < len(both)
     with pytest.raises(threadcut.InputError, match="cycle=3: the program has 2 threads"):
         threadcut.plot_svg(two, "fanuc", cycle=3)
+
+
+# Turns Ø19.8 (G71/G70), cuts M20x2.5 with G76 at line 18, then a rapid at line 19 from X24 Z5 to
+# X15 Z-10 runs through the thread's teeth (cli/tests/part.rs has the same program).
+TURNED_HIT = (
+    "G21 G99\nT0101\nG97 S800 M03\nG00 X27. Z2.\nG71 U1.5 R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\n"
+    "N10 G00 X16.\nG01 Z0. F0.12\nX19.8 Z-1.9\nZ-30.\nX24.\nN20 X27.\nG70 P10 Q20\nG00 X100. Z100.\n"
+    "T0303\nG00 X24. Z5.\nG76 P020060 Q100 R0.05\nG76 X16.85 Z-27. P1575 Q400 F2.5\n"
+    "G00 X15. Z-10.\nG00 X100. Z100.\nM30\n"
+)
+
+
+def test_check_gives_the_blanks_and_the_hits(cli, tmp_path):
+    path = tmp_path / "hit.nc"
+    path.write_text(TURNED_HIT)
+    stock = ["--stock-diameter", "25", "--stock-start", "0", "--stock-length", "60"]
+    # An error: exit status 2, the findings on standard output as ever.
+    r = cli.run("check", str(path), "-c", "fanuc", *stock, "--format", "json")
+    assert r.returncode == 2
+    expected = [{k: v for k, v in f.items() if k != "file"} for f in json.loads(r.stdout)]
+    got = threadcut.check(
+        TURNED_HIT, "fanuc", stock_diameter=25.0, stock_start=0.0, stock_length=60.0
+    )
+    # Still the list of findings, compared as before.
+    assert got == expected
+    assert isinstance(got, list) and isinstance(got, threadcut.CheckResult)
+    [blank] = got.blanks
+    assert blank == {
+        "line": 18, "crest": 19.8, "crest_from": "measured", "face": 0.0, "face_from": "given"
+    }
+    [hit] = got.hits
+    assert hit["line"] == 19 and hit["level"] == "error"
+    # From X24 Z5 (radius 12) to X15 Z-10 (radius 7.5), mm; it enters at the crest, radius 9.9.
+    assert hit["from"] == pytest.approx((12.0, 5.0))
+    assert hit["to"] == pytest.approx((7.5, -10.0))
+    assert hit["at"][0] == pytest.approx(9.9, abs=0.01)
+    # The rapid is the E011 finding at the same line.
+    assert [f["line"] for f in got if f["code"] == "E011"] == [19]
+    # The bore keyword is taken (an external thread's blank does not use it: its crest stays assumed).
+    assert threadcut.check(M30_G76, "fanuc", stock_bore=10.0).blanks[0]["crest_from"] == "assumed"
+
+
+def test_passes_gives_each_threads_blank_as_the_command(cli, tmp_path):
+    path = tmp_path / "hit.nc"
+    path.write_text(TURNED_HIT)
+    expected = cli.json("passes", str(path), "-c", "fanuc", "--json")["cycles"]
+    got = threadcut.passes(TURNED_HIT, "fanuc")
+    assert got == expected
+    assert got[0]["blank"] == {
+        "crest": 19.8, "crest_from": "measured", "face": 0.0, "face_from": "assumed"
+    }
+    # Nothing turned: the stock given is the blank.
+    stock = ["--stock-diameter", "31", "--stock-start", "0.5"]
+    path = EXAMPLES / "fanuc-m30x2-g76.nc"
+    expected = cli.json("passes", str(path), "-c", "fanuc", "--json", *stock)["cycles"]
+    got = threadcut.passes(M30_G76, "fanuc", stock_diameter=31.0, stock_start=0.5)
+    assert got == expected
+    assert got[0]["blank"] == {"crest": 31.0, "crest_from": "given", "face": 0.5, "face_from": "given"}
+
+
+def test_plot_svg_draws_the_part_as_plot(cli, tmp_path):
+    path = tmp_path / "hit.nc"
+    path.write_text(TURNED_HIT)
+    stock = ["--stock-diameter", "25", "--stock-bore", "4"]
+    svg = threadcut.plot_svg(TURNED_HIT, "fanuc", stock_diameter=25.0, stock_bore=4.0)
+    assert svg == cli.out("plot", str(path), "-c", "fanuc", *stock, "-o", "-")
+    assert "The part as the program makes it" in svg and 'class="rapid-hit"' in svg
+    alone = threadcut.plot_svg(TURNED_HIT, "fanuc", part=True)
+    assert alone == cli.out("plot", str(path), "-c", "fanuc", "--part", "-o", "-")
+    assert "Pass diagram" not in alone
+    with pytest.raises(threadcut.InputError):
+        threadcut.plot_svg(TURNED_HIT, "fanuc", part=True, cycle=1)

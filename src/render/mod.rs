@@ -1,8 +1,10 @@
 //! Pictures of what a program does. Everything here reads the model's results (the pass table,
 //! the simulated section, the toolpath) and writes text; nothing computes motion.
 
+pub mod part;
 pub mod svg;
 
+pub use part::PartPicture;
 pub use svg::{svg, CyclePlot};
 
 use std::io::BufRead;
@@ -96,6 +98,18 @@ pub fn program_plot_with<R: BufRead>(
     selection: Selection,
     options: &program::Options,
 ) -> Result<Plot, Error> {
+    program_plot_part(input, machine, tip, selection, options, None)
+}
+
+/// [`program_plot_with`] with the part the program makes drawn above the threads.
+pub fn program_plot_part<R: BufRead>(
+    input: R,
+    machine: &Machine,
+    tip: Tip,
+    selection: Selection,
+    options: &program::Options,
+    part: Option<&PartPicture>,
+) -> Result<Plot, Error> {
     let mut found = Vec::new();
     let mut total = 0;
     let summary = threads::each_gcode_with(input, machine, None, options, |t| {
@@ -105,7 +119,7 @@ pub fn program_plot_with<R: BufRead>(
         }
         Ok(())
     })?;
-    plot(found, total, summary, tip)
+    plot(found, total, summary, tip, part)
 }
 
 /// `threadcut plot` on an APT/CL program.
@@ -125,7 +139,7 @@ pub fn apt_plot<R: BufRead>(input: R, tip: Tip, selection: Selection) -> Result<
         }
         Ok(())
     })?;
-    plot(found, total, summary, tip)
+    plot(found, total, summary, tip, None)
 }
 
 fn plot(
@@ -133,9 +147,10 @@ fn plot(
     total: usize,
     summary: Summary,
     tip: Tip,
+    part: Option<&PartPicture>,
 ) -> Result<Plot, Error> {
     let (numbers, threads): (Vec<usize>, Vec<Thread>) = found.into_iter().unzip();
-    let (svg, drawn) = threads_picture(&threads, &numbers, total, tip)?;
+    let (svg, drawn) = threads_picture(&threads, &numbers, total, tip, part)?;
     Ok(Plot {
         svg,
         summary,
@@ -153,7 +168,7 @@ fn plot(
 /// tool, as `check` cuts its section.
 pub fn threads_svg(found: &[Thread], tip: Tip) -> Result<String, Error> {
     let numbers: Vec<usize> = (1..=found.len()).collect();
-    Ok(threads_picture(found, &numbers, found.len(), tip)?.0)
+    Ok(threads_picture(found, &numbers, found.len(), tip, None)?.0)
 }
 
 /// [`threads_svg`] of the threads numbered `numbers` of `total`, saying which are left out; with
@@ -163,6 +178,7 @@ fn threads_picture(
     numbers: &[usize],
     total: usize,
     tip: Tip,
+    part: Option<&PartPicture>,
 ) -> Result<(String, usize), Error> {
     let mut sections = Vec::with_capacity(found.len());
     for t in found {
@@ -193,5 +209,5 @@ fn threads_picture(
             what: t.describe(),
         })
         .collect();
-    Ok(svg::picture(&plots, numbers, total))
+    Ok(svg::picture_with(&plots, numbers, total, part))
 }

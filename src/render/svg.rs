@@ -70,20 +70,42 @@ pub fn svg(cycles: &[CyclePlot]) -> String {
 /// of the `total` the program has; with how many of `cycles` were drawn (all, unless the picture
 /// reached [`MAX_SVG_BYTES`]). Threads left out are stated at the bottom of the picture.
 pub fn picture(cycles: &[CyclePlot], numbers: &[usize], total: usize) -> (String, usize) {
+    picture_with(cycles, numbers, total, None)
+}
+
+/// [`picture`] with the part the program makes drawn above the threads
+/// ([`super::part::panel`]).
+pub fn picture_with(
+    cycles: &[CyclePlot],
+    numbers: &[usize],
+    total: usize,
+    part: Option<&super::part::PartPicture>,
+) -> (String, usize) {
     let mut body = String::new();
+    let top = match part {
+        Some(p) => {
+            super::part::panel(&mut body, p, 0.0);
+            super::part::PART_ROW
+        }
+        None => 0.0,
+    };
     let mut drawn = 0;
     for (i, c) in cycles.iter().enumerate() {
         let mut one = String::with_capacity(16_384);
-        cycle(&mut one, c, ROW * i as f64);
-        if drawn > 0 && body.len() + one.len() > MAX_SVG_BYTES {
+        cycle(&mut one, c, top + ROW * i as f64);
+        if (drawn > 0 || part.is_some()) && body.len() + one.len() > MAX_SVG_BYTES {
             break;
         }
         body.push_str(&one);
         drawn += 1;
     }
     let note = (drawn < total).then(|| left_out(&numbers[..drawn], total));
-    let rows = drawn.max(1) as f64;
-    let height = ROW * rows + 10.0 + if note.is_some() { 30.0 } else { 0.0 };
+    let rows = if part.is_some() {
+        drawn as f64
+    } else {
+        drawn.max(1) as f64
+    };
+    let height = top + ROW * rows + 10.0 + if note.is_some() { 30.0 } else { 0.0 };
     let mut s = String::with_capacity(body.len() + 1024);
     // Writing into a String cannot fail.
     let _ = writeln!(
@@ -94,7 +116,7 @@ pub fn picture(cycles: &[CyclePlot], numbers: &[usize], total: usize) -> (String
         s,
         r#"<rect x="0" y="0" width="{WIDTH:.0}" height="{height:.0}" fill="white"/>"#
     );
-    if total == 0 {
+    if total == 0 && part.is_none() {
         let _ = writeln!(
             s,
             r#"<text x="20" y="40" font-size="16">no thread in this program</text>"#
@@ -105,7 +127,7 @@ pub fn picture(cycles: &[CyclePlot], numbers: &[usize], total: usize) -> (String
         let _ = writeln!(
             s,
             r##"<text x="20" y="{:.2}" font-size="15" fill="#b00">{}</text>"##,
-            ROW * rows + 20.0,
+            top + ROW * rows + 20.0,
             text(&note)
         );
     }
@@ -130,21 +152,21 @@ pub fn left_out(drawn: &[usize], total: usize) -> String {
 
 /// A linear map from model coordinates to the page.
 #[derive(Clone, Copy)]
-struct Map {
+pub(super) struct Map {
     /// Page x = ox + sx·a, page y = oy + sy·b.
-    ox: f64,
-    sx: f64,
-    oy: f64,
-    sy: f64,
+    pub(super) ox: f64,
+    pub(super) sx: f64,
+    pub(super) oy: f64,
+    pub(super) sy: f64,
 }
 
 impl Map {
-    fn at(&self, a: f64, b: f64) -> (f64, f64) {
+    pub(super) fn at(&self, a: f64, b: f64) -> (f64, f64) {
         (self.ox + self.sx * a, self.oy + self.sy * b)
     }
 }
 
-fn points(map: &Map, pts: &[(f64, f64)]) -> String {
+pub(super) fn points(map: &Map, pts: &[(f64, f64)]) -> String {
     let mut out = String::with_capacity(pts.len() * 16);
     for (i, &(a, b)) in pts.iter().enumerate() {
         let (x, y) = map.at(a, b);
@@ -157,7 +179,7 @@ fn points(map: &Map, pts: &[(f64, f64)]) -> String {
 }
 
 /// A number for a label: up to `decimals` decimals, no trailing zeros or point.
-fn num(v: f64, decimals: usize) -> String {
+pub(super) fn num(v: f64, decimals: usize) -> String {
     let s = format!("{v:.decimals$}");
     let s = if s.contains('.') {
         s.trim_end_matches('0').trim_end_matches('.')
@@ -172,7 +194,7 @@ fn num(v: f64, decimals: usize) -> String {
 }
 
 /// Escapes text for XML.
-fn text(t: &str) -> String {
+pub(super) fn text(t: &str) -> String {
     t.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")

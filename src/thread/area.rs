@@ -204,7 +204,6 @@ mod tests {
         assert!((union_area(&[(0.0, 1.0), (3.0, 1.0)], 1.0) - 2.0).abs() < 1e-12);
     }
 
-    /// Numerical integral of the upper envelope, as an independent oracle.
     proptest! {
         /// The incremental chip areas are the differences of the prefixes' unions.
         #[test]
@@ -223,6 +222,7 @@ mod tests {
         }
     }
 
+    /// Numerical integral of the upper envelope, as an independent oracle.
     fn brute(tents: &[(f64, f64)], t: f64) -> f64 {
         let lo = tents
             .iter()

@@ -199,6 +199,29 @@ try {
   assert.match(await page.textContent('#converted'), /no output/);
   assert.ok(await page.isDisabled('#download-converted'), 'nothing to download');
 
+  // 7b. A pasted program that turns Ø19.8 from a Ø25 bar, threads M20x2.5 (G76, line 18), then
+  // rapids at line 19 through the thread: the part is drawn above the threads, with the rapid in
+  // red at its line, and the finding is E011 at line 19.
+  await analysed(() => page.selectOption('#controller', 'fanuc'));
+  await page.click('#tab-paste');
+  await page.fill('#stock-diameter', '25');
+  await page.fill('#stock-start', '0');
+  await analysed(() => page.fill('#source', 'G21 G99\nT0101\nG97 S800 M03\nG00 X27. Z2.\nG71 U1.5 R0.5\n' +
+    'G71 P10 Q20 U0.4 W0.1 F0.25\nN10 G00 X16.\nG01 Z0. F0.12\nX19.8 Z-1.9\nZ-30.\nX24.\nN20 X27.\n' +
+    'G70 P10 Q20\nG00 X100. Z100.\nT0303\nG00 X24. Z5.\nG76 P020060 Q100 R0.05\n' +
+    'G76 X16.85 Z-27. P1575 Q400 F2.5\nG00 X15. Z-10.\nG00 X100. Z100.\nM30\n'));
+  await page.waitForSelector('#plot svg line.rapid-hit');
+  const hit = await page.$eval('#plot svg', (svg) => ({
+    red: svg.querySelectorAll('line.rapid-hit[stroke="#d00"]').length,
+    label: [...svg.querySelectorAll('text')].some((t) => t.textContent === 'line 19'),
+    part: svg.textContent.includes('The part as the program makes it'),
+    stock: svg.textContent.includes('dashed: the stock Ø25 as given'),
+  }));
+  assert.deepEqual(hit, { red: 1, label: true, part: true, stock: true });
+  assert.match(await page.textContent('#diagnostics'), /E011/);
+  await page.screenshot({ path: join(here, 'screenshot-part.png'), fullPage: true });
+  for (const id of ['#stock-diameter', '#stock-start']) await page.fill(id, '');
+
   // 8. A 30,000-line program pasted, then three keystrokes at its end: the analysis runs in the
   // worker once typing pauses, and is on screen within a second of the last keystroke; the page
   // never blocks for long meanwhile (long tasks, measured from the paste's input event on; the

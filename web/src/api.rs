@@ -5,8 +5,9 @@ use serde::Deserialize;
 use serde_json::{json, Map, Value};
 
 use threadcut::check::{self, Source};
+use threadcut::commands;
 use threadcut::diag::Diagnostic;
-use threadcut::machine::{Machine, BUILT_IN};
+use threadcut::machine::{Machine, Stock, BUILT_IN};
 use threadcut::program::{self, Error};
 use threadcut::render;
 use threadcut::sim::{self, Tip, Tool};
@@ -131,13 +132,24 @@ struct AnalyseRequest {
     /// Default: every thread.
     #[serde(default)]
     max_cycles: Option<usize>,
+    /// The stock (`check --stock-diameter`, `--stock-start`, `--stock-length`, `--stock-bore`),
+    /// program units; each absent: not known.
+    #[serde(default)]
+    stock_diameter: Option<f64>,
+    #[serde(default)]
+    stock_start: Option<f64>,
+    #[serde(default)]
+    stock_length: Option<f64>,
+    #[serde(default)]
+    stock_bore: Option<f64>,
 }
 
-/// What an analysis lists besides its findings.
+/// What an analysis lists besides its findings, and the stock it checks with.
 #[derive(Clone, Copy)]
 struct Listing {
     motions: bool,
     max_cycles: usize,
+    stock: Stock,
 }
 
 fn yes() -> bool {
@@ -154,6 +166,12 @@ pub fn analyse(request: &str) -> Value {
             Listing {
                 motions: r.motions,
                 max_cycles: r.max_cycles.unwrap_or(usize::MAX),
+                stock: Stock {
+                    diameter: r.stock_diameter,
+                    face: r.stock_start,
+                    length: r.stock_length,
+                    bore: r.stock_bore,
+                },
             },
         ),
         Err(e) => error(format!("bad request: {e}")),
@@ -188,6 +206,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         Listing {
             motions: true,
             max_cycles: usize::MAX,
+            stock: Stock::default(),
         },
     )
 }
@@ -220,17 +239,29 @@ fn analyse_with(
         }
     };
 
-    // The check: every finding of `threadcut check`, the controller's alarm among them.
+    // The check: every finding of `threadcut check` (with the stock given), the controller's
+    // alarm among them.
     let mut notes = Vec::new();
     let mut lines = 0;
-    match check::check(
-        text.as_bytes(),
-        Source::Gcode(&machine),
-        &check::Options::default(),
-    ) {
+    let mut blanks = Vec::new();
+    let mut part = None;
+    let opts = commands::with_stock(check::Options::default(), listing.stock, Some(&machine));
+    match check::check(text.as_bytes(), Source::Gcode(&machine), &opts) {
         Ok(report) => {
             lines = report.lines;
             failed = report.stopped;
+            // The part picture from this check, as `plot` composes it (`commands::plot_program`).
+            part = Some(commands::part_picture(&report.part, machine.units))
+                .filter(|p| p.worth_drawing());
+            blanks = report
+                .blanks
+                .iter()
+                .map(|b| {
+                    let mut v = commands::blank_json(b);
+                    v["line"] = b.line.into();
+                    v
+                })
+                .collect();
             diagnostics.extend(report.diagnostics.iter().map(|d| diagnostic(d, placed)));
             notes = report
                 .notes
@@ -292,12 +323,19 @@ fn analyse_with(
             Err(e) => fail(e, &mut diagnostics, &mut failed),
         }
     }
-    // The plots, as `threadcut plot` draws them.
+    // The plots, as `threadcut plot` draws them: the part the program makes, then the threads.
     let mut plot_error = None;
     let mut svg = None;
     if !failed {
-        match render::program_svg(text.as_bytes(), &machine, Tip::Sharp) {
-            Ok((s, _, _)) => svg = Some(s),
+        match render::program_plot_part(
+            text.as_bytes(),
+            &machine,
+            Tip::Sharp,
+            commands::Selection::default(),
+            &program::Options::default(),
+            part.as_ref(),
+        ) {
+            Ok(p) => svg = Some(p.svg),
             Err(e) => plot_error = Some(e.to_string()),
         }
     }
@@ -316,6 +354,7 @@ fn analyse_with(
         "plot_error": plot_error,
         "diagnostics": diagnostics,
         "notes": notes,
+        "blanks": blanks,
     })
 }
 

@@ -434,3 +434,39 @@ fn convert_gives_the_program_its_cycles_and_the_refusal_with_its_place() {
         .unwrap()
         .contains("unknown controller `nope`"));
 }
+
+/// The page's analysis draws the part as `plot` does (the same library composition), with the
+/// stock the form gives: a rapid through the thread just cut is red at its line, and each
+/// thread's blank is listed.
+#[test]
+fn a_pasted_program_shows_its_part_and_the_rapid_into_it() {
+    // Turns Ø19.8 (G71/G70), G76 M20x2.5 at line 18, a rapid through the thread at line 19.
+    let program = "G21 G99\nT0101\nG97 S800 M03\nG00 X27. Z2.\nG71 U1.5 R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G00 X16.\nG01 Z0. F0.12\nX19.8 Z-1.9\nZ-30.\nX24.\nN20 X27.\nG70 P10 Q20\nG00 X100. Z100.\nT0303\nG00 X24. Z5.\nG76 P020060 Q100 R0.05\nG76 X16.85 Z-27. P1575 Q400 F2.5\nG00 X15. Z-10.\nG00 X100. Z100.\nM30\n";
+    let out = api::analyse(
+        &json!({"controller": "fanuc", "program": program, "stock_diameter": 25.0, "stock_start": 0.0})
+            .to_string(),
+    );
+    let svg = out["svg"].as_str().unwrap();
+    assert!(svg.contains("The part as the program makes it"));
+    assert!(svg.contains("dashed: the stock Ø25 as given"));
+    assert_eq!(svg.matches("class=\"rapid-hit\"").count(), 1);
+    assert!(svg.contains(">line 19</text>"));
+    let e011: Vec<_> = out["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["code"] == "E011")
+        .map(|d| d["line"].as_u64().unwrap())
+        .collect();
+    assert_eq!(e011, [19]);
+    assert_eq!(
+        out["blanks"],
+        json!([{"line": 18, "crest": 19.8, "crest_from": "measured", "face": 0.0, "face_from": "given"}])
+    );
+    // Without a stock the part is still drawn (the program cut it), the bar's size not known.
+    let out = api::analyse(&json!({"controller": "fanuc", "program": program}).to_string());
+    assert!(out["svg"]
+        .as_str()
+        .unwrap()
+        .contains("the stock's size is not given"));
+}

@@ -248,9 +248,20 @@ function showConversion(r) {
   $('converted').textContent = head(r.program, SHOWN_LINES, 'Copy and Download give the whole program');
 }
 
+/** The stock the form gives (`check --stock-*`): a number for each field filled in. */
+function stock() {
+  const out = {};
+  for (const [id, key] of [['stock-diameter', 'stock_diameter'], ['stock-start', 'stock_start'],
+    ['stock-length', 'stock_length'], ['stock-bore', 'stock_bore']]) {
+    const v = $(id).value.trim();
+    if (v !== '' && Number.isFinite(Number(v))) out[key] = Number(v);
+  }
+  return out;
+}
+
 function analyse() {
   // The page shows no motion list: the engine need not write one.
-  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES });
+  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES, ...stock() });
 }
 
 /** Runs an analysis in the worker and shows it, unless a newer one has been asked for since. */
@@ -529,6 +540,7 @@ async function main() {
   });
   $('analyse').addEventListener('click', () => { editedAt = 0; analyse(); });
   $('source').addEventListener('input', () => schedule(analyse));
+  for (const input of document.querySelectorAll('input.stock')) input.addEventListener('input', () => schedule(analyse));
   $('copy').addEventListener('click', async () => {
     try {
       await navigator.clipboard.writeText(lastGcode);

@@ -7,6 +7,7 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use threadcut::check::{self, Options, Report, Source};
+use threadcut::commands::with_stock;
 use threadcut::thread::standard;
 
 use super::{
@@ -16,10 +17,8 @@ use super::{
 
 /// `check`'s options as the command line gives them.
 pub struct Args<'a> {
-    pub stock_diameter: Option<f64>,
-    pub stock_start: Option<f64>,
-    pub stock_length: Option<f64>,
-    pub stock_bore: Option<f64>,
+    /// The stock given on the command line (the profile's `[stock]` fills the rest).
+    pub stock: threadcut::machine::Stock,
     pub tool: &'a ToolArgs,
     pub thread: Option<&'a str>,
     pub format: ReportFormat,
@@ -34,13 +33,10 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         None => None,
     };
     let opts = Options {
-        stock_diameter: args.stock_diameter,
-        stock_start: args.stock_start,
-        stock_length: args.stock_length,
-        stock_bore: args.stock_bore,
         tip: args.tool.given_tip()?,
         thread,
         max_blocks: args.run.max_blocks,
+        ..Options::default()
     };
     let (mut input, content) = input::open(file)?;
     let report = if is_apt(file, &mut input) {
@@ -48,9 +44,11 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
             (None, None) => None,
             _ => Some(load_machine(machine)?),
         };
+        let opts = with_stock(opts, args.stock, machine.as_ref());
         check::check(input, Source::Apt(machine.as_ref()), &opts)
     } else {
         let machine = load_machine(machine)?;
+        let opts = with_stock(opts, args.stock, Some(&machine));
         check::check(input, Source::Gcode(&machine), &opts)
     }
     .map_err(|e| failure(file, e))?;

@@ -72,6 +72,68 @@ pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
     Ok((Box::new(Watch::new(reader, seen, bar)), content))
 }
 
+/// A program read more than once (`plot` and `passes` read it for `check` and then for the
+/// threads): the file again, or standard input, kept in a temporary file as it is first read so
+/// that memory stays bounded whatever its size.
+pub struct Replay {
+    path: std::path::PathBuf,
+    _kept: Option<tempfile::NamedTempFile>,
+}
+
+impl Replay {
+    /// The program `file` names (`-`: standard input, copied to a temporary file now).
+    pub fn new(file: &Path) -> Result<Replay, Failure> {
+        if file.as_os_str() != "-" {
+            return Ok(Replay {
+                path: file.to_path_buf(),
+                _kept: None,
+            });
+        }
+        let cannot = |e: io::Error| {
+            Failure::Other(format!(
+                "cannot keep standard input for a second reading: {}",
+                reason(&e)
+            ))
+        };
+        let mut kept = tempfile::NamedTempFile::new().map_err(cannot)?;
+        io::copy(&mut io::stdin().lock(), kept.as_file_mut()).map_err(cannot)?;
+        Ok(Replay {
+            path: kept.path().to_path_buf(),
+            _kept: Some(kept),
+        })
+    }
+
+    /// The first reading, watched as [`open`] watches it (`file`: the name in messages).
+    pub fn first(&self, file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
+        open(&self.path).map_err(|e| match e {
+            Failure::Usage(_) if file.as_os_str() == "-" => {
+                Failure::Other("cannot read standard input again".into())
+            }
+            other => other,
+        })
+    }
+
+    /// Another reading, from the start.
+    pub fn again(&self) -> io::Result<Box<dyn BufRead>> {
+        Ok(Box::new(BufReader::with_capacity(
+            1 << 16,
+            File::open(&self.path)?,
+        )))
+    }
+}
+
+/// The readings of a [`Replay`] as one opener: the watched first one, then fresh ones.
+pub fn readings<'a>(
+    replay: &'a Replay,
+    first: Box<dyn BufRead>,
+) -> impl FnMut() -> io::Result<Box<dyn BufRead>> + 'a {
+    let mut first = Some(first);
+    move || match first.take() {
+        Some(r) => Ok(r),
+        None => replay.again(),
+    }
+}
+
 /// The input on its way through: what it holds and how far it has been read.
 struct Watch<R> {
     inner: R,

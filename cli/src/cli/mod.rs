@@ -110,6 +110,44 @@ impl ToolArgs {
     }
 }
 
+/// The stock the program's part is cut from; each value not given is the machine profile's
+/// `[stock]` value, if it has one.
+#[derive(clap::Args)]
+struct StockArgs {
+    /// Diameter of the bar (program units): the part every move of the program cuts; default:
+    /// not known (only the surfaces the program cuts are facts; a thread's crest is assumed).
+    #[arg(long, value_name = "D")]
+    stock_diameter: Option<f64>,
+    /// Z of the bar's face (program units); default: Z0 is assumed.
+    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
+    stock_start: Option<f64>,
+    /// Length of the bar from its face toward the chuck (program units); default: not known.
+    #[arg(long, value_name = "L")]
+    stock_length: Option<f64>,
+    /// Diameter of a bore through the bar (a tube; program units); default: none is known.
+    #[arg(long, value_name = "D")]
+    stock_bore: Option<f64>,
+}
+
+impl StockArgs {
+    /// The values given, each to be taken over the profile's ([`threadcut::commands::with_stock`]).
+    fn given(&self) -> Result<threadcut::machine::Stock, Failure> {
+        let check = |name: &str, v: Option<f64>, positive: bool| match v {
+            Some(v) if !v.is_finite() || (positive && v <= 0.0) => Err(Failure::Usage(format!(
+                "--stock-{name} {v}: expected a length{}",
+                if positive { " above 0" } else { "" }
+            ))),
+            _ => Ok(v),
+        };
+        Ok(threadcut::machine::Stock {
+            diameter: check("diameter", self.stock_diameter, true)?,
+            face: check("start", self.stock_start, false)?,
+            length: check("length", self.stock_length, true)?,
+            bore: check("bore", self.stock_bore, true)?,
+        })
+    }
+}
+
 /// How a program with control flow (subroutines, loops, parameters) is run.
 #[derive(clap::Args, Clone, Copy)]
 struct RunArgs {
@@ -245,6 +283,9 @@ struct PassesArgs {
     output: OutputArg,
     #[command(flatten)]
     tool: ToolArgs,
+    /// The stock, for each thread's blank (as `check` takes it).
+    #[command(flatten)]
+    stock: StockArgs,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -256,19 +297,8 @@ struct CheckArgs {
     input: InputArg,
     #[command(flatten)]
     machine: MachineArgs,
-    /// Diameter of the bar (program units): the part every move of the program cuts; default:
-    /// not known (only the surfaces the program cuts are facts; a thread's crest is assumed).
-    #[arg(long, value_name = "D")]
-    stock_diameter: Option<f64>,
-    /// Z of the bar's face (program units); default: Z0 is assumed.
-    #[arg(long, value_name = "Z", allow_negative_numbers = true)]
-    stock_start: Option<f64>,
-    /// Length of the bar from its face toward the chuck (program units); default: not known.
-    #[arg(long, value_name = "L")]
-    stock_length: Option<f64>,
-    /// Diameter of a bore through the bar (a tube; program units); default: none is known.
-    #[arg(long, value_name = "D")]
-    stock_bore: Option<f64>,
+    #[command(flatten)]
+    stock: StockArgs,
     #[command(flatten)]
     tool: ToolArgs,
     /// Judge the thread cut against a standard thread's class limits (`M50x2-6g`,
@@ -297,11 +327,17 @@ struct PlotArgs {
     /// Draw only this thread (1 = the program's first; `threadcut passes` lists them in order).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(1..))]
     cycle: Option<u32>,
+    /// Draw only the part the program makes (the stock, the part, the threads' teeth, the rapids
+    /// into material), without the threads' panels: for big programs.
+    #[arg(long, conflicts_with = "cycle")]
+    part: bool,
     /// The picture's format.
     #[arg(long, value_enum, default_value = "svg")]
     format: SvgFormat,
     #[command(flatten)]
     tool: ToolArgs,
+    #[command(flatten)]
+    stock: StockArgs,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -656,10 +692,7 @@ fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
         &args.input.file,
         &args.machine,
         &check::Args {
-            stock_diameter: args.stock_diameter,
-            stock_start: args.stock_start,
-            stock_length: args.stock_length,
-            stock_bore: args.stock_bore,
+            stock: args.stock.given()?,
             tool: &args.tool,
             thread: args.thread.as_deref(),
             format: args.format,
@@ -675,10 +708,14 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
     plot::run(
         &args.input.file,
         &args.machine,
-        args.output.output.as_deref(),
-        args.cycle.map(|n| n as usize),
-        &args.tool,
-        &args.run.options(false)?,
+        &plot::Args {
+            out: args.output.output.as_deref(),
+            cycle: args.cycle.map(|n| n as usize),
+            part: args.part,
+            tool: &args.tool,
+            stock: args.stock.given()?,
+            run: &args.run.options(false)?,
+        },
     )
 }
 
@@ -693,15 +730,32 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
     };
     let file = &args.input.file;
     let out = args.output.output.as_deref();
-    let (mut reader, content) = input::open(file)?;
+    let replay = input::Replay::new(file)?;
+    let (mut reader, content) = replay.first(file)?;
     if post::is_apt(file, &mut reader) {
         post::passes(file, reader, &content, format, out, args.tool.tip()?)?;
         return Ok(ExitCode::SUCCESS);
     }
     let machine = load_machine(&args.machine)?;
     let tip = args.tool.tip()?;
+    let check = threadcut::commands::with_stock(
+        threadcut::check::Options {
+            tip: args.tool.given_tip()?,
+            max_blocks: options.max_blocks,
+            ..threadcut::check::Options::default()
+        },
+        args.stock.given()?,
+        Some(&machine),
+    );
+    // Each thread's blank, from `check` over the same program.
+    let mut blanks =
+        threadcut::commands::Blanks::of(reader, threadcut::check::Source::Gcode(&machine), &check);
+    let reader = replay
+        .again()
+        .map_err(|e| Failure::Usage(format!("cannot read {}: {}", file.display(), reason(&e))))?;
     let (summary, count) = output::write(file, out, |out| {
-        let done = passes(reader, out, &machine, format, tip, &options).map_err(lib(file))?;
+        let done =
+            passes(reader, out, &machine, format, tip, &options, &mut blanks).map_err(lib(file))?;
         not_empty(file, &content)?;
         Ok(done)
     })?;
@@ -847,13 +901,15 @@ fn passes(
     format: ReportFormat,
     tip: threadcut::sim::Tip,
     options: &program::Options,
+    blanks: &mut threadcut::commands::Blanks,
 ) -> Result<(Summary, u32), Error> {
     let mut writer = passes::PassesWriter::begin(out, format, tip)?;
     let mut count = 0;
     let summary = threadcut::threads::each_gcode_with(input, machine, None, options, |t| {
         count += 1;
         let decimals = machine.decimals(t.job.units) as usize + 1;
-        writer.thread(out, &t, decimals, "")
+        let blank = blanks.take(t.job.line);
+        writer.thread_with(out, &t, decimals, "", blank)
     })?;
     writer.end(out)?;
     Ok((summary, count))

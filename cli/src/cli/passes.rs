@@ -3,6 +3,8 @@
 
 use std::io::{self, Write};
 
+use threadcut::check::ThreadBlank;
+use threadcut::commands;
 use threadcut::program::{self, Error};
 use threadcut::sim::{self, tip_in_mm, Tip, Tool};
 use threadcut::thread::PassKind;
@@ -37,6 +39,19 @@ impl PassesWriter {
         decimals: usize,
         columns: &str,
     ) -> Result<(), Error> {
+        self.thread_with(out, t, decimals, columns, None)
+    }
+
+    /// [`PassesWriter::thread`] with the thread's blank as `check` took it: a `blank` object in
+    /// JSON, a line after the title in text.
+    pub fn thread_with(
+        &mut self,
+        out: &mut dyn Write,
+        t: &Thread,
+        decimals: usize,
+        columns: &str,
+        blank: Option<&ThreadBlank>,
+    ) -> Result<(), Error> {
         let job = &t.job;
         let passes = &t.passes;
         let rows = program::pass_rows(job, passes, t.diameter_x);
@@ -54,7 +69,10 @@ impl PassesWriter {
             if self.cycles > 0 && self.format == ReportFormat::Json {
                 out.write_all(b",")?;
             }
-            let cycle = threads::passes_json(t, section.as_ref());
+            let mut cycle = threads::passes_json(t, section.as_ref());
+            if let (Some(o), Some(b)) = (cycle.as_object_mut(), blank) {
+                o.insert("blank".into(), commands::blank_json(b));
+            }
             serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
             if self.format == ReportFormat::Jsonl {
                 out.write_all(b"\n")?;
@@ -75,6 +93,9 @@ impl PassesWriter {
                     "; depths from the first pass: the crest is not known"
                 }
             )?;
+            if let Some(b) = blank {
+                writeln!(out, "{}", commands::blank_text(b))?;
+            }
             writeln!(
                 out,
                 "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6} {:>10} {:>6}  {:<5}",

@@ -1,10 +1,13 @@
-//! `threadcut plot FILE [-o out.svg]`: each thread's pass diagram and XZ toolpath, in one SVG; at
-//! most [`render::MAX_PLOTTED`] threads, or the one `--cycle N` names, and what was left out said
-//! in the picture and on standard error.
+//! `threadcut plot FILE [-o out.svg]`: the part the program makes (where it cuts anything, a
+//! stock is given or a rapid runs into material), then each thread's pass diagram and XZ
+//! toolpath, in one SVG; at most [`render::MAX_PLOTTED`] threads, or the one `--cycle N` names,
+//! and what was left out said in the picture and on standard error. `--part`: the part alone.
 
 use std::path::Path;
 use std::process::ExitCode;
 
+use threadcut::check;
+use threadcut::commands::{plot_program, with_stock, PartPlot, Source};
 use threadcut::render::{self, Selection};
 
 use super::{
@@ -12,16 +15,23 @@ use super::{
     thread_codes, warn, Failure, MachineArgs, ToolArgs,
 };
 
-pub fn run(
-    file: &Path,
-    machine: &MachineArgs,
-    out: Option<&Path>,
-    cycle: Option<usize>,
-    tool: &ToolArgs,
-    options: &threadcut::program::Options,
-) -> Result<ExitCode, Failure> {
-    let tip = tool.tip()?;
-    let (mut reader, content) = input::open(file)?;
+/// `plot`'s options as the command line gives them.
+pub struct Args<'a> {
+    pub out: Option<&'a Path>,
+    pub cycle: Option<usize>,
+    /// The part alone (`--part`).
+    pub part: bool,
+    pub tool: &'a ToolArgs,
+    /// The stock given on the command line (the profile's `[stock]` fills the rest).
+    pub stock: threadcut::machine::Stock,
+    pub run: &'a threadcut::program::Options,
+}
+
+pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, Failure> {
+    let (out, cycle, options) = (args.out, args.cycle, args.run);
+    let tip = args.tool.tip()?;
+    let replay = input::Replay::new(file)?;
+    let (mut reader, content) = replay.first(file)?;
     // APT/CL needs no controller; G-code is read by the controller's dialect.
     let (apt, codes) = if is_apt(file, &mut reader) {
         (None, threadcut::commands::APT_THREAD_STATEMENTS.to_string())
@@ -34,10 +44,32 @@ pub fn run(
         only: cycle,
         ..Selection::default()
     };
+    let part = PartPlot {
+        check: with_stock(
+            check::Options {
+                tip: args.tool.given_tip()?,
+                ..check::Options::default()
+            },
+            args.stock,
+            apt.as_ref(),
+        ),
+        alone: args.part,
+    };
     let plot = output::write(file, out, |w| {
         let plot = match &apt {
+            None if args.part => Err(Failure::Usage(format!(
+                "--part: {} is an APT/CL file, and the part is drawn for G-code programs",
+                input::display(file)
+            )))?,
             None => render::apt_plot(reader, tip, selection),
-            Some(machine) => render::program_plot_with(reader, machine, tip, selection, options),
+            Some(machine) => plot_program(
+                input::readings(&replay, reader),
+                Source::Gcode(machine),
+                tip,
+                selection,
+                options,
+                &part,
+            ),
         }
         .map_err(lib(file))?;
         not_empty(file, &content)?;
@@ -53,6 +85,9 @@ pub fn run(
         Ok(plot)
     })?;
     warn(file, &plot.summary);
+    if args.part {
+        return Ok(ExitCode::SUCCESS);
+    }
     if plot.threads == 0 {
         no_thread(file, &codes);
     } else if cycle.is_none() && plot.drawn.len() < plot.threads {
