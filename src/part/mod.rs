@@ -591,8 +591,8 @@ impl Part {
                     (f64::from(p.y) + f64::from(q.y)) / 2.0,
                 );
                 let Some(&(a, b)) = segs.iter().min_by(|s, t| {
-                    crate::sim::segment_distance(m, s.0, s.1)
-                        .total_cmp(&crate::sim::segment_distance(m, t.0, t.1))
+                    crate::sim::segment_distance_sq(m, s.0, s.1)
+                        .total_cmp(&crate::sim::segment_distance_sq(m, t.0, t.1))
                 }) else {
                     return false;
                 };
@@ -758,8 +758,7 @@ impl Part {
             let (t0, t1) = (w[0], w[1]);
             let inside = (1..=DEPTH_SAMPLES).any(|i| {
                 let p = at(t0 + (t1 - t0) * i as f64 / (DEPTH_SAMPLES + 1) as f64);
-                outline::inside(&self.rings, p)
-                    && outline::nearest_edge(&self.rings, p).is_some_and(|e| e.0 > deep)
+                outline::inside(&self.rings, p) && !outline::near_edge(&self.rings, p, deep)
             });
             if inside && !was_inside {
                 let entry = at(t0);

@@ -4,8 +4,6 @@
 //! Rings run counter-clockwise around material and clockwise around holes in (x, z), so the
 //! material always lies left of an edge.
 
-use std::collections::HashMap;
-
 use i_overlay::core::extract::BooleanExtractionBuffer;
 use i_overlay::core::fill_rule::FillRule;
 use i_overlay::core::overlay::{IntOverlayOptions, Overlay};
@@ -149,18 +147,22 @@ impl Engine {
 /// The old outline's edges, found by their ends.
 struct OldEdges<'m> {
     material: &'m [Ring],
-    by_start: HashMap<(i32, i32), (Point, Origin)>,
-    by_end: HashMap<(i32, i32), (Point, Origin)>,
+    /// Each edge by its start, and by its end, sorted by that point (outlines are small: a
+    /// sorted table beats hashing them on every cut).
+    by_start: Vec<((i32, i32), (Point, Origin))>,
+    by_end: Vec<((i32, i32), (Point, Origin))>,
 }
 
 impl<'m> OldEdges<'m> {
     fn new(material: &'m [Ring]) -> OldEdges<'m> {
         let n: usize = material.iter().map(|r| r.pts.len()).sum();
-        let (mut by_start, mut by_end) = (HashMap::with_capacity(n), HashMap::with_capacity(n));
+        let (mut by_start, mut by_end) = (Vec::with_capacity(n), Vec::with_capacity(n));
         for (a, b, o) in material.iter().flat_map(Ring::edges) {
-            by_start.insert((a.x, a.y), (b, o));
-            by_end.insert((b.x, b.y), (a, o));
+            by_start.push(((a.x, a.y), (b, o)));
+            by_end.push(((b.x, b.y), (a, o)));
         }
+        by_start.sort_unstable_by_key(|e| e.0);
+        by_end.sort_unstable_by_key(|e| e.0);
         OldEdges {
             material,
             by_start,
@@ -168,15 +170,22 @@ impl<'m> OldEdges<'m> {
         }
     }
 
+    fn find(table: &[((i32, i32), (Point, Origin))], p: Point) -> Option<(Point, Origin)> {
+        table
+            .binary_search_by_key(&(p.x, p.y), |e| e.0)
+            .ok()
+            .map(|i| table[i].1)
+    }
+
     /// The origin of the old edge that the result edge `a` → `b` is part of, found from its
     /// ends: the old edge leaving `a` or reaching `b` along the same line.
     fn by_ends(&self, a: Point, b: Point) -> Option<Origin> {
-        if let Some(&(end, o)) = self.by_start.get(&(a.x, a.y)) {
+        if let Some((end, o)) = Self::find(&self.by_start, a) {
             if along(a, end, b) {
                 return Some(o);
             }
         }
-        if let Some(&(start, o)) = self.by_end.get(&(b.x, b.y)) {
+        if let Some((start, o)) = Self::find(&self.by_end, b) {
             if along(b, start, a) {
                 return Some(o);
             }
@@ -404,8 +413,25 @@ pub fn nearest_edge(rings: &[Ring], p: (f64, f64)) -> Option<(f64, Point, Point,
     rings
         .iter()
         .flat_map(Ring::edges)
-        .map(|(a, b, o)| (segment_distance(p, a, b), a, b, o))
+        .map(|(a, b, o)| {
+            (
+                crate::sim::segment_distance_sq(p, float(a), float(b)),
+                a,
+                b,
+                o,
+            )
+        })
         .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(d2, a, b, o)| (d2.sqrt(), a, b, o))
+}
+
+/// Whether some edge lies within `d` (grid steps) of `p`.
+pub fn near_edge(rings: &[Ring], p: (f64, f64), d: f64) -> bool {
+    let d2 = d * d;
+    rings
+        .iter()
+        .flat_map(Ring::edges)
+        .any(|(a, b, _)| crate::sim::segment_distance_sq(p, float(a), float(b)) <= d2)
 }
 
 #[cfg(test)]

@@ -345,6 +345,11 @@ pub fn profile_deviation(section: &Section, target: &[(f64, f64)], margin: f64) 
 
 /// Distance from `p` to the segment `a`–`b`.
 pub(crate) fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    segment_distance_sq(p, a, b).sqrt()
+}
+
+/// The square of [`segment_distance`] (for comparisons: no root taken).
+pub(crate) fn segment_distance_sq(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let len2 = dx * dx + dy * dy;
     let k = if len2 > 0.0 {
@@ -352,7 +357,8 @@ pub(crate) fn segment_distance(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f
     } else {
         0.0
     };
-    (p.0 - a.0 - k * dx).hypot(p.1 - a.1 - k * dy)
+    let (ex, ey) = (p.0 - a.0 - k * dx, p.1 - a.1 - k * dy);
+    ex * ex + ey * ey
 }
 
 fn contour(points: &[(f64, f64)]) -> Contour {
