@@ -145,12 +145,15 @@ impl Engine {
 }
 
 /// The old outline's edges, found by their ends.
+/// An edge of the old outline by one of its ends: that end, the other end, its origin.
+type EdgeAt = ((i32, i32), (Point, Origin));
+
 struct OldEdges<'m> {
     material: &'m [Ring],
     /// Each edge by its start, and by its end, sorted by that point (outlines are small: a
     /// sorted table beats hashing them on every cut).
-    by_start: Vec<((i32, i32), (Point, Origin))>,
-    by_end: Vec<((i32, i32), (Point, Origin))>,
+    by_start: Vec<EdgeAt>,
+    by_end: Vec<EdgeAt>,
 }
 
 impl<'m> OldEdges<'m> {
@@ -170,7 +173,7 @@ impl<'m> OldEdges<'m> {
         }
     }
 
-    fn find(table: &[((i32, i32), (Point, Origin))], p: Point) -> Option<(Point, Origin)> {
+    fn find(table: &[EdgeAt], p: Point) -> Option<(Point, Origin)> {
         table
             .binary_search_by_key(&(p.x, p.y), |e| e.0)
             .ok()
