@@ -43,3 +43,20 @@ pub fn run(bin: &Path, args: &[&str]) {
 pub fn base_binary() -> Option<PathBuf> {
     find_binary("THREADCUT_BASE_BIN", &[], None)
 }
+
+/// Runs `bin args…` to completion, its output to the null device, whatever its exit status (a
+/// `check` that finds errors exits 2); panics only if it cannot run or is killed.
+pub fn run_any(bin: &Path, args: &[&str]) {
+    let status = Command::new(bin)
+        .args(args)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .unwrap();
+    assert!(
+        status.code().is_some(),
+        "{} {args:?}: {status}",
+        bin.display()
+    );
+}
