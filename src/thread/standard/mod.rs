@@ -30,6 +30,7 @@ pub mod pipe;
 pub mod profile;
 pub mod trapezoidal;
 pub mod whitworth;
+pub mod wires;
 
 use std::fmt;
 
