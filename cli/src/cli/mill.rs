@@ -36,6 +36,7 @@ pub fn thread(
     list: bool,
     cycle: Option<CycleArgs>,
     out: Option<&std::path::Path>,
+    wire: Option<f64>,
 ) -> Result<(), Failure> {
     let stdin = std::path::Path::new("-");
     if list {
@@ -53,6 +54,17 @@ pub fn thread(
         ));
     };
     let t = standard::lookup(name).map_err(thread_usage)?;
+    let wire = match wire {
+        Some(w) if w.is_finite() && w > 0.0 => Some(t.units.to_mm(w)),
+        Some(w) => {
+            return Err(Failure::Usage(format!(
+                "--wire {w}: a measuring wire's diameter is a positive length ({})",
+                t.units.name()
+            )))
+        }
+        None => None,
+    };
+    let wires = t.wires(wire);
     let taper = match cycle {
         Some(c) => Some(taper_word(&t, &c)?),
         None => None,
@@ -60,6 +72,7 @@ pub fn thread(
     output::write(stdin, out, |w| {
         if json {
             let mut v = t.to_json();
+            v["wires"] = wires.to_json(t.units);
             if let Some((_, j)) = &taper {
                 v["cycle"] = j.clone();
             }
@@ -68,6 +81,7 @@ pub fn thread(
             writeln!(w).map_err(write_failure)?;
         } else {
             write_thread(w, &t).map_err(write_failure)?;
+            write_wires(w, &t, &wires).map_err(write_failure)?;
             if let Some((text, _)) = &taper {
                 w.write_all(text.as_bytes()).map_err(write_failure)?;
             }
@@ -410,6 +424,62 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
         writeln!(out, "  (limits at the gauge plane)")?;
     }
     Ok(())
+}
+
+/// The three-wire measurement: the wires that fit, and M over the wire at the basic pitch
+/// diameter and at the external class's limits, by both formulas.
+fn write_wires(
+    out: &mut dyn Write,
+    t: &StandardThread,
+    w: &standard::wires::Wires,
+) -> io::Result<()> {
+    let u = t.units;
+    let d = decimals(u) + 1;
+    let un = u.name();
+    let v = |mm: f64| u.from_mm(mm);
+    let at = if t.taper.is_some() {
+        ", at the gauge plane"
+    } else {
+        ""
+    };
+    writeln!(
+        out,
+        "three wires ({un}{at}): best wire {:.d$}; wires from {:.d$} to {:.d$} touch the flanks",
+        v(w.best),
+        v(w.min),
+        v(w.max)
+    )?;
+    if !w.fits {
+        writeln!(
+            out,
+            "  the {:.d$} wire does not touch both flanks below the crest: M over it does not measure the pitch diameter",
+            v(w.wire)
+        )?;
+    }
+    writeln!(
+        out,
+        "  M over {:.d$} wires: simple / with the lead angle",
+        v(w.wire)
+    )?;
+    writeln!(
+        out,
+        "    basic E {:.d$}: {:.d$} / {:.d$}",
+        v(w.basic.pitch_diameter),
+        v(w.basic.simple),
+        v(w.basic.corrected)
+    )?;
+    if let (Some((lo, hi)), Some(class)) = (&w.limits, &w.class) {
+        for (name, o) in [("min", lo), ("max", hi)] {
+            writeln!(
+                out,
+                "    {class} E {name} {:.d$}: {:.d$} / {:.d$}",
+                v(o.pitch_diameter),
+                v(o.simple),
+                v(o.corrected)
+            )?;
+        }
+    }
+    writeln!(out, "  ({})", standard::wires::FORMULAS)
 }
 
 fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {

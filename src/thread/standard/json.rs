@@ -8,7 +8,7 @@ use super::{Edge, Family, Limits, StandardThread};
 
 impl StandardThread {
     /// `{name, family, series, units, pitch, pitch_mm, tpi, basic, thread_height, turning_infeed,
-    /// external, internal}`, and for the forms other than ISO metric and Unified also `profile`
+    /// external, internal, wires}` (`wires`: [`super::wires::Wires::to_json`] with the best wire), and for the forms other than ISO metric and Unified also `profile`
     /// and `taper`. Lengths are in the standard's units ([`StandardThread::units`]); `pitch_mm`
     /// is the pitch in mm.
     pub fn to_json(&self) -> Value {
@@ -47,6 +47,7 @@ impl StandardThread {
             "external": self.external.as_ref().map(limits),
             "internal": self.internal.as_ref().map(limits),
         });
+        v["wires"] = self.wires(None).to_json(u);
         if !matches!(self.family, Family::Metric | Family::Unified) {
             let e = |e: &Edge| match *e {
                 Edge::Sharp => json!({"kind": "sharp"}),

@@ -177,6 +177,37 @@ impl StandardThread {
     }
 }
 
+/// The formulas [`Wires`] uses, as `threadcut thread` names them.
+pub const FORMULAS: &str = "simple: M = E − P·cot α/2 + w·(1 + cosec α); with the lead angle λ (tan λ = L/(π·E)): + w·½·tan²λ·cos α·cot α (NBS Handbook H28's three-wire method, as in ASME B1.2)";
+
+impl Wires {
+    /// `{wire, best, min, max, fits, formula, basic, class, limits}` in `units` (M, E and wires
+    /// rounded to 1e-6 of the unit); `basic` and each of `limits.min` / `limits.max` is
+    /// `{pitch_diameter, simple, corrected}`.
+    pub fn to_json(&self, units: crate::units::Units) -> serde_json::Value {
+        use serde_json::json;
+        let n = |mm: f64| json!((units.from_mm(mm) * 1e6).round() / 1e6);
+        let at = |o: &OverWires| {
+            json!({
+                "pitch_diameter": n(o.pitch_diameter),
+                "simple": n(o.simple),
+                "corrected": n(o.corrected),
+            })
+        };
+        json!({
+            "wire": n(self.wire),
+            "best": n(self.best),
+            "min": n(self.min),
+            "max": n(self.max),
+            "fits": self.fits,
+            "formula": FORMULAS,
+            "basic": at(&self.basic),
+            "class": self.class,
+            "limits": self.limits.as_ref().map(|(lo, hi)| json!({"min": at(lo), "max": at(hi)})),
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::lookup;
