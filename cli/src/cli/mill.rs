@@ -345,13 +345,29 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
     } else {
         ""
     };
-    writeln!(
-        out,
-        "basic{at} ({un}): major {:.d5$}  pitch diameter {:.d5$}  minor {:.d5$}",
-        v(t.basic.major),
-        v(t.basic.pitch_diameter),
-        v(t.basic.minor),
-    )?;
+    if t.family == standard::Family::Trapezoidal {
+        // ISO 2904 names the diameters by side: d and D4, d2 = D2, d3 and D1; a_c is the crest
+        // clearance between d and D4 (and d3 and D1).
+        let ac = standard::trapezoidal::crest_clearance(t.pitch);
+        writeln!(
+            out,
+            "basic ({un}): major d {:.d5$} (internal D4 {:.d5$})  pitch diameter d2 = D2 {:.d5$}  minor d3 {:.d5$} (external), D1 {:.d5$} (internal); crest clearance ac {:.d5$}",
+            v(t.basic.major),
+            v(t.basic.major + 2.0 * ac),
+            v(t.basic.pitch_diameter),
+            v(t.basic.major - 2.0 * t.external_depth),
+            v(t.basic.minor),
+            v(ac),
+        )?;
+    } else {
+        writeln!(
+            out,
+            "basic{at} ({un}): major {:.d5$}  pitch diameter {:.d5$}  minor {:.d5$}",
+            v(t.basic.major),
+            v(t.basic.pitch_diameter),
+            v(t.basic.minor),
+        )?;
+    }
     writeln!(
         out,
         "thread height / turning infeed ({un}, radial): external {:.d5$}, internal {:.d5$}",
@@ -490,10 +506,16 @@ fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
         Side::External => ("external", "es"),
         Side::Internal => ("internal", "EI"),
     };
+    // A pipe thread's one class is named by its side ("internal"): the side is said once.
+    let class = l.class.to_string();
+    let class = if class == side {
+        String::new()
+    } else {
+        format!(" {class}")
+    };
     writeln!(
         out,
-        "{side} {}: {dev} {:+.d$} {}",
-        l.class,
+        "{side}{class}: {dev} {:+.d$} {}",
         u.from_mm(l.deviation),
         u.name()
     )?;

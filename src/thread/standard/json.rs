@@ -48,6 +48,12 @@ impl StandardThread {
             "internal": self.internal.as_ref().map(limits),
         });
         v["wires"] = self.wires(None).to_json(u);
+        if self.family == Family::Trapezoidal {
+            // ISO 2904's a_c and the external minor diameter d3 (`basic.minor` is D1).
+            let ac = super::trapezoidal::crest_clearance(self.pitch);
+            v["basic"]["crest_clearance"] = n(ac);
+            v["basic"]["external_minor"] = n(self.basic.major - 2.0 * self.external_depth);
+        }
         if !matches!(self.family, Family::Metric | Family::Unified) {
             let e = |e: &Edge| match *e {
                 Edge::Sharp => json!({"kind": "sharp"}),
