@@ -290,8 +290,40 @@ fn write_thread(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
         };
         let Some(l) = given else { continue };
         write_limits(out, &l, u)?;
+        write_gauges(out, t, &l)?;
     }
     Ok(())
+}
+
+/// The GO / NOT GO gauges of a metric (ISO 1502) or Unified (ASME B1.2) class.
+fn write_gauges(out: &mut dyn Write, t: &StandardThread, l: &Limits) -> io::Result<()> {
+    let u = t.units;
+    let d = decimals(u);
+    let standard = match t.family {
+        standard::Family::Metric => "ISO 1502",
+        _ => "ASME B1.2",
+    };
+    let pairs = standard::gauges::gauges(l);
+    let said: Vec<String> = pairs
+        .iter()
+        .map(|g| {
+            format!(
+                "{} ({}) GO {:.d$} / NOT GO {:.d$}",
+                g.gauge,
+                g.diameter,
+                u.from_mm(g.go),
+                u.from_mm(g.not_go)
+            )
+        })
+        .collect();
+    if said.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        out,
+        "  gauges ({standard}, at the class limits; gauge tolerances not applied): {}",
+        said.join("; ")
+    )
 }
 
 fn edge_text(e: &standard::Edge, u: Units, d: usize) -> String {

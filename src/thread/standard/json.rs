@@ -48,6 +48,21 @@ impl StandardThread {
             "internal": self.internal.as_ref().map(limits),
         });
         v["wires"] = self.wires(None).to_json(u);
+        if matches!(self.family, Family::Metric | Family::Unified) {
+            // GO / NOT GO gauge sizes of each side named (ISO 1502, ASME B1.2).
+            let pairs = |l: &Limits| {
+                super::gauges::gauges(l)
+                    .iter()
+                    .map(|g| {
+                        json!({"gauge": g.gauge, "diameter": g.diameter, "go": o(Some(g.go)), "not_go": o(Some(g.not_go))})
+                    })
+                    .collect::<Vec<_>>()
+            };
+            v["gauges"] = json!({
+                "external": self.external.as_ref().map(pairs),
+                "internal": self.internal.as_ref().map(pairs),
+            });
+        }
         if self.family == Family::Trapezoidal {
             // ISO 2904's a_c and the external minor diameter d3 (`basic.minor` is D1).
             let ac = super::trapezoidal::crest_clearance(self.pitch);

@@ -24,6 +24,7 @@
 
 pub mod acme;
 pub mod gauge;
+pub mod gauges;
 mod json;
 pub mod lathe;
 pub mod pipe;
