@@ -37,7 +37,8 @@ fn number_after(text: &str, key: &str) -> f64 {
         .chars()
         .take_while(|c| c.is_ascii_digit() || *c == '.')
         .collect();
-    n.parse().unwrap_or_else(|_| panic!("no number after `{key}` in {text}"))
+    n.parse()
+        .unwrap_or_else(|_| panic!("no number after `{key}` in {text}"))
 }
 
 fn close(got: f64, want: f64, tol: f64, what: &str) {
@@ -78,7 +79,8 @@ fn unified_60_inch() {
 /// d2 36.020–36.375 (ISO 2904): middle 36.1975, (36.5 − 36.1975)/2 = 0.15125 deeper.
 #[test]
 fn trapezoidal_30() {
-    let src = "G97 S200 M03\nG00 X44. Z10.\nG76 P010030 Q50 R0.02\nG76 X32. Z-40. P4000 Q500 F7.\nM30\n";
+    let src =
+        "G97 S200 M03\nG00 X44. Z10.\nG76 P010030 Q50 R0.02\nG76 X32. Z-40. P4000 Q500 F7.\nM30\n";
     let n = notes(src, "fanuc", "Tr40x7-7e");
     close(number_after(&n, "M = "), 41.0856, 6e-5, "M");
     close(number_after(&n, "cutting "), 0.15125, 6e-5, "deeper");
@@ -111,7 +113,8 @@ fn whitworth_55_inch() {
 /// 10.863342; 6H d2 10.863–11.063, middle 10.963: (10.963 − 10.863342)/2 = 0.0498 deeper.
 #[test]
 fn internal_gets_the_depth_to_the_middle() {
-    let src = "G97 S800 M03\nG00 X9. Z5.\nG76 P010060 Q50 R0.02\nG76 X12. Z-20. P947 Q300 F1.75\nM30\n";
+    let src =
+        "G97 S800 M03\nG00 X9. Z5.\nG76 P010060 Q50 R0.02\nG76 X12. Z-20. P947 Q300 F1.75\nM30\n";
     let n = notes(src, "fanuc", "M12x1.75-6H");
     assert!(!n.contains("M = "), "{n}");
     close(number_after(&n, "cutting "), 0.0498, 1.5e-4, "deeper");

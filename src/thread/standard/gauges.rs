@@ -80,7 +80,13 @@ mod tests {
         let t = lookup("1/2-13 UNC-2A").unwrap();
         let e = gauges(&t.external.unwrap());
         let close = |a: f64, b: f64| (a / 25.4 - b).abs() < 5e-5;
-        assert!(close(e[0].go, 0.4485) && close(e[0].not_go, 0.4435), "{e:?}");
-        assert!(close(e[1].go, 0.4985) && close(e[1].not_go, 0.4876), "{e:?}");
+        assert!(
+            close(e[0].go, 0.4485) && close(e[0].not_go, 0.4435),
+            "{e:?}"
+        );
+        assert!(
+            close(e[1].go, 0.4985) && close(e[1].not_go, 0.4876),
+            "{e:?}"
+        );
     }
 }

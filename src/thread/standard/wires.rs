@@ -289,7 +289,12 @@ mod tests {
         near(w.best, 3.623467, 1e-6, "Tr best wire");
         near(w.basic.simple, 41.061289, 1e-6, "Tr M");
         let t = lookup("1-5 ACME-2G").unwrap();
-        near(t.wires(None).best / IN, 0.516450 / 5.0, 1e-6, "Acme best wire");
+        near(
+            t.wires(None).best / IN,
+            0.516450 / 5.0,
+            1e-6,
+            "Acme best wire",
+        );
     }
 
     /// The lead-angle term ½·tan²λ·cos α·cot α·w: hand-computed for 1-5 Acme (E basic 0.9 in,
