@@ -161,7 +161,11 @@ pub fn judge(
         show(judged.pitch_diameter),
         show(judged.basic),
         judged.standoff_turns,
-        show(judged.standoff_turns * target.thread.pitch),
+        format!(
+            "{}{}",
+            if judged.standoff_turns < 0.0 { "-" } else { "+" },
+            show((judged.standoff_turns * target.thread.pitch).abs())
+        ),
         target.thread.units.name(),
         judged.allowed_turns,
         judged.taper.abs(),
