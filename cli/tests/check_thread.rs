@@ -350,7 +350,7 @@ fn npt_external_judged_at_its_gauge_plane() {
     assert_eq!(code, 0, "{out}");
     assert!(!out.contains("E016") && !out.contains("W009"), "{out}");
     assert!(
-        out.contains("judged against 1/2-14 NPT at its gauge plane Z-0.32 (0.32 from the face at Z0, assumed): pitch diameter 0.7785 (basic 0.7784), the gauge +0.01 turns from its basic position (±1.00 allowed), taper 0.06250 on diameter"),
+        out.contains("judged against 1/2-14 NPT at its gauge plane Z-0.32 (0.32 from the face at Z0, assumed): pitch diameter 0.7785 (basic 0.7784), the gauge +0.01 turns (+0.0005 inch) from its basic position (±1.00 allowed), taper 0.06250 on diameter"),
         "{out}"
     );
     // A sharp tool and the face given: where the ring gauge stands is a fact.
@@ -424,7 +424,7 @@ fn rc_internal_judged_at_its_opening() {
     assert_eq!(code, 0, "{out}");
     assert!(!out.contains("E016") && !out.contains("W00"), "{out}");
     assert!(
-        out.contains("judged against Rc1/2 at its gauge plane Z0 (0 from the face at Z0, assumed): pitch diameter 19.7935 (basic 19.793), the gauge +0.00 turns from its basic position (±1.27 allowed), taper 0.06250 on diameter"),
+        out.contains("judged against Rc1/2 at its gauge plane Z0 (0 from the face at Z0, assumed): pitch diameter 19.7935 (basic 19.793), the gauge +0.00 turns (+0.0077 mm) from its basic position (±1.27 allowed), taper 0.06250 on diameter"),
         "{out}"
     );
     let (code, out) = check(

@@ -173,8 +173,61 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
             },
             at.show(m.root)
         ));
+        if let Some(measured) = what_is_measured(target, side, pd, None) {
+            said.push(measured);
+        }
     }
     notes.push(Note::new(span, said.join("; ")));
+}
+
+/// What the machinist will read off the thread the program cuts: for an external thread the
+/// measurement over wires (`wire`, else the best wire; H28's formula with the lead angle) next to
+/// the class's window, and for both sides the change of the final depth that brings the pitch
+/// diameter to the middle of the class's window. `None` when the class has no two-sided window.
+pub fn what_is_measured(
+    target: &Target,
+    side: Surface,
+    pd: f64,
+    wire: Option<f64>,
+) -> Option<String> {
+    use crate::thread::standard::wires::over_wires;
+    let t = target.thread;
+    let (lo, hi) = (target.limits.pitch.min?, target.limits.pitch.max?);
+    let u = t.units;
+    let unit = u.name();
+    let class = target.class_name();
+    // Deeper moves an external thread's pitch diameter down 2 per 1 of depth, an internal one's up.
+    let middle = (lo + hi) / 2.0;
+    let deeper = match side {
+        Surface::External => (pd - middle) / 2.0,
+        Surface::Internal => (middle - pd) / 2.0,
+    };
+    let change = if deeper.abs() < 5e-7 {
+        "it is at the window's middle".to_string()
+    } else {
+        format!(
+            "{} {} {unit} {} (on the radius) brings it to the window's middle",
+            if deeper > 0.0 { "cutting" } else { "stopping" },
+            length(u, deeper.abs()),
+            if deeper > 0.0 { "deeper" } else { "shallower" },
+        )
+    };
+    let wires = t.wires(wire);
+    let m_of = |e: f64| over_wires(&t.profile, t.pitch, t.pitch, e, wires.wire).corrected;
+    Some(match side {
+        Surface::External => format!(
+            "over {} wires this program gives M = {} {unit}, {class} allows {}–{} (M with the lead angle, NBS H28); {change}",
+            length(u, wires.wire),
+            length(u, m_of(pd)),
+            length(u, m_of(lo)),
+            length(u, m_of(hi)),
+        ),
+        Surface::Internal => format!(
+            "{class} allows a pitch diameter of {}–{} {unit}; {change}",
+            length(u, lo),
+            length(u, hi),
+        ),
+    })
 }
 
 /// The flank angles alone, where the rest cannot be judged (a taper thread whose gauge plane

@@ -155,12 +155,15 @@ pub fn judge(
         format!("the face at Z{}, assumed", length(job.units, face.z))
     };
     let summary = format!(
-        "at its gauge plane Z{} ({} from {face_said}): pitch diameter {} (basic {}), the gauge {:+.2} turns from its basic position (±{:.2} allowed), taper {:.5} on diameter",
+        "at its gauge plane Z{} ({} from {face_said}): pitch diameter {} (basic {}), the gauge {:+.2} turns ({}{} {}) from its basic position (±{:.2} allowed), taper {:.5} on diameter",
         length(job.units, judged.gauge_plane_z),
         show(taper.gauge_plane_from_face(side)),
         show(judged.pitch_diameter),
         show(judged.basic),
         judged.standoff_turns,
+        if judged.standoff_turns < 0.0 { "-" } else { "+" },
+        show((judged.standoff_turns * target.thread.pitch).abs()),
+        target.thread.units.name(),
         judged.allowed_turns,
         judged.taper.abs(),
     );

@@ -36,6 +36,7 @@ pub fn thread(
     list: bool,
     cycle: Option<CycleArgs>,
     out: Option<&std::path::Path>,
+    wire: Option<f64>,
 ) -> Result<(), Failure> {
     let stdin = std::path::Path::new("-");
     if list {
@@ -53,6 +54,17 @@ pub fn thread(
         ));
     };
     let t = standard::lookup(name).map_err(thread_usage)?;
+    let wire = match wire {
+        Some(w) if w.is_finite() && w > 0.0 => Some(t.units.to_mm(w)),
+        Some(w) => {
+            return Err(Failure::Usage(format!(
+                "--wire {w}: a measuring wire's diameter is a positive length ({})",
+                t.units.name()
+            )))
+        }
+        None => None,
+    };
+    let wires = t.wires(wire);
     let taper = match cycle {
         Some(c) => Some(taper_word(&t, &c)?),
         None => None,
@@ -60,6 +72,7 @@ pub fn thread(
     output::write(stdin, out, |w| {
         if json {
             let mut v = t.to_json();
+            v["wires"] = wires.to_json(t.units);
             if let Some((_, j)) = &taper {
                 v["cycle"] = j.clone();
             }
@@ -68,6 +81,7 @@ pub fn thread(
             writeln!(w).map_err(write_failure)?;
         } else {
             write_thread(w, &t).map_err(write_failure)?;
+            write_wires(w, &t, &wires).map_err(write_failure)?;
             if let Some((text, _)) = &taper {
                 w.write_all(text.as_bytes()).map_err(write_failure)?;
             }
@@ -276,8 +290,40 @@ fn write_thread(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
         };
         let Some(l) = given else { continue };
         write_limits(out, &l, u)?;
+        write_gauges(out, t, &l)?;
     }
     Ok(())
+}
+
+/// The GO / NOT GO gauges of a metric (ISO 1502) or Unified (ASME B1.2) class.
+fn write_gauges(out: &mut dyn Write, t: &StandardThread, l: &Limits) -> io::Result<()> {
+    let u = t.units;
+    let d = decimals(u);
+    let standard = match t.family {
+        standard::Family::Metric => "ISO 1502",
+        _ => "ASME B1.2",
+    };
+    let pairs = standard::gauges::gauges(l);
+    let said: Vec<String> = pairs
+        .iter()
+        .map(|g| {
+            format!(
+                "{} ({}) GO {:.d$} / NOT GO {:.d$}",
+                g.gauge,
+                g.diameter,
+                u.from_mm(g.go),
+                u.from_mm(g.not_go)
+            )
+        })
+        .collect();
+    if said.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        out,
+        "  gauges ({standard}, at the class limits; gauge tolerances not applied): {}",
+        said.join("; ")
+    )
 }
 
 fn edge_text(e: &standard::Edge, u: Units, d: usize) -> String {
@@ -331,13 +377,29 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
     } else {
         ""
     };
-    writeln!(
-        out,
-        "basic{at} ({un}): major {:.d5$}  pitch diameter {:.d5$}  minor {:.d5$}",
-        v(t.basic.major),
-        v(t.basic.pitch_diameter),
-        v(t.basic.minor),
-    )?;
+    if t.family == standard::Family::Trapezoidal {
+        // ISO 2904 names the diameters by side: d and D4, d2 = D2, d3 and D1; a_c is the crest
+        // clearance between d and D4 (and d3 and D1).
+        let ac = standard::trapezoidal::crest_clearance(t.pitch);
+        writeln!(
+            out,
+            "basic ({un}): major d {:.d5$} (internal D4 {:.d5$})  pitch diameter d2 = D2 {:.d5$}  minor d3 {:.d5$} (external), D1 {:.d5$} (internal); crest clearance ac {:.d5$}",
+            v(t.basic.major),
+            v(t.basic.major + 2.0 * ac),
+            v(t.basic.pitch_diameter),
+            v(t.basic.major - 2.0 * t.external_depth),
+            v(t.basic.minor),
+            v(ac),
+        )?;
+    } else {
+        writeln!(
+            out,
+            "basic{at} ({un}): major {:.d5$}  pitch diameter {:.d5$}  minor {:.d5$}",
+            v(t.basic.major),
+            v(t.basic.pitch_diameter),
+            v(t.basic.minor),
+        )?;
+    }
     writeln!(
         out,
         "thread height / turning infeed ({un}, radial): external {:.d5$}, internal {:.d5$}",
@@ -412,6 +474,62 @@ fn write_form(out: &mut dyn Write, t: &StandardThread) -> io::Result<()> {
     Ok(())
 }
 
+/// The three-wire measurement: the wires that fit, and M over the wire at the basic pitch
+/// diameter and at the external class's limits, by both formulas.
+fn write_wires(
+    out: &mut dyn Write,
+    t: &StandardThread,
+    w: &standard::wires::Wires,
+) -> io::Result<()> {
+    let u = t.units;
+    let d = decimals(u) + 1;
+    let un = u.name();
+    let v = |mm: f64| u.from_mm(mm);
+    let at = if t.taper.is_some() {
+        ", at the gauge plane"
+    } else {
+        ""
+    };
+    writeln!(
+        out,
+        "three wires ({un}{at}): best wire {:.d$}; wires from {:.d$} to {:.d$} touch the flanks",
+        v(w.best),
+        v(w.min),
+        v(w.max)
+    )?;
+    if !w.fits {
+        writeln!(
+            out,
+            "  the {:.d$} wire does not touch both flanks below the crest: M over it does not measure the pitch diameter",
+            v(w.wire)
+        )?;
+    }
+    writeln!(
+        out,
+        "  M over {:.d$} wires: simple / with the lead angle",
+        v(w.wire)
+    )?;
+    writeln!(
+        out,
+        "    basic E {:.d$}: {:.d$} / {:.d$}",
+        v(w.basic.pitch_diameter),
+        v(w.basic.simple),
+        v(w.basic.corrected)
+    )?;
+    if let (Some((lo, hi)), Some(class)) = (&w.limits, &w.class) {
+        for (name, o) in [("min", lo), ("max", hi)] {
+            writeln!(
+                out,
+                "    {class} E {name} {:.d$}: {:.d$} / {:.d$}",
+                v(o.pitch_diameter),
+                v(o.simple),
+                v(o.corrected)
+            )?;
+        }
+    }
+    writeln!(out, "  ({})", standard::wires::FORMULAS)
+}
+
 fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
     let d = decimals(u);
     let f =
@@ -420,10 +538,16 @@ fn write_limits(out: &mut dyn Write, l: &Limits, u: Units) -> io::Result<()> {
         Side::External => ("external", "es"),
         Side::Internal => ("internal", "EI"),
     };
+    // A pipe thread's one class is named by its side ("internal"): the side is said once.
+    let class = l.class.to_string();
+    let class = if class == side {
+        String::new()
+    } else {
+        format!(" {class}")
+    };
     writeln!(
         out,
-        "{side} {}: {dev} {:+.d$} {}",
-        l.class,
+        "{side}{class}: {dev} {:+.d$} {}",
         u.from_mm(l.deviation),
         u.name()
     )?;

@@ -431,6 +431,10 @@ struct ThreadArgs {
     /// Thread length from the face (default: the standard's effective/useful thread).
     #[arg(long)]
     length: Option<f64>,
+    /// The diameter of the measuring wires one owns (the thread's units): the measurement over
+    /// wires with them (default: the best wire).
+    #[arg(long, value_name = "D")]
+    wire: Option<f64>,
     #[command(flatten)]
     output: OutputArg,
 }
@@ -580,6 +584,7 @@ fn run_thread(args: ThreadArgs) -> Result<ExitCode, Failure> {
         args.list,
         cycle,
         args.output.output.as_deref(),
+        args.wire,
     )?;
     Ok(ExitCode::SUCCESS)
 }

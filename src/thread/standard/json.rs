@@ -8,7 +8,7 @@ use super::{Edge, Family, Limits, StandardThread};
 
 impl StandardThread {
     /// `{name, family, series, units, pitch, pitch_mm, tpi, basic, thread_height, turning_infeed,
-    /// external, internal}`, and for the forms other than ISO metric and Unified also `profile`
+    /// external, internal, wires}` (`wires`: [`super::wires::Wires::to_json`] with the best wire), and for the forms other than ISO metric and Unified also `profile`
     /// and `taper`. Lengths are in the standard's units ([`StandardThread::units`]); `pitch_mm`
     /// is the pitch in mm.
     pub fn to_json(&self) -> Value {
@@ -47,6 +47,28 @@ impl StandardThread {
             "external": self.external.as_ref().map(limits),
             "internal": self.internal.as_ref().map(limits),
         });
+        v["wires"] = self.wires(None).to_json(u);
+        if matches!(self.family, Family::Metric | Family::Unified) {
+            // GO / NOT GO gauge sizes of each side named (ISO 1502, ASME B1.2).
+            let pairs = |l: &Limits| {
+                super::gauges::gauges(l)
+                    .iter()
+                    .map(|g| {
+                        json!({"gauge": g.gauge, "diameter": g.diameter, "go": o(Some(g.go)), "not_go": o(Some(g.not_go))})
+                    })
+                    .collect::<Vec<_>>()
+            };
+            v["gauges"] = json!({
+                "external": self.external.as_ref().map(pairs),
+                "internal": self.internal.as_ref().map(pairs),
+            });
+        }
+        if self.family == Family::Trapezoidal {
+            // ISO 2904's a_c and the external minor diameter d3 (`basic.minor` is D1).
+            let ac = super::trapezoidal::crest_clearance(self.pitch);
+            v["basic"]["crest_clearance"] = n(ac);
+            v["basic"]["external_minor"] = n(self.basic.major - 2.0 * self.external_depth);
+        }
         if !matches!(self.family, Family::Metric | Family::Unified) {
             let e = |e: &Edge| match *e {
                 Edge::Sharp => json!({"kind": "sharp"}),

@@ -24,12 +24,14 @@
 
 pub mod acme;
 pub mod gauge;
+pub mod gauges;
 mod json;
 pub mod lathe;
 pub mod pipe;
 pub mod profile;
 pub mod trapezoidal;
 pub mod whitworth;
+pub mod wires;
 
 use std::fmt;
 
