@@ -4,8 +4,6 @@
 //! the library, and as the command (`target/release/threadcut`) paired with another revision's
 //! (`THREADCUT_BASE_BIN`). Figures and the commands: docs/performance.md.
 
-// Each bench uses a part of what the process benchmarks share.
-#[allow(dead_code)]
 mod support;
 
 use std::path::PathBuf;

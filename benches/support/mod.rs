@@ -1,5 +1,6 @@
 //! What the process benchmarks share: finding a binary, running it, and the binary of another
-//! revision to pair with (`THREADCUT_BASE_BIN`).
+//! revision to pair with (`THREADCUT_BASE_BIN`). Each bench uses a part of it.
+#![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
