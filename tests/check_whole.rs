@@ -378,3 +378,34 @@ fn a_turning_cycle_threadcut_does_not_simulate_is_said() {
     );
     assert_eq!(errors(&r), vec![]);
 }
+
+#[test]
+fn a_rapid_inside_the_turned_part_is_an_error_even_through_an_unknown_face() {
+    // G71/G70 turn Ø30 over Z0..-40 (no bar given, the face never cut); the next tool comes
+    // straight from X100 Z100 to X20 Z-10: in through the bar's face (not known) and then inside
+    // the Ø30 the program turned, 5 below it at Z-10 — material behind a surface it cut.
+    let prog = |after: &str| {
+        format!(
+            "G21 G18 G99\nT0101\nG97 S1000 M3\nG0 X32. Z2.\nG71 U1.5 R0.5\nG71 P10 Q20 U0.4 W0.1 F0.25\nN10 G0 X26.\nG1 X30. Z-2.\nZ-40.\nN20 X32.\nG70 P10 Q20\nG0 X100. Z100.\nT0202\n{after}G0 X100. Z100.\nM30\n"
+        )
+    };
+    let r = run(&prog("G0 X20. Z-10.\n"), "fanuc");
+    assert!(
+        has(&r, Code::Collision, 14, "runs inside the part")
+            && has(&r, Code::Collision, 14, "behind the surface cut at line 11"),
+        "{:?}",
+        r.diagnostics
+    );
+    // Only that move: the one after it starts inside and is not reported again.
+    assert_eq!(errors(&r).len(), 1, "{:?}", errors(&r));
+    // The twin goes round: out to X34, along Z above the Ø30, then in to X31.
+    assert_eq!(
+        errors(&run(&prog("G0 X34. Z2.\nG0 Z-10.\nG0 X31.\n"), "fanuc")),
+        vec![]
+    );
+    // The note says what the judgement rests on.
+    assert!(r
+        .notes
+        .iter()
+        .any(|n| n.message.starts_with("part: the bar's size is not given")));
+}

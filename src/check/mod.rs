@@ -605,6 +605,9 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
         Err(e) => return Err(e),
     }
     report.part = sink.whole.view();
+    if let Some((span, note)) = sink.whole.stock_note() {
+        sink.notes.push(Note::new(span, note));
+    }
     report.diagnostics.extend(unknown_starts);
     if let Some(w) = decimals.and_then(decimal::DecimalWords::finding) {
         report.diagnostics.push(w);

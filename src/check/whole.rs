@@ -138,6 +138,10 @@ pub(super) struct Whole {
     pending: std::collections::VecDeque<(Pos, Pos, Span, At)>,
     /// What rapids and threads ran into.
     pub found: Vec<Diagnostic>,
+    /// Where the program first cut (a feed move or a turning cycle), for the note on the stock.
+    first_cut: Option<Span>,
+    /// A rapid was judged after the first cut (the note on the stock concerns it).
+    judged_after_cut: bool,
 }
 
 impl Whole {
@@ -153,6 +157,8 @@ impl Whole {
             hits: Vec::new(),
             pending: std::collections::VecDeque::new(),
             found: Vec::new(),
+            first_cut: None,
+            judged_after_cut: false,
         }
     }
 
@@ -237,6 +243,7 @@ impl Whole {
         if self.chain.len() >= CHAIN_MAX {
             self.flush(None);
         }
+        self.first_cut.get_or_insert(span);
         self.chain_at = Some(at);
         self.chain.push((
             from,
@@ -292,6 +299,7 @@ impl Whole {
     /// judged.
     pub fn turning(&mut self, job: &TurningJob, span: Span, at: At) {
         self.flush(None);
+        self.first_cut.get_or_insert(span);
         let Ok(path) = crate::turning::toolpath(job) else {
             return;
         };
@@ -317,6 +325,7 @@ impl Whole {
 
     /// Judges a rapid move against the threads' teeth and the part.
     fn rapid(&mut self, from: Pos, to: Pos, span: Span, at: At, reading_thread: bool) {
+        self.judged_after_cut |= self.first_cut.is_some();
         let units = at.units;
         let show_x = |x: f64| length(units, if at.diameter_x { 2.0 * x } else { x });
         let target = format!("X{} Z{}", show_x(to.x), length(units, to.z));
@@ -376,6 +385,7 @@ impl Whole {
                 },
             )
         else {
+            self.inside_cut(from, to, span, at);
             return;
         };
         let error = rank > 0;
@@ -402,6 +412,41 @@ impl Whole {
                 error,
             },
         );
+    }
+
+    /// A rapid that came in through a surface nothing is known of (the bar's, not given) but
+    /// then runs in material whose nearest surface the program cut: material lies behind a cut
+    /// surface, so that is a fact too.
+    fn inside_cut(&mut self, from: Pos, to: Pos, span: Span, at: At) {
+        let Some(part) = self.part.as_ref() else {
+            return;
+        };
+        let found = part
+            .rapid_inside(from, to)
+            .into_iter()
+            .find(|(_, _, o)| matches!(o, Origin::Cut(c) if c.kind != CutKind::Thread));
+        let Some((p, depth, Origin::Cut(c))) = found else {
+            return;
+        };
+        let units = at.units;
+        let show_x = |x: f64| length(units, if at.diameter_x { 2.0 * x } else { x });
+        let message = format!(
+            "a rapid move to X{} Z{} runs inside the part: at X{} Z{} it is {} behind the surface cut at line {}",
+            show_x(to.x),
+            length(units, to.z),
+            show_x(p.x),
+            length(units, p.z),
+            length(units, depth),
+            c.line
+        );
+        let hit = RapidHit {
+            line: span.line,
+            from,
+            to,
+            at: p,
+            error: true,
+        };
+        self.report(span, message, true, hit);
     }
 
     /// Judges the rapids made while a thread was read. Those may be the thread's own (its
@@ -721,6 +766,20 @@ impl Whole {
             )
             .with_hint("end the thread before the shoulder (its pull-out included) or turn a relief groove for it to run into"),
         );
+    }
+
+    /// What was assumed about the stock, where the program cuts: without its diameter the bar
+    /// is not known, and only what the program cut is judged.
+    pub fn stock_note(&self) -> Option<(Span, String)> {
+        if self.stock.diameter.is_some() || !self.judged_after_cut {
+            return None;
+        }
+        self.first_cut.map(|span| {
+            (
+                span,
+                "part: the bar's size is not given (--stock-diameter): rapids are judged against the surfaces the program cut and the threads it cut, not against the bar".to_string(),
+            )
+        })
     }
 
     /// What the part looks like now, for drawing.

@@ -36,6 +36,9 @@ const BEYOND: f64 = 1.0;
 
 /// Samples along a rapid between two crossings of the outline, to find how deep it runs.
 const DEPTH_SAMPLES: usize = 5;
+/// Points along a rapid at which the material it runs through is looked up
+/// ([`Part::rapid_inside`]).
+pub const INSIDE_SAMPLES: usize = 32;
 
 /// Whether a dimension of the stock was given, assumed, or is not known at all (the model then
 /// holds material there so that cuts have something to remove, and claims nothing about it).
@@ -713,6 +716,35 @@ impl Part {
                 _ => false,
             }
         })
+    }
+
+    /// Points of the rapid from `from` to `to` that lie in material deeper than half the
+    /// tolerance, after it first leaves any material it starts in, each with the nearest surface
+    /// (its distance, mm, and origin): the material a rapid runs through, whatever surface it
+    /// came in by. At most [`INSIDE_SAMPLES`] points, evenly along it.
+    pub fn rapid_inside(&self, from: Pos, to: Pos) -> Vec<(Pos, f64, Origin)> {
+        let deep = self.tolerance / 2.0 / GRID;
+        let mut out = Vec::new();
+        let mut leading = true;
+        for i in 0..=INSIDE_SAMPLES {
+            let k = i as f64 / INSIDE_SAMPLES as f64;
+            let p = Pos::new(from.x + k * (to.x - from.x), from.z + k * (to.z - from.z));
+            let g = (p.x / GRID, p.z / GRID);
+            let inside = outline::inside(&self.rings, g);
+            if !inside {
+                leading = false;
+                continue;
+            }
+            if leading {
+                continue;
+            }
+            if let Some((d, _, _, o)) = outline::nearest_edge(&self.rings, g) {
+                if d > deep {
+                    out.push((p, d * GRID, o));
+                }
+            }
+        }
+        out
     }
 
     /// [`rapid_entries`](Part::rapid_entries) for a rapid that may start inside material the
