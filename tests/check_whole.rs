@@ -409,3 +409,26 @@ fn a_rapid_inside_the_turned_part_is_an_error_even_through_an_unknown_face() {
         .iter()
         .any(|n| n.message.starts_with("part: the bar's size is not given")));
 }
+
+#[test]
+fn another_work_coordinate_system_starts_another_part() {
+    // Op 1 (G54) turns Ø30 over Z0..-40; the part is turned round and op 2 (G55) faces and
+    // turns the other end in its own coordinates: its rapid to X20 Z-10 is inside op 1's part,
+    // not op 2's — no error. The same rapid in G54 is one.
+    let prog = |ws: &str| {
+        format!(
+            "G21 G18 G99\nG54\nT0101\nG97 S1000 M3\nG0 X32. Z2.\nG1 X30. F0.2\nZ-40.\nX32.\nG0 X100. Z100.\nM0\n{ws}\nT0101\nG0 X100. Z100.\nG0 X20. Z-10.\nG0 X100. Z100.\nM30\n"
+        )
+    };
+    assert_eq!(errors(&run(&prog("G55"), "fanuc")), vec![]);
+    assert!(
+        has(
+            &run(&prog("G54"), "fanuc"),
+            Code::Collision,
+            14,
+            "behind the surface cut at line 7"
+        ),
+        "{:?}",
+        run(&prog("G54"), "fanuc").diagnostics
+    );
+}

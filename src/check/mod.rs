@@ -539,12 +539,21 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
         max_blocks: opts.max_blocks,
         ..program::Options::default()
     };
+    let mut work_system = None;
     let result = program::run_with(input, machine, &run, |modal, ev| {
         let setting = Setting {
             units: modal.units,
             diameter_x: modal.diameter_x,
             controller,
         };
+        // Another work coordinate system: another setup (the part turned round, the sub-spindle),
+        // whose coordinates the part so far does not share.
+        if work_system
+            .replace(modal.work_system)
+            .is_some_and(|w| w != modal.work_system)
+        {
+            sink.whole.new_setup();
+        }
         let mut take = |f| sink.take(f);
         match ev {
             Event::Plain { line, mv } => {

@@ -768,6 +768,17 @@ impl Whole {
         );
     }
 
+    /// Another setup begins (another work coordinate system): the part so far is in coordinates
+    /// the program no longer uses, so a new part starts from the stock, and the threads' teeth
+    /// are left with the old one. What was found stays.
+    pub fn new_setup(&mut self) {
+        self.flush(None);
+        self.settle();
+        self.part = None;
+        self.failed = false;
+        self.teeth.clear();
+    }
+
     /// What was assumed about the stock, where the program cuts: without its diameter the bar
     /// is not known, and only what the program cut is judged.
     pub fn stock_note(&self) -> Option<(Span, String)> {
