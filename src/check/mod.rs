@@ -361,8 +361,12 @@ impl<'a> Sink<'a> {
         self.cycles.push((job.span, measured));
     }
 
-    /// The thread's blank as the report states it.
-    fn blank_of(&mut self, t: &crate::threads::Thread, opts: &Options, measured: bool) {
+    /// The thread's blank under `opts`, at the program's resolution there.
+    fn blank(
+        &self,
+        t: &crate::threads::Thread,
+        opts: &Options,
+    ) -> (blank::Blank, crate::units::Resolution) {
         let res = self.machine.program_resolution(t.job.units, t.diameter_x);
         let b = blank::Blank::new(
             &t.job,
@@ -372,6 +376,12 @@ impl<'a> Sink<'a> {
             t.crest_known(),
             res,
         );
+        (b, res)
+    }
+
+    /// The thread's blank as the report states it.
+    fn blank_of(&mut self, t: &crate::threads::Thread, opts: &Options, measured: bool) {
+        let (b, _) = self.blank(t, opts);
         let from = |k: Known| match k {
             Known::Given => Basis::Given,
             Known::Assumed => Basis::Assumed,
@@ -393,15 +403,7 @@ impl<'a> Sink<'a> {
 
     /// The thread's teeth in the part, from its blank.
     fn teeth(&mut self, t: &crate::threads::Thread, opts: &Options) {
-        let res = self.machine.program_resolution(t.job.units, t.diameter_x);
-        let blank = blank::Blank::new(
-            &t.job,
-            t.path.start,
-            opts.stock_diameter,
-            opts.stock_start,
-            t.crest_known(),
-            res,
-        );
+        let (blank, res) = self.blank(t, opts);
         self.whole.thread(t, &blank, res.increment_mm());
         self.whole.settle();
     }

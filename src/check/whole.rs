@@ -344,14 +344,7 @@ impl Whole {
                 show_x(p.x),
                 length(units, p.z),
             );
-            let hit = RapidHit {
-                line: span.line,
-                from,
-                to,
-                at: p,
-                error: true,
-            };
-            self.report(span, message, true, hit);
+            self.report(span, message, true, (from, to, p));
             return;
         }
         let Some(part) = self.part(at) else {
@@ -400,18 +393,7 @@ impl Whole {
             "a rapid move to {target} runs into {}{assumed}",
             hit.describe(units)
         );
-        self.report(
-            span,
-            message,
-            error,
-            RapidHit {
-                line: span.line,
-                from,
-                to,
-                at: hit.at,
-                error,
-            },
-        );
+        self.report(span, message, error, (from, to, hit.at));
     }
 
     /// A rapid that came in through a surface nothing is known of (the bar's, not given) but
@@ -439,14 +421,7 @@ impl Whole {
             length(units, depth),
             c.line
         );
-        let hit = RapidHit {
-            line: span.line,
-            from,
-            to,
-            at: p,
-            error: true,
-        };
-        self.report(span, message, true, hit);
+        self.report(span, message, true, (from, to, p));
     }
 
     /// Judges the rapids made while a thread was read. Those may be the thread's own (its
@@ -458,7 +433,15 @@ impl Whole {
         }
     }
 
-    fn report(&mut self, span: Span, message: String, error: bool, hit: RapidHit) {
+    /// A rapid into material: its finding, and the rapid (from, to, where it enters) kept for
+    /// drawing.
+    fn report(
+        &mut self,
+        span: Span,
+        message: String,
+        error: bool,
+        (from, to, at): (Pos, Pos, Pos),
+    ) {
         let hint = "a rapid cuts nothing: move clear of the part along the surface the tool came in on before crossing it";
         self.found.push(if error {
             Diagnostic::error(Code::Collision, span, message).with_hint(hint)
@@ -466,7 +449,13 @@ impl Whole {
             Diagnostic::warning(Code::CollisionAssumed, span, message).with_hint(hint)
         });
         if self.hits.len() < VIEW_HITS_MAX {
-            self.hits.push(hit);
+            self.hits.push(RapidHit {
+                line: span.line,
+                from,
+                to,
+                at,
+                error,
+            });
         }
     }
 
