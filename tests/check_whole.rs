@@ -432,3 +432,37 @@ fn another_work_coordinate_system_starts_another_part() {
         run(&prog("G54"), "fanuc").diagnostics
     );
 }
+
+/// A shop-style shaft (after the way shops write them): face with G94, rough G71, finish G70,
+/// groove with G75, thread with G76, part off with G1 — no error, the blank measured on the
+/// turned Ø24 and the faced Z0; its twin with a rapid straight from the thread to the groove.
+#[test]
+fn a_shaft_program_faced_turned_grooved_threaded_and_parted_off_is_clean() {
+    let prog = |after_thread: &str| {
+        format!(
+            "O1001\nG21 G40 G99\nG28 U0.\nT0101\nG50 S2500\nG96 S180 M03\nG00 X52. Z2. M08\nG94 X-1.6 Z0.5 F0.15\nZ0.\nG71 U2. R0.5\nG71 P100 Q200 U0.4 W0.1 F0.25\nN100 G00 X18.\nG01 X24. Z-1. F0.12\nZ-38.\nX30.\nX34. Z-40.\nZ-60.\nX48.\nN200 X52. Z-62.\nG70 P100 Q200\nG00 X100. Z100.\nT0202\nG97 S800 M03\nG00 X32. Z-38.\nG75 R0.5\nG75 X19.5 P1500 F0.05\nG00 X100. Z100.\nT0303\nG97 S700 M03\nG00 X27. Z5.\nG76 P020060 Q100 R0.05\nG76 X21.546 Z-36. P1227 Q350 F2.\n{after_thread}G00 X100. Z100.\nT0404\nG97 S600 M03\nG00 X54. Z-65.\nG01 X-1. F0.05\nG00 X54.\nG00 X100. Z100. M09\nM30\n"
+        )
+    };
+    for opts in [Options::default(), bar(50.0)] {
+        let r = run_with(&prog(""), "fanuc", &opts);
+        assert_eq!(errors(&r), vec![]);
+        assert_eq!(r.blanks[0].crest_from, Basis::Measured);
+        assert_eq!(r.blanks[0].face_from, Basis::Measured, "{:?}", r.blanks);
+        assert!(r
+            .notes
+            .iter()
+            .any(|n| n.message
+                == "blank: the part's face is at Z0 as the program faced it at line 9"));
+    }
+    let r = run(&prog("G00 X20. Z-20.\n"), "fanuc");
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            33,
+            "runs through the thread cut at line 32"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+}

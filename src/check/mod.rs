@@ -310,6 +310,10 @@ fn crest(opts: &Options) -> Option<Crest> {
     }
 }
 
+/// A cycle's blank as it ran: the surface and the face the program cut, when it did (the face's
+/// Z in program units and the line that faced it).
+type CycleBlank = (Option<whole::Measured>, Option<(f64, u32)>);
+
 /// Where findings about a thread go while the program is read.
 struct Sink<'a> {
     machine: &'a Machine,
@@ -323,7 +327,7 @@ struct Sink<'a> {
     /// The part as the program makes it: the blank at each thread, and every rapid judged.
     whole: whole::Whole,
     /// The blanks of cycles that ran, until the thread reader hands their threads over.
-    cycles: Vec<(Span, Option<whole::Measured>)>,
+    cycles: Vec<(Span, CycleBlank)>,
     /// A cycle the thread reader handed over as it ran (before [`Sink::cycle`] saw it).
     handed: Option<Span>,
     blanks: Vec<ThreadBlank>,
@@ -344,6 +348,7 @@ impl<'a> Sink<'a> {
             return;
         }
         let measured = self.whole.measured(&t);
+        let face = self.whole.measured_face(&t);
         let opts = Options {
             stock_diameter: measured.map(|m| m.diameter).or(
                 if t.job.geometry.side == crate::thread::Side::Internal {
@@ -352,13 +357,14 @@ impl<'a> Sink<'a> {
                     self.opts.stock_diameter
                 },
             ),
+            stock_start: face.map(|f| f.0).or(self.opts.stock_start),
             ..self.opts.clone()
         };
         self.teeth(&t, &opts);
         if self.cycles.len() >= 64 {
             self.cycles.remove(0);
         }
-        self.cycles.push((job.span, measured));
+        self.cycles.push((job.span, (measured, face)));
     }
 
     /// The thread's blank under `opts`, at the program's resolution there.
@@ -380,7 +386,13 @@ impl<'a> Sink<'a> {
     }
 
     /// The thread's blank as the report states it.
-    fn blank_of(&mut self, t: &crate::threads::Thread, opts: &Options, measured: bool) {
+    fn blank_of(
+        &mut self,
+        t: &crate::threads::Thread,
+        opts: &Options,
+        measured: bool,
+        face_measured: bool,
+    ) {
         let (b, _) = self.blank(t, opts);
         let from = |k: Known| match k {
             Known::Given => Basis::Given,
@@ -397,7 +409,11 @@ impl<'a> Sink<'a> {
                 from(b.surface)
             },
             face: units.from_mm(b.z_face),
-            face_from: from(b.face),
+            face_from: if face_measured {
+                Basis::Measured
+            } else {
+                from(b.face)
+            },
         });
     }
 
@@ -415,6 +431,7 @@ impl<'a> Sink<'a> {
         &mut self,
         t: &crate::threads::Thread,
         measured: Option<whole::Measured>,
+        face: Option<(f64, u32)>,
     ) -> Options {
         let internal = t.job.geometry.side == crate::thread::Side::Internal;
         let given = if internal {
@@ -446,8 +463,18 @@ impl<'a> Sink<'a> {
                 }
             }
         }
+        if let Some((z, line)) = face {
+            self.notes.push(Note::new(
+                t.job.span,
+                format!(
+                    "blank: the part's face is at Z{} as the program faced it at line {line}",
+                    length(Units::Mm, z)
+                ),
+            ));
+        }
         Options {
             stock_diameter: measured.map(|m| m.diameter).or(given),
+            stock_start: face.map(|f| f.0).or(self.opts.stock_start),
             ..self.opts.clone()
         }
     }
@@ -496,11 +523,11 @@ impl<'a> Sink<'a> {
                     // Handed over as it ran: its blank and teeth are taken here.
                     self.handed = Some(t.job.span);
                 }
-                let measured = match at_cycle {
-                    Some(m) => m,
-                    None => self.whole.measured(&t),
+                let (measured, face) = match at_cycle {
+                    Some(mf) => mf,
+                    None => (self.whole.measured(&t), self.whole.measured_face(&t)),
                 };
-                let opts = self.blank_options(&t, measured);
+                let opts = self.blank_options(&t, measured, face);
                 check_thread(
                     &t,
                     self.machine,
@@ -512,7 +539,7 @@ impl<'a> Sink<'a> {
                 if at_cycle.is_none() {
                     self.teeth(&t, &opts);
                 }
-                self.blank_of(&t, &opts, measured.is_some());
+                self.blank_of(&t, &opts, measured.is_some(), face.is_some());
                 state::judge(&t, &states, &mut self.last, &self.restart, &mut self.found);
             }
             Found::Failed { error, .. } => {

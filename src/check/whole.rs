@@ -193,9 +193,16 @@ impl Whole {
         self.part.as_mut()
     }
 
+    /// The tool for a move: the nose given, else a point — but a grooving, parting or drilling
+    /// tool, whose body is no wider than its nose, at least one resolution step wide: the slot
+    /// it cuts is where it went, and the rapid out of it runs in that slot, not in material.
     fn tool(&self, at: At, body: Body) -> Tool {
+        let nose = self.nose.map_or(0.0, |r| at.units.to_mm(r));
         Tool {
-            nose_radius: self.nose.map_or(0.0, |r| at.units.to_mm(r)),
+            nose_radius: match body {
+                Body::Turning => nose,
+                Body::Radial | Body::Axial => nose.max(at.tolerance),
+            },
             body,
         }
     }
@@ -290,7 +297,11 @@ impl Whole {
             if let Some(part) = self.part(at) {
                 // A move the part refuses (beyond what it holds) leaves it as it was.
                 let inside = internal.unwrap_or_else(|| part.in_bore(*from, m.to));
-                let _ = part.cut_oriented(*from, m, &tool, inside);
+                let _ = if body == Body::Turning {
+                    part.cut_oriented(*from, m, &tool, inside)
+                } else {
+                    part.clear_oriented(*from, m, &tool, inside)
+                };
             }
         }
     }
@@ -316,7 +327,11 @@ impl Whole {
                 _ => {
                     if let Some(part) = self.part(at) {
                         let inside = side.unwrap_or_else(|| part.in_bore(from, m.to));
-                        let _ = part.cut_oriented(from, m, &tool, inside);
+                        let _ = if body == Body::Turning {
+                            part.cut_oriented(from, m, &tool, inside)
+                        } else {
+                            part.clear_oriented(from, m, &tool, inside)
+                        };
                     }
                 }
             }
@@ -514,6 +529,32 @@ impl Whole {
             diameter: units.from_mm(d),
             line: Some(c.line),
         })
+    }
+
+    /// The part's face where the thread enters it, when the program cut that face (a facing
+    /// move): the largest Z of material at the radii from the thread's root halfway to the axis
+    /// (below a chamfer at its start), its Z (program units) and the line that cut it. For a
+    /// thread that runs from the face toward −Z.
+    pub fn measured_face(&mut self, t: &Thread) -> Option<(f64, u32)> {
+        self.flush(None);
+        let part = self.part.as_ref()?;
+        let g = &t.job.geometry;
+        if g.crest_end.z >= g.crest_start.z || g.side != Side::External {
+            return None;
+        }
+        let root = g.crest_start.x - g.depth;
+        let (z, origin) = [1.0, 0.9, 0.75, 0.5]
+            .iter()
+            .filter_map(|k| part.face_surface_at(root * k))
+            .max_by(|a, b| a.0.total_cmp(&b.0))?;
+        let Origin::Cut(c) = origin else {
+            return None;
+        };
+        if c.kind == CutKind::Thread || z > g.crest_start.z || z < g.crest_end.z {
+            return None;
+        }
+        let step = part.tolerance();
+        Some((t.job.units.from_mm((z / step).round() * step), c.line))
     }
 
     /// The thread's teeth, from its blank, for the rapids after it; and the material its passes

@@ -524,7 +524,26 @@ impl Part {
             MotionKind::Thread { .. } => CutKind::Thread,
             MotionKind::Arc { .. } => CutKind::Arc,
         };
-        self.cut_as(from, motion, tool, kind, (internal, reach))
+        self.cut_as(from, motion, tool, kind, (internal, reach), true)
+    }
+
+    /// [`cut_oriented`](Part::cut_oriented) that marks no surface as the program's: everything it
+    /// removes is cleared, its material the stock's — for a tool whose width the program does not
+    /// state (a grooving, parting or drilling tool), so that the walls of its slot are not facts.
+    pub fn clear_oriented(
+        &mut self,
+        from: Pos,
+        motion: &Motion,
+        tool: &Tool,
+        internal: bool,
+    ) -> Result<()> {
+        let kind = match motion.kind {
+            MotionKind::Rapid => return Ok(()),
+            MotionKind::Thread { .. } => CutKind::Thread,
+            MotionKind::Arc { .. } => CutKind::Arc,
+            MotionKind::Feed => CutKind::Feed,
+        };
+        self.cut_as(from, motion, tool, kind, (internal, None), false)
     }
 
     /// Cuts a circular move whose centre the program does not give as its chord, from `from` to
@@ -535,7 +554,14 @@ impl Part {
             ..*motion
         };
         let internal = self.in_bore(from, motion.to);
-        self.cut_as(from, &straight, tool, CutKind::Chord, (internal, None))
+        self.cut_as(
+            from,
+            &straight,
+            tool,
+            CutKind::Chord,
+            (internal, None),
+            true,
+        )
     }
 
     fn cut_as(
@@ -545,6 +571,7 @@ impl Part {
         tool: &Tool,
         kind: CutKind,
         side: (bool, Option<f64>),
+        mark: bool,
     ) -> Result<()> {
         let pieces = self.sweep(from, motion, tool, side)?;
         let cut = Cut {
@@ -570,57 +597,12 @@ impl Part {
         }
         let mut rings = self.engine.cut(&self.rings, &pieces, made);
         outline::simplify(&mut rings, self.tolerance / 2.0 / GRID);
-        if kind != CutKind::Thread {
+        if kind != CutKind::Thread && mark {
             // Only where the nose passed is the surface the program's: the rest of what the body
-            // swept is cleared, its material the stock's. A surface the nose runs along that an
-            // earlier body only cleared becomes this cut's.
+            // swept is cleared, its material the stock's.
             let trace = self.trace(from, motion, tool, side.0);
-            let (r, tol) = (tool.nose_radius / GRID, self.tolerance / GRID);
-            // An edge the nose ran along: its middle on the trace, its ends on the line of the
-            // trace there (an edge the body cleared beyond the trace's end is the nose's too:
-            // split exactly it would differ by less than the next cut takes).
-            let segs: Vec<((f64, f64), (f64, f64))> = trace
-                .windows(2)
-                .map(|w| {
-                    (
-                        (w[0].x / GRID, w[0].z / GRID),
-                        (w[1].x / GRID, w[1].z / GRID),
-                    )
-                })
-                .collect();
-            let ran_along = |p: Point, q: Point| {
-                let m = (
-                    (f64::from(p.x) + f64::from(q.x)) / 2.0,
-                    (f64::from(p.y) + f64::from(q.y)) / 2.0,
-                );
-                let Some(&(a, b)) = segs.iter().min_by(|s, t| {
-                    crate::sim::segment_distance_sq(m, s.0, s.1)
-                        .total_cmp(&crate::sim::segment_distance_sq(m, t.0, t.1))
-                }) else {
-                    return false;
-                };
-                let line = |p: (f64, f64)| {
-                    let (dx, dz) = (b.0 - a.0, b.1 - a.1);
-                    let len = dx.hypot(dz);
-                    if len == 0.0 {
-                        (p.0 - a.0).hypot(p.1 - a.1)
-                    } else {
-                        ((p.0 - a.0) * dz - (p.1 - a.1) * dx).abs() / len
-                    }
-                };
-                crate::sim::segment_distance(m, a, b) <= r + tol
-                    && (line(outline::float(p)) - r).abs() <= tol
-                    && (line(outline::float(q)) - r).abs() <= tol
-            };
             for ring in &mut rings {
-                let n = ring.pts.len();
-                for i in 0..n {
-                    if matches!(ring.origins[i], Origin::Cleared(_))
-                        && ran_along(ring.pts[i], ring.pts[(i + 1) % n])
-                    {
-                        ring.origins[i] = Origin::Cut(cut);
-                    }
-                }
+                mark_trace(ring, &trace, tool.nose_radius, self.tolerance, cut);
             }
         }
         self.rings = rings;
@@ -871,6 +853,12 @@ impl Part {
             .max_by(f64::total_cmp)
     }
 
+    /// The face at radius `x` (mm): the largest Z of material there and where that surface came
+    /// from.
+    pub fn face_surface_at(&self, x: f64) -> Option<(f64, Origin)> {
+        outline::surfaces_at_x(&self.rings, x).last().copied()
+    }
+
     /// Where the material begins on the face side at radius `x` (mm).
     pub fn face_at(&self, x: f64) -> Option<f64> {
         outline::crossings_at_x(&self.rings, x).last().copied()
@@ -961,6 +949,89 @@ impl Part {
         }
         Ok(None)
     }
+}
+
+/// Marks as `cut`'s the stretches of the ring's edges the nose ran along: an edge that the body
+/// only cleared, or the stock's own surface (a facing pass at the face), lying at the nose's radius
+/// from a segment of the nose's centre path (`trace`, mm) over more than the tolerance. An edge
+/// longer than that stretch is split at its ends, so that what lies beyond keeps its origin.
+fn mark_trace(ring: &mut Ring, trace: &[Pos], nose: f64, tolerance: f64, cut: Cut) {
+    let (r, tol) = (nose / GRID, tolerance / GRID);
+    let n = ring.pts.len();
+    let mut pts = Vec::with_capacity(n + 4);
+    let mut origins = Vec::with_capacity(n + 4);
+    for i in 0..n {
+        let (p, q, o) = (ring.pts[i], ring.pts[(i + 1) % n], ring.origins[i]);
+        let markable = match o {
+            Origin::Cleared(_) => true,
+            Origin::Stock { edge, .. } => edge != StockEdge::Axis,
+            _ => false,
+        };
+        let stretch = if markable {
+            trace
+                .windows(2)
+                .find_map(|w| along_trace(p, q, w[0], w[1], r, tol))
+        } else {
+            None
+        };
+        pts.push(p);
+        origins.push(o);
+        let Some((t0, t1)) = stretch else {
+            continue;
+        };
+        let at = |t: f64| {
+            let (fp, fq) = (outline::float(p), outline::float(q));
+            Point::new(
+                (fp.0 + t * (fq.0 - fp.0)).round() as i32,
+                (fp.1 + t * (fq.1 - fp.1)).round() as i32,
+            )
+        };
+        // p → a keeps its origin, a → b is the cut's, b → q keeps its origin.
+        let len = (outline::float(q).0 - outline::float(p).0)
+            .hypot(outline::float(q).1 - outline::float(p).1);
+        if t0 * len > tol {
+            pts.push(at(t0));
+            origins.push(Origin::Cut(cut));
+        } else {
+            *origins.last_mut().expect("pushed above") = Origin::Cut(cut);
+        }
+        if (1.0 - t1) * len > tol {
+            pts.push(at(t1));
+            origins.push(o);
+        }
+    }
+    ring.pts = pts;
+    ring.origins = origins;
+}
+
+/// The stretch (parameters along `p` → `q`, grid steps) of the edge that lies at distance `r`
+/// from the segment `a`–`b` (mm) within `tol` and overlaps it by more than `tol`.
+fn along_trace(p: Point, q: Point, a: Pos, b: Pos, r: f64, tol: f64) -> Option<(f64, f64)> {
+    let (a, b) = ((a.x / GRID, a.z / GRID), (b.x / GRID, b.z / GRID));
+    let (dx, dz) = (b.0 - a.0, b.1 - a.1);
+    let len = dx.hypot(dz);
+    if len <= tol {
+        return None;
+    }
+    let (fp, fq) = (outline::float(p), outline::float(q));
+    let off = |v: (f64, f64)| ((v.0 - a.0) * dz - (v.1 - a.1) * dx).abs() / len;
+    if (off(fp) - r).abs() > tol || (off(fq) - r).abs() > tol {
+        return None;
+    }
+    // Positions along the segment's direction.
+    let s = |v: (f64, f64)| ((v.0 - a.0) * dx + (v.1 - a.1) * dz) / len;
+    let (sp, sq) = (s(fp), s(fq));
+    if (sq - sp).abs() <= tol {
+        return None;
+    }
+    let (lo, hi) = (sp.min(sq).max(0.0), sp.max(sq).min(len));
+    if hi - lo <= tol {
+        return None;
+    }
+    // Back to parameters along p → q.
+    let t = |sv: f64| ((sv - sp) / (sq - sp)).clamp(0.0, 1.0);
+    let (t0, t1) = (t(lo), t(hi));
+    Some((t0.min(t1), t0.max(t1)))
 }
 
 /// The parameter along `a` → `b` where it meets the segment `p`–`q`, if it does.

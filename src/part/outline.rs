@@ -377,6 +377,26 @@ pub fn surfaces_at_z(rings: &[Ring], z: f64) -> Vec<(f64, Origin)> {
     xs
 }
 
+/// Where the outline crosses the line x = `x` (mm): each z (mm) with the origin of the edge
+/// crossing there, sorted by z.
+pub fn surfaces_at_x(rings: &[Ring], x: f64) -> Vec<(f64, Origin)> {
+    let gx = x / GRID;
+    let mut zs: Vec<(f64, Origin)> = rings
+        .iter()
+        .flat_map(Ring::edges)
+        .filter_map(|(a, b, o)| {
+            let (ax, bx) = (f64::from(a.x), f64::from(b.x));
+            if (ax <= gx) == (bx <= gx) {
+                return None;
+            }
+            let k = (gx - ax) / (bx - ax);
+            Some(((f64::from(a.y) + k * f64::from(b.y - a.y)) * GRID, o))
+        })
+        .collect();
+    zs.sort_by(|p, q| p.0.total_cmp(&q.0));
+    zs
+}
+
 /// The z (mm) where the outline crosses the line x = `x` (mm), sorted.
 pub fn crossings_at_x(rings: &[Ring], x: f64) -> Vec<f64> {
     let gx = x / GRID;
