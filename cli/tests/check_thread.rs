@@ -465,3 +465,36 @@ fn rc_internal_judged_half_a_pitch_inside_its_opening() {
     assert_eq!(code, 2, "{out}");
     assert!(out.contains("is a class of external threads"), "{out}");
 }
+
+/// `check --thread NAME --wire D`: the note's M is over the wire one owns (tests/wires.rs
+/// `a_wire_of_ones_own`: M12x1.75-6g cut to X9.853, E = 10.863363, over 1.000 mm wires M =
+/// 12.3498, the 6g window 12.1655–12.3154); `--wire` needs `--thread`, and a wire is positive.
+#[test]
+fn check_takes_the_wire_one_owns() {
+    let src = "G97 S800 M03\nG00 X14. Z5.\nG76 P010060 Q50 R0.02\nG76 X9.853 Z-20. P1074 Q300 F1.75\nM30\n";
+    let (code, out) = check(
+        "wire-own",
+        src,
+        &args(&["--thread", "M12x1.75-6g", "--wire", "1"]),
+    );
+    // The program stops 0.017 short of 6g's largest minor diameter (E016): the note still says
+    // what it measures.
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("over 1 wires this program gives M = 12.3498 mm, 6g allows 12.1655–12.3154"),
+        "{out}"
+    );
+    let (code, out) = check("wire-alone", src, &args(&["--wire", "1"]));
+    assert_eq!(code, 2, "{out}");
+    assert!(out.contains("--thread"), "{out}");
+    let (code, out) = check(
+        "wire-zero",
+        src,
+        &args(&["--thread", "M12x1.75-6g", "--wire", "0"]),
+    );
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("a measuring wire's diameter is a positive length"),
+        "{out}"
+    );
+}
