@@ -115,7 +115,10 @@ mod tests {
             let t = lookup(name).unwrap();
             let e = gauges(&t.external.unwrap());
             let close = |a: f64, b: f64| (a / 25.4 - b).abs() < 5e-5;
-            assert!(close(e[0].go, go) && close(e[0].not_go, not_go), "{name}: {e:?}");
+            assert!(
+                close(e[0].go, go) && close(e[0].not_go, not_go),
+                "{name}: {e:?}"
+            );
         }
     }
 
