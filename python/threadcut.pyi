@@ -128,6 +128,7 @@ def check(
     *,
     machine: _Machine | None = None,
     thread: str | None = None,
+    wire: float | None = None,
     stock_diameter: float | None = None,
     stock_start: float | None = None,
     stock_length: float | None = None,
@@ -138,7 +139,8 @@ def check(
     One dict per finding: `line`, `column`, `level` (`"error"`, `"warning"` or `"note"`, an
     assumption), `code` (`"E013"`, None for a note), `message` and `hint` (or None); errors and
     warnings first, then the notes. A controller alarm is an error finding, not an exception.
-    `thread` judges the thread cut against a standard thread's class (`"M30x2-6g"`);
+    `thread` judges the thread cut against a standard thread's class (`"M30x2-6g"`), and its note
+    states the measurement over `wire` (the thread's units, `--wire`; default the best wire);
     `stock_diameter` is the bar's diameter, `stock_start` the Z of its face, `stock_length` its
     length toward the chuck and `stock_bore` a bore through it, in program units (`--stock-*`;
     each not given is the machine profile's `[stock]` value, else not known: the crest and Z0
@@ -177,7 +179,7 @@ def plot_svg(
     unknown controller, or a `cycle` the program does not have.
     """
 
-def thread(name: str) -> dict[str, Any]:
+def thread(name: str, *, wire: float | None = None) -> dict[str, Any]:
     """A standard thread: the object of `threadcut thread NAME --json`.
 
     `name` is `M10`, `M10x1.25-6g`, `1/2-13 UNC-2A`, `#10-32 UNF`, `1/2-14 NPT`, `Tr20x4`, ... .
@@ -186,8 +188,14 @@ def thread(name: str) -> dict[str, Any]:
     `turning_infeed` (`external`, `internal`), and `external` / `internal`: the class limits
     (`class`, `deviation`, `major`, `pitch`, `minor`, each `{min, max}`) of the side the name asks
     for, both without a class; other forms than ISO metric and Unified add `profile` and `taper`.
+    `wires`: the three-wire measurement (`wire`, `best`, `min`, `max`, `fits`, `formula`, `basic`,
+    `class`, `limits`: M over the wire at the basic and the external class's pitch diameters, by the
+    simple formula and with the lead angle), over `wire` (the thread's units, as `--wire`) when
+    given, else over the best wire; `gauges` (metric and Unified): the GO / NOT GO gauge sizes of
+    each side's class, as `threadcut thread NAME --wire D --json` prints them.
 
-    Raises `InputError` for a name threadcut does not know (its hint names the nearest ones).
+    Raises `InputError` for a name threadcut does not know (its hint names the nearest ones) or a
+    wire that is not a positive length.
     """
 
 def mill(

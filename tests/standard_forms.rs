@@ -544,10 +544,34 @@ fn npt_judged_at_its_gauge_plane() {
     assert!(!j.ok());
 }
 
-/// An internal Rc thread is judged at its opening; a parallel thread has no gauge plane.
+/// An internal Rc thread is judged half a pitch inside its opening (ISO 7-1:1994, 3.3 note 4, as
+/// quoted in issue 27; docs/standard-threads.md); a parallel thread has no gauge plane. Rc1/2:
+/// P = 25.4/14 = 1.814286, the gauge plane at Z = −P/2 = −0.907143 (the thread runs to −Z); the
+/// cut pitch diameter shrinks 1/16 per mm, so 19.793 + 0.1 at the face is
+/// 19.793 + 0.1 − 0.907143/16 = 19.793 + 0.043304 there, inside ±T2/2/16 = ±2.3/16 = ±0.14375;
+/// 19.793 + 0.2 at the face is + 0.143304 there: still inside (at the face it would be outside);
+/// + 0.25 at the face is + 0.193304: outside.
 #[test]
-fn rc_judged_at_its_face() {
+fn rc_judged_half_a_pitch_inside_its_face() {
     let t = lookup("Rc1/2").unwrap();
+    let p = IN / 14.0;
+    close(
+        t.taper.unwrap().gauge_plane_from_face(Surface::Internal),
+        p / 2.0,
+        1e-12,
+        "P/2",
+    );
+    // NPT's internal gauge plane stays at the opening (the L1 plug enters flush).
+    close(
+        lookup("1/2 NPT")
+            .unwrap()
+            .taper
+            .unwrap()
+            .gauge_plane_from_face(Surface::Internal),
+        0.0,
+        1e-12,
+        "NPT",
+    );
     let cut = TaperCut {
         side: Surface::Internal,
         face_z: 0.0,
@@ -555,23 +579,20 @@ fn rc_judged_at_its_face() {
         pitch_diameter_at_face: 19.793 + 0.1,
         taper: -1.0 / 16.0,
         length: 15.0,
-        pitch: IN / 14.0,
+        pitch: p,
         resolution: 0.0,
     };
     let j = judge_taper(&t, &cut).unwrap();
-    close(j.gauge_plane_z, 0.0, 1e-12, "at the face");
-    // ±T2/2 = 2.3 mm → ±0.14375 on the pitch diameter: 0.1 is inside.
+    close(j.gauge_plane_z, -0.907_143, 1e-4, "half a pitch inside");
+    close(j.pitch_diameter, 19.793 + 0.043_304, 1e-4, "at the plane");
     assert!(j.ok(), "{:?}", j.findings);
     close(j.limits.max.unwrap(), 19.793 + 2.3 / 16.0, 1e-9, "max");
-    let j = judge_taper(
-        &t,
-        &TaperCut {
-            pitch_diameter_at_face: 19.793 + 0.2,
-            ..cut
-        },
-    )
-    .unwrap();
-    assert!(!j.ok());
+    let at = |d: f64| TaperCut {
+        pitch_diameter_at_face: 19.793 + d,
+        ..cut
+    };
+    assert!(judge_taper(&t, &at(0.2)).unwrap().ok());
+    assert!(!judge_taper(&t, &at(0.25)).unwrap().ok());
     assert!(judge_taper(&lookup("G1/2").unwrap(), &cut).is_err());
 }
 

@@ -127,3 +127,37 @@ fn npt_states_the_gauge_standoff() {
     let n = notes(src, "fanuc", "1/2-14 NPT");
     assert!(n.contains("turns ("), "{n}");
 }
+
+/// `--wire`: the wire one owns. The M12x1.75-6g program of `metric_60` (E = 10.863363) over
+/// 1.000 mm wires: simple M = E − 0.866025·1.75 + 3·1.000 = 10.863363 − 1.515544 + 3 = 12.347819;
+/// tan λ = 0.051277, + 1.000·½·0.0026293·0.866025·1.732051 = 0.001972: M = 12.349791 mm. The
+/// window over the same wires: 10.679 − 1.515544 + 3 + ½·(1.75/(π·10.679))²·1.5 = 12.163456 +
+/// 0.002041 = 12.165497.
+#[test]
+fn a_wire_of_ones_own() {
+    let m = Machine::built_in("fanuc").unwrap();
+    let src = "G97 S800 M03\nG00 X14. Z5.\nG76 P010060 Q50 R0.02\nG76 X9.853 Z-20. P1074 Q300 F1.75\nM30\n";
+    let opts = Options {
+        thread: Some(lookup("M12x1.75-6g").unwrap()),
+        wire: Some(1.0),
+        ..Options::default()
+    };
+    let r = check(src.as_bytes(), Source::Gcode(&m), &opts).unwrap();
+    let n: Vec<_> = r.notes.iter().map(|n| n.message.clone()).collect();
+    let n = n.join("\n");
+    close(number_after(&n, "over "), 1.0, 5e-5, "wire");
+    close(number_after(&n, "M = "), 12.3498, 6e-5, "M");
+    close(number_after(&n, "6g allows "), 12.1655, 6e-5, "M min");
+    // An inch thread takes its wire in inches: 1/2-13 UNC-2A of `unified_60_inch` over 0.045 in:
+    // M = 0.4500116 − 0.0666173 + 3·0.045 = 0.5183943 (+ 0.045·0.75·0.0029606 = 0.0000999).
+    let src = "G20\nG97 S800 M03\nG00 X0.6 Z0.2\nG76 P010060 Q20 R0.001\nG76 X0.4056 Z-1. P472 Q100 F0.076923\nM30\n";
+    let opts = Options {
+        thread: Some(lookup("1/2-13 UNC-2A").unwrap()),
+        wire: Some(0.045),
+        ..Options::default()
+    };
+    let r = check(src.as_bytes(), Source::Gcode(&m), &opts).unwrap();
+    let n: Vec<_> = r.notes.iter().map(|n| n.message.clone()).collect();
+    let n = n.join("\n");
+    close(number_after(&n, "M = "), 0.5185, 6e-5, "inch M");
+}

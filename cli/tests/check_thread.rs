@@ -403,7 +403,9 @@ fn npt_external_judged_at_its_gauge_plane() {
     );
 }
 
-/// Rc1/2 internal (mm), judged at its opening (ISO 7-1: the gauge plane at the face, ±T2/2 =
+/// Rc1/2 internal (mm), judged half a pitch inside its opening (ISO 7-1:1994, 3.3 note 4, as quoted
+/// in issue 27: the gauge plane P/2 = 0.907143 behind the face, where the pitch diameter of a 1:16
+/// internal taper is P/2/16 = 0.056696 smaller than at the face; ±T2/2 =
 /// ±2.3 mm, ±2.3/16 = ±0.14375 on the pitch diameter around d2 = 20.955 − 1.162 = 19.793; P =
 /// 25.4/14 = 1.8142857, 55°). The G76 runs from Z3 to Z−20 with R0.719 (1:16 would be 0.71875:
 /// the program's resolution, 2·0.001/23 on the taper, takes it as 1:16), its root X19.705 at Z−20,
@@ -411,12 +413,14 @@ fn npt_external_judged_at_its_gauge_plane() {
 /// P/(4·tan 27.5°) = 0.871305 above the flanks' meeting point, which a nose radius r puts
 /// r/sin 27.5° − r beyond the tool's lowest point:
 /// * the standard's root radius 0.137278·P = 0.249061 (0.290323 short of the point): PD =
-///   20.955435 − 2·(0.871305 − 0.290323) = 19.793471: at the basic size;
+///   20.955435 − 2·(0.871305 − 0.290323) = 19.793471 at the face, the basic size there, so
+///   19.736775 at the gauge plane: (19.736775 − 19.793)/(P/16) = −0.50 turns;
 /// * the root X20.005 (0.3 larger) and r = 0.249 (0.290254): PD = 21.255435 − 1.162102 = 20.093333,
-///   above 19.93675 by (20.093333 − 19.793)/(P/16) = +2.65 turns, ±2.3/P = ±1.27 allowed; with
-///   the standard's radius assumed instead, 21.255435 − 1.161964 = 20.093471.
+///   at the face, 20.036637 at the gauge plane: above 19.93675 by (20.036637 − 19.793)/(P/16) =
+///   +2.15 turns, ±2.3/P = ±1.27 allowed; with the standard's radius assumed instead,
+///   21.255435 − 1.161964 = 20.093471 at the face, 20.036775 at the plane.
 #[test]
-fn rc_internal_judged_at_its_opening() {
+fn rc_internal_judged_half_a_pitch_inside_its_opening() {
     let rc = |x: &str| {
         format!("G21 G99\nG97 S400 M3\nG0 X16. Z3.\nG76 P010055 Q50 R0.01\nG76 X{x} Z-20. R0.719 P1162 Q300 F1.814\nG0 X10. Z50.\nM30\n")
     };
@@ -424,7 +428,7 @@ fn rc_internal_judged_at_its_opening() {
     assert_eq!(code, 0, "{out}");
     assert!(!out.contains("E016") && !out.contains("W00"), "{out}");
     assert!(
-        out.contains("judged against Rc1/2 at its gauge plane Z0 (0 from the face at Z0, assumed): pitch diameter 19.7935 (basic 19.793), the gauge +0.00 turns (+0.0077 mm) from its basic position (±1.27 allowed), taper 0.06250 on diameter"),
+        out.contains("judged against Rc1/2 at its gauge plane Z-0.9071 (0.9071 from the face at Z0, assumed): pitch diameter 19.7368 (basic 19.793), the gauge -0.50 turns (-0.8994 mm) from its basic position (±1.27 allowed), taper 0.06250 on diameter"),
         "{out}"
     );
     let (code, out) = check(
@@ -441,7 +445,7 @@ fn rc_internal_judged_at_its_opening() {
     );
     assert_eq!(code, 2, "{out}");
     assert!(
-        out.contains("error[E016]: pitch diameter 20.0933 mm at the gauge plane is above the maximum 19.9367 for Rc1/2: the gauge would stand +2.65 turns from its basic position (±1.27 allowed)"),
+        out.contains("error[E016]: pitch diameter 20.0366 mm at the gauge plane is above the maximum 19.9367 for Rc1/2: the gauge would stand +2.15 turns from its basic position (±1.27 allowed)"),
         "{out}"
     );
     // Without the tool's tip, the same finding is a warning naming the tip assumed.
@@ -452,7 +456,7 @@ fn rc_internal_judged_at_its_opening() {
     );
     assert_eq!(code, 0, "{out}");
     assert!(
-        out.contains("warning[W009]: pitch diameter 20.0935 mm at the gauge plane")
+        out.contains("warning[W009]: pitch diameter 20.0368 mm at the gauge plane")
             && out.contains("the tool's tip of the standard's root form"),
         "{out}"
     );
@@ -460,4 +464,37 @@ fn rc_internal_judged_at_its_opening() {
     let (code, out) = check("rc-as-r", &rc("19.705"), &args(&["--thread", "R1/2"]));
     assert_eq!(code, 2, "{out}");
     assert!(out.contains("is a class of external threads"), "{out}");
+}
+
+/// `check --thread NAME --wire D`: the note's M is over the wire one owns (tests/wires.rs
+/// `a_wire_of_ones_own`: M12x1.75-6g cut to X9.853, E = 10.863363, over 1.000 mm wires M =
+/// 12.3498, the 6g window 12.1655–12.3154); `--wire` needs `--thread`, and a wire is positive.
+#[test]
+fn check_takes_the_wire_one_owns() {
+    let src = "G97 S800 M03\nG00 X14. Z5.\nG76 P010060 Q50 R0.02\nG76 X9.853 Z-20. P1074 Q300 F1.75\nM30\n";
+    let (code, out) = check(
+        "wire-own",
+        src,
+        &args(&["--thread", "M12x1.75-6g", "--wire", "1"]),
+    );
+    // The program stops 0.017 short of 6g's largest minor diameter (E016): the note still says
+    // what it measures.
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("over 1 wires this program gives M = 12.3498 mm, 6g allows 12.1655–12.3154"),
+        "{out}"
+    );
+    let (code, out) = check("wire-alone", src, &args(&["--wire", "1"]));
+    assert_eq!(code, 2, "{out}");
+    assert!(out.contains("--thread"), "{out}");
+    let (code, out) = check(
+        "wire-zero",
+        src,
+        &args(&["--thread", "M12x1.75-6g", "--wire", "0"]),
+    );
+    assert_eq!(code, 2, "{out}");
+    assert!(
+        out.contains("a measuring wire's diameter is a positive length"),
+        "{out}"
+    );
 }

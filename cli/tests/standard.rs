@@ -486,8 +486,9 @@ fn json_prints_the_tabulated_numbers() {
 /// Sinumerik's CYCLE97 takes a taper as the crest diameters DM1 at SPL and DM2 at FPL. R3/4
 /// external (ISO 7-1: gauge diameter 26.441 at 9.5 from the small end), face Z0, 16 long: DM1 =
 /// 26.441 − 9.5/16 = 25.84725 at Z0, DM2 = 26.441 + 6.5/16 = 26.84725 at Z−16, the run-in APP the
-/// default 3 pitches, 5.443. Rc3/4 internal: the tap hole (minor, 24.117) at the opening, 1 mm less
-/// 16 mm in. A CYCLE97 written with them reads back as a 1:16 cone through those diameters.
+/// default 3 pitches, 5.443. Rc3/4 internal: the tap hole (minor, 24.117) at the gauge plane, half a
+/// pitch (25.4/14/2 = 0.907143) inside the opening (ISO 7-1:1994, 3.3 note 4, as quoted in issue
+/// 27), so 24.117 + 0.907143/16 = 24.173696 at the opening, 1 mm less 16 mm in. A CYCLE97 written with them reads back as a 1:16 cone through those diameters.
 #[test]
 fn cycle97_takes_a_taper_as_dm1_and_dm2() {
     let (out, err, code) = cli(&[
@@ -515,8 +516,14 @@ fn cycle97_takes_a_taper_as_dm1_and_dm2() {
     ]);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     let d = &v["cycle"]["taper_diameters"];
-    assert!((d["DM1"].as_f64().unwrap() - 24.117).abs() < 1e-9, "{d}");
-    assert!((d["DM2"].as_f64().unwrap() - 23.117).abs() < 1e-9, "{d}");
+    assert!(
+        (d["DM1"].as_f64().unwrap() - 24.173_696).abs() < 1e-6,
+        "{d}"
+    );
+    assert!(
+        (d["DM2"].as_f64().unwrap() - 23.173_696).abs() < 1e-6,
+        "{d}"
+    );
     assert_eq!(d["FPL"], -16.0);
     assert!(v["cycle"]["taper_word"].is_null());
     // Read back: the crest line of the cycle those values write.

@@ -436,7 +436,8 @@ fn expand_py(
 /// One dict per finding: `line`, `column`, `level` (`"error"`, `"warning"` or `"note"`, an
 /// assumption), `code` (`"E013"`, None for a note), `message` and `hint` (or None); errors and
 /// warnings first, then the notes. A controller alarm is an error finding, not an exception.
-/// `thread` judges the thread cut against a standard thread's class (`"M30x2-6g"`);
+/// `thread` judges the thread cut against a standard thread's class (`"M30x2-6g"`), and its note
+/// states the measurement over `wire` (the thread's units, `--wire`; default the best wire);
 /// `stock_diameter` is the bar's diameter, `stock_start` the Z of its face, `stock_length` its
 /// length toward the chuck and `stock_bore` a bore through it, in program units (`--stock-*`;
 /// each not given is the machine profile's `[stock]` value, else not known: the crest and Z0
@@ -450,7 +451,7 @@ fn expand_py(
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for an unknown
 /// controller or thread.
 #[pyfunction(name = "check")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
 #[allow(clippy::too_many_arguments)]
 fn check_py<'py>(
     py: Python<'py>,
@@ -458,6 +459,7 @@ fn check_py<'py>(
     controller: &str,
     machine: Option<&Bound<'py, PyAny>>,
     thread: Option<&str>,
+    wire: Option<f64>,
     stock_diameter: Option<f64>,
     stock_start: Option<f64>,
     stock_length: Option<f64>,
@@ -470,6 +472,7 @@ fn check_py<'py>(
         }
         None => None,
     };
+    let wire = wire_keyword(py, wire, thread.is_some())?;
     let stock = Stock {
         diameter: stock_diameter,
         face: stock_start,
@@ -479,6 +482,7 @@ fn check_py<'py>(
     let opts = commands::with_stock(
         check::Options {
             thread,
+            wire,
             ..check::Options::default()
         },
         stock,
@@ -648,12 +652,39 @@ fn plot_svg_py(
 /// `turning_infeed` (`external`, `internal`), and `external` / `internal`: the class limits
 /// (`class`, `deviation`, `major`, `pitch`, `minor`, each `{min, max}`) of the side the name asks
 /// for, both without a class; other forms than ISO metric and Unified add `profile` and `taper`.
+/// `wires`: the three-wire measurement (`wire`, `best`, `min`, `max`, `fits`, `formula`, `basic`,
+/// `class`, `limits`: M over the wire at the basic and the external class's pitch diameters, by the
+/// simple formula and with the lead angle), over `wire` (the thread's units, as `--wire`) when
+/// given, else over the best wire; `gauges` (metric and Unified): the GO / NOT GO gauge sizes of
+/// each side's class, as `threadcut thread NAME --wire D --json` prints them.
 ///
-/// Raises `InputError` for a name threadcut does not know (its hint names the nearest ones).
+/// Raises `InputError` for a name threadcut does not know (its hint names the nearest ones) or a
+/// wire that is not a positive length.
 #[pyfunction(name = "thread")]
-fn thread_py<'py>(py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+#[pyo3(signature = (name, *, wire=None))]
+fn thread_py<'py>(py: Python<'py>, name: &str, wire: Option<f64>) -> PyResult<Bound<'py, PyAny>> {
     let t = standard::lookup(name).map_err(|d| Problem::diagnostic(&d, None).error(py))?;
-    json_loads(py, &t.to_json().to_string())
+    let mut v = t.to_json();
+    if let Some(w) = wire_keyword(py, wire, true)? {
+        v["wires"] = t.wires(Some(t.units.to_mm(w))).to_json(t.units);
+    }
+    json_loads(py, &v.to_string())
+}
+
+/// The `wire` keyword (`--wire`): a positive diameter in the thread's units, and only with a
+/// thread to measure.
+fn wire_keyword(py: Python<'_>, wire: Option<f64>, thread: bool) -> PyResult<Option<f64>> {
+    match wire {
+        Some(w) if !thread => Err(Problem::usage(format!(
+            "wire={w}: the wire measures a standard thread: give thread= too (--wire needs --thread)"
+        ))
+        .error(py)),
+        Some(w) if !(w.is_finite() && w > 0.0) => Err(Problem::usage(format!(
+            "wire={w}: a measuring wire's diameter is a positive length (the thread's units)"
+        ))
+        .error(py)),
+        w => Ok(w),
+    }
 }
 
 /// A keyword that takes one of a few words.

@@ -149,6 +149,20 @@ def test_check_with_thread_and_stock(cli):
     assert "27.546 > 27.508 max" in minor["message"]
 
 
+def test_check_with_a_wire_of_ones_own(cli):
+    path = EXAMPLES / "fanuc-m30x2-g76.nc"
+    args = ["--thread", "M30x2-6g", "--wire", "1.2", "--stock-diameter", "31"]
+    r = cli.run("check", str(path), "-c", "fanuc", *args, "--format", "json")
+    expected = [{k: v for k, v in f.items() if k != "file"} for f in json.loads(r.stdout)]
+    got = threadcut.check(M30_G76, "fanuc", thread="M30x2-6g", wire=1.2, stock_diameter=31.0)
+    assert got == expected
+    assert any("over 1.2 wires" in f["message"] for f in got if f["level"] == "note")
+    with pytest.raises(threadcut.InputError, match="needs --thread"):
+        threadcut.check(M30_G76, "fanuc", wire=1.2)
+    with pytest.raises(threadcut.InputError, match="positive length"):
+        threadcut.check(M30_G76, "fanuc", thread="M30x2-6g", wire=-1.0)
+
+
 def test_check_reports_a_controller_alarm_as_a_finding():
     # GSK's G78: the tail-out K10 is not shorter than the 8 mm thread.
     src = "G00 X80 Z10\nG97 S100\nG78 P010060 Q0.1 R0.05\nG78 X60 Z2 P1.2 Q0.4 F2 J1 K10\n"
@@ -200,6 +214,27 @@ def test_thread_values():
     assert u["units"] == "inch" and u["tpi"] == 13
     # ASME B1.1: the 2A allowance of 1/2-13 is 0.0015 in below the basic major diameter 0.5.
     assert u["external"]["major"]["max"] == pytest.approx(0.4985, abs=1e-9)
+
+
+def test_thread_gives_wires_and_gauges(cli):
+    # The same object as `threadcut thread NAME --wire D --json`.
+    assert threadcut.thread("7/16-14 UNC", wire=0.045) == cli.json(
+        "thread", "7/16-14 UNC", "--wire", "0.045", "--json"
+    )
+    t = threadcut.thread("M10x1.5-6g")
+    # Best wire P/(2·cos 30°) = 0.866025; M = d2 + 3w − 0.866025·P at d2 9.025721: 10.324760
+    # (the codingace.net table wires::tests cites).
+    assert t["wires"]["best"] == pytest.approx(0.866025, abs=1e-6)
+    assert t["wires"]["basic"]["simple"] == pytest.approx(10.324760, abs=1e-6)
+    # neme-s.org: 7/16-14 over 0.045 in wires, M = 0.4375 + 0.135 − 0.1083 = 0.464 in.
+    u = threadcut.thread("7/16-14 UNC", wire=0.045)
+    assert u["wires"]["wire"] == pytest.approx(0.045, abs=1e-9)
+    assert u["wires"]["basic"]["simple"] == pytest.approx(0.4642, abs=1e-4)
+    # The GO ring at 6g's largest pitch diameter 8.994, NOT GO at the smallest 8.862.
+    ring = t["gauges"]["external"][0]
+    assert (ring["go"], ring["not_go"]) == (pytest.approx(8.994, abs=1e-6), pytest.approx(8.862, abs=1e-6))
+    with pytest.raises(threadcut.InputError, match="positive length"):
+        threadcut.thread("M10", wire=0.0)
 
 
 MILLS = [

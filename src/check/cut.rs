@@ -207,6 +207,7 @@ fn judge(
                     .program_resolution(units, t.diameter_x)
                     .increment_mm(),
                 face,
+                wire: opts.wire.map(|w| thread.units.to_mm(w)),
             },
             out,
             notes,

@@ -202,6 +202,8 @@ pub struct Judging<'a> {
     /// The part's face the thread enters (a taper thread's gauge plane is placed from it); `None`:
     /// not known.
     pub face: Option<Face>,
+    /// The measuring wire one owns (mm); `None`: the best wire.
+    pub wire: Option<f64>,
 }
 
 /// The part's face on the side where the thread starts.

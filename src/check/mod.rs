@@ -89,6 +89,9 @@ pub struct Options {
     pub tip: Option<Tip>,
     /// The standard thread to judge against (`--thread`).
     pub thread: Option<StandardThread>,
+    /// The measuring wires one owns (`--wire`), in the units of [`Options::thread`]: the
+    /// measurement over wires the check states is over them; `None`: over the best wire.
+    pub wire: Option<f64>,
     /// A program with control flow stops after this many executed blocks (`--max-blocks`; by
     /// default the interpreter's, [`crate::interp::Limits`]).
     pub max_blocks: u64,
@@ -103,6 +106,7 @@ impl Default for Options {
             stock_bore: None,
             tip: None,
             thread: None,
+            wire: None,
             max_blocks: program::Options::default().max_blocks,
         }
     }

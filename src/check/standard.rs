@@ -173,7 +173,7 @@ pub fn judge(t: &Thread, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec
             },
             at.show(m.root)
         ));
-        if let Some(measured) = what_is_measured(target, side, pd, None) {
+        if let Some(measured) = what_is_measured(target, side, pd, j.wire) {
             said.push(measured);
         }
     }

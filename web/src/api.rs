@@ -43,17 +43,32 @@ pub fn controllers() -> Value {
     json!({"ok": true, "controllers": list, "threads": standard::known_names()})
 }
 
-/// A standard thread's data (mm) with the limits of both sides.
+/// A standard thread's data (mm) with the limits of both sides, its three-wire measurement over
+/// the best wire (`wires`: [`standard::wires::Wires`], mm) and, for a metric or Unified thread, the
+/// GO / NOT GO gauges of both sides' classes (`gauges`: `{external, internal}`, each a list of
+/// [`standard::gauges::GaugePair`], mm; `null` for the other forms), as `threadcut thread` prints them.
 pub fn thread(name: &str) -> Value {
     match standard::lookup(name) {
         Ok(t) => {
             let ext = t.limits(Surface::External);
             let int = t.limits(Surface::Internal);
+            let gauges = matches!(
+                t.family,
+                standard::Family::Metric | standard::Family::Unified
+            )
+            .then(|| {
+                json!({
+                    "external": standard::gauges::gauges(&ext),
+                    "internal": standard::gauges::gauges(&int),
+                })
+            });
             json!({
                 "ok": true,
                 "thread": t,
                 "external": ext,
                 "internal": int,
+                "wires": t.wires(None),
+                "gauges": gauges,
             })
         }
         Err(d) => json!({"ok": false, "error": d.message, "hint": d.hint}),

@@ -470,3 +470,36 @@ fn a_pasted_program_shows_its_part_and_the_rapid_into_it() {
         .unwrap()
         .contains("the stock's size is not given"));
 }
+
+/// The page's thread shows the three wires and the gauges (issue 27), as `threadcut thread` gives
+/// them: M10x1.5 best wire P/(2·cos 30°) = 0.866025 mm, M over it at d2 9.025721: 10.324760
+/// (simple formula; codingace.net's table); 6g's GO ring at 8.994, NOT GO at 8.862; 6H's GO plug
+/// at 9.026 (Westport's metric gauge chart). A trapezoidal thread has wires but no gauges.
+#[test]
+fn thread_gives_wires_and_gauges() {
+    let t = api::thread("M10x1.5");
+    assert_eq!(t["ok"], true);
+    let close = |v: &serde_json::Value, want: f64| (v.as_f64().unwrap() - want).abs() < 5e-4;
+    assert!(close(&t["wires"]["best"], 0.866025), "{}", t["wires"]);
+    assert!(
+        close(&t["wires"]["basic"]["simple"], 10.324760),
+        "{}",
+        t["wires"]
+    );
+    let ring = &t["gauges"]["external"][0];
+    assert_eq!(ring["gauge"], "thread ring");
+    assert!(
+        close(&ring["go"], 8.994) && close(&ring["not_go"], 8.862),
+        "{ring}"
+    );
+    assert!(
+        close(&t["gauges"]["internal"][0]["go"], 9.026),
+        "{}",
+        t["gauges"]
+    );
+    let tr = api::thread("Tr40x7");
+    assert!(
+        tr["gauges"].is_null() && tr["wires"]["best"].is_number(),
+        "{tr}"
+    );
+}

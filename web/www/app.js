@@ -193,7 +193,24 @@ async function describeThread(name) {
     : '';
   $('thread-info').textContent =
     `${th.name}: ${th.profile.angle_deg}° form, ${pitch}, major ${len(th.basic.major)}, minor ${len(th.basic.minor)}, ` +
-    `thread height ${len(height)} (${side.class}).` + taper;
+    `thread height ${len(height)} (${side.class}).` + taper + wiresText(t.wires, len) + gaugesText(t, len);
+}
+
+/** The three-wire measurement of the external thread (the library's `wires`, mm). */
+function wiresText(w, len) {
+  if (!w) return '';
+  const m = (o) => len(o.corrected);
+  const lim = w.limits ? `; ${w.class} allows M ${m(w.limits[0])}–${m(w.limits[1])}` : '';
+  return ` Three wires: best wire ${len(w.best)} (${len(w.min)}–${len(w.max)} touch the flanks), ` +
+    `M over it ${m(w.basic)} at the basic pitch diameter${lim} (with the lead angle, NBS H28).`;
+}
+
+/** The GO / NOT GO gauges of the side shown (ISO 1502 / ASME B1.2 arrangement, at the limits). */
+function gaugesText(t, len) {
+  const g = t.gauges && ($('internal').checked ? t.gauges.internal : t.gauges.external);
+  if (!g || !g.length) return '';
+  const each = g.map((p) => `${p.gauge} (${p.diameter}) GO ${len(p.go)}, NOT GO ${len(p.not_go)}`);
+  return ` Gauges: ${each.join('; ')} (gauge tolerances not applied).`;
 }
 
 function plan() {

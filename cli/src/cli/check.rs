@@ -21,6 +21,8 @@ pub struct Args<'a> {
     pub stock: threadcut::machine::Stock,
     pub tool: &'a ToolArgs,
     pub thread: Option<&'a str>,
+    /// `--wire`: the measuring wire one owns, in the thread's units.
+    pub wire: Option<f64>,
     pub format: ReportFormat,
     pub output: Option<&'a Path>,
     /// The run's options (`--max-blocks`).
@@ -32,9 +34,17 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         Some(name) => Some(standard::lookup(name).map_err(usage)?),
         None => None,
     };
+    if let Some(w) = args.wire {
+        if !(w.is_finite() && w > 0.0) {
+            return Err(Failure::Usage(format!(
+                "--wire {w}: a measuring wire's diameter is a positive length (the thread's units)"
+            )));
+        }
+    }
     let opts = Options {
         tip: args.tool.given_tip()?,
         thread,
+        wire: args.wire,
         max_blocks: args.run.max_blocks,
         ..Options::default()
     };

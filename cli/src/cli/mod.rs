@@ -305,6 +305,10 @@ struct CheckArgs {
     /// `"1/2-13 UNC-2A"`; any name `threadcut thread` knows).
     #[arg(long, value_name = "NAME")]
     thread: Option<String>,
+    /// With --thread: the diameter of the measuring wires one owns (the thread's units): the
+    /// measurement over wires the note states is over them (default: the best wire).
+    #[arg(long, value_name = "D", requires = "thread")]
+    wire: Option<f64>,
     /// Text (diagnostics, notes, summary), JSON (`[{file, line, column, level, code,
     /// message, hint}]`) or JSON lines (one finding per line).
     #[arg(long, value_enum, default_value = "text")]
@@ -700,6 +704,7 @@ fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
             stock: args.stock.given()?,
             tool: &args.tool,
             thread: args.thread.as_deref(),
+            wire: args.wire,
             format: args.format,
             output: args.output.output.as_deref(),
             run: &args.run.options(false)?,

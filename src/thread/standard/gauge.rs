@@ -7,7 +7,10 @@
 //!   plug gauge enters flush). Both are gauged "±1 turn" (§3.2, Table 2): the gauge plane may lie
 //!   one pitch either way, which on a 1:16 taper is ±P/16 on the pitch diameter.
 //! * ISO 7-1: the gauge diameter lies at the gauge length from the small end of R (tolerance
-//!   ±T1/2) and at the opening of Rc (±T2/2); Rp is parallel with a diameter tolerance.
+//!   ±T1/2) and half a pitch inside the opening of Rc (±T2/2; ISO 7-1:1994, 3.3 note 4 as quoted
+//!   in issue 27; JIS B 0203:1999, which otherwise adopts ISO 7-1 unchanged, states that it keeps
+//!   its own position, at the face, docs/standard-threads.md); Rp is parallel with a diameter
+//!   tolerance.
 //!
 //! [`judge_taper`] takes what a program cuts (the pitch-diameter line along Z and where the part's
 //! reference face is) and says where the gauge would stand.
@@ -28,6 +31,9 @@ pub struct Taper {
     /// How far the gauge plane may lie from its basic position (±, mm), external and internal.
     pub external_position_tolerance: f64,
     pub internal_position_tolerance: f64,
+    /// Distance of the internal thread's gauge plane inside its opening: 0 (NPT: the L1 plug
+    /// gauge enters flush), half a pitch (ISO 7-1 Rc).
+    pub internal_gauge_plane: f64,
     /// Pitch diameter at the gauge plane: E1 (NPT), d2 at the gauge plane (ISO 7-1).
     pub gauge_pitch_diameter: f64,
     /// Major diameter at the gauge plane (the ISO 7-1 "gauge diameter"; NPT: of the sharp V less
@@ -55,11 +61,12 @@ pub struct Taper {
 
 impl Taper {
     /// The gauge plane's distance from the part's reference face, into the part: the small end of
-    /// an external thread (L1 / gauge length), the opening of an internal one (0).
+    /// an external thread (L1 / gauge length), the opening of an internal one
+    /// ([`Taper::internal_gauge_plane`]: 0 for NPT, P/2 for ISO 7-1).
     pub fn gauge_plane_from_face(&self, side: Surface) -> f64 {
         match side {
             Surface::External => self.gauge_length,
-            Surface::Internal => 0.0,
+            Surface::Internal => self.internal_gauge_plane,
         }
     }
 

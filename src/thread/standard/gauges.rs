@@ -74,6 +74,54 @@ mod tests {
         assert!(close(i[1].go, 8.376) && close(i[1].not_go, 8.676), "{i:?}");
     }
 
+    /// A gauge maker's published chart of GO / NOT GO pitch diameters (Westport, "Standard Pitch
+    /// Diameter Chart - Metric", westportcorp.com/blogs/thread-ring-gages; X-tolerance gauges,
+    /// their sizes at the product limits), rows M6x1, M8x1.25, M10x1.5, M10x1.25 (mm): GO ring
+    /// 6g, NOT GO ring 6g, GO plug 6H, NOT GO plug 6H.
+    #[test]
+    fn metric_thread_gauges_match_a_makers_chart() {
+        for (name, go_ring, nogo_ring, go_plug, nogo_plug) in [
+            ("M6x1", 5.324, 5.212, 5.350, 5.500),
+            ("M8x1.25", 7.160, 7.042, 7.188, 7.348),
+            ("M10x1.5", 8.994, 8.862, 9.026, 9.206),
+            ("M10x1.25", 9.160, 9.042, 9.188, 9.348),
+        ] {
+            let t = lookup(name).unwrap();
+            let close = |a: f64, b: f64| (a - b).abs() < 5e-4;
+            let e = gauges(&t.limits(Surface::External));
+            let i = gauges(&t.limits(Surface::Internal));
+            assert!(
+                close(e[0].go, go_ring) && close(e[0].not_go, nogo_ring),
+                "{name}: {e:?}"
+            );
+            assert!(
+                close(i[0].go, go_plug) && close(i[0].not_go, nogo_plug),
+                "{name}: {i:?}"
+            );
+        }
+    }
+
+    /// A published Unified ring-gauge chart (go / not go pitch diameters of 2A and 3A, in; the
+    /// "thread ring gauge specification" page, maybellehectorlolss1.web.app, quoting a gauge
+    /// maker's table): 5/8-11 UNC 2A .5644 / .5589, 3A .5660 / .5619. (Its 9/16-24 UNEF rows,
+    /// NOT GO .5303 (2A) and .5325 (3A), are 0.0001 above threadcut's B1.1 formula values .5302 /
+    /// .5324: not verified, docs/standard-threads.md "Gauges".)
+    #[test]
+    fn unified_ring_gauges_match_a_published_chart() {
+        for (name, go, not_go) in [
+            ("5/8-11 UNC-2A", 0.5644, 0.5589),
+            ("5/8-11 UNC-3A", 0.5660, 0.5619),
+        ] {
+            let t = lookup(name).unwrap();
+            let e = gauges(&t.external.unwrap());
+            let close = |a: f64, b: f64| (a / 25.4 - b).abs() < 5e-5;
+            assert!(
+                close(e[0].go, go) && close(e[0].not_go, not_go),
+                "{name}: {e:?}"
+            );
+        }
+    }
+
     /// 1/2-13 UNC-2A (ASME B1.1): pitch 0.4485 / 0.4435, major 0.4985 / 0.4876 in.
     #[test]
     fn unified_2a() {

@@ -100,6 +100,7 @@ impl StandardThread {
                     "overall_length": n(tp.overall_length),
                     "external_position_tolerance": n(tp.external_position_tolerance),
                     "internal_position_tolerance": n(tp.internal_position_tolerance),
+                    "internal_gauge_plane": n(tp.internal_gauge_plane),
                 })
             });
         }

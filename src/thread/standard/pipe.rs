@@ -183,6 +183,7 @@ pub fn lookup_npt(text: &str) -> Result<StandardThread> {
         gauge_length: mm(d.l1),
         external_position_tolerance: p,
         internal_position_tolerance: p,
+        internal_gauge_plane: 0.0,
         gauge_pitch_diameter: mm(d.e1),
         gauge_major_diameter: mm(d.e1 + h_sharp - (d.truncation_min + d.truncation_max)),
         small_end_pitch_diameter: mm(d.e0),
@@ -412,6 +413,8 @@ pub fn lookup_iso7(text: &str) -> Result<StandardThread> {
         gauge_length: gl,
         external_position_tolerance: t1,
         internal_position_tolerance: t2,
+        // ISO 7-1:1994, 3.3 note 4 (as quoted in issue 27): half a pitch behind the face.
+        internal_gauge_plane: p / 2.0,
         gauge_pitch_diameter: d2,
         gauge_major_diameter: d,
         small_end_pitch_diameter: d2 - gl / 16.0,
