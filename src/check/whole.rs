@@ -669,47 +669,14 @@ impl Whole {
         };
         let inner = blank.side == Side::Internal;
         let out = blank.side.outward().x;
-        let Some(last) = t.passes.last() else {
+        let (Some(last), Some(run)) = (t.passes.last(), Run::of(t)) else {
             return;
         };
-        // Where the passes run in Z: their synchronised moves.
-        let mut at = t.path.start;
-        let mut spans: Vec<(f64, f64)> = Vec::new();
-        for m in &t.path.motions {
-            if matches!(m.kind, MotionKind::Thread { .. }) {
-                spans.push((at.z, m.to.z));
-            }
-            at = m.to;
-        }
-        let Some(&(z0, _)) = spans.first() else {
-            return;
-        };
-        let z_lo = spans
-            .iter()
-            .map(|s| s.0.min(s.1))
-            .fold(f64::INFINITY, f64::min);
-        let z_hi = spans
-            .iter()
-            .map(|s| s.0.max(s.1))
-            .fold(f64::NEG_INFINITY, f64::max);
-        let surface = |z: f64| {
-            let dz = blank.z_end - blank.z_face;
-            if dz.abs() < 1e-12 {
-                blank.x_face
-            } else {
-                blank.x_face + (blank.x_end - blank.x_face) * (z - blank.z_face) / dz
-            }
-        };
+        let surface = |z: f64| blank_surface(blank, z);
         let root = last.start.x;
+        let (z_lo, z_hi, toward_minus) = (run.z_lo, run.z_hi, run.toward_minus);
         let steps = (((z_hi - z_lo) / tolerance).ceil() as usize).clamp(1, 4000);
-        let toward_minus = (z0 - z_hi).abs() < (z0 - z_lo).abs();
-        let z_at = |k: f64| {
-            if toward_minus {
-                z_hi - (z_hi - z_lo) * k
-            } else {
-                z_lo + (z_hi - z_lo) * k
-            }
-        };
+        let z_at = |k: f64| run.z_at(k);
         // Material beyond the blank's surface at z, and its surface.
         let beyond = |z: f64| {
             part.surface_beyond(z, root, inner)
@@ -736,17 +703,7 @@ impl Whole {
         // What the passes meet beyond it: the highest material up to the thread's end whose
         // surface is known (the program cut it, or the stock was given).
         let stock_given = part.stock().diameter.known == Known::Given;
-        let known = |o: Origin| match o {
-            Origin::Cut(c) if c.kind != CutKind::Thread => {
-                Some(format!("as the program cut it at line {}", c.line))
-            }
-            Origin::Cleared(_) if stock_given => Some("the stock as given".to_string()),
-            Origin::Stock {
-                known: Known::Given,
-                edge,
-            } if edge != StockEdge::Axis => Some("the stock as given".to_string()),
-            _ => None,
-        };
+        let known = |o: Origin| known_surface(o, stock_given);
         // Samples along the run, and the outline's corners in it (where the highest lies).
         let past = |z: f64| {
             if toward_minus {
@@ -833,6 +790,75 @@ impl Whole {
             teeth: self.teeth.clone(),
             hits: self.hits.clone(),
         }
+    }
+}
+
+/// Where a thread's passes run along Z (their synchronised moves), and which way from its start.
+struct Run {
+    z_lo: f64,
+    z_hi: f64,
+    toward_minus: bool,
+}
+
+impl Run {
+    fn of(t: &Thread) -> Option<Run> {
+        let mut at = t.path.start;
+        let mut spans: Vec<(f64, f64)> = Vec::new();
+        for m in &t.path.motions {
+            if matches!(m.kind, MotionKind::Thread { .. }) {
+                spans.push((at.z, m.to.z));
+            }
+            at = m.to;
+        }
+        let &(z0, _) = spans.first()?;
+        let z_lo = spans
+            .iter()
+            .map(|s| s.0.min(s.1))
+            .fold(f64::INFINITY, f64::min);
+        let z_hi = spans
+            .iter()
+            .map(|s| s.0.max(s.1))
+            .fold(f64::NEG_INFINITY, f64::max);
+        Some(Run {
+            z_lo,
+            z_hi,
+            toward_minus: (z0 - z_hi).abs() < (z0 - z_lo).abs(),
+        })
+    }
+
+    /// The Z a share `k` (0..1) of the way along the run from the thread's start.
+    fn z_at(&self, k: f64) -> f64 {
+        if self.toward_minus {
+            self.z_hi - (self.z_hi - self.z_lo) * k
+        } else {
+            self.z_lo + (self.z_hi - self.z_lo) * k
+        }
+    }
+}
+
+/// The blank's surface (radius, mm) at `z`: the line from its face to its end.
+fn blank_surface(blank: &Blank, z: f64) -> f64 {
+    let dz = blank.z_end - blank.z_face;
+    if dz.abs() < 1e-12 {
+        blank.x_face
+    } else {
+        blank.x_face + (blank.x_end - blank.x_face) * (z - blank.z_face) / dz
+    }
+}
+
+/// A surface whose material is known, in words: one the program cut, or the stock's as given
+/// (`stock_given`: a cleared surface's material is the stock's).
+fn known_surface(o: Origin, stock_given: bool) -> Option<String> {
+    match o {
+        Origin::Cut(c) if c.kind != CutKind::Thread => {
+            Some(format!("as the program cut it at line {}", c.line))
+        }
+        Origin::Cleared(_) if stock_given => Some("the stock as given".to_string()),
+        Origin::Stock {
+            known: Known::Given,
+            edge,
+        } if edge != StockEdge::Axis => Some("the stock as given".to_string()),
+        _ => None,
     }
 }
 
