@@ -466,3 +466,30 @@ fn a_shaft_program_faced_turned_grooved_threaded_and_parted_off_is_clean() {
         r.diagnostics
     );
 }
+
+#[test]
+fn a_thread_whose_root_lies_outside_the_turned_part_cuts_nothing() {
+    // LinuxCNC in diameter mode: the part turned to Ø16 over Z2..-25, then a G76 from the drive
+    // line X18 with I-0.5 (the crest Ø17.5) and K0.92 (a depth of 0.46 on the radius): its root
+    // Ø17.5 − 0.92 = Ø16.58 lies above the Ø16 turned — the thread cuts nothing.
+    let prog = |k: &str| {
+        format!(
+            "G7 G18 G21 G90 G95\nT1 M6\nS1200 M3\nG0 X22 Z2\nG1 X16 F0.1\nZ-25\nX22\nG0 X30 Z30\nT2 M6\nS600 M3\nG0 X18 Z3\nG76 P1.5 Z-20 I-0.5 J0.2 K{k} Q29.5 L0 E0 H1 R1.5\nG0 X30 Z30\nM2\n"
+        )
+    };
+    let r = run(&prog("0.92"), "linuxcnc");
+    assert!(
+        has(&r, Code::DepthNotReached, 12, "the thread cuts nothing: its deepest pass (Ø16.58) does not reach the part, which the program turned to Ø16 at line 6"),
+        "{:?}",
+        r.diagnostics
+    );
+    // K3 (Ø17.5 − 3 = Ø14.5 at the root) cuts the thread into the Ø16.
+    let r = run(&prog("3"), "linuxcnc");
+    assert!(
+        !r.diagnostics
+            .iter()
+            .any(|d| d.message.contains("cuts nothing")),
+        "{:?}",
+        r.diagnostics
+    );
+}

@@ -371,6 +371,35 @@ impl<'a> Sink<'a> {
         self.cycles.push((job.span, (measured, face)));
     }
 
+    /// A thread whose deepest pass does not reach the surface the program turned cuts nothing:
+    /// its root lies outside the part (inside the bore for an internal thread).
+    fn cuts_nothing(&mut self, t: &crate::threads::Thread, m: whole::Measured) {
+        let Some(last) = t.passes.iter().max_by(|a, b| a.depth.total_cmp(&b.depth)) else {
+            return;
+        };
+        let units = t.job.units;
+        let res = self.machine.program_resolution(units, t.diameter_x);
+        let root = 2.0 * last.start.x;
+        let surface = units.to_mm(m.diameter);
+        let out = t.job.geometry.side.outward().x;
+        if (root - surface) * out < -res.x().get() * 2.0 {
+            return;
+        }
+        let by = m.line.map_or(String::new(), |l| format!(" at line {l}"));
+        self.found.push(
+            Diagnostic::error(
+                Code::DepthNotReached,
+                t.job.span,
+                format!(
+                    "the thread cuts nothing: its deepest pass (Ø{}) does not reach the part, which the program turned to Ø{}{by}",
+                    length(units, root),
+                    length(units, surface),
+                ),
+            )
+            .with_hint("the cycle's crest and depth are for another diameter than the one turned: check its X, I and K against the part"),
+        );
+    }
+
     /// The thread's blank under `opts`, at the program's resolution there.
     fn blank(
         &self,
@@ -459,6 +488,7 @@ impl<'a> Sink<'a> {
                     length(Units::Mm, m.diameter),
                 ),
             ));
+            self.cuts_nothing(t, m);
             if let (Some(thread), Some(line)) = (&self.opts.thread, m.line) {
                 let res = self.machine.program_resolution(t.job.units, t.diameter_x);
                 let mm = t.job.units.to_mm(m.diameter);

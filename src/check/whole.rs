@@ -507,7 +507,10 @@ impl Whole {
                 let z = g.crest_start.z + (g.crest_end.z - g.crest_start.z) * k;
                 let crest = g.crest_start.x + (g.crest_end.x - g.crest_start.x) * k;
                 let root = crest - g.side.outward().x * g.depth;
+                // The surface first met going out from the root; where the part lies wholly
+                // below the root (the thread cuts air there), the surface below it.
                 part.surface_beyond(z, root, inner)
+                    .or_else(|| part.surface_beyond(z, root, !inner).filter(|s| s.0 > 0.0))
             })
             .collect();
         if found.is_empty() {
