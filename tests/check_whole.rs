@@ -493,3 +493,19 @@ fn a_thread_whose_root_lies_outside_the_turned_part_cuts_nothing() {
         r.diagnostics
     );
 }
+
+#[test]
+fn a_rapid_through_a_modal_g92_thread_is_found_once() {
+    // GSK G92 M20x1.5 in six passes (a thread written as single-pass cycles, read whole when the
+    // next block ends it), then straight to X15 Z-10 through it, then away from there: one error,
+    // at the move into the thread; the move out of it is the tool getting out.
+    let prog = "G0 X100 Z100\nT0303\nM3 S600\nG0 X22 Z4\nG92 X19.2 Z-22 F1.5\nX18.7\nX18.3\nX18.1\nX18.05\nG0 X15 Z-10\nG0 X100 Z100\nM30\n";
+    let r = run(prog, "gsk980");
+    assert_eq!(
+        errors(&r).iter().map(|e| (e.0, e.1)).collect::<Vec<_>>(),
+        vec![(Code::Collision, 10)],
+        "{:?}",
+        r.diagnostics
+    );
+    assert!(has(&r, Code::Collision, 10, "runs through the thread cut at line 5"));
+}

@@ -142,6 +142,9 @@ pub(super) struct Whole {
     first_cut: Option<Span>,
     /// A rapid was judged after the first cut (the note on the stock concerns it).
     judged_after_cut: bool,
+    /// Where the last rapid found running into material ended: the move from there is the
+    /// tool getting out of it, not another fault.
+    crashed_at: Option<Pos>,
 }
 
 impl Whole {
@@ -159,6 +162,7 @@ impl Whole {
             found: Vec::new(),
             first_cut: None,
             judged_after_cut: false,
+            crashed_at: None,
         }
     }
 
@@ -341,6 +345,9 @@ impl Whole {
     /// Judges a rapid move against the threads' teeth and the part.
     fn rapid(&mut self, from: Pos, to: Pos, span: Span, at: At, reading_thread: bool) {
         self.judged_after_cut |= self.first_cut.is_some();
+        if self.crashed_at.take() == Some(from) {
+            return;
+        }
         let units = at.units;
         let show_x = |x: f64| length(units, if at.diameter_x { 2.0 * x } else { x });
         let target = format!("X{} Z{}", show_x(to.x), length(units, to.z));
@@ -457,6 +464,7 @@ impl Whole {
         error: bool,
         (from, to, at): (Pos, Pos, Pos),
     ) {
+        self.crashed_at = Some(to);
         let hint = "a rapid cuts nothing: move clear of the part along the surface the tool came in on before crossing it";
         self.found.push(if error {
             Diagnostic::error(Code::Collision, span, message).with_hint(hint)
