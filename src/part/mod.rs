@@ -822,12 +822,7 @@ impl Part {
     /// with `inward`): the outside of the material `from` lies in (a thread's root lies in its
     /// blank), not of material beyond a gap.
     pub fn surface_beyond(&self, z: f64, from: f64, inward: bool) -> Option<(f64, Origin)> {
-        let xs = outline::surfaces_at_z(&self.rings, z);
-        if inward {
-            xs.into_iter().rev().find(|s| s.0 < from)
-        } else {
-            xs.into_iter().find(|s| s.0 > from)
-        }
+        outline::surface_beyond(&self.rings, z, from, inward)
     }
 
     /// Where the material begins on the face side (the largest Z of any material, mm).

@@ -26,7 +26,11 @@ impl Ring {
     /// The edges as (start, end, origin).
     pub fn edges(&self) -> impl Iterator<Item = (Point, Point, Origin)> + '_ {
         let n = self.pts.len();
-        (0..n).map(move |i| (self.pts[i], self.pts[(i + 1) % n], self.origins[i]))
+        // The next vertex without a division (`% n` cost more than the rest of a crossing test).
+        (0..n).map(move |i| {
+            let next = if i + 1 == n { 0 } else { i + 1 };
+            (self.pts[i], self.pts[next], self.origins[i])
+        })
     }
 }
 
@@ -364,17 +368,58 @@ pub fn surfaces_at_z(rings: &[Ring], z: f64) -> Vec<(f64, Origin)> {
     let mut xs: Vec<(f64, Origin)> = rings
         .iter()
         .flat_map(Ring::edges)
-        .filter_map(|(a, b, o)| {
-            let (ay, by) = (f64::from(a.y), f64::from(b.y));
-            if (ay <= y) == (by <= y) {
-                return None;
-            }
-            let k = (y - ay) / (by - ay);
-            Some(((f64::from(a.x) + k * f64::from(b.x - a.x)) * GRID, o))
-        })
+        .filter_map(|(a, b, o)| Some((crossing_x(a, b, y)?, o)))
         .collect();
     xs.sort_by(|p, q| p.0.total_cmp(&q.0));
     xs
+}
+
+/// The first crossing of the line z = `z` (mm) met going from radius `from` (mm) away from the
+/// axis (toward it with `inward`), with its origin: what [`surfaces_at_z`] gives searched from
+/// `from`, found in one look at the edges without collecting or sorting them. `check` asks this
+/// for thousands of Z a thread (`Part::surface_beyond`), where the vector and its sort cost most
+/// of the time (docs/performance.md, "Issue 28").
+///
+/// The same crossing as the sorted search, ties included: the radius is computed by the same
+/// expression; the sort is by `total_cmp` and stable (equal radii keep the edges' order), so the
+/// search away from the axis takes the least radius above `from` that comes first among the
+/// edges, and the search toward it, which runs from the end, the greatest below `from` that comes
+/// last.
+pub fn surface_beyond(rings: &[Ring], z: f64, from: f64, inward: bool) -> Option<(f64, Origin)> {
+    let y = z / GRID;
+    let mut best: Option<(f64, Origin)> = None;
+    // The edges in `Ring::edges`' order, by index: the flattened iterator cost more than the
+    // crossing tests themselves.
+    for ring in rings {
+        let n = ring.pts.len();
+        for i in 0..n {
+            let (a, b) = (ring.pts[i], ring.pts[if i + 1 == n { 0 } else { i + 1 }]);
+            if let Some(x) = crossing_x(a, b, y) {
+                let better = match best {
+                    None => true,
+                    Some((bx, _)) if inward => x.total_cmp(&bx) != std::cmp::Ordering::Less,
+                    Some((bx, _)) => x.total_cmp(&bx) == std::cmp::Ordering::Less,
+                };
+                let beyond = if inward { x < from } else { x > from };
+                if beyond && better {
+                    best = Some((x, ring.origins[i]));
+                }
+            }
+        }
+    }
+    best
+}
+
+/// Where the edge from `a` to `b` crosses the line at `y` (grid steps): its radius in mm, as
+/// [`surfaces_at_z`] computes it.
+#[inline(always)]
+fn crossing_x(a: Point, b: Point, y: f64) -> Option<f64> {
+    let (ay, by) = (f64::from(a.y), f64::from(b.y));
+    if (ay <= y) == (by <= y) {
+        return None;
+    }
+    let k = (y - ay) / (by - ay);
+    Some((f64::from(a.x) + k * f64::from(b.x - a.x)) * GRID)
 }
 
 /// The z (mm) where the outline crosses the line x = `x` (mm), sorted.
