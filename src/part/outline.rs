@@ -385,29 +385,120 @@ pub fn surfaces_at_z(rings: &[Ring], z: f64) -> Vec<(f64, Origin)> {
 /// search away from the axis takes the least radius above `from` that comes first among the
 /// edges, and the search toward it, which runs from the end, the greatest below `from` that comes
 /// last.
-pub fn surface_beyond(rings: &[Ring], z: f64, from: f64, inward: bool) -> Option<(f64, Origin)> {
+///
+/// With `slabs` (built from these rings) only the edges of the band holding `z` are looked at:
+/// the others cannot cross it, and those that do come in the same order.
+pub fn surface_beyond(
+    rings: &[Ring],
+    slabs: Option<&Slabs>,
+    z: f64,
+    from: f64,
+    inward: bool,
+) -> Option<(f64, Origin)> {
     let y = z / GRID;
     let mut best: Option<(f64, Origin)> = None;
-    // The edges in `Ring::edges`' order, by index: the flattened iterator cost more than the
-    // crossing tests themselves.
-    for ring in rings {
+    let mut look = |ring: &Ring, i: usize| {
         let n = ring.pts.len();
-        for i in 0..n {
-            let (a, b) = (ring.pts[i], ring.pts[if i + 1 == n { 0 } else { i + 1 }]);
-            if let Some(x) = crossing_x(a, b, y) {
-                let better = match best {
-                    None => true,
-                    Some((bx, _)) if inward => x.total_cmp(&bx) != std::cmp::Ordering::Less,
-                    Some((bx, _)) => x.total_cmp(&bx) == std::cmp::Ordering::Less,
-                };
-                let beyond = if inward { x < from } else { x > from };
-                if beyond && better {
-                    best = Some((x, ring.origins[i]));
+        let (a, b) = (ring.pts[i], ring.pts[if i + 1 == n { 0 } else { i + 1 }]);
+        if let Some(x) = crossing_x(a, b, y) {
+            let better = match best {
+                None => true,
+                Some((bx, _)) if inward => x.total_cmp(&bx) != std::cmp::Ordering::Less,
+                Some((bx, _)) => x.total_cmp(&bx) == std::cmp::Ordering::Less,
+            };
+            let beyond = if inward { x < from } else { x > from };
+            if beyond && better {
+                best = Some((x, ring.origins[i]));
+            }
+        }
+    };
+    match slabs {
+        Some(slabs) => {
+            for &(r, i) in slabs.at(y) {
+                look(&rings[r as usize], i as usize);
+            }
+        }
+        // The edges in `Ring::edges`' order, by index: the flattened iterator cost more than
+        // the crossing tests themselves.
+        None => {
+            for ring in rings {
+                for i in 0..ring.pts.len() {
+                    look(ring, i);
                 }
             }
         }
     }
     best
+}
+
+/// The outline's edges by band: between two consecutive heights (grid z) of its vertices, the
+/// edges that cross that band, in [`Ring::edges`]' order. An edge from `a` to `b` crosses the
+/// line at `y` when `min(a.y, b.y) ≤ y < max(a.y, b.y)` (the test of [`crossing_x`]); for `y`
+/// in the band [Yₖ, Yₖ₊₁) of the sorted distinct heights that is `min ≤ Yₖ < max`, since both
+/// ends are among the heights. Below the lowest height and from the highest on, no edge
+/// crosses. `check` asks for the surface at thousands of Z along each thread
+/// (docs/performance.md, "Issue 28"); the bands make each look a binary search and the few
+/// edges there instead of every edge.
+#[derive(Clone, Debug)]
+pub struct Slabs {
+    heights: Vec<i32>,
+    /// Band k's edges are `edges[starts[k]..starts[k + 1]]`.
+    starts: Vec<usize>,
+    edges: Vec<(u32, u32)>,
+}
+
+impl Slabs {
+    /// Outlines with more edges than this are looked at edge by edge (the bands could hold the
+    /// square of the edges).
+    pub const MAX_EDGES: usize = 256;
+
+    /// The bands of `rings`, or `None` for an outline over [`Slabs::MAX_EDGES`] edges.
+    pub fn new(rings: &[Ring]) -> Option<Slabs> {
+        let count: usize = rings.iter().map(|r| r.pts.len()).sum();
+        if count > Slabs::MAX_EDGES {
+            return None;
+        }
+        let mut heights: Vec<i32> = rings
+            .iter()
+            .flat_map(|r| r.pts.iter().map(|p| p.y))
+            .collect();
+        heights.sort_unstable();
+        heights.dedup();
+        let mut starts = Vec::with_capacity(heights.len());
+        let mut edges = Vec::new();
+        // Bounded: bands × edges, at most MAX_EDGES².
+        for &h in heights.iter().take(heights.len().saturating_sub(1)) {
+            starts.push(edges.len());
+            for (r, ring) in rings.iter().enumerate() {
+                let n = ring.pts.len();
+                for i in 0..n {
+                    let (a, b) = (
+                        ring.pts[i].y,
+                        ring.pts[if i + 1 == n { 0 } else { i + 1 }].y,
+                    );
+                    if a.min(b) <= h && h < a.max(b) {
+                        edges.push((r as u32, i as u32));
+                    }
+                }
+            }
+        }
+        starts.push(edges.len());
+        Some(Slabs {
+            heights,
+            starts,
+            edges,
+        })
+    }
+
+    /// The edges that may cross the line at `y` (grid steps), in the outline's order.
+    fn at(&self, y: f64) -> &[(u32, u32)] {
+        // The bands whose lower height is at most y (none for a NaN).
+        let k = self.heights.partition_point(|&h| f64::from(h) <= y);
+        if k == 0 || k >= self.heights.len() {
+            return &[];
+        }
+        &self.edges[self.starts[k - 1]..self.starts[k]]
+    }
 }
 
 /// Where the edge from `a` to `b` crosses the line at `y` (grid steps): its radius in mm, as

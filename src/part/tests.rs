@@ -580,9 +580,13 @@ mod surface_beyond_as_sorted {
             let rings = rings(&raw);
             let z = (f64::from(zk * 1000) + zfrac * 1000.0) * GRID;
             let from = f64::from(fk * 1000) * GRID;
-            let one = outline::surface_beyond(&rings, z, from, inward);
-            let two = sorted(&rings, z, from, inward);
-            prop_assert_eq!(one.map(|s| (s.0.to_bits(), s.1)), two.map(|s| (s.0.to_bits(), s.1)));
+            let two = sorted(&rings, z, from, inward).map(|s| (s.0.to_bits(), s.1));
+            // Edge by edge, and through the bands (which must pick the same edges).
+            let one = outline::surface_beyond(&rings, None, z, from, inward);
+            prop_assert_eq!(one.map(|s| (s.0.to_bits(), s.1)), two);
+            let slabs = outline::Slabs::new(&rings).expect("a small outline");
+            let banded = outline::surface_beyond(&rings, Some(&slabs), z, from, inward);
+            prop_assert_eq!(banded.map(|s| (s.0.to_bits(), s.1)), two);
         }
     }
 
@@ -598,7 +602,7 @@ mod surface_beyond_as_sorted {
         let z = 500.0 * GRID;
         for (from, inward) in [(500.0, false), (1500.0, true)] {
             let from = from * GRID;
-            let one = outline::surface_beyond(&rings, z, from, inward);
+            let one = outline::surface_beyond(&rings, None, z, from, inward);
             assert_eq!(one, sorted(&rings, z, from, inward));
             assert!((one.unwrap().0 - 1000.0 * GRID).abs() < 1e-12);
         }
@@ -609,11 +613,23 @@ mod surface_beyond_as_sorted {
             _ => 0,
         };
         assert_eq!(
-            line(outline::surface_beyond(&rings, z, 500.0 * GRID, false)),
+            line(outline::surface_beyond(
+                &rings,
+                None,
+                z,
+                500.0 * GRID,
+                false
+            )),
             2
         );
         assert_eq!(
-            line(outline::surface_beyond(&rings, z, 1500.0 * GRID, true)),
+            line(outline::surface_beyond(
+                &rings,
+                None,
+                z,
+                1500.0 * GRID,
+                true
+            )),
             8
         );
     }
