@@ -1,5 +1,6 @@
 //! `check` on whole programs (issues 23 and 28): the page's 30,000-line paste (turning moves and a
-//! GSK G78: every move cuts the part `check` follows), and one thread of 8,000 and of 32,000
+//! GSK G78: every move cuts the part `check` follows), the heavier paste of 10,000 GSK G78 cycles
+//! (30,000 lines), and one thread of 8,000 and of 32,000
 //! hand-written G33 passes (the time should grow in proportion: ratio near 4). In-process through
 //! the library, and as the command (`target/release/threadcut`) paired with another revision's
 //! (`THREADCUT_BASE_BIN`). Figures and the commands: docs/performance.md.
@@ -24,6 +25,12 @@ fn paste() -> String {
     big
 }
 
+/// The page's heavier paste (issue 28, item 4): 30,000 lines that are all cycles, 10,000 GSK
+/// G78 threads of the paste's own cycle, each from its start point.
+fn gsk_cycles(n: usize) -> String {
+    "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\n".repeat(n)
+}
+
 /// One thread of `n` G33 passes on LinuxCNC (radius mode), each back out and to the start.
 fn g33_passes(n: usize) -> String {
     let mut out = String::from("G18 G21 G8\nS300 M3\nG0 X12 Z5\n");
@@ -44,6 +51,12 @@ fn bench(c: &mut Criterion) {
             "paste 30000 lines",
             paste(),
             "bench-check-paste.nc",
+        ),
+        (
+            "gsk980",
+            "10000 G78 cycles",
+            gsk_cycles(10_000),
+            "bench-check-gsk10000.nc",
         ),
         (
             "linuxcnc",

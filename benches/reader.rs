@@ -191,7 +191,63 @@ fn pass_through(c: &mut Criterion) {
             |b| b.iter(|| run(&base, &args)),
         );
     }
+    // Issue 28's goal: the command writing the pass-through to a file within twice the time of a
+    // plain copy of the same bytes to a file. The copy reads 128 KiB at a time and writes each
+    // read (`dd bs=128k of=FILE`); the second reference also syncs the file at its end, as the
+    // command does before it renames its output over the target (a file that is written whole or
+    // not at all). Both write under target/.
+    let target = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target");
+    let copy_to = target.join("bench-reader-copy.nc");
+    for sync in [false, true] {
+        let name = if sync {
+            format!("reference: copy {} MB to a file, synced", len >> 20)
+        } else {
+            format!("reference: copy {} MB to a file", len >> 20)
+        };
+        group.bench_function(name, |b| b.iter(|| copy_file(&path, &copy_to, sync)));
+    }
+    let out = target.join("bench-reader-out.nc");
+    let to_file = ["expand", file, "-c", "gsk980", "-o", out.to_str().unwrap()];
+    if let Some(bin) = find_binary("THREADCUT_BIN", &[release_bin()], None) {
+        group.bench_function("threadcut expand pass-through to a file (process)", |b| {
+            b.iter(|| run(&bin, &to_file))
+        });
+    }
+    if let Some(base) = base_binary() {
+        group.bench_function(
+            "base revision: threadcut expand pass-through to a file (process)",
+            |b| b.iter(|| run(&base, &to_file)),
+        );
+    }
     group.finish();
+    let _ = std::fs::remove_file(&copy_to);
+    let _ = std::fs::remove_file(&out);
+}
+
+/// The command built by `cargo build --release -p threadcut-cli`.
+fn release_bin() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/release/threadcut")
+}
+
+/// `from` copied to `to` 128 KiB at a time, and synced at the end when `sync`.
+fn copy_file(from: &PathBuf, to: &PathBuf, sync: bool) -> usize {
+    let mut input = File::open(from).unwrap();
+    let mut output = File::create(to).unwrap();
+    let mut buf = vec![0u8; 128 << 10];
+    let mut total = 0usize;
+    loop {
+        match input.read(&mut buf).unwrap() {
+            0 => break,
+            n => {
+                output.write_all(&buf[..n]).unwrap();
+                total += n;
+            }
+        }
+    }
+    if sync {
+        output.sync_all().unwrap();
+    }
+    total
 }
 
 criterion_group!(benches, pass_through);

@@ -507,5 +507,10 @@ fn a_rapid_through_a_modal_g92_thread_is_found_once() {
         "{:?}",
         r.diagnostics
     );
-    assert!(has(&r, Code::Collision, 10, "runs through the thread cut at line 5"));
+    assert!(has(
+        &r,
+        Code::Collision,
+        10,
+        "runs through the thread cut at line 5"
+    ));
 }

@@ -51,6 +51,9 @@ const CHAIN_MAX: usize = 256;
 const ZONES_MAX: usize = 256;
 /// Points along a thread at which its blank's surface is looked up.
 const SAMPLES: usize = 16;
+/// Even samples along a thread's run where a shoulder is looked for (besides the outline's
+/// corners in it).
+const SHOULDER_SAMPLES: usize = 64;
 /// Rapids kept for judging while a thread written as moves is read.
 const PENDING_MAX: usize = 4096;
 /// Rapids into material kept for drawing ([`View`]).
@@ -686,22 +689,41 @@ impl Whole {
         let surface = |z: f64| blank_surface(blank, z);
         let root = last.start.x;
         let (z_lo, z_hi, toward_minus) = (run.z_lo, run.z_hi, run.toward_minus);
-        let steps = (((z_hi - z_lo) / tolerance).ceil() as usize).clamp(1, 4000);
         let z_at = |k: f64| run.z_at(k);
+        let k_of = |z: f64| {
+            let len = (z_hi - z_lo).max(f64::MIN_POSITIVE);
+            if toward_minus {
+                (z_hi - z) / len
+            } else {
+                (z - z_lo) / len
+            }
+        };
+        // Where to look along the run (shares 0..1 from the thread's start): evenly, and at the
+        // outline's corners in it, on both sides — a shoulder is a corner of the outline, so
+        // however narrow it is found, and the samples stay few whatever the thread's length.
+        let mut ks: Vec<f64> = (0..=SHOULDER_SAMPLES)
+            .map(|i| i as f64 / SHOULDER_SAMPLES as f64)
+            .chain(
+                part.outline()
+                    .iter()
+                    .flatten()
+                    .map(|(p, _)| p.z)
+                    .filter(|&z| z >= z_lo && z <= z_hi)
+                    .flat_map(|z| [k_of(z - tolerance / 4.0), k_of(z + tolerance / 4.0)]),
+            )
+            .filter(|k| (0.0..=1.0).contains(k))
+            .collect();
+        ks.sort_by(f64::total_cmp);
         // Material beyond the blank's surface at z, and its surface.
         let beyond = |z: f64| {
             part.surface_beyond(z, root, inner)
                 .filter(|(r, _)| (r - surface(z)) * out > tolerance)
         };
-        let Some(first) = (0..=steps).find(|&i| beyond(z_at(i as f64 / steps as f64)).is_some())
-        else {
+        let Some(first) = ks.iter().position(|&k| beyond(z_at(k)).is_some()) else {
             return;
         };
-        // The shoulder's face: between the last sample clear of it and the first on it.
-        let (mut lo, mut hi) = (
-            first.saturating_sub(1) as f64 / steps as f64,
-            first as f64 / steps as f64,
-        );
+        // The shoulder's face: between the last place clear of it and the first on it.
+        let (mut lo, mut hi) = (ks[first.saturating_sub(1)], ks[first]);
         for _ in 0..40 {
             let mid = (lo + hi) / 2.0;
             if beyond(z_at(mid)).is_some() {
@@ -715,25 +737,10 @@ impl Whole {
         // surface is known (the program cut it, or the stock was given).
         let stock_given = part.stock().diameter.known == Known::Given;
         let known = |o: Origin| known_surface(o, stock_given);
-        // Samples along the run, and the outline's corners in it (where the highest lies).
-        let past = |z: f64| {
-            if toward_minus {
-                z <= z_face
-            } else {
-                z >= z_face
-            }
-        };
-        let corners: Vec<f64> = part
-            .outline()
+        let Some((r, what)) = ks[first..]
             .iter()
-            .flatten()
-            .map(|(p, _)| p.z)
-            .filter(|&z| past(z) && z >= z_lo && z <= z_hi)
-            .flat_map(|z| [z - tolerance / 4.0, z + tolerance / 4.0])
-            .collect();
-        let Some((r, what)) = (first..=steps)
-            .map(|i| z_at(i as f64 / steps as f64))
-            .chain(corners)
+            .map(|&k| z_at(k))
+            .chain(std::iter::once(z_face))
             .filter_map(beyond)
             .filter_map(|(r, o)| known(o).map(|w| (r, w)))
             .fold(None, |m: Option<(f64, String)>, (r, w)| match m {

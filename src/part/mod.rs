@@ -372,6 +372,9 @@ pub struct Shoulder {
 /// engine's buffers, kept from one cut to the next).
 pub struct Part {
     rings: Vec<Ring>,
+    /// The outline's edges by band of Z, built when first asked for after a change of `rings`
+    /// (`outline::Slabs`; `None` inside: an outline too large for them).
+    slabs: std::cell::OnceCell<Option<outline::Slabs>>,
     stock: Stock,
     tolerance: f64,
     reach: (f64, f64),
@@ -382,6 +385,7 @@ impl Clone for Part {
     fn clone(&self) -> Part {
         Part {
             rings: self.rings.clone(),
+            slabs: std::cell::OnceCell::new(),
             stock: self.stock,
             tolerance: self.tolerance,
             reach: self.reach,
@@ -448,6 +452,7 @@ impl Part {
         };
         Ok(Part {
             rings: vec![ring],
+            slabs: std::cell::OnceCell::new(),
             stock: *stock,
             tolerance,
             reach: (outer + BEYOND, face + BEYOND),
@@ -606,6 +611,7 @@ impl Part {
             }
         }
         self.rings = rings;
+        self.slabs = std::cell::OnceCell::new();
         Ok(())
     }
 
@@ -836,12 +842,8 @@ impl Part {
     /// with `inward`): the outside of the material `from` lies in (a thread's root lies in its
     /// blank), not of material beyond a gap.
     pub fn surface_beyond(&self, z: f64, from: f64, inward: bool) -> Option<(f64, Origin)> {
-        let xs = outline::surfaces_at_z(&self.rings, z);
-        if inward {
-            xs.into_iter().rev().find(|s| s.0 < from)
-        } else {
-            xs.into_iter().find(|s| s.0 > from)
-        }
+        let slabs = self.slabs.get_or_init(|| outline::Slabs::new(&self.rings));
+        outline::surface_beyond(&self.rings, slabs.as_ref(), z, from, inward)
     }
 
     /// Where the material begins on the face side (the largest Z of any material, mm).

@@ -26,7 +26,11 @@ impl Ring {
     /// The edges as (start, end, origin).
     pub fn edges(&self) -> impl Iterator<Item = (Point, Point, Origin)> + '_ {
         let n = self.pts.len();
-        (0..n).map(move |i| (self.pts[i], self.pts[(i + 1) % n], self.origins[i]))
+        // The next vertex without a division (`% n` cost more than the rest of a crossing test).
+        (0..n).map(move |i| {
+            let next = if i + 1 == n { 0 } else { i + 1 };
+            (self.pts[i], self.pts[next], self.origins[i])
+        })
     }
 }
 
@@ -364,14 +368,7 @@ pub fn surfaces_at_z(rings: &[Ring], z: f64) -> Vec<(f64, Origin)> {
     let mut xs: Vec<(f64, Origin)> = rings
         .iter()
         .flat_map(Ring::edges)
-        .filter_map(|(a, b, o)| {
-            let (ay, by) = (f64::from(a.y), f64::from(b.y));
-            if (ay <= y) == (by <= y) {
-                return None;
-            }
-            let k = (y - ay) / (by - ay);
-            Some(((f64::from(a.x) + k * f64::from(b.x - a.x)) * GRID, o))
-        })
+        .filter_map(|(a, b, o)| Some((crossing_x(a, b, y)?, o)))
         .collect();
     xs.sort_by(|p, q| p.0.total_cmp(&q.0));
     xs
@@ -395,6 +392,145 @@ pub fn surfaces_at_x(rings: &[Ring], x: f64) -> Vec<(f64, Origin)> {
         .collect();
     zs.sort_by(|p, q| p.0.total_cmp(&q.0));
     zs
+}
+
+/// The first crossing of the line z = `z` (mm) met going from radius `from` (mm) away from the
+/// axis (toward it with `inward`), with its origin: what [`surfaces_at_z`] gives searched from
+/// `from`, found in one look at the edges without collecting or sorting them. `check` asks this
+/// for thousands of Z a thread (`Part::surface_beyond`), where the vector and its sort cost most
+/// of the time (docs/performance.md, "Issue 28").
+///
+/// The same crossing as the sorted search, ties included: the radius is computed by the same
+/// expression; the sort is by `total_cmp` and stable (equal radii keep the edges' order), so the
+/// search away from the axis takes the least radius above `from` that comes first among the
+/// edges, and the search toward it, which runs from the end, the greatest below `from` that comes
+/// last.
+///
+/// With `slabs` (built from these rings) only the edges of the band holding `z` are looked at:
+/// the others cannot cross it, and those that do come in the same order.
+pub fn surface_beyond(
+    rings: &[Ring],
+    slabs: Option<&Slabs>,
+    z: f64,
+    from: f64,
+    inward: bool,
+) -> Option<(f64, Origin)> {
+    let y = z / GRID;
+    let mut best: Option<(f64, Origin)> = None;
+    let mut look = |ring: &Ring, i: usize| {
+        let n = ring.pts.len();
+        let (a, b) = (ring.pts[i], ring.pts[if i + 1 == n { 0 } else { i + 1 }]);
+        if let Some(x) = crossing_x(a, b, y) {
+            let better = match best {
+                None => true,
+                Some((bx, _)) if inward => x.total_cmp(&bx) != std::cmp::Ordering::Less,
+                Some((bx, _)) => x.total_cmp(&bx) == std::cmp::Ordering::Less,
+            };
+            let beyond = if inward { x < from } else { x > from };
+            if beyond && better {
+                best = Some((x, ring.origins[i]));
+            }
+        }
+    };
+    match slabs {
+        Some(slabs) => {
+            for &(r, i) in slabs.at(y) {
+                look(&rings[r as usize], i as usize);
+            }
+        }
+        // The edges in `Ring::edges`' order, by index: the flattened iterator cost more than
+        // the crossing tests themselves.
+        None => {
+            for ring in rings {
+                for i in 0..ring.pts.len() {
+                    look(ring, i);
+                }
+            }
+        }
+    }
+    best
+}
+
+/// The outline's edges by band: between two consecutive heights (grid z) of its vertices, the
+/// edges that cross that band, in [`Ring::edges`]' order. An edge from `a` to `b` crosses the
+/// line at `y` when `min(a.y, b.y) ≤ y < max(a.y, b.y)` (the test of [`crossing_x`]); for `y`
+/// in the band [Yₖ, Yₖ₊₁) of the sorted distinct heights that is `min ≤ Yₖ < max`, since both
+/// ends are among the heights. Below the lowest height and from the highest on, no edge
+/// crosses. `check` asks for the surface at thousands of Z along each thread
+/// (docs/performance.md, "Issue 28"); the bands make each look a binary search and the few
+/// edges there instead of every edge.
+#[derive(Clone, Debug)]
+pub struct Slabs {
+    heights: Vec<i32>,
+    /// Band k's edges are `edges[starts[k]..starts[k + 1]]`.
+    starts: Vec<usize>,
+    edges: Vec<(u32, u32)>,
+}
+
+impl Slabs {
+    /// Outlines with more edges than this are looked at edge by edge (the bands could hold the
+    /// square of the edges).
+    pub const MAX_EDGES: usize = 256;
+
+    /// The bands of `rings`, or `None` for an outline over [`Slabs::MAX_EDGES`] edges.
+    pub fn new(rings: &[Ring]) -> Option<Slabs> {
+        let count: usize = rings.iter().map(|r| r.pts.len()).sum();
+        if count > Slabs::MAX_EDGES {
+            return None;
+        }
+        let mut heights: Vec<i32> = rings
+            .iter()
+            .flat_map(|r| r.pts.iter().map(|p| p.y))
+            .collect();
+        heights.sort_unstable();
+        heights.dedup();
+        let mut starts = Vec::with_capacity(heights.len());
+        let mut edges = Vec::new();
+        // Bounded: bands × edges, at most MAX_EDGES².
+        for &h in heights.iter().take(heights.len().saturating_sub(1)) {
+            starts.push(edges.len());
+            for (r, ring) in rings.iter().enumerate() {
+                let n = ring.pts.len();
+                for i in 0..n {
+                    let (a, b) = (
+                        ring.pts[i].y,
+                        ring.pts[if i + 1 == n { 0 } else { i + 1 }].y,
+                    );
+                    if a.min(b) <= h && h < a.max(b) {
+                        edges.push((r as u32, i as u32));
+                    }
+                }
+            }
+        }
+        starts.push(edges.len());
+        Some(Slabs {
+            heights,
+            starts,
+            edges,
+        })
+    }
+
+    /// The edges that may cross the line at `y` (grid steps), in the outline's order.
+    fn at(&self, y: f64) -> &[(u32, u32)] {
+        // The bands whose lower height is at most y (none for a NaN).
+        let k = self.heights.partition_point(|&h| f64::from(h) <= y);
+        if k == 0 || k >= self.heights.len() {
+            return &[];
+        }
+        &self.edges[self.starts[k - 1]..self.starts[k]]
+    }
+}
+
+/// Where the edge from `a` to `b` crosses the line at `y` (grid steps): its radius in mm, as
+/// [`surfaces_at_z`] computes it.
+#[inline(always)]
+fn crossing_x(a: Point, b: Point, y: f64) -> Option<f64> {
+    let (ay, by) = (f64::from(a.y), f64::from(b.y));
+    if (ay <= y) == (by <= y) {
+        return None;
+    }
+    let k = (y - ay) / (by - ay);
+    Some((f64::from(a.x) + k * f64::from(b.x - a.x)) * GRID)
 }
 
 /// The z (mm) where the outline crosses the line x = `x` (mm), sorted.

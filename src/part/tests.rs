@@ -526,3 +526,111 @@ fn an_internal_thread_and_a_retract_through_it() {
         .expect("a shoulder");
     assert!(near(s.z, -20.0) && (s.area - 2.765).abs() < 1e-6, "{s:?}");
 }
+
+/// `outline::surface_beyond` (one look at the edges) against the sorted crossings searched from
+/// the start radius, as `Part::surface_beyond` did before: the same crossing and origin, ties
+/// included. Rings on a coarse grid (many equal radii and vertices on the line), every edge
+/// with its own origin so that a tie broken the other way would show.
+mod surface_beyond_as_sorted {
+    use super::outline::{self, Point, Ring};
+    use super::*;
+    use proptest::prelude::*;
+
+    fn rings(raw: &[Vec<(i32, i32)>]) -> Vec<Ring> {
+        let mut line = 0;
+        raw.iter()
+            .map(|pts| Ring {
+                pts: pts.iter().map(|&(x, z)| Point::new(x, z)).collect(),
+                origins: pts
+                    .iter()
+                    .map(|_| {
+                        line += 1;
+                        Origin::Cut(Cut {
+                            line,
+                            pass: 0,
+                            kind: CutKind::Feed,
+                        })
+                    })
+                    .collect(),
+            })
+            .collect()
+    }
+
+    fn sorted(rings: &[Ring], z: f64, from: f64, inward: bool) -> Option<(f64, Origin)> {
+        let xs = outline::surfaces_at_z(rings, z);
+        if inward {
+            xs.into_iter().rev().find(|s| s.0 < from)
+        } else {
+            xs.into_iter().find(|s| s.0 > from)
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn the_same_crossing(
+            raw in prop::collection::vec(
+                prop::collection::vec((-4i32..=4, -4i32..=4).prop_map(|(x, z)| (x * 1000, z * 1000)), 3..9),
+                1..4,
+            ),
+            zk in -5i32..=5,
+            zfrac in prop::sample::select(vec![0.0, 0.5, 0.25]),
+            fk in -5i32..=5,
+            inward in any::<bool>(),
+        ) {
+            let rings = rings(&raw);
+            let z = (f64::from(zk * 1000) + zfrac * 1000.0) * GRID;
+            let from = f64::from(fk * 1000) * GRID;
+            let two = sorted(&rings, z, from, inward).map(|s| (s.0.to_bits(), s.1));
+            // Edge by edge, and through the bands (which must pick the same edges).
+            let one = outline::surface_beyond(&rings, None, z, from, inward);
+            prop_assert_eq!(one.map(|s| (s.0.to_bits(), s.1)), two);
+            let slabs = outline::Slabs::new(&rings).expect("a small outline");
+            let banded = outline::surface_beyond(&rings, Some(&slabs), z, from, inward);
+            prop_assert_eq!(banded.map(|s| (s.0.to_bits(), s.1)), two);
+        }
+    }
+
+    /// Two edges crossing at the same radius: outward the first edge's origin, inward the last's
+    /// (the sorted order is stable). Two squares side by side sharing the edge x = 1000 (grid
+    /// steps): at z = 500 the crossings are x = 0, 1000 (first square), 1000, 2000 (second).
+    #[test]
+    fn ties_go_as_the_sorted_search_went() {
+        let rings = rings(&[
+            vec![(0, 0), (1000, 0), (1000, 1000), (0, 1000)],
+            vec![(1000, 0), (2000, 0), (2000, 1000), (1000, 1000)],
+        ]);
+        let z = 500.0 * GRID;
+        for (from, inward) in [(500.0, false), (1500.0, true)] {
+            let from = from * GRID;
+            let one = outline::surface_beyond(&rings, None, z, from, inward);
+            assert_eq!(one, sorted(&rings, z, from, inward));
+            assert!((one.unwrap().0 - 1000.0 * GRID).abs() < 1e-12);
+        }
+        // Outward from x = 500 the first square's right edge (its 2nd edge, line 2); inward
+        // from x = 1500 the second square's left edge (its 4th edge, line 8).
+        let line = |s: Option<(f64, Origin)>| match s.unwrap().1 {
+            Origin::Cut(c) => c.line,
+            _ => 0,
+        };
+        assert_eq!(
+            line(outline::surface_beyond(
+                &rings,
+                None,
+                z,
+                500.0 * GRID,
+                false
+            )),
+            2
+        );
+        assert_eq!(
+            line(outline::surface_beyond(
+                &rings,
+                None,
+                z,
+                1500.0 * GRID,
+                true
+            )),
+            8
+        );
+    }
+}

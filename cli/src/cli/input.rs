@@ -20,6 +20,10 @@ use super::{reason, Failure};
 /// A run shorter than this shows no progress bar (it would only flicker).
 const QUIET_FOR: Duration = Duration::from_millis(400);
 
+/// A file at least this long is read ahead by a second thread; a shorter one is read before a
+/// thread would have started.
+const READ_AHEAD_FROM: u64 = 4 << 20;
+
 /// Whether the program held anything but blanks, known once it has been read.
 #[derive(Clone)]
 pub struct Content(Rc<Cell<bool>>);
@@ -68,6 +72,11 @@ pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
     }
     let len = meta.is_file().then_some(meta.len());
     let bar = Bar::new(len, false);
+    if len.is_some_and(|n| n >= READ_AHEAD_FROM) {
+        // A long file is read by a second thread while this one works (`ahead`).
+        let reader = BufReader::with_capacity(1 << 16, super::ahead::ReadAhead::new(f));
+        return Ok((Box::new(Watch::new(reader, seen, bar)), content));
+    }
     let reader = BufReader::with_capacity(1 << 16, f);
     Ok((Box::new(Watch::new(reader, seen, bar)), content))
 }

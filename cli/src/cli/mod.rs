@@ -6,6 +6,8 @@
 //! own errors are rewritten into it. Exit status: 0 done, 1 the output could not be written,
 //! 2 bad input or usage (an empty program included).
 
+mod ahead;
+mod behind;
 mod check;
 mod input;
 mod mill;

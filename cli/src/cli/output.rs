@@ -3,8 +3,10 @@
 //! system's reason, never the temporary file.
 
 use std::io::{self, BufWriter, Write};
+use std::os::unix::fs::FileTypeExt;
 use std::path::Path;
 
+use super::behind::{self, WriteBehind};
 use super::{reason, Failure};
 
 /// Runs `produce` into standard output (`output` absent or `-`) or into the file `output`.
@@ -17,9 +19,17 @@ pub fn write<T>(
     let target = output.filter(|p| p.as_os_str() != "-");
     let Some(target) = target else {
         let stdout = io::stdout();
-        let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+        if stdout_is_device() {
+            let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+            let summary = produce(&mut out).map_err(|f| named(f, None))?;
+            out.flush().map_err(|e| cannot_write(None, &e))?;
+            return Ok(summary);
+        }
+        // The output is written by a second thread (`behind`); an error return drops it, which
+        // still writes what was produced, as the buffered writer did.
+        let mut out = WriteBehind::new(behind::Stdout(stdout));
         let summary = produce(&mut out).map_err(|f| named(f, None))?;
-        out.flush().map_err(|e| cannot_write(None, &e))?;
+        out.finish().map_err(|e| cannot_write(None, &e))?;
         return Ok(summary);
     };
     if same_file(input, target) {
@@ -40,9 +50,18 @@ pub fn write<T>(
                 .write(true)
                 .open(target)
                 .map_err(|e| cannot(&e))?;
-            let mut out = BufWriter::with_capacity(1 << 16, file);
+            if meta.file_type().is_char_device() {
+                // A device written in place costs nothing worth a second thread (the null
+                // device; a terminal is paced by the reader).
+                let mut out = BufWriter::with_capacity(1 << 16, file);
+                let summary = produce(&mut out).map_err(|f| named(f, Some(target)))?;
+                out.flush().map_err(|e| cannot(&e))?;
+                return Ok(summary);
+            }
+            // A FIFO or a socket: written behind, as a file is.
+            let mut out = WriteBehind::new(file);
             let summary = produce(&mut out).map_err(|f| named(f, Some(target)))?;
-            out.flush().map_err(|e| cannot(&e))?;
+            out.finish().map_err(|e| cannot(&e))?;
             return Ok(summary);
         }
     }
@@ -80,13 +99,24 @@ pub fn write<T>(
         .permissions(mode)
         .tempfile_in(dir)
         .map_err(|e| cannot(&e))?;
-    let mut out = BufWriter::with_capacity(1 << 16, temp);
+    // Written by a second thread, which also starts the disk's write-back along the way
+    // (`behind::Synced`), so that the sync at the end has little left to wait for.
+    let mut out = WriteBehind::new(behind::Synced(temp));
     // On any error the temporary file is dropped, which deletes it: nothing is left behind.
     let summary = produce(&mut out).map_err(|f| named(f, Some(target)))?;
-    let temp = out.into_inner().map_err(|e| cannot(e.error()))?;
+    let behind::Synced(temp) = out.finish().map_err(|e| cannot(&e))?;
     temp.as_file().sync_all().map_err(|e| cannot(&e))?;
     temp.persist(file).map_err(|e| cannot(&e.error))?;
     Ok(summary)
+}
+
+/// Whether standard output is a character device (a terminal, the null device), which
+/// [`write`] writes through a buffer on this thread; a file or a pipe is written behind.
+fn stdout_is_device() -> bool {
+    use std::os::fd::AsFd;
+    let fd = io::stdout().as_fd().try_clone_to_owned();
+    fd.and_then(|fd| std::fs::File::from(fd).metadata())
+        .is_ok_and(|m| m.file_type().is_char_device())
 }
 
 /// `cannot write OUT: reason` (exit status 1); a reader that went away ends quietly.
