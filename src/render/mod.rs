@@ -1,6 +1,7 @@
 //! Pictures of what a program does. Everything here reads the model's results (the pass table,
 //! the simulated section, the toolpath) and writes text; nothing computes motion.
 
+mod draw;
 pub mod part;
 pub mod svg;
 

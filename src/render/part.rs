@@ -13,7 +13,7 @@ use std::fmt::Write;
 use crate::part::{CutKind, Known, Origin, Stock};
 use crate::units::{Pos, Units};
 
-use super::svg::{num, text, Map};
+use super::draw::{num, text, Map};
 
 /// Rapids into material drawn at most (the first ones, in program order).
 pub const MAX_HITS_DRAWN: usize = 100;
@@ -239,7 +239,7 @@ fn stock(s: &mut String, p: &PartPicture, map: &Map) {
     let _ = writeln!(
         s,
         r##"<polygon points="{}" fill="none" stroke="#777" stroke-width="1" stroke-dasharray="6 4"/>"##,
-        super::svg::points(map, &pts)
+        super::draw::points(map, &pts)
     );
 }
 
@@ -314,7 +314,7 @@ fn teeth(s: &mut String, t: &TeethBand, map: &Map) {
     let _ = writeln!(
         s,
         r##"<polyline points="{}" fill="none" stroke="#222" stroke-width="0.9"/>"##,
-        super::svg::points(map, &pts)
+        super::draw::points(map, &pts)
     );
     // Above the crest's middle (below it for an internal thread's, whose material is outside).
     let mid = lerp(t.crest.0, t.crest.1, 0.5);
