@@ -508,28 +508,13 @@ impl Part {
         tool: &Tool,
         internal: bool,
     ) -> Result<()> {
-        self.cut_within(from, motion, tool, internal, None)
-    }
-
-    /// [`cut_oriented`](Part::cut_oriented) with the body's reach bounded: away from the axis
-    /// (toward it in a bore) it reaches the radius `reach` (mm) and no further — where the tool
-    /// came from, above which it never was (a turning cycle's start point, the highest point of
-    /// a chain of moves). `None`: beyond the stock.
-    pub fn cut_within(
-        &mut self,
-        from: Pos,
-        motion: &Motion,
-        tool: &Tool,
-        internal: bool,
-        reach: Option<f64>,
-    ) -> Result<()> {
         let kind = match motion.kind {
             MotionKind::Rapid => return Ok(()),
             MotionKind::Feed => CutKind::Feed,
             MotionKind::Thread { .. } => CutKind::Thread,
             MotionKind::Arc { .. } => CutKind::Arc,
         };
-        self.cut_as(from, motion, tool, kind, (internal, reach), true)
+        self.cut_as(from, motion, tool, kind, internal, true)
     }
 
     /// [`cut_oriented`](Part::cut_oriented) that marks no surface as the program's: everything it
@@ -548,7 +533,7 @@ impl Part {
             MotionKind::Arc { .. } => CutKind::Arc,
             MotionKind::Feed => CutKind::Feed,
         };
-        self.cut_as(from, motion, tool, kind, (internal, None), false)
+        self.cut_as(from, motion, tool, kind, internal, false)
     }
 
     /// Cuts a circular move whose centre the program does not give as its chord, from `from` to
@@ -559,14 +544,7 @@ impl Part {
             ..*motion
         };
         let internal = self.in_bore(from, motion.to);
-        self.cut_as(
-            from,
-            &straight,
-            tool,
-            CutKind::Chord,
-            (internal, None),
-            true,
-        )
+        self.cut_as(from, &straight, tool, CutKind::Chord, internal, true)
     }
 
     fn cut_as(
@@ -575,10 +553,10 @@ impl Part {
         motion: &Motion,
         tool: &Tool,
         kind: CutKind,
-        side: (bool, Option<f64>),
+        internal: bool,
         mark: bool,
     ) -> Result<()> {
-        let pieces = self.sweep(from, motion, tool, side)?;
+        let pieces = self.sweep(from, motion, tool, internal)?;
         let cut = Cut {
             line: motion.line,
             pass: motion.pass,
@@ -605,7 +583,7 @@ impl Part {
         if kind != CutKind::Thread && mark {
             // Only where the nose passed is the surface the program's: the rest of what the body
             // swept is cleared, its material the stock's.
-            let trace = self.trace(from, motion, tool, side.0);
+            let trace = self.trace(from, motion, tool, internal);
             for ring in &mut rings {
                 mark_trace(ring, &trace, tool.nose_radius, self.tolerance, cut);
             }
@@ -637,7 +615,7 @@ impl Part {
         from: Pos,
         motion: &Motion,
         tool: &Tool,
-        (internal, reach): (bool, Option<f64>),
+        internal: bool,
     ) -> Result<Vec<Vec<Point>>> {
         let to = motion.to;
         let fits = |p: Pos| p.is_finite() && p.x.abs() <= MAX_COORD && p.z.abs() <= MAX_COORD;
@@ -665,11 +643,7 @@ impl Part {
         let sweeper = Sweeper {
             tool,
             reach: Reach {
-                x_ray: match (internal, reach) {
-                    (_, Some(x)) => x,
-                    (true, None) => -BEYOND,
-                    (false, None) => self.reach.0,
-                },
+                x_ray: if internal { -BEYOND } else { self.reach.0 },
                 z_ray: self.reach.1,
                 inward: internal,
             },
@@ -899,7 +873,7 @@ impl Part {
                 continue;
             }
             let internal = side.unwrap_or_else(|| part.in_bore(start, m.to));
-            let pieces = part.sweep(start, m, tool, (internal, None))?;
+            let pieces = part.sweep(start, m, tool, internal)?;
             let chip = part.engine.chip(&part.rings, &pieces);
             let limit = if internal {
                 start.x.min(m.to.x) - depth
