@@ -508,13 +508,10 @@ impl Part {
         tool: &Tool,
         internal: bool,
     ) -> Result<()> {
-        let kind = match motion.kind {
-            MotionKind::Rapid => return Ok(()),
-            MotionKind::Feed => CutKind::Feed,
-            MotionKind::Thread { .. } => CutKind::Thread,
-            MotionKind::Arc { .. } => CutKind::Arc,
-        };
-        self.cut_as(from, motion, tool, kind, internal, true)
+        match cut_kind(motion) {
+            Some(kind) => self.cut_as(from, motion, tool, kind, internal, true),
+            None => Ok(()),
+        }
     }
 
     /// [`cut_oriented`](Part::cut_oriented) that marks no surface as the program's: everything it
@@ -527,13 +524,10 @@ impl Part {
         tool: &Tool,
         internal: bool,
     ) -> Result<()> {
-        let kind = match motion.kind {
-            MotionKind::Rapid => return Ok(()),
-            MotionKind::Thread { .. } => CutKind::Thread,
-            MotionKind::Arc { .. } => CutKind::Arc,
-            MotionKind::Feed => CutKind::Feed,
-        };
-        self.cut_as(from, motion, tool, kind, internal, false)
+        match cut_kind(motion) {
+            Some(kind) => self.cut_as(from, motion, tool, kind, internal, false),
+            None => Ok(()),
+        }
     }
 
     /// Cuts a circular move whose centre the program does not give as its chord, from `from` to
@@ -924,6 +918,16 @@ impl Part {
             part.cut_oriented(start, m, tool, internal)?;
         }
         Ok(None)
+    }
+}
+
+/// How a move cuts: `None` for a rapid, which cuts nothing.
+fn cut_kind(motion: &Motion) -> Option<CutKind> {
+    match motion.kind {
+        MotionKind::Rapid => None,
+        MotionKind::Feed => Some(CutKind::Feed),
+        MotionKind::Thread { .. } => Some(CutKind::Thread),
+        MotionKind::Arc { .. } => Some(CutKind::Arc),
     }
 }
 

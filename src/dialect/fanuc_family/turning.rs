@@ -460,14 +460,7 @@ impl FanucFamily {
             self.one_block_cycle(line, modal, (span, code), start, allowance, warnings)?
         } else if code == t.pattern {
             let first = self.turning.first;
-            let unset = |what: &str, p: &str| {
-                Diagnostic::error(
-                    Code::MissingWord,
-                    span,
-                    format!("{name} has no {what}: write the first block {name} U(Δi) W(Δk) R(d) before it"),
-                )
-                .with_hint(format!("the control takes it from parameter {p} otherwise, which the machine profile does not state"))
-            };
+            let unset = |what: &str, p: &str| unset_first(span, &name, "U(Δi) W(Δk) R(d)", what, p);
             Cycle::Pattern(Pattern {
                 start,
                 relief_x: first.relief_x.ok_or_else(|| unset("relief Δi", "5135"))?,
@@ -486,14 +479,8 @@ impl FanucFamily {
             } else {
                 "W(Δd)"
             };
-            let unset = |what: &str, p: &str| {
-                Diagnostic::error(
-                    Code::MissingWord,
-                    span,
-                    format!("{name} has no {what}: write the first block {name} {d} R(e) before it"),
-                )
-                .with_hint(format!("the control takes it from parameter {p} otherwise, which the machine profile does not state"))
-            };
+            let words = format!("{d} R(e)");
+            let unset = |what: &str, p: &str| unset_first(span, &name, &words, what, p);
             Cycle::Rough(Rough {
                 strategy: Strategy::Layers,
                 then_outline: None,
@@ -851,4 +838,17 @@ fn alarm_63(span: Span, name: &str, n: u32, why: &str) -> Diagnostic {
         span,
         format!("{name} alarm (PS0063): the block N{n} is not found: {why}"),
     )
+}
+
+/// A two-block cycle's value its first block (`words`) should have set and did not: the
+/// control would take parameter `param`, which no profile states.
+fn unset_first(span: Span, name: &str, words: &str, what: &str, param: &str) -> Diagnostic {
+    Diagnostic::error(
+        Code::MissingWord,
+        span,
+        format!("{name} has no {what}: write the first block {name} {words} before it"),
+    )
+    .with_hint(format!(
+        "the control takes it from parameter {param} otherwise, which the machine profile does not state"
+    ))
 }
