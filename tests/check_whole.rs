@@ -492,6 +492,19 @@ fn a_thread_whose_root_lies_outside_the_turned_part_cuts_nothing() {
         "{:?}",
         r.diagnostics
     );
+    // The same K0.92 thread run on to Z-40: beyond the Z-25 turned lies the bar of unknown
+    // size (no stock given), which its deepest pass may well cut, so nothing is said.
+    let r = run(
+        &prog("0.92").replace("G76 P1.5 Z-20", "G76 P1.5 Z-40"),
+        "linuxcnc",
+    );
+    assert!(
+        !r.diagnostics
+            .iter()
+            .any(|d| d.message.contains("cuts nothing")),
+        "{:?}",
+        r.diagnostics
+    );
 }
 
 #[test]

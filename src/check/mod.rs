@@ -372,8 +372,13 @@ impl<'a> Sink<'a> {
     }
 
     /// A thread whose deepest pass does not reach the surface the program turned cuts nothing:
-    /// its root lies outside the part (inside the bore for an internal thread).
+    /// its root lies outside the part (inside the bore for an internal thread) all along it. Where
+    /// any material lies beyond the root, the program's or the stock's of unknown size, it may
+    /// cut and nothing is said.
     fn cuts_nothing(&mut self, t: &crate::threads::Thread, m: whole::Measured) {
+        if m.reaches {
+            return;
+        }
         let Some(last) = t.passes.iter().max_by(|a, b| a.depth.total_cmp(&b.depth)) else {
             return;
         };

@@ -114,6 +114,9 @@ pub(super) struct Measured {
     pub diameter: f64,
     /// The line that cut it, when the program did.
     pub line: Option<u32>,
+    /// Whether the part reaches beyond the thread's root somewhere along it (material, known or
+    /// not, that its deepest pass cuts).
+    pub reaches: bool,
 }
 
 /// Where the program's units and resolution stand for a move.
@@ -512,6 +515,7 @@ impl Whole {
         let inner = g.side == Side::Internal;
         // The surface where the thread runs: the middle of what lies along it (a chamfer at its
         // start, a relief groove or a shoulder at its end are not its crest).
+        let mut reaches = false;
         let mut found: Vec<(f64, Origin)> = (0..=SAMPLES)
             .filter_map(|i| {
                 let k = i as f64 / SAMPLES as f64;
@@ -520,8 +524,9 @@ impl Whole {
                 let root = crest - g.side.outward().x * g.depth;
                 // The surface first met going out from the root; where the part lies wholly
                 // below the root (the thread cuts air there), the surface below it.
-                part.surface_beyond(z, root, inner)
-                    .or_else(|| part.surface_beyond(z, root, !inner).filter(|s| s.0 > 0.0))
+                let beyond = part.surface_beyond(z, root, inner);
+                reaches |= beyond.is_some();
+                beyond.or_else(|| part.surface_beyond(z, root, !inner).filter(|s| s.0 > 0.0))
             })
             .collect();
         if found.is_empty() {
@@ -542,6 +547,7 @@ impl Whole {
         Some(Measured {
             diameter: units.from_mm(d),
             line: Some(c.line),
+            reaches,
         })
     }
 

@@ -572,8 +572,17 @@ impl Part {
         if !cutter.overlaps(&material) {
             return Ok(());
         }
-        let mut rings = self.engine.cut(&self.rings, &pieces, made);
-        outline::simplify(&mut rings, self.tolerance / 2.0 / GRID);
+        let untouched = outline::removes_nothing(&self.rings, self.slabs(), &material, &pieces);
+        if untouched && (kind == CutKind::Thread || !mark) {
+            return Ok(());
+        }
+        let mut rings = if untouched {
+            self.rings.clone()
+        } else {
+            let mut rings = self.engine.cut(&self.rings, &pieces, made);
+            outline::simplify(&mut rings, self.tolerance / 2.0 / GRID);
+            rings
+        };
         if kind != CutKind::Thread && mark {
             // Only where the nose passed is the surface the program's: the rest of what the body
             // swept is cleared, its material the stock's.
@@ -582,8 +591,10 @@ impl Part {
                 mark_trace(ring, &trace, tool.nose_radius, self.tolerance, cut);
             }
         }
-        self.rings = rings;
-        self.slabs = std::cell::OnceCell::new();
+        if rings != self.rings {
+            self.rings = rings;
+            self.slabs = std::cell::OnceCell::new();
+        }
         Ok(())
     }
 
@@ -664,13 +675,9 @@ impl Part {
         (0..=4).any(|i| {
             let k = f64::from(i) / 4.0;
             let p = Pos::new(a.x + k * (b.x - a.x), a.z + k * (b.z - a.z));
-            let xs = outline::crossings_at_z(&self.rings, p.z);
-            match (xs.first(), xs.last()) {
-                (Some(&inner), Some(&outer)) => {
-                    inner > self.tolerance / 2.0 && p.x < (inner + outer) / 2.0
-                }
-                _ => false,
-            }
+            outline::extent_at_z(&self.rings, self.slabs(), p.z).is_some_and(|(inner, outer)| {
+                inner > self.tolerance / 2.0 && p.x < (inner + outer) / 2.0
+            })
         })
     }
 
@@ -686,7 +693,7 @@ impl Part {
             let k = i as f64 / INSIDE_SAMPLES as f64;
             let p = Pos::new(from.x + k * (to.x - from.x), from.z + k * (to.z - from.z));
             let g = (p.x / GRID, p.z / GRID);
-            let inside = outline::inside(&self.rings, g);
+            let inside = outline::inside_banded(&self.rings, self.slabs(), g);
             if !inside {
                 leading = false;
                 continue;
@@ -810,8 +817,14 @@ impl Part {
     /// with `inward`): the outside of the material `from` lies in (a thread's root lies in its
     /// blank), not of material beyond a gap.
     pub fn surface_beyond(&self, z: f64, from: f64, inward: bool) -> Option<(f64, Origin)> {
-        let slabs = self.slabs.get_or_init(|| outline::Slabs::new(&self.rings));
-        outline::surface_beyond(&self.rings, slabs.as_ref(), z, from, inward)
+        outline::surface_beyond(&self.rings, self.slabs(), z, from, inward)
+    }
+
+    /// The outline's edges by band, built when first asked for after a change.
+    fn slabs(&self) -> Option<&outline::Slabs> {
+        self.slabs
+            .get_or_init(|| outline::Slabs::new(&self.rings))
+            .as_ref()
     }
 
     /// Where the material begins on the face side (the largest Z of any material, mm).

@@ -417,7 +417,7 @@ pub fn surface_beyond(
 ) -> Option<(f64, Origin)> {
     let y = z / GRID;
     let mut best: Option<(f64, Origin)> = None;
-    let mut look = |ring: &Ring, i: usize| {
+    each_edge_at(rings, slabs, y, |ring, i| {
         let n = ring.pts.len();
         let (a, b) = (ring.pts[i], ring.pts[if i + 1 == n { 0 } else { i + 1 }]);
         if let Some(x) = crossing_x(a, b, y) {
@@ -431,15 +431,21 @@ pub fn surface_beyond(
                 best = Some((x, ring.origins[i]));
             }
         }
-    };
+    });
+    best
+}
+
+/// Calls `look(ring, i)` for every edge `i` of `rings` that may cross the line at `y` (grid
+/// steps), in [`Ring::edges`]' order: with `slabs` (built from these rings) only the edges of the
+/// band holding `y`, else every edge.
+fn each_edge_at(rings: &[Ring], slabs: Option<&Slabs>, y: f64, mut look: impl FnMut(&Ring, usize)) {
     match slabs {
         Some(slabs) => {
             for &(r, i) in slabs.at(y) {
                 look(&rings[r as usize], i as usize);
             }
         }
-        // The edges in `Ring::edges`' order, by index: the flattened iterator cost more than
-        // the crossing tests themselves.
+        // By index: the flattened iterator cost more than the crossing tests themselves.
         None => {
             for ring in rings {
                 for i in 0..ring.pts.len() {
@@ -448,7 +454,39 @@ pub fn surface_beyond(
             }
         }
     }
-    best
+}
+
+/// The least and the greatest radius (mm) where the outline crosses the line z = `z` (mm).
+pub fn extent_at_z(rings: &[Ring], slabs: Option<&Slabs>, z: f64) -> Option<(f64, f64)> {
+    let y = z / GRID;
+    let mut extent: Option<(f64, f64)> = None;
+    each_edge_at(rings, slabs, y, |ring, i| {
+        let n = ring.pts.len();
+        let (a, b) = (ring.pts[i], ring.pts[if i + 1 == n { 0 } else { i + 1 }]);
+        if let Some(x) = crossing_x(a, b, y) {
+            extent = Some(extent.map_or((x, x), |(lo, hi)| (lo.min(x), hi.max(x))));
+        }
+    });
+    extent
+}
+
+/// [`inside`], looking only at the edges of the band holding `p` when `slabs` are given.
+pub fn inside_banded(rings: &[Ring], slabs: Option<&Slabs>, p: (f64, f64)) -> bool {
+    let mut winding = 0i32;
+    each_edge_at(rings, slabs, p.1, |ring, i| {
+        let n = ring.pts.len();
+        let (a, b) = (
+            float(ring.pts[i]),
+            float(ring.pts[if i + 1 == n { 0 } else { i + 1 }]),
+        );
+        if (a.1 <= p.1) != (b.1 <= p.1) {
+            let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
+            if x > p.0 {
+                winding += if b.1 > a.1 { 1 } else { -1 };
+            }
+        }
+    });
+    winding != 0
 }
 
 /// The outline's edges by band: between two consecutive heights (grid z) of its vertices, the
@@ -552,6 +590,79 @@ pub fn crossings_at_x(rings: &[Ring], x: f64) -> Vec<f64> {
     zs
 }
 
+/// Whether cutting `cutter` (convex pieces) out of `material` would remove nothing: no edge of
+/// the material passes through the open inside of a piece, and no piece lies in the material.
+/// The boolean engine is then not run: a tool that only runs along a surface leaves it as it
+/// was, origin and all (see [`Engine::cut`]). Exact on the grid: an edge that only touches a
+/// piece's boundary does not enter it.
+pub fn removes_nothing(
+    material: &[Ring],
+    slabs: Option<&Slabs>,
+    extent: &Bounds,
+    cutter: &[Vec<Point>],
+) -> bool {
+    cutter.iter().all(|piece| {
+        let area = twice_area(piece);
+        if area == 0 {
+            return true;
+        }
+        let Some(bounds) = Bounds::of(piece) else {
+            return true;
+        };
+        if !bounds.overlaps(extent) {
+            return true;
+        }
+        let sign: i64 = if area > 0 { 1 } else { -1 };
+        let enters = material.iter().any(|ring| {
+            ring.edges().any(|(a, b, _)| {
+                let edge = Bounds::of([&a, &b]).expect("two points");
+                edge.overlaps(&bounds) && enters_convex(piece, sign, a, b)
+            })
+        });
+        if enters {
+            return false;
+        }
+        // No edge enters: the piece lies wholly in the material or wholly outside it.
+        let n = piece.len() as f64;
+        let (sx, sy) = piece.iter().fold((0.0, 0.0), |(x, y), p| {
+            (x + f64::from(p.x), y + f64::from(p.y))
+        });
+        !inside_banded(material, slabs, (sx / n, sy / n))
+    })
+}
+
+/// Whether the segment `a`–`b` passes through the open inside of the convex `piece` (its
+/// vertices counter-clockwise when `sign` is 1, clockwise when −1): the stretch of the segment
+/// strictly inside every edge's half-plane is longer than a point.
+fn enters_convex(piece: &[Point], sign: i64, a: Point, b: Point) -> bool {
+    let (mut t0, mut t1) = (0.0_f64, 1.0_f64);
+    let n = piece.len();
+    for i in 0..n {
+        let (v, w) = (piece[i], piece[if i + 1 == n { 0 } else { i + 1 }]);
+        let (ex, ey) = (i64::from(w.x - v.x), i64::from(w.y - v.y));
+        let cross = |px: i64, py: i64| sign * (ex * py - ey * px);
+        // f(t) = n0 + t·d: positive strictly inside this edge's half-plane.
+        let n0 = cross(i64::from(a.x - v.x), i64::from(a.y - v.y));
+        let d = cross(i64::from(b.x - a.x), i64::from(b.y - a.y));
+        if d == 0 {
+            if n0 <= 0 {
+                return false;
+            }
+        } else {
+            let t = -(n0 as f64) / d as f64;
+            if d > 0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+            if t1 - t0 <= 1e-12 {
+                return false;
+            }
+        }
+    }
+    t1 - t0 > 1e-12
+}
+
 /// Whether the point (grid steps) lies in the material (non-zero winding).
 pub fn inside(rings: &[Ring], p: (f64, f64)) -> bool {
     let mut winding = 0i32;
@@ -625,6 +736,59 @@ mod tests {
         let mut rings = vec![ring(&[(0, 0), (100, 0), (100, 2), (0, 2)], o)];
         simplify(&mut rings, 5.0);
         assert!(rings.is_empty());
+    }
+
+    #[test]
+    fn removes_nothing_only_when_no_material_lies_in_the_cutter() {
+        // Material: the square 0..100 × 0..100 (grid steps).
+        let m = vec![ring(
+            &[(0, 0), (100, 0), (100, 100), (0, 100)],
+            Origin::Unknown,
+        )];
+        let piece = |pts: &[(i32, i32)]| vec![pts.iter().map(|&(x, y)| Point::new(x, y)).collect()];
+        let extent = Bounds::of(m.iter().flat_map(|r| &r.pts)).expect("a square");
+        let slabs = Slabs::new(&m);
+        // The same answer edge by edge and band by band.
+        let nothing = |c: &[Vec<Point>]| {
+            let banded = removes_nothing(&m, slabs.as_ref(), &extent, c);
+            assert_eq!(banded, removes_nothing(&m, None, &extent, c));
+            banded
+        };
+        // Along the right side, touching it over its length: nothing removed.
+        assert!(nothing(&piece(&[
+            (100, 0),
+            (150, 0),
+            (150, 100),
+            (100, 100)
+        ])));
+        // Clockwise, the same.
+        assert!(nothing(&piece(&[
+            (100, 100),
+            (150, 100),
+            (150, 0),
+            (100, 0)
+        ])));
+        // Touching at one corner only: nothing.
+        assert!(nothing(&piece(&[(100, 100), (150, 100), (150, 150)])));
+        // One step into the right side: material goes.
+        assert!(!nothing(&piece(&[
+            (99, 0),
+            (150, 0),
+            (150, 100),
+            (99, 100)
+        ])));
+        // Wholly inside (no edge enters it): material goes.
+        assert!(!nothing(&piece(&[(10, 10), (20, 10), (20, 20), (10, 20)])));
+        // Wholly around the square: material goes.
+        assert!(!nothing(&piece(&[
+            (-10, -10),
+            (200, -10),
+            (200, 200),
+            (-10, 200)
+        ])));
+        // Far away, and a flat piece: nothing.
+        assert!(nothing(&piece(&[(300, 0), (400, 0), (400, 50)])));
+        assert!(nothing(&piece(&[(10, 10), (20, 20), (30, 30)])));
     }
 
     #[test]
