@@ -402,11 +402,115 @@ pub fn passes_json_with<R: BufRead>(
         if let (Some(o), Some(b)) = (cycle.as_object_mut(), blanks.take(t.job.line)) {
             o.insert("blank".into(), blank_json(b));
         }
+        if let (Some(o), Some(r)) = (cycle.as_object_mut(), reading_of(&t, check)) {
+            o.insert("measure".into(), reading_json(&r, t.job.units));
+        }
         serde_json::to_writer(&mut *out, &cycle).map_err(std::io::Error::other)?;
         Ok(())
     })?;
     out.write_all(b"]}\n")?;
     Ok(run)
+}
+
+/// What `passes` says a thread will measure ([`check::reading`]), as text after the table's
+/// title: `measure: …`, or why it cannot be said.
+pub fn reading_text(r: &Result<check::Reading, String>, units: Units) -> String {
+    let r = match r {
+        Ok(r) => r,
+        Err(why) => return format!("measure: not stated: {why}"),
+    };
+    let u = units.name();
+    let len = |mm: f64| check::length(units, mm);
+    let mut parts = vec![format!(
+        "pitch diameter {} {u} as cut",
+        len(r.pitch_diameter)
+    )];
+    if let Some(o) = &r.over_wires {
+        parts.push(format!(
+            "over {} {u} wires{} M = {} {u} (with the lead angle, NBS H28; {} by the simple formula)",
+            len(o.wire),
+            if o.best { " (the best wire)" } else { "" },
+            len(o.m.corrected),
+            len(o.m.simple),
+        ));
+    }
+    if let Some(w) = &r.window {
+        let (lo, hi) = w.pitch_diameter;
+        let mut s = format!(
+            "{} allows a pitch diameter of {}–{} {u}",
+            w.class,
+            len(lo),
+            len(hi)
+        );
+        if let Some((mlo, mhi)) = w.over_wires {
+            s += &format!(" (M {}–{} {u})", len(mlo), len(mhi));
+        }
+        s += &if w.deeper.abs() < 5e-7 {
+            ": it is at the window's middle".to_string()
+        } else {
+            format!(
+                ": {} {} {u} {} (on the radius) brings it to the window's middle",
+                if w.deeper > 0.0 {
+                    "cutting"
+                } else {
+                    "stopping"
+                },
+                len(w.deeper.abs()),
+                if w.deeper > 0.0 {
+                    "deeper"
+                } else {
+                    "shallower"
+                },
+            )
+        };
+        parts.push(s);
+    }
+    let mut text = format!("measure: {}", parts.join("; "));
+    if !r.assumed.is_empty() {
+        text += &format!(" (assumed: {})", r.assumed.join("; "));
+    }
+    text
+}
+
+/// [`reading_text`] as the `measure` object of `passes --format json` (program units):
+/// `{pitch_diameter, wire, best_wire, m, m_simple, class, pitch_diameter_min, pitch_diameter_max,
+/// m_min, m_max, deeper, assumed}`, the keys that do not apply null; or `{not_stated: why}`.
+pub fn reading_json(r: &Result<check::Reading, String>, units: Units) -> serde_json::Value {
+    let r = match r {
+        Ok(r) => r,
+        Err(why) => return serde_json::json!({ "not_stated": why }),
+    };
+    let v = |mm: f64| units.from_mm(mm);
+    let o = r.over_wires.as_ref();
+    let w = r.window.as_ref();
+    serde_json::json!({
+        "pitch_diameter": v(r.pitch_diameter),
+        "wire": o.map(|o| v(o.wire)),
+        "best_wire": o.map(|o| o.best),
+        "m": o.map(|o| v(o.m.corrected)),
+        "m_simple": o.map(|o| v(o.m.simple)),
+        "class": w.map(|w| w.class.clone()),
+        "pitch_diameter_min": w.map(|w| v(w.pitch_diameter.0)),
+        "pitch_diameter_max": w.map(|w| v(w.pitch_diameter.1)),
+        "m_min": w.and_then(|w| w.over_wires).map(|m| v(m.0)),
+        "m_max": w.and_then(|w| w.over_wires).map(|m| v(m.1)),
+        "deeper": w.map(|w| v(w.deeper)),
+        "assumed": r.assumed,
+    })
+}
+
+/// What `t` will measure under `check`'s options, when they make the tool's form known (a tip
+/// given, or a standard thread named); `None` otherwise.
+pub fn reading_of(t: &Thread, check: &check::Options) -> Option<Result<check::Reading, String>> {
+    if check.thread.is_none() && check.tip.is_none() {
+        return None;
+    }
+    let units = t.job.units;
+    let tip = check.tip.map(|tip| crate::sim::tip_in_mm(tip, units));
+    let wire = check
+        .wire
+        .map(|w| check.thread.as_ref().map_or(units, |s| s.units).to_mm(w));
+    Some(check::reading(t, tip, check.thread.as_ref(), wire))
 }
 
 #[cfg(test)]

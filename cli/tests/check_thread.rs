@@ -498,3 +498,87 @@ fn check_takes_the_wire_one_owns() {
         "{out}"
     );
 }
+
+fn passes(name: &str, src: &str, args: &[&str]) -> (i32, String) {
+    let input = tmp(&format!("passes-{name}.nc"));
+    std::fs::write(&input, src).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_threadcut"))
+        .arg("passes")
+        .arg(&input)
+        .args(args)
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap() + &String::from_utf8(out.stderr).unwrap();
+    (out.status.code().unwrap(), text)
+}
+
+/// `passes` states what a thread will measure when the tool's form is known. The bundled Fanuc
+/// G76 M30x2 (examples/fanuc-m30x2-g76.nc: crest Ø30, 60° tool, final depth 1.227, so the root is
+/// at Ø27.546):
+/// * with a 0.1 mm nose radius the flanks meet r below the tip, and the groove is a pitch
+///   (1 mm) wide where it is 1/(2·tan 30°) = 0.866025 above that point: 0.766025 above the root,
+///   PD = 27.546 + 2·0.766025 = 29.07805; over the best wire P/(2·cos 30°) = 1.1547, by the simple
+///   formula M = E − P·cot 30°/2 + w·(1 + 1/sin 30°) = 29.07805 − 1.73205 + 3.46410 = 30.8101;
+/// * with `--thread M30x2-6g` and no tip, the standard's root radius H/6 = 0.2887 is assumed:
+///   0.866025 − 0.2887 above the root, PD = 27.546 + 2·0.57735 = 28.7007, M = 30.4332 (as `check
+///   --thread` states it), and 6g's window 28.493–28.663 puts the middle 28.578 at
+///   (28.7007 − 28.578)/2 = 0.0614 deeper.
+#[test]
+fn passes_states_what_the_thread_will_measure() {
+    let src = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/fanuc-m30x2-g76.nc"
+    ))
+    .unwrap();
+    let (code, out) = passes("nose", &src, &["-c", "fanuc", "--nose-radius", "0.1"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("measure: pitch diameter 29.0781 mm as cut; over 1.1547 mm wires (the best wire) M = 30.8105 mm (with the lead angle, NBS H28; 30.8101 by the simple formula)"), "{out}");
+    let (code, out) = passes("class", &src, &["-c", "fanuc", "--thread", "M30x2-6g"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(out.contains("pitch diameter 28.7007 mm as cut"), "{out}");
+    assert!(out.contains("M = 30.4332 mm"), "{out}");
+    assert!(out.contains("6g allows a pitch diameter of 28.493–28.663 mm (M 30.2255–30.3955 mm): cutting 0.0614 mm deeper (on the radius) brings it to the window's middle"), "{out}");
+    assert!(out.contains("assumed: the standard's root form"), "{out}");
+    // The same as JSON, in the program's units.
+    let (code, out) = passes(
+        "json",
+        &src,
+        &[
+            "-c", "fanuc", "--thread", "M30x2-6g", "--wire", "1.15", "--json",
+        ],
+    );
+    assert_eq!(code, 0, "{out}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let m = &v["cycles"][0]["measure"];
+    assert!(
+        (m["pitch_diameter"].as_f64().unwrap() - 28.7007).abs() < 1e-4,
+        "{m}"
+    );
+    assert!((m["wire"].as_f64().unwrap() - 1.15).abs() < 1e-12, "{m}");
+    assert_eq!(m["best_wire"], false);
+    assert_eq!(m["class"], "6g");
+    assert!((m["deeper"].as_f64().unwrap() - 0.0614).abs() < 1e-4, "{m}");
+    // Without the tool's form nothing is stated; a wire alone is refused.
+    let (_, out) = passes("none", &src, &["-c", "fanuc"]);
+    assert!(!out.contains("measure:"), "{out}");
+    let (code, out) = passes("wire-alone", &src, &["-c", "fanuc", "--wire", "1"]);
+    assert_eq!(code, 2, "{out}");
+    assert!(out.contains("needs the tool's form"), "{out}");
+}
+
+/// A program of plain G32 passes does not say where its crest is (its depths run from the first
+/// pass): `passes` says why it cannot state a measurement.
+#[test]
+fn passes_says_why_a_measurement_is_not_stated() {
+    let src = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../examples/fanuc-m20-g32-passes.nc"
+    ))
+    .unwrap();
+    let (code, out) = passes("g32-tip", &src, &["-c", "fanuc", "--nose-radius", "0.1"]);
+    assert_eq!(code, 0, "{out}");
+    assert!(
+        out.contains("measure: not stated: the crest is not known, so neither is the depth the pitch diameter lies at"),
+        "{out}"
+    );
+}

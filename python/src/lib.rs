@@ -303,18 +303,24 @@ fn controllers_py() -> Vec<&'static str> {
 /// cannot be simulated), and for G-code `blank`: the thread's blank as `check` takes it, `{crest, crest_from,
 /// face, face_from}` (the crest a diameter; `*_from` `"measured"` on the part the program turned,
 /// `"given"`, `"assumed"` or `"unknown"`). Program units. The stock keywords are `check`'s; each
-/// not given is the machine profile's `[stock]` value, if any.
+/// not given is the machine profile's `[stock]` value, if any. With `thread` (a standard thread's
+/// name, as `check` takes it) each dict has `measure`: what the thread will measure (`pitch_diameter`
+/// as cut, `wire`, `m` over it, the class's `pitch_diameter_min`/`_max`, `m_min`/`m_max`, the
+/// `deeper` change of the final depth to the window's middle, and `assumed`), or `{not_stated}`
+/// with the reason; `wire` the measuring wire one owns (the thread's units).
 ///
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
 /// the controller refuses (at its line and column) or an unknown controller.
 #[pyfunction(name = "passes")]
-#[pyo3(signature = (program, controller, *, machine=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
 #[allow(clippy::too_many_arguments)]
 fn passes_py<'py>(
     py: Python<'py>,
     program: String,
     controller: &str,
     machine: Option<&Bound<'py, PyAny>>,
+    thread: Option<&str>,
+    wire: Option<f64>,
     stock_diameter: Option<f64>,
     stock_start: Option<f64>,
     stock_length: Option<f64>,
@@ -328,7 +334,22 @@ fn passes_py<'py>(
         length: stock_length,
         bore: stock_bore,
     };
-    let opts = commands::with_stock(check::Options::default(), stock, Some(&m));
+    let thread = match thread {
+        Some(name) => {
+            Some(standard::lookup(name).map_err(|d| Problem::diagnostic(&d, None).error(py))?)
+        }
+        None => None,
+    };
+    let wire = wire_keyword(py, wire, thread.is_some())?;
+    let opts = commands::with_stock(
+        check::Options {
+            thread,
+            wire,
+            ..check::Options::default()
+        },
+        stock,
+        Some(&m),
+    );
     let mut out = Vec::new();
     let run = py
         .detach(|| {

@@ -163,6 +163,23 @@ def test_check_with_a_wire_of_ones_own(cli):
         threadcut.check(M30_G76, "fanuc", thread="M30x2-6g", wire=-1.0)
 
 
+def test_passes_states_what_the_thread_will_measure(cli):
+    # As `threadcut passes --json --thread M30x2-6g --wire 1.15`: the pitch diameter the final
+    # passes leave with the standard's root form at the tip, 28.7007 (cli/tests/check_thread.rs
+    # works it out), over 1.15 wires, and 0.0614 deeper to 6g's middle.
+    path = EXAMPLES / "fanuc-m30x2-g76.nc"
+    args = ["--thread", "M30x2-6g", "--wire", "1.15"]
+    r = cli.run("passes", str(path), "-c", "fanuc", *args, "--json")
+    expected = json.loads(r.stdout)["cycles"]
+    got = threadcut.passes(M30_G76, "fanuc", thread="M30x2-6g", wire=1.15)
+    assert got == expected
+    m = got[0]["measure"]
+    assert m["class"] == "6g" and m["best_wire"] is False
+    assert abs(m["pitch_diameter"] - 28.7007) < 1e-4
+    assert abs(m["deeper"] - 0.0614) < 1e-4
+    assert "measure" not in threadcut.passes(M30_G76, "fanuc")[0]
+
+
 def test_check_reports_a_controller_alarm_as_a_finding():
     # GSK's G78: the tail-out K10 is not shorter than the 8 mm thread.
     src = "G00 X80 Z10\nG97 S100\nG78 P010060 Q0.1 R0.05\nG78 X60 Z2 P1.2 Q0.4 F2 J1 K10\n"

@@ -44,6 +44,7 @@ pub mod blank;
 pub mod cut;
 mod decimal;
 mod measure;
+pub mod reading;
 pub mod spindle;
 pub mod standard;
 pub mod state;
@@ -66,6 +67,7 @@ use crate::units::{Pos, Units};
 pub use crate::source::Source;
 pub use blank::{Blank, Known};
 pub use cut::{check_thread, DEFAULT_LEAD_ERROR, DEFAULT_SERVO_TIME_CONSTANT};
+pub use reading::{reading, Reading};
 pub use spindle::{Rpm, Spindle, SpindleSpeed};
 pub use state::State;
 

@@ -288,6 +288,16 @@ struct PassesArgs {
     /// The stock, for each thread's blank (as `check` takes it).
     #[command(flatten)]
     stock: StockArgs,
+    /// State what each thread will measure against this standard thread's class (`M20x2.5-6g`):
+    /// the window of the pitch diameter and of the measurement over wires, and the change of the
+    /// final depth to its middle. With --nose-radius or --tip-flat alone, the pitch diameter and
+    /// the measurement over wires are stated without a class.
+    #[arg(long, value_name = "NAME")]
+    thread: Option<String>,
+    /// The diameter of the measuring wires one owns (the thread's units with --thread, else the
+    /// program's): the measurement over wires is over them (default: the best wire).
+    #[arg(long, value_name = "D")]
+    wire: Option<f64>,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -765,9 +775,15 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
     let reader = replay
         .again()
         .map_err(|e| Failure::Usage(format!("cannot read {}: {}", file.display(), reason(&e))))?;
+    let measuring = measuring(&args, machine.units)?;
     let (summary, count) = output::write(file, out, |out| {
+        let writer = passes::PassesWriter::begin(out, format, tip)?;
+        let writer = match measuring {
+            Some(m) => writer.measuring(m),
+            None => writer,
+        };
         let done =
-            passes(reader, out, &machine, format, tip, &options, &mut blanks).map_err(lib(file))?;
+            passes(reader, out, writer, &machine, &options, &mut blanks).map_err(lib(file))?;
         not_empty(file, &content)?;
         Ok(done)
     })?;
@@ -776,6 +792,36 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
         no_thread(file, &thread_codes(&machine));
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// What `passes` is to state each thread will measure: with --thread, or a tip given.
+fn measuring(
+    args: &PassesArgs,
+    units: threadcut::units::Units,
+) -> Result<Option<passes::Measuring>, Failure> {
+    let thread = match &args.thread {
+        Some(name) => Some(threadcut::thread::standard::lookup(name).map_err(mill::usage)?),
+        None => None,
+    };
+    let tip = args.tool.given_tip()?;
+    if thread.is_none() && tip.is_none() {
+        if args.wire.is_some() {
+            return Err(Failure::Usage(
+                "--wire: the measurement over wires needs the tool's form: give --thread, --nose-radius or --tip-flat".into(),
+            ));
+        }
+        return Ok(None);
+    }
+    let wire = match args.wire {
+        Some(w) if !(w.is_finite() && w > 0.0) => {
+            return Err(Failure::Usage(format!(
+                "--wire {w}: a measuring wire's diameter is a positive length"
+            )))
+        }
+        Some(w) => Some(thread.as_ref().map_or(units, |t| t.units).to_mm(w)),
+        None => None,
+    };
+    Ok(Some(passes::Measuring { tip, thread, wire }))
 }
 
 /// An empty program (nothing but blanks) is an error: the run stops before its output is kept.
@@ -909,13 +955,11 @@ fn name_error(name: &str, e: NameError, wanted: ProfileKind) -> String {
 fn passes(
     input: Box<dyn BufRead>,
     out: &mut dyn Write,
+    mut writer: passes::PassesWriter,
     machine: &Machine,
-    format: ReportFormat,
-    tip: threadcut::sim::Tip,
     options: &program::Options,
     blanks: &mut threadcut::commands::Blanks,
 ) -> Result<(Summary, u32), Error> {
-    let mut writer = passes::PassesWriter::begin(out, format, tip)?;
     let mut count = 0;
     let summary = threadcut::threads::each_gcode_with(input, machine, None, options, |t| {
         count += 1;

@@ -7,6 +7,7 @@ use threadcut::check::ThreadBlank;
 use threadcut::commands;
 use threadcut::program::{self, Error};
 use threadcut::sim::{self, tip_in_mm, Tip, Tool};
+use threadcut::thread::standard::StandardThread;
 use threadcut::thread::PassKind;
 use threadcut::threads::{self, Thread};
 
@@ -16,6 +17,17 @@ pub struct PassesWriter {
     format: ReportFormat,
     tip: Tip,
     cycles: usize,
+    measuring: Option<Measuring>,
+}
+
+/// What a thread will measure is stated when the tool's form is known: its tip given, or the
+/// standard thread named (`--thread`, its root form then assumed at the tip).
+pub struct Measuring {
+    /// The tip as given (program units).
+    pub tip: Option<Tip>,
+    pub thread: Option<StandardThread>,
+    /// The wire one owns (mm).
+    pub wire: Option<f64>,
 }
 
 impl PassesWriter {
@@ -27,7 +39,20 @@ impl PassesWriter {
             format,
             tip,
             cycles: 0,
+            measuring: None,
         })
+    }
+
+    /// States, for each thread, what it will measure (`measure: …`; `measure` in JSON).
+    pub fn measuring(mut self, m: Measuring) -> PassesWriter {
+        self.measuring = Some(m);
+        self
+    }
+
+    fn reading(&self, t: &Thread) -> Option<Result<threadcut::check::Reading, String>> {
+        let m = self.measuring.as_ref()?;
+        let tip = m.tip.map(|tip| tip_in_mm(tip, t.job.units));
+        Some(threadcut::check::reading(t, tip, m.thread.as_ref(), m.wire))
     }
 
     /// One thread. `decimals`: of depths and positions in the table; `columns`: what the title says
@@ -73,6 +98,9 @@ impl PassesWriter {
             if let (Some(o), Some(b)) = (cycle.as_object_mut(), blank) {
                 o.insert("blank".into(), commands::blank_json(b));
             }
+            if let (Some(o), Some(r)) = (cycle.as_object_mut(), self.reading(t)) {
+                o.insert("measure".into(), commands::reading_json(&r, job.units));
+            }
             serde_json::to_writer(&mut *out, &cycle).map_err(io::Error::other)?;
             if self.format == ReportFormat::Jsonl {
                 out.write_all(b"\n")?;
@@ -95,6 +123,9 @@ impl PassesWriter {
             )?;
             if let Some(b) = blank {
                 writeln!(out, "{}", commands::blank_text(b))?;
+            }
+            if let Some(r) = self.reading(t) {
+                writeln!(out, "{}", commands::reading_text(&r, job.units))?;
             }
             writeln!(
                 out,
