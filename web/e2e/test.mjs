@@ -148,6 +148,10 @@ try {
   assert.match(info, /13 TPI \(pitch 0\.07692 in\)/, info);
   assert.match(info, /major 0\.5 in/, info);
   assert.doesNotMatch(info, / mm/, info);
+  // The wires and gauges of 2A (issue 27): the best wire P/(2·cos 30°) = 0.076923/1.73205 =
+  // 0.0444 in (the page shows 4 decimals); the screw ring GO at 2A's largest pitch diameter 0.4485, NOT GO at its least 0.4435.
+  assert.match(info, /Three wires: best wire 0\.0444 in/, info);
+  assert.match(info, /thread ring \(pitch\) GO 0\.4485 in, NOT GO 0\.4435 in/, info);
   assert.equal(await page.inputValue('#form input[data-field="lead"]'), '0.07692');
   assert.match(await page.textContent('#listing'), /F0\.07692/);
   await analysed(() => page.selectOption('#controller', 'linuxcnc'));
