@@ -109,6 +109,7 @@ impl AllenBradley {
                 },
                 set_position: G92,
                 canned_cycles: &[],
+                unmodelled: &[],
                 units_codes: crate::gcode::modal::G20_G21,
                 positions: crate::gcode::modal::PositionCodes::FANUC,
                 syntax: crate::gcode::lexer::Syntax::default(),

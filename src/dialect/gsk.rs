@@ -196,6 +196,17 @@ impl Gsk {
                 lead_along_path: false,
                 set_position: 500,
                 canned_cycles: &[700, 710, 720, 730, 740, 750, 760, 780, 900, 920, 940],
+                // GSK 980TDi: G83 end-face and G87 side deep-hole drilling, G84/G88 rigid
+                // tapping, G85/G89 boring.
+                unmodelled: &[
+                    (830, "end-face deep-hole drilling cycle"),
+                    (840, "end-face rigid tapping cycle"),
+                    (850, "end-face boring cycle"),
+                    (860, "boring cycle"),
+                    (870, "side deep-hole drilling cycle"),
+                    (880, "side rigid tapping cycle"),
+                    (890, "side boring cycle"),
+                ],
                 units_codes: crate::gcode::modal::G20_G21,
                 positions: crate::gcode::modal::PositionCodes::FANUC,
                 syntax: crate::gcode::lexer::Syntax::default(),

@@ -141,6 +141,7 @@ impl OmniTurn {
                 tpi_letter: 0,
                 set_position: G92,
                 canned_cycles: &[],
+                unmodelled: &[],
                 units_codes: crate::gcode::modal::G20_G21,
                 positions: crate::gcode::modal::PositionCodes::FANUC,
                 syntax: crate::gcode::lexer::Syntax {

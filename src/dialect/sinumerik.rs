@@ -273,6 +273,7 @@ impl Sinumerik {
                 lead_along_path: false,
                 set_position: 0,
                 canned_cycles: &[],
+                unmodelled: &[],
                 // G70/G71; G700/G710 (feeds too) are read here.
                 units_codes: [700, 710],
                 positions: POSITIONS,

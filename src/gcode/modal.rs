@@ -31,6 +31,12 @@ pub struct Conventions {
     pub set_position: u16,
     /// G codes that run a canned cycle and leave the tool where it started.
     pub canned_cycles: &'static [u16],
+    /// Motion codes the control has and threadcut does not follow (hole-machining canned
+    /// cycles, rigid tapping, probing, splines), each with what it is: a block with one is
+    /// refused at its word, since the moves after it would be read from the wrong place and its
+    /// own moves would be missing. A code's entry also covers its fractional variants (`G38.2`
+    /// under `G38`), as [`Vocabulary::get`] does.
+    pub unmodelled: &'static [(u16, &'static str)],
     /// The G codes (×10) that select inch and millimetre input: [`G20_G21`] nearly everywhere,
     /// `G70`/`G71` in Fanuc's G-code system C (where G20 and G21 are turning cycles).
     pub units_codes: [u16; 2],
@@ -40,6 +46,27 @@ pub struct Conventions {
     /// How the controller writes its lines (bare letters, blanks, comments, lines in its own
     /// syntax): the one place a dialect states it; the reader lexes every line with it.
     pub syntax: Syntax,
+}
+
+/// What the motion code `code` (×10) is, when threadcut does not follow it on this control: the
+/// code's own entry, else its whole number's (`G38.2` under `G38`).
+fn unmodelled(conv: &Conventions, code: u16) -> Option<&'static str> {
+    let find = |c: u16| conv.unmodelled.iter().find(|(u, _)| *u == c).map(|(_, w)| *w);
+    find(code).or_else(|| find(code / 10 * 10))
+}
+
+/// The refusal of a motion code threadcut does not follow ([`Conventions::unmodelled`]).
+#[cold]
+fn not_followed(w: &Word, code: u16, what: &str) -> Diagnostic {
+    Diagnostic::error(
+        Code::Unsupported,
+        w.span,
+        format!(
+            "{} ({what}) is a motion threadcut does not follow yet: its moves would be missing and the moves after it read from the wrong place",
+            g_name(code)
+        ),
+    )
+    .with_hint("the program is read up to this block; check or draw the part before it, or the threading part of the program without it (docs/simulation.md, \"Motions not followed\")")
 }
 
 /// A reference point of the machine.
@@ -632,6 +659,9 @@ impl Modal {
                         c if c == conv.thread_move => self.motion = MotionMode::Thread,
                         c if c == conv.set_position && c != 0 => set_position = true,
                         c if conv.canned_cycles.contains(&c) => self.motion = MotionMode::Cycle,
+                        c if unmodelled(conv, c).is_some() => {
+                            return Err(not_followed(w, c, unmodelled(conv, c).unwrap_or("")));
+                        }
                         c => {
                             if let Some(v) = self.vocabulary {
                                 if v.get(c).is_none() {
@@ -1067,6 +1097,7 @@ mod tests {
             lead_along_path: false,
             set_position: 500,
             canned_cycles: &[900, 920, 940, 710, 720, 730, 700, 760, 780],
+            unmodelled: &[(830, "peck drilling cycle")],
             units_codes: G20_G21,
             positions: PositionCodes::FANUC,
             syntax: Syntax::default(),

@@ -119,10 +119,13 @@ fn write_text(out: &mut dyn Write, file: &Path, report: &Report) -> std::io::Res
         plural(warnings),
         report.threads,
         plural(report.threads as usize),
-        if report.stopped {
-            " (checking stopped at the controller's alarm)"
-        } else {
-            ""
+        match report.diagnostics.iter().rev().find(|d| d.is_error()) {
+            _ if !report.stopped => "",
+            // A motion threadcut does not follow is its own limit, not the control's.
+            Some(d) if d.code == threadcut::diag::Code::Unsupported => {
+                " (checking stopped: the program is not read past its last error)"
+            }
+            _ => " (checking stopped at the controller's alarm)",
         }
     )
 }

@@ -288,6 +288,7 @@ impl GCodes {
             lead_along_path: false,
             set_position: self.set_position,
             canned_cycles: self.canned,
+            unmodelled: HOLE_CYCLES,
             units_codes: self.units,
             positions: self.positions(),
             syntax: Syntax::default(),
@@ -469,3 +470,18 @@ pub fn lexicon(system: GCodeSystem) -> &'static Lexicon {
         GCodeSystem::C => &LEXICON_C,
     }
 }
+
+/// The hole-machining canned cycles of Fanuc's lathe controls (the same numbers in systems A, B
+/// and C; Haas's lathe the same, G81 drilling to G89 boring): threadcut does not follow them
+/// ([`Conventions::unmodelled`]). G80, which cancels them, is no motion.
+pub const HOLE_CYCLES: &[(u16, &str)] = &[
+    (810, "drilling cycle"),
+    (820, "drilling cycle with dwell"),
+    (830, "peck drilling cycle"),
+    (840, "tapping cycle"),
+    (850, "boring cycle"),
+    (860, "boring cycle"),
+    (870, "side drilling cycle"),
+    (880, "side tapping cycle"),
+    (890, "boring cycle with dwell"),
+];
