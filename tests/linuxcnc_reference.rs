@@ -160,6 +160,12 @@ static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 /// Runs rs274 on `file`: its motions, or its error.
 fn canon(rs274: &Path, file: &Path) -> Result<Vec<Motion>, Refusal> {
+    canon_with(rs274, file, None)
+}
+
+/// [`canon`] with a tool table (`rs274 -t`): a converted program calls the source's tools by
+/// number, which rs274's own small table does not hold; a machine's table would.
+fn canon_with(rs274: &Path, file: &Path, tools: Option<&Path>) -> Result<Vec<Motion>, Refusal> {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("linuxcnc-ref");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join(format!(
@@ -168,7 +174,11 @@ fn canon(rs274: &Path, file: &Path) -> Result<Vec<Motion>, Refusal> {
     ));
     // Two rs274 processes at once disturb each other (seen as empty refusals): one at a time.
     let _one_at_a_time = RS274.lock().unwrap_or_else(|e| e.into_inner());
-    let run = Command::new(rs274)
+    let mut command = Command::new(rs274);
+    if let Some(t) = tools {
+        command.arg("-t").arg(t);
+    }
+    let run = command
         .current_dir(&dir)
         .arg("-g")
         .arg(file)
@@ -260,9 +270,14 @@ fn is_unmapped_motion(name: &str) -> bool {
 /// line).
 fn threadcut(file: &Path) -> Result<Vec<Motion>, (String, u32)> {
     let text = std::fs::read(file).unwrap();
-    let machine = Machine::built_in("linuxcnc").unwrap();
+    motions_on(file, &text, "linuxcnc")
+}
+
+/// threadcut's motion stream of `text` read as `controller` reads it.
+fn motions_on(file: &Path, text: &[u8], controller: &str) -> Result<Vec<Motion>, (String, u32)> {
+    let machine = Machine::built_in(controller).unwrap();
     let mut out = Vec::new();
-    match program::expand_jsonl(text.as_slice(), &mut out, &machine) {
+    match program::expand_jsonl(text, &mut out, &machine) {
         Ok(_) => {}
         Err(program::Error::Input(d)) => return Err((d.message, d.span.line)),
         Err(e) => panic!("{}: {e}", file.display()),
@@ -406,6 +421,161 @@ fn linuxcnc_programs_move_for_move_as_rs274_runs_them() {
         KNOWN.len()
     );
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// rs274's moves without those of a reference return (`G28`) in the source: threadcut's stream
+/// leaves a reference return out (where it ends is the machine's, known only from a profile's
+/// `[reference]`), while rs274 runs it to its home, the origin (its default parameters
+/// #5161–#5166 are 0), through the intermediate point. Left out: each rapid that ends at the
+/// origin on the axes it moves (`G28 X0.` sends X alone), and the rapid before it when that one stayed where the tool was (`G91 G28 X0 Z0`'s
+/// intermediate point).
+fn without_reference_returns(source: &[u8], moves: Vec<Motion>) -> Vec<Motion> {
+    if !String::from_utf8_lossy(source)
+        .to_ascii_uppercase()
+        .contains("G28")
+    {
+        return moves;
+    }
+    let near = |a: (f64, f64), b: (f64, f64)| {
+        (a.0 - b.0).abs() <= POSITION_TOLERANCE && (a.1 - b.1).abs() <= POSITION_TOLERANCE
+    };
+    let mut kept: Vec<Motion> = Vec::new();
+    // Where the tool is before each kept move, and whether the last kept move stayed there.
+    let mut at = (0.0, 0.0);
+    let mut stayed = false;
+    for m in moves {
+        let here = (m.x, m.z);
+        // Home on the axes the return names (`G28 X0.` sends X alone).
+        let home = near(here, (0.0, 0.0))
+            || (near((here.0, 0.0), (0.0, 0.0)) && near((0.0, here.1), (0.0, at.1)))
+            || (near((0.0, here.1), (0.0, 0.0)) && near((here.0, 0.0), (at.0, 0.0)));
+        if m.kind == Kind::Rapid && home {
+            // The return home; the intermediate point before it, where the tool already was.
+            if stayed {
+                kept.pop();
+            }
+            at = here;
+            stayed = false;
+            continue;
+        }
+        stayed = m.kind == Kind::Rapid && near(here, at);
+        at = here;
+        kept.push(m);
+    }
+    kept
+}
+
+/// Bundled programs whose filtered output LinuxCNC refuses, with its message and why.
+const KNOWN_FILTER: &[(&str, &str, &str)] = &[(
+    "gsk-g65-loop.nc",
+    "Spindle not turning in G33",
+    "the source never starts the spindle (started by hand on the GSK); LinuxCNC's interpreter \
+     refuses a synchronised move with the spindle stopped: docs/linuxcnc-filter.md",
+)];
+
+/// The LinuxCNC program filter (`threadcut convert --filter --from C --to linuxcnc`, issue 26
+/// item 7; docs/linuxcnc-filter.md): every bundled Fanuc-family, Haas, GSK and Sinumerik example
+/// converted as the filter converts it (the library's `convert`; with `--flatten`, as the INI line
+/// for macro programs reads), the result run through rs274, and its moves compared with
+/// threadcut's reading of the source on its own controller. A program the conversion refuses
+/// must be refused as something LinuxCNC's words cannot say (E009), never as an error.
+#[test]
+fn the_filters_output_runs_in_linuxcnc_as_its_source_reads() {
+    let Some(rs274) = rs274() else {
+        println!("linuxcnc filter: skipped (no rs274)");
+        return;
+    };
+    let controller = |name: &str| -> Option<&'static str> {
+        [
+            ("fanuc15-", "fanuc15"),
+            ("fanuc-b-", "fanuc-b"),
+            ("fanuc-", "fanuc"),
+            ("haas-", "haas"),
+            ("gsk-", "gsk980"),
+            ("sinumerik-", "sinumerik"),
+        ]
+        .iter()
+        .find(|(p, _)| name.starts_with(p))
+        .map(|(_, c)| *c)
+    };
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("linuxcnc-filter");
+    std::fs::create_dir_all(&dir).unwrap();
+    // Tools 1 to 99 at zero offsets: the source programs' turret stations.
+    let tools = dir.join("tools.tbl");
+    let table: String = (1..100).map(|t| format!("T{t} P{t} X0 Z0 ;\n")).collect();
+    std::fs::write(&tools, table).unwrap();
+    let linuxcnc = Machine::built_in("linuxcnc").unwrap();
+    let options = program::Options {
+        flatten: true,
+        ..program::Options::default()
+    };
+    let (mut same, mut refused, mut failures) = (0, Vec::new(), Vec::new());
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    for file in files {
+        let name = file.file_name().unwrap().to_string_lossy().into_owned();
+        let Some(from) = controller(&name) else {
+            continue;
+        };
+        let text = std::fs::read(&file).unwrap();
+        let source = Machine::built_in(from).unwrap();
+        let mut out = Vec::new();
+        match threadcut::convert::convert(text.as_slice(), &mut out, &source, &linuxcnc, &options) {
+            Ok(_) => {}
+            Err(program::Error::Input(d)) => {
+                assert_eq!(
+                    d.code,
+                    threadcut::diag::Code::Unsupported,
+                    "{name}: not a limit of the target's: {}",
+                    d.message
+                );
+                refused.push(format!("{name}: {}", d.message));
+                continue;
+            }
+            Err(e) => panic!("{name}: {e}"),
+        }
+        let converted = dir.join(format!(
+            "{}.ngc",
+            file.file_stem().unwrap().to_string_lossy()
+        ));
+        std::fs::write(&converted, &out).unwrap();
+        let ours = motions_on(&file, &text, from);
+        let known = KNOWN_FILTER.iter().find(|(n, _, _)| *n == name);
+        match (canon_with(&rs274, &converted, Some(&tools)), ours) {
+            (Err(r), _) if known.is_some_and(|k| r.message == k.1) => {
+                println!("{name}: rs274 refuses it as known ({})", known.unwrap().2);
+            }
+            (Ok(reference), Ok(ours)) => {
+                match difference(&without_reference_returns(&text, reference), &ours) {
+                    None => {
+                        same += 1;
+                        println!("{name} ({from}): {} moves identical in rs274", ours.len());
+                    }
+                    Some(d) => failures.push(format!("{name}: {d}")),
+                }
+            }
+            (Err(r), _) => failures.push(format!(
+                "{name}: rs274 refuses the filter's output: {} at {:?}",
+                r.message, r.block
+            )),
+            (_, Err((m, l))) => failures.push(format!(
+                "{name}: threadcut refuses the source: {m} at line {l}"
+            )),
+        }
+    }
+    for r in &refused {
+        println!("refused: {r}");
+    }
+    println!(
+        "linuxcnc filter: {same} programs move for move, {} refused",
+        refused.len()
+    );
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(same >= 8, "only {same} programs compared");
 }
 
 /// Programs both refuse, where threadcut's message or line knowingly differs from rs274's.

@@ -30,14 +30,21 @@ fn fanuc_family_hole_cycles_are_refused_at_their_word() {
     for c in ["fanuc", "fanuc-b", "fanuc15", "haas"] {
         let (line, column, message) = refusal(c, src);
         assert_eq!((line, column), (4, 1), "{c}");
-        assert!(message.starts_with("G83 (peck drilling cycle) is a motion threadcut does not follow yet"), "{c}: {message}");
+        assert!(
+            message
+                .starts_with("G83 (peck drilling cycle) is a motion threadcut does not follow yet"),
+            "{c}: {message}"
+        );
     }
     let (line, _, message) = refusal("haas", &src.replace("G83 Z-10. Q2000", "G84 Z-10."));
     assert_eq!(line, 4);
     assert!(message.starts_with("G84 (tapping cycle)"), "{message}");
     let (line, _, message) = refusal("gsk980", &src.replace("G83 Z-10. Q2000", "G84 Z-10."));
     assert_eq!(line, 4);
-    assert!(message.starts_with("G84 (end-face rigid tapping cycle)"), "{message}");
+    assert!(
+        message.starts_with("G84 (end-face rigid tapping cycle)"),
+        "{message}"
+    );
 }
 
 #[test]
@@ -50,7 +57,10 @@ fn linuxcnc_rigid_tapping_probing_splines_and_canned_cycles_are_refused() {
         ("G38.2 Z-10 F100", "G38.2 (probing move"),
         ("G5.2 X1 Z1 P1", "G5.2 (NURBS block"),
         ("G17 G81 Z-10 R1 F100", "G81 (drilling cycle)"),
-        ("G73 Z-10 R1 Q1 F100", "G73 (drilling cycle with chip breaking)"),
+        (
+            "G73 Z-10 R1 Q1 F100",
+            "G73 (drilling cycle with chip breaking)",
+        ),
     ] {
         let (line, _, message) = refusal("linuxcnc", &format!("{head}{block}\nG0 X50 Z50\nM2\n"));
         assert_eq!(line, 5, "{block}");
@@ -65,5 +75,7 @@ fn linuxcnc_rigid_tapping_probing_splines_and_canned_cycles_are_refused() {
         &machine,
     )
     .unwrap();
-    assert!(String::from_utf8(out).unwrap().contains("\"kind\":\"thread\""));
+    assert!(String::from_utf8(out)
+        .unwrap()
+        .contains("\"kind\":\"thread\""));
 }

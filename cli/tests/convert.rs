@@ -266,3 +266,67 @@ fn reference_returns_keep_their_intermediate_point() {
     assert!(out.contains("G28 U0. W0."), "{out}");
     same_motion(&motion(src, "fanuc"), &motion(&out, "gsk980"), 0.0006);
 }
+
+/// `convert --filter` as LinuxCNC's AXIS runs a program filter (`/usr/bin/axis`,
+/// `filter_program`): `sh -c "<the INI's command> '<file>'"`, standard output the program,
+/// `FILTER_PROGRESS=N` lines on standard error (its pattern `^FILTER_PROGRESS=(\d*)$`), any other
+/// standard-error line shown in the "Filter failed" dialog when the exit status is not 0.
+#[test]
+fn convert_runs_as_a_linuxcnc_program_filter() {
+    let bin = env!("CARGO_BIN_EXE_threadcut");
+    // A program longer than one read (64 KiB), so that the progress climbs in steps.
+    let mut src = String::from("G21 G99\nT0101\nG97 S800 M03\nG00 X22. Z3.\n");
+    for _ in 0..16000 {
+        src.push_str("G00 X22. Z3.\n");
+    }
+    src.push_str("G76 P010060 Q50 R0.02\nG76 X17.546 Z-20. P1227 Q400 F2.\nG00 X40. Z50.\nM30\n");
+    let path = file("filter.nc", &src);
+    let filter = format!("{bin} convert --filter --from fanuc --to linuxcnc");
+    let run = Command::new("sh")
+        .arg("-c")
+        .arg(format!("{filter} '{}'", path.display()))
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let out = String::from_utf8(run.stdout).unwrap();
+    assert!(out.contains("G33") || out.contains("G76"), "{out}");
+    let stderr = String::from_utf8(run.stderr).unwrap();
+    let progress: Vec<u32> = stderr
+        .lines()
+        .filter_map(|l| l.strip_prefix("FILTER_PROGRESS="))
+        .map(|n| n.parse().unwrap())
+        .collect();
+    assert!(progress.len() >= 2, "{stderr}");
+    assert!(progress.windows(2).all(|w| w[0] < w[1]), "{progress:?}");
+    assert_eq!(progress.last(), Some(&100));
+    // A block LinuxCNC cannot be given: status not 0, the reason on standard error, for the dialog.
+    let bad = file(
+        "filter-bad.nc",
+        "G21 G99\nG0 X0 Z5.\nS300 M3\nG83 Z-10. Q2000 F0.1\nM30\n",
+    );
+    let run = Command::new("sh")
+        .arg("-c")
+        .arg(format!("{filter} '{}'", bad.display()))
+        .output()
+        .unwrap();
+    assert_ne!(run.status.code(), Some(0));
+    let stderr = String::from_utf8(run.stderr).unwrap();
+    assert!(stderr.contains("G83 (peck drilling cycle)"), "{stderr}");
+    assert!(
+        !stderr.contains('\x1b'),
+        "no colour for the dialog: {stderr:?}"
+    );
+    // The program goes to standard output: --filter with -o is a usage error.
+    let o = Command::new(bin)
+        .args([
+            "convert", "--filter", "--from", "fanuc", "--to", "linuxcnc", "-o", "x.ngc",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+}

@@ -51,7 +51,12 @@ pub struct Conventions {
 /// What the motion code `code` (×10) is, when threadcut does not follow it on this control: the
 /// code's own entry, else its whole number's (`G38.2` under `G38`).
 fn unmodelled(conv: &Conventions, code: u16) -> Option<&'static str> {
-    let find = |c: u16| conv.unmodelled.iter().find(|(u, _)| *u == c).map(|(_, w)| *w);
+    let find = |c: u16| {
+        conv.unmodelled
+            .iter()
+            .find(|(u, _)| *u == c)
+            .map(|(_, w)| *w)
+    };
     find(code).or_else(|| find(code / 10 * 10))
 }
 

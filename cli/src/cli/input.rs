@@ -11,6 +11,7 @@ use std::fs::File;
 use std::io::{self, BufRead, BufReader, IsTerminal, Read};
 use std::path::Path;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -23,6 +24,15 @@ const QUIET_FOR: Duration = Duration::from_millis(400);
 /// A file at least this long is read ahead by a second thread; a shorter one is read before a
 /// thread would have started.
 const READ_AHEAD_FROM: u64 = 4 << 20;
+
+/// The command runs as a LinuxCNC program filter (`convert --filter`): progress is reported as
+/// the `FILTER_PROGRESS=N` lines LinuxCNC's screens read from standard error, not as a bar.
+static FILTER: AtomicBool = AtomicBool::new(false);
+
+/// Reports the reading's progress as a LinuxCNC program filter does from now on.
+pub fn report_as_filter() {
+    FILTER.store(true, Ordering::Relaxed);
+}
 
 /// Whether the program held anything but blanks, known once it has been read.
 #[derive(Clone)]
@@ -63,7 +73,7 @@ pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
         let stdin = io::stdin();
         let bar = Bar::new(None, stdin.is_terminal());
         let reader = BufReader::with_capacity(1 << 16, stdin);
-        return Ok((Box::new(Watch::new(reader, seen, bar)), content));
+        return Ok((Box::new(Watch::new(reader, seen, None, bar)), content));
     }
     let f = File::open(file).map_err(|e| cannot(&e))?;
     let meta = f.metadata().map_err(|e| cannot(&e))?;
@@ -75,10 +85,10 @@ pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
     if len.is_some_and(|n| n >= READ_AHEAD_FROM) {
         // A long file is read by a second thread while this one works (`ahead`).
         let reader = BufReader::with_capacity(1 << 16, super::ahead::ReadAhead::new(f));
-        return Ok((Box::new(Watch::new(reader, seen, bar)), content));
+        return Ok((Box::new(Watch::new(reader, seen, len, bar)), content));
     }
     let reader = BufReader::with_capacity(1 << 16, f);
-    Ok((Box::new(Watch::new(reader, seen, bar)), content))
+    Ok((Box::new(Watch::new(reader, seen, len, bar)), content))
 }
 
 /// A program read more than once (`plot` and `passes` read it for `check` and then for the
@@ -148,11 +158,23 @@ struct Watch<R> {
     inner: R,
     seen: Rc<Cell<bool>>,
     bar: Option<Bar>,
+    filter: Option<FilterProgress>,
 }
 
 impl<R> Watch<R> {
-    fn new(inner: R, seen: Rc<Cell<bool>>, bar: Option<Bar>) -> Watch<R> {
-        Watch { inner, seen, bar }
+    /// `len`: the file's size, where known.
+    fn new(inner: R, seen: Rc<Cell<bool>>, len: Option<u64>, bar: Option<Bar>) -> Watch<R> {
+        let filter = FILTER.load(Ordering::Relaxed).then(|| FilterProgress {
+            total: len,
+            done: 0,
+            percent: 0,
+        });
+        Watch {
+            inner,
+            seen,
+            bar: if filter.is_some() { None } else { bar },
+            filter,
+        }
     }
 
     fn look(&self, bytes: &[u8]) {
@@ -164,6 +186,32 @@ impl<R> Watch<R> {
     fn advance(&mut self, n: usize) {
         if let Some(bar) = &mut self.bar {
             bar.advance(n);
+        }
+        if let Some(f) = &mut self.filter {
+            f.advance(n);
+        }
+    }
+}
+
+/// LinuxCNC's progress protocol for program filters: a line `FILTER_PROGRESS=N` on standard
+/// error sets the screen's progress bar to N % (LinuxCNC's "Filter Programs" documentation).
+/// One line per whole percent of the file read; none for standard input, whose size is unknown.
+struct FilterProgress {
+    total: Option<u64>,
+    done: u64,
+    percent: u64,
+}
+
+impl FilterProgress {
+    fn advance(&mut self, n: usize) {
+        let Some(total) = self.total.filter(|&t| t > 0) else {
+            return;
+        };
+        self.done += n as u64;
+        let percent = (self.done.min(total) * 100) / total;
+        if percent > self.percent {
+            self.percent = percent;
+            eprintln!("FILTER_PROGRESS={percent}");
         }
     }
 }

@@ -399,6 +399,13 @@ struct ConvertArgs {
     /// to convert such a program to another controller's language).
     #[arg(long)]
     flatten: bool,
+    /// Run as a LinuxCNC program filter (the INI's `[FILTER]` section: `nc = threadcut convert
+    /// --filter --from fanuc --to linuxcnc`, LinuxCNC adding the file's path): the program to
+    /// standard output, `FILTER_PROGRESS=N` lines on standard error as the file is read, and on
+    /// a refusal the message on standard error and a non-zero exit status, which LinuxCNC shows
+    /// (docs/linuxcnc-filter.md).
+    #[arg(long, conflicts_with = "output")]
+    filter: bool,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -687,6 +694,9 @@ fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
         machine: args.to_machine,
     })?;
     let file = &args.input.file;
+    if args.filter {
+        input::report_as_filter();
+    }
     let (mut reader, content) = input::open(file)?;
     // A file that cannot be read says so before anything is written.
     reader.fill_buf().map_err(|e| {
