@@ -164,7 +164,7 @@ struct Watch<R> {
 impl<R> Watch<R> {
     /// `len`: the file's size, where known.
     fn new(inner: R, seen: Rc<Cell<bool>>, len: Option<u64>, bar: Option<Bar>) -> Watch<R> {
-        let filter = FILTER.load(Ordering::Relaxed).then(|| FilterProgress {
+        let filter = FILTER.load(Ordering::Relaxed).then_some(FilterProgress {
             total: len,
             done: 0,
             percent: 0,
