@@ -68,6 +68,8 @@ def passes(
     controller: str,
     *,
     machine: _Machine | None = None,
+    thread: str | None = None,
+    wire: float | None = None,
     stock_diameter: float | None = None,
     stock_start: float | None = None,
     stock_length: float | None = None,
@@ -84,7 +86,11 @@ def passes(
     cannot be simulated), and for G-code `blank`: the thread's blank as `check` takes it, `{crest, crest_from,
     face, face_from}` (the crest a diameter; `*_from` `"measured"` on the part the program turned,
     `"given"`, `"assumed"` or `"unknown"`). Program units. The stock keywords are `check`'s; each
-    not given is the machine profile's `[stock]` value, if any.
+    not given is the machine profile's `[stock]` value, if any. With `thread` (a standard thread's
+    name, as `check` takes it) each dict has `measure`: what the thread will measure (`pitch_diameter`
+    as cut, `wire`, `m` over it, the class's `pitch_diameter_min`/`_max`, `m_min`/`m_max`, the
+    `deeper` change of the final depth to the window's middle, and `assumed`), or `{not_stated}`
+    with the reason; `wire` the measuring wire one owns (the thread's units).
 
     A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
     the controller refuses (at its line and column) or an unknown controller.
