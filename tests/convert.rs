@@ -144,8 +144,11 @@ fn tolerances(to: &Machine) -> (f64, f64) {
 /// so.
 fn outcome(name: &str, from: &Machine, to: &Machine, text: &str) -> String {
     let mut out = Vec::new();
-    let flatten = program::Options {
-        flatten: true,
+    let flatten = convert::Options {
+        run: program::Options {
+            flatten: true,
+            ..Default::default()
+        },
         ..Default::default()
     };
     match convert::convert(text.as_bytes(), &mut out, from, to, &flatten) {
@@ -153,6 +156,7 @@ fn outcome(name: &str, from: &Machine, to: &Machine, text: &str) -> String {
             native,
             plain,
             summary,
+            ..
         }) => {
             let flattened = if summary.interpreted_from.is_some() {
                 "flattened: "
@@ -761,8 +765,11 @@ fn programs_with_control_flow_need_flatten() {
         loop_,
         &Machine::built_in("fanuc").unwrap(),
         &Machine::built_in("haas").unwrap(),
-        &program::Options {
-            flatten: true,
+        &convert::Options {
+            run: program::Options {
+                flatten: true,
+                ..Default::default()
+            },
             ..Default::default()
         },
     )
@@ -798,8 +805,11 @@ fn lines_after_the_end_keep_their_comments_only() {
         after,
         &Machine::built_in("fanuc").unwrap(),
         &Machine::built_in("linuxcnc").unwrap(),
-        &program::Options {
-            flatten: true,
+        &convert::Options {
+            run: program::Options {
+                flatten: true,
+                ..Default::default()
+            },
             ..Default::default()
         },
     )

@@ -27,7 +27,7 @@ use crate::dialect;
 use crate::gcode::{Line, Modal};
 use crate::interp::Text;
 use crate::machine::Machine;
-use crate::program::{self, Error, Event, Options, Summary, Where};
+use crate::program::{self, Error, Event, Summary, Where};
 
 use block::Source;
 
@@ -39,6 +39,21 @@ pub struct Report {
     pub native: u32,
     /// Cycles written as plain moves: the line of the cycle and why its native cycle was not used.
     pub plain: Vec<(u32, String)>,
+    /// The conversion's own warnings (a lead that drifts over its thread), before they join
+    /// `summary.warnings`.
+    pub warnings: Vec<Diagnostic>,
+}
+
+/// How a program is converted.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Options {
+    /// How the program is run (`--max-blocks`, `--flatten`).
+    pub run: program::Options,
+    /// The largest drift accepted of a lead written in the target's words, over its thread, in
+    /// the units of the converted program (`--max-lead-drift`). `None`: a quarter of the medium
+    /// class's pitch-diameter tolerance for the thread, on the drift's pitch-diameter equivalent
+    /// (docs/translation.md, "The lead's rounding").
+    pub max_lead_drift: Option<f64>,
 }
 
 /// Converts the program `input`, written for `from`, into a program for `to`, written to `out`.
@@ -49,7 +64,7 @@ pub struct Report {
 ///
 /// A program with control flow (subroutines, loops, parameters) is copied as it is for the same
 /// profile; for another controller it is an error at its first line of control flow unless
-/// `options.flatten`, which converts the executed program (every block the interpreter runs, with
+/// `options.run.flatten`, which converts the executed program (every block the interpreter runs, with
 /// its computed values): threadcut does not translate one macro language into another, and a
 /// block with computed words has no one value to rewrite (docs/translation.md, "Programs with
 /// control flow").
@@ -60,6 +75,13 @@ pub fn convert<R: BufRead>(
     to: &Machine,
     options: &Options,
 ) -> Result<Report, Error> {
+    if let Some(v) = options.max_lead_drift.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+        return Err(Error::Input(Diagnostic::error(
+            Code::OutOfRange,
+            Span::default(),
+            format!("maximum lead drift {v}: expected a length of 0 or more, in the converted program's units"),
+        )));
+    }
     let ending = crate::eol::LineEnding::peek(&mut input)?;
     let out = &mut crate::eol::Writer::new(out, ending);
     let source_dialect = dialect::open(from).map_err(Error::Setup)?;
@@ -89,21 +111,24 @@ pub fn convert<R: BufRead>(
             to,
             target.as_ref(),
             &src.meanings,
+            options.max_lead_drift,
         )?))
     };
     let mut conversion = Conversion {
         side,
         src,
-        flatten: options.flatten,
+        flatten: options.run.flatten,
         unrun: Vec::new(),
     };
-    let summary = program::run_output(input, from, options, &mut conversion)?;
+    let summary = program::run_output(input, from, &options.run, &mut conversion)?;
     conversion.after_end()?;
     let mut report = match conversion.side {
         Side::Other(w) => w.finish(),
         Side::Same { .. } => Report::default(),
     };
     report.summary = summary;
+    let own = std::mem::take(&mut report.warnings);
+    report.summary.warnings.extend(own);
     Ok(report)
 }
 
