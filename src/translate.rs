@@ -72,11 +72,14 @@ pub fn write_job_with(
     } else {
         None
     };
+    // The motion first, so that nothing is written for a job refused.
+    let mut motion = Vec::new();
+    let written = write_motion(&mut motion, target, d.as_ref(), job, &path)?;
     if let Some(c) = note.and_then(|n| d.format().comment(&n)) {
         writeln!(out, "{c}")?;
     }
-    let drift = drift.drifts().then_some(drift);
-    write_motion(out, target, d.as_ref(), job, &path).map(|w| (w, drift))
+    out.write_all(&motion)?;
+    Ok((written, drift.drifts().then_some(drift)))
 }
 
 /// The job's native cycle, or plain moves after the reason, or a refusal.

@@ -283,14 +283,24 @@ fn metric_programs_are_converted_to_inch_for_the_omniturn() {
     // .0015748". Converted, the drift stated.
     let src = "G0 X0 Z5.08\nX6.0198\nG33X5.3848Z-22.I0.3048K2.PC\n";
     let mut out = Vec::new();
-    let report = convert::convert(src.as_bytes(), &mut out, &metric, &inch, &Default::default())
-        .unwrap();
+    let report = convert::convert(
+        src.as_bytes(),
+        &mut out,
+        &metric,
+        &inch,
+        &Default::default(),
+    )
+    .unwrap();
     let out = String::from_utf8(out).unwrap();
     let stated = "(threadcut: lead 2. mm written as 0.07875 inch drifts 0.0001333 inch over the thread's 1.0661 inch, 0.0002308 inch on the pitch diameter at cot 30°; limit 0.0015748 inch, a quarter of 6g's pitch-diameter tolerance for M12.04x2, ISO metric assumed from the 60° tool)\nG33 X0.212 Z-0.86615 I0.012 K0.07875 C29. P\n";
     assert!(out.ends_with(stated), "{out}");
     let w = &report.summary.warnings;
     assert_eq!(w.len(), 1, "{w:?}");
-    assert!(w[0].message.contains("drifts 0.0001333 inch"), "{}", w[0].message);
+    assert!(
+        w[0].message.contains("drifts 0.0001333 inch"),
+        "{}",
+        w[0].message
+    );
     assert_eq!(w[0].span.line, 3);
 }
 
@@ -333,7 +343,12 @@ fn the_lead_drift_is_judged_at_a_quarter_of_the_class_tolerance_in_both_unit_sys
     // --max-lead-drift moves the limit (the drift along the thread, the program's units).
     assert!(fanuc_to_haas(&mm("-760."), Some(0.0204)).is_ok());
     let e = fanuc_to_haas(&mm("-750."), Some(0.02)).unwrap_err();
-    assert!(e.message.contains("beyond the limit 0.02 mm along the thread, the limit given"), "{}", e.message);
+    assert!(
+        e.message
+            .contains("beyond the limit 0.02 mm along the thread, the limit given"),
+        "{}",
+        e.message
+    );
 
     let inch = |z: &str| format!("G20 G99\nG0 X.6 Z.2\nG92 X.5 Z{z} F.0769231\nM30\n");
     let out = fanuc_to_haas(&inch("-17.6"), None).unwrap();
@@ -344,7 +359,11 @@ fn the_lead_drift_is_judged_at_a_quarter_of_the_class_tolerance_in_both_unit_sys
     assert!(fanuc_to_haas(&inch("-17.6"), Some(0.0007)).is_err());
     // A negative limit is no length.
     let e = fanuc_to_haas(&inch("-1."), Some(-1.0)).unwrap_err();
-    assert!(e.message.contains("expected a length of 0 or more"), "{}", e.message);
+    assert!(
+        e.message.contains("expected a length of 0 or more"),
+        "{}",
+        e.message
+    );
 }
 
 /// Issue 26's 1/2-13 UNC program: E13 (1/13") on Fanuc is F.07692, .0000031" short a turn; over
@@ -367,7 +386,11 @@ fn the_half_inch_unc_example_converts_with_its_drift_stated() {
     .unwrap();
     let out = String::from_utf8(out).unwrap();
     assert!(out.contains("(threadcut: lead 0.076923 inch written as 0.07692 inch drifts 0.000038 inch over the thread's 0.95 inch, 0.0000658 inch on the pitch diameter at cot 30°; limit 0.00125 inch"), "{out}");
-    assert!(report.summary.warnings.iter().any(|w| w.message.contains("0.0000658 inch on the pitch diameter")));
+    assert!(report
+        .summary
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("0.0000658 inch on the pitch diameter")));
 }
 
 /// `post` states what its program relies on, for every lathe controller: the units (the code, or
@@ -901,4 +924,82 @@ fn lines_after_the_end_keep_their_comments_only() {
     )
     .unwrap();
     assert!(flat.ends_with("M30\n"), "{flat}");
+}
+
+fn first_lines(text: &str, n: usize) -> Vec<&str> {
+    text.lines().take(n).collect()
+}
+
+/// A converted program is laid out as its target expects (issue 26): the delimiter `%` where the
+/// target uses one, the program's number or name (Fanuc's O number is the first block after `%`:
+/// "% / O0001(MEMORY CARD SAMPLE FILE) / G17 G49 G97 … / M30 / %", FANUC Series 16i/18i-TB
+/// operator's manual B-63524EN/01, memory card file format), then the comment naming the
+/// conversion and the block of stated modes; the end code as the source wrote it.
+#[test]
+fn programs_begin_with_their_number_then_the_stated_modes() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fanuc-m30x2-g76.nc"),
+    )
+    .unwrap();
+    let haas = conv(&text, "fanuc", "haas").unwrap();
+    assert_eq!(
+        first_lines(&haas, 4),
+        [
+            "%",
+            "O0001 (M30x2 external thread, G76)",
+            "(threadcut convert: fanuc to haas, mm, feed per revolution)",
+            "G21 G18 G99 G97"
+        ]
+    );
+    assert!(haas.ends_with("M30\n%\n"), "{haas}");
+    // LinuxCNC numbers no programs (its o-words label subroutines): the number is a comment,
+    // first after its `%`.
+    let linuxcnc = conv(&text, "fanuc", "linuxcnc").unwrap();
+    assert_eq!(
+        first_lines(&linuxcnc, 4),
+        [
+            "%",
+            "(program O0001; M30x2 external thread, G76)",
+            "(threadcut convert: fanuc to linuxcnc, mm, feed per revolution)",
+            "G21 G90 G8 G18 G95 G97"
+        ]
+    );
+    assert!(linuxcnc.ends_with("M30\n%\n"), "{linuxcnc}");
+    // Sinumerik names a program by its file: the number a comment, first; no `%`.
+    let sinumerik = conv(&text, "fanuc", "sinumerik").unwrap();
+    assert_eq!(
+        first_lines(&sinumerik, 3),
+        [
+            "; program O0001; M30x2 external thread, G76",
+            "; threadcut convert: fanuc to sinumerik, mm, feed per revolution",
+            "G71 G90 DIAMON G18 G95 G97"
+        ]
+    );
+    assert!(sinumerik.ends_with("M30\n"), "{sinumerik}");
+    // The same profile: the program as it is, the comment after its number.
+    let same = conv(&text, "fanuc", "fanuc").unwrap();
+    assert_eq!(
+        first_lines(&same, 3),
+        [
+            "%",
+            "O0001 (M30x2 external thread, G76)",
+            "(threadcut convert: fanuc to fanuc)"
+        ]
+    );
+    // Sinumerik's name header first (a comment for Fanuc), then what the program states.
+    let src = "%_N_TEST_MPF\n;$PATH=/_N_MPF_DIR\nG71\nG0 X20 Z5\nM2\n";
+    let fanuc = conv(src, "sinumerik", "fanuc").unwrap();
+    assert_eq!(
+        first_lines(&fanuc, 4),
+        [
+            "(%_N_TEST_MPF)",
+            "(threadcut convert: sinumerik to fanuc, mm, feed per minute)",
+            "G21 G18 G98 G97",
+            "($PATH=/_N_MPF_DIR)"
+        ]
+    );
+    assert!(fanuc.ends_with("G0 X20. Z5.\nM2\n"), "{fanuc}");
+    // A number on a block with words is that block: the modes come before it.
+    let with_words = conv("O0005 G0 X20. Z5.\nM30\n", "fanuc", "haas").unwrap();
+    assert_eq!(first_lines(&with_words, 3)[2], "O0005 G0 X20. Z5.");
 }

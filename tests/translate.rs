@@ -272,7 +272,10 @@ fn the_lead_rounding_over_the_thread_is_hand_computed() {
     use threadcut::translate::{DriftRule, LeadDrift};
     let judged = LeadDrift::judge(r, &job, &DriftRule::new(threadcut::units::Units::Mm));
     assert!((judged.pitch_diameter - drift * 3f64.sqrt()).abs() < 1e-12);
-    assert!((judged.limit_value() - 0.033 / 25.4).abs() < 1e-12, "{judged:?}");
+    assert!(
+        (judged.limit_value() - 0.033 / 25.4).abs() < 1e-12,
+        "{judged:?}"
+    );
     assert!(judged.drifts() && !judged.over());
     // A limit given below the drift (along the thread, inch) refuses it.
     let rule = DriftRule {

@@ -75,7 +75,10 @@ pub fn convert<R: BufRead>(
     to: &Machine,
     options: &Options,
 ) -> Result<Report, Error> {
-    if let Some(v) = options.max_lead_drift.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+    if let Some(v) = options
+        .max_lead_drift
+        .filter(|v| !(v.is_finite() && *v >= 0.0))
+    {
         return Err(Error::Input(Diagnostic::error(
             Code::OutOfRange,
             Span::default(),
@@ -198,25 +201,25 @@ impl program::Output for Conversion<'_, '_, '_> {
         match &mut self.side {
             Side::Same { out, header } => {
                 let line = event_line(&ev);
-                same_header(out, header, line)?;
+                same_header(out, header, line, self.src.meanings.program_number)?;
                 out.write_all(line.raw)?;
                 Ok(())
             }
             Side::Other(w) => match ev {
                 Event::Plain { line, mv } => {
-                    w.header_before(line)?;
                     if line.shape.percent {
                         return w.delimiter();
                     }
                     let b = block::decode(line, &mut self.src, modal)?;
+                    w.header_before(line, b.names_program())?;
                     w.plain(line, &b, mv, modal)
                 }
                 Event::Settings { line } => {
-                    w.header_before(line)?;
+                    w.header_before(line, false)?;
                     w.comment_only(&block::comments(line.text, self.src.paren_comments))
                 }
                 Event::Cycle { line, job, .. } => {
-                    w.header_before(line)?;
+                    w.header_before(line, false)?;
                     w.cycle(
                         line,
                         *job,
@@ -260,7 +263,7 @@ impl program::Output for Conversion<'_, '_, '_> {
         match &mut self.side {
             Side::Same { out, header } => {
                 let line = event_line(&ev);
-                same_header(out, header, line)?;
+                same_header(out, header, line, self.src.meanings.program_number)?;
                 program::write_executed_block(*out, line, at.verbatim, modal)?;
                 Ok(())
             }
@@ -283,6 +286,19 @@ impl program::Output for Conversion<'_, '_, '_> {
                 out.write_all(&bytes[..first])?;
                 bytes = &bytes[first..];
             }
+            // The program number that begins the program stays first.
+            let next = bytes
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(bytes.len(), |i| i + 1);
+            let t = bytes[..next].trim_ascii_start();
+            if self.src.meanings.program_number
+                && t.first() == Some(&b'O')
+                && t.get(1).is_some_and(u8::is_ascii_digit)
+            {
+                out.write_all(&bytes[..next])?;
+                bytes = &bytes[next..];
+            }
             writeln!(out, "{h}")?;
         }
         out.write_all(bytes)?;
@@ -294,9 +310,17 @@ fn event_line<'a, 'l>(ev: &Event<'a, 'l>) -> &'a Line<'l> {
     ev.line()
 }
 
-/// The same profile's header comment, before the first line that is not a `%` delimiter.
-fn same_header(out: &mut dyn Write, header: &mut Option<String>, line: &Line) -> Result<(), Error> {
-    if !line.shape.percent {
+/// The same profile's header comment, before the first line that is neither a `%` delimiter nor
+/// the program number that begins the program (`numbers`: the control numbers programs with O).
+fn same_header(
+    out: &mut dyn Write,
+    header: &mut Option<String>,
+    line: &Line,
+    numbers: bool,
+) -> Result<(), Error> {
+    let number_only =
+        numbers && !line.words.is_empty() && line.words.iter().all(|w| w.letter == b'O');
+    if !line.shape.percent && !number_only {
         if let Some(h) = header.take() {
             writeln!(out, "{h}")?;
         }

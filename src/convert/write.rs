@@ -160,9 +160,11 @@ impl<'o, 'm> Writer<'o, 'm> {
         self.report
     }
 
-    /// The header, before the first line that is not a `%` delimiter.
-    pub fn header_before(&mut self, line: &Line) -> Result<(), Error> {
-        if !line.shape.percent {
+    /// The header, before the first line that is neither a `%` delimiter nor the line that names
+    /// the program (`names`: its number or name comes first, as the target's manuals lay a
+    /// program out: `%`, `O0001`, the blocks).
+    pub fn header_before(&mut self, line: &Line, names: bool) -> Result<(), Error> {
+        if !line.shape.percent && !names {
             if let Some(h) = self.header.take() {
                 for l in h {
                     writeln!(self.out, "{l}")?;

@@ -115,7 +115,11 @@ impl LeadDrift {
     /// the 60° tool` (no parentheses: the text goes into a comment).
     fn limit_text(&self) -> String {
         let u = self.rounding.units;
-        let value = format!("{} {}", post::number(self.limit_value(), 7, false), u.name());
+        let value = format!(
+            "{} {}",
+            post::number(self.limit_value(), 7, false),
+            u.name()
+        );
         match &self.limit {
             Limit::Given(_) => format!("{value} along the thread, the limit given"),
             Limit::Class { tolerance, form } => format!(

@@ -2,9 +2,7 @@
 //! cycle in a program names no standard): the form assumed from the tool's angle, and the medium
 //! class's Td2/TD2 for that diameter and pitch, from the same formulas as the named threads.
 
-use super::{
-    acme, iso_limits, trapezoidal, unified_limits, Class, Family, Series, Surface,
-};
+use super::{acme, iso_limits, trapezoidal, unified_limits, Class, Family, Series, Surface};
 use crate::units::MM_PER_INCH;
 
 /// The form a thread cut with a tool of `tool_angle_deg` is taken to have, with its lead
@@ -125,16 +123,22 @@ mod tests {
     #[test]
     fn the_medium_classes_of_named_threads() {
         let ext = medium_pitch_tolerance(Family::Metric, Surface::External, 20.0, 2.5).unwrap();
-        assert_eq!((ext.thread.as_str(), ext.class.to_string()), ("M20x2.5", "6g".into()));
+        assert_eq!(
+            (ext.thread.as_str(), ext.class.to_string()),
+            ("M20x2.5", "6g".into())
+        );
         assert_eq!(um(&ext), 170.0);
         let int = medium_pitch_tolerance(Family::Metric, Surface::Internal, 20.0, 2.5).unwrap();
         assert_eq!((int.class.to_string(), um(&int)), ("6H".into(), 224.0));
-        let a = medium_pitch_tolerance(Family::Unified, Surface::External, 12.7, 25.4 / 13.0)
-            .unwrap();
-        assert_eq!((a.thread.as_str(), a.class.to_string()), ("0.5-13 UN", "2A".into()));
+        let a =
+            medium_pitch_tolerance(Family::Unified, Surface::External, 12.7, 25.4 / 13.0).unwrap();
+        assert_eq!(
+            (a.thread.as_str(), a.class.to_string()),
+            ("0.5-13 UN", "2A".into())
+        );
         assert_eq!(um(&a), 127.0);
-        let b = medium_pitch_tolerance(Family::Unified, Surface::Internal, 12.7, 25.4 / 13.0)
-            .unwrap();
+        let b =
+            medium_pitch_tolerance(Family::Unified, Surface::Internal, 12.7, 25.4 / 13.0).unwrap();
         assert_eq!((b.class.to_string(), um(&b)), ("2B".into(), 165.1));
     }
 
