@@ -189,7 +189,7 @@ impl LeadDrift {
                 self.limit_text()
             ),
         )
-        .with_hint("the lead cannot be written closer in this controller's words and units: choose a controller that writes it, shorten the thread, or accept a larger drift with --max-lead-drift (in the converted program's units)")
+        .with_hint("the lead cannot be written closer in this controller's words and units: choose a controller that writes it or shorten the thread; `threadcut convert --max-lead-drift` accepts a larger drift (in the converted program's units)")
     }
 }
 
