@@ -251,12 +251,16 @@ def convert(
     source_machine: _Machine | None = None,
     target_machine: _Machine | None = None,
     flatten: bool = False,
+    max_lead_drift: float | None = None,
 ) -> str:
     """The program, written for controller `source`, as a program for controller `target`
     (`threadcut convert`): each cycle as the target's native cycle where reading it back gives the
     same toolpath, else as plain moves with a comment saying why; every other block through the
     two controllers' codes. A program with control flow is copied as it is for the same
     controller; for another one it is converted as executed only with `flatten=True`.
+    `max_lead_drift`: the largest drift of a lead the target cannot write exactly, over its
+    thread, in the converted program's units (default: a quarter of the thread's medium-class
+    pitch-diameter tolerance; the drift is always stated in a comment and an `InputWarning`).
     `source_machine` and `target_machine` are machine profiles, as `machine` elsewhere.
 
     Raises `InputError` at the first block the target cannot express (its line, column and word),

@@ -20,6 +20,9 @@ use crate::thread::Job;
 use crate::toolpath::{self, Motion, MotionKind, Toolpath};
 use crate::units::Units;
 
+mod drift;
+pub use drift::{DriftRule, LeadDrift, Limit};
+
 /// How a job was written.
 #[derive(Debug, PartialEq)]
 pub enum Written {
@@ -28,24 +31,66 @@ pub enum Written {
     Plain(String),
 }
 
-/// Writes `job` for `target`: its native cycle when a candidate reads back as the job's motion,
-/// else plain moves after a comment with the reason. Refused (an error at the job's block) when
-/// the lead written in the target's words drifts over the thread's length by more than the output
-/// resolution ([`lead_rounding`]), and when the target has no plain synchronised move to fall back
-/// on (its threading code is always the cycle) or its plain moves cannot state the job's start
-/// angle.
+/// Writes `job` for `target` with the default limit of the lead's drift ([`write_job_with`]).
 pub fn write_job(
     out: &mut dyn Write,
     target: &Machine,
     job: &Job,
 ) -> Result<Written, crate::program::Error> {
+    write_job_with(out, target, job, &DriftRule::new(job.units)).map(|(w, _)| w)
+}
+
+/// Writes `job` for `target`: its native cycle when a candidate reads back as the job's motion,
+/// else plain moves after a comment with the reason. Where the units change, a comment states
+/// the lead in both. The lead written in the target's words
+/// drifts over the thread's length ([`lead_rounding`]): where it drifts at all, a comment states
+/// the drift and its pitch-diameter equivalent before the cycle and the drift is returned (the
+/// caller warns); beyond the rule's limit ([`LeadDrift`]) it is refused, an error at the job's
+/// block. Refused too when the target has no plain synchronised move to fall back on (its
+/// threading code is always the cycle) or its plain moves cannot state the job's start angle.
+pub fn write_job_with(
+    out: &mut dyn Write,
+    target: &Machine,
+    job: &Job,
+    rule: &DriftRule,
+) -> Result<(Written, Option<LeadDrift>), crate::program::Error> {
     let path = toolpath::build(job)?;
     let d = dialect::open(target).map_err(crate::program::Error::Setup)?;
-    let rounding = lead_rounding(target, d.as_ref(), job);
-    if rounding.over_length > rounding.resolution {
-        return Err(lead_drift(target, job, &rounding).into());
+    let drift = LeadDrift::judge(lead_rounding(target, d.as_ref(), job), job, rule);
+    if drift.over() {
+        return Err(drift.refusal(target, job).into());
     }
-    let reason = match native(target, d.as_ref(), job, &path) {
+    let note = if drift.drifts() {
+        Some(drift.comment(rule))
+    } else if rule.source_units != job.units {
+        let r = &drift.rounding;
+        Some(format!(
+            "threadcut: in {}: {}",
+            r.units.name(),
+            r.describe(rule.source_units)
+        ))
+    } else {
+        None
+    };
+    // The motion first, so that nothing is written for a job refused.
+    let mut motion = Vec::new();
+    let written = write_motion(&mut motion, target, d.as_ref(), job, &path)?;
+    if let Some(c) = note.and_then(|n| d.format().comment(&n)) {
+        writeln!(out, "{c}")?;
+    }
+    out.write_all(&motion)?;
+    Ok((written, drift.drifts().then_some(drift)))
+}
+
+/// The job's native cycle, or plain moves after the reason, or a refusal.
+fn write_motion(
+    out: &mut dyn Write,
+    target: &Machine,
+    d: &dyn Dialect,
+    job: &Job,
+    path: &Toolpath,
+) -> Result<Written, crate::program::Error> {
+    let reason = match native(target, d, job, path) {
         Ok(lines) => {
             for l in &lines {
                 writeln!(out, "{l}")?;
@@ -73,7 +118,7 @@ pub fn write_job(
     )) {
         writeln!(out, "{c}")?;
     }
-    post::write_moves(out, &format, job.units, &path)?;
+    post::write_moves(out, &format, job.units, path)?;
     Ok(Written::Plain(reason))
 }
 
@@ -110,7 +155,7 @@ pub struct LeadRounding {
     pub length: f64,
     /// |written − lead| × length / lead: how far the last turn lands from where it should.
     pub over_length: f64,
-    /// The target's output resolution in the job's units: the largest drift accepted.
+    /// The target's output resolution in the job's units (its grid where it has one).
     pub resolution: f64,
     pub units: Units,
 }
@@ -162,26 +207,6 @@ impl LeadRounding {
             u.name()
         )
     }
-}
-
-fn lead_drift(target: &Machine, job: &Job, r: &LeadRounding) -> Diagnostic {
-    Diagnostic::error(
-        Code::Unsupported,
-        job.span,
-        format!(
-            "{} writes this lead as {} {}: over the thread's {} {} it drifts {} {}, more than its resolution {} {}",
-            target.name,
-            post::number(r.written, 6, false),
-            r.units.name(),
-            post::number(r.length, 4, false),
-            r.units.name(),
-            post::number(r.over_length, 7, false),
-            r.units.name(),
-            post::number(r.resolution, 6, false),
-            r.units.name()
-        ),
-    )
-    .with_hint("the thread's lead cannot be written exactly in this controller's words and units: choose a controller that writes it, or shorten the thread")
 }
 
 /// Reads `lines` back as `target` would, from the job's start point, and compares the motion

@@ -144,8 +144,11 @@ fn tolerances(to: &Machine) -> (f64, f64) {
 /// so.
 fn outcome(name: &str, from: &Machine, to: &Machine, text: &str) -> String {
     let mut out = Vec::new();
-    let flatten = program::Options {
-        flatten: true,
+    let flatten = convert::Options {
+        run: program::Options {
+            flatten: true,
+            ..Default::default()
+        },
         ..Default::default()
     };
     match convert::convert(text.as_bytes(), &mut out, from, to, &flatten) {
@@ -153,6 +156,7 @@ fn outcome(name: &str, from: &Machine, to: &Machine, text: &str) -> String {
             native,
             plain,
             summary,
+            ..
         }) => {
             let flattened = if summary.interpreted_from.is_some() {
                 "flattened: "
@@ -272,12 +276,121 @@ fn metric_programs_are_converted_to_inch_for_the_omniturn() {
         out.ends_with("G95\nG0 X0.3937 Z0.19685\nG1 Z-0.3937 F0.01\nM30\n"),
         "{out}"
     );
-    // A metric lead the grid cannot hold is refused with the drift (the matrix lists the
-    // bundled examples refused so).
-    let src = "G0 X0 Z5.08\nX6.0198\nG33X5.3848Z-12.7I0.3048K1.5PC\n";
-    let e = convert::convert_text(src, &metric, &inch, &Default::default()).unwrap_err();
-    assert!(e.message.contains("drifts"), "{}", e.message);
+    // Issue 26's 2 mm lead on the inch OmniTurn: 2 mm = .0787402", written K.07875 on the
+    // .00005" grid, .0000098" a turn; over the thread's 27.08 mm = 1.0661" (13.54 turns) it drifts
+    // .0001333", × cot 30° = .0002308" on the pitch diameter. The limit: Ø 2 × 6.0198 = 12.04 mm,
+    // M12.04x2-6g: Td2 = 90·2^0.4·√(11.2·22.4)^0.1 = 156.6 → R40 160 µm, a quarter 40 µm =
+    // .0015748". Converted, the drift stated.
+    let src = "G0 X0 Z5.08\nX6.0198\nG33X5.3848Z-22.I0.3048K2.PC\n";
+    let mut out = Vec::new();
+    let report = convert::convert(
+        src.as_bytes(),
+        &mut out,
+        &metric,
+        &inch,
+        &Default::default(),
+    )
+    .unwrap();
+    let out = String::from_utf8(out).unwrap();
+    let stated = "(threadcut: lead 2. mm written as 0.07875 inch drifts 0.0001333 inch over the thread's 1.0661 inch, 0.0002308 inch on the pitch diameter at cot 30°; limit 0.0015748 inch, a quarter of 6g's pitch-diameter tolerance for M12.04x2, ISO metric assumed from the 60° tool)\nG33 X0.212 Z-0.86615 I0.012 K0.07875 C29. P\n";
+    assert!(out.ends_with(stated), "{out}");
+    let w = &report.summary.warnings;
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].message.contains("drifts 0.0001333 inch"),
+        "{}",
+        w[0].message
+    );
+    assert_eq!(w[0].span.line, 3);
+}
+
+fn drift_options(max: Option<f64>) -> convert::Options {
+    convert::Options {
+        max_lead_drift: max,
+        ..Default::default()
+    }
+}
+
+fn fanuc_to_haas(src: &str, max: Option<f64>) -> Result<String, threadcut::diag::Diagnostic> {
+    convert::convert_text(
+        src,
+        &Machine::built_in("fanuc").unwrap(),
+        &Machine::built_in("haas").unwrap(),
+        &drift_options(max),
+    )
+}
+
+/// A lead the target writes to fewer decimals drifts over the thread; judged at the limit, a
+/// quarter of the medium class's pitch-diameter tolerance, on the drift × cot 30°.
+///
+/// mm: F1.50004 on Haas (4 decimals) is F1.5, 0.00004 mm a turn. M20x1.5-6g: Td2 =
+/// 90·1.5^0.4·√(11.2·22.4)^0.1 = 90·1.17608·1.3182 = 139.5 → R40 140 µm, the limit 0.035 mm.
+/// From Z5 to Z-750 (755 mm): 0.00004·755/1.50004 = 0.0201328 mm, × 1.7320508 = 0.034871: under;
+/// to Z-760 (765 mm): 0.0203995, 0.0353329: over.
+///
+/// inch: F.0769231 (13 tpi, Unified) is F.07692 (5 decimals), 0.0000031" a turn. 1/2-13 2A: Td2
+/// 0.0050" (d2 0.4485/0.4435), the limit 0.00125". From Z.2 to Z-17.6 (17.8"): 0.0000031·17.8/
+/// 0.0769231 = 0.0007173", × 1.7320508 = 0.0012425: under; to Z-17.8 (18"): 0.0007254,
+/// 0.0012564: over.
+#[test]
+fn the_lead_drift_is_judged_at_a_quarter_of_the_class_tolerance_in_both_unit_systems() {
+    let mm = |z: &str| format!("G21 G99\nG0 X22. Z5.\nG92 X20. Z{z} F1.50004\nM30\n");
+    let out = fanuc_to_haas(&mm("-750."), None).unwrap();
+    assert!(out.contains("(threadcut: lead 1.50004 mm written as 1.5 mm drifts 0.0201328 mm over the thread's 755. mm, 0.034871 mm on the pitch diameter at cot 30°; limit 0.035 mm, a quarter of 6g's pitch-diameter tolerance for M20x1.5, ISO metric assumed from the 60° tool)\nG92 X20. Z-750. F1.5\n"), "{out}");
+    let e = fanuc_to_haas(&mm("-760."), None).unwrap_err();
     assert_eq!(e.span.line, 3);
+    assert!(e.message.contains("0.0353329 mm on the pitch diameter at cot 30°, beyond the limit 0.035 mm, a quarter of 6g's pitch-diameter tolerance for M20x1.5"), "{}", e.message);
+    // --max-lead-drift moves the limit (the drift along the thread, the program's units).
+    assert!(fanuc_to_haas(&mm("-760."), Some(0.0204)).is_ok());
+    let e = fanuc_to_haas(&mm("-750."), Some(0.02)).unwrap_err();
+    assert!(
+        e.message
+            .contains("beyond the limit 0.02 mm along the thread, the limit given"),
+        "{}",
+        e.message
+    );
+
+    let inch = |z: &str| format!("G20 G99\nG0 X.6 Z.2\nG92 X.5 Z{z} F.0769231\nM30\n");
+    let out = fanuc_to_haas(&inch("-17.6"), None).unwrap();
+    assert!(out.contains("0.0012425 inch on the pitch diameter at cot 30°; limit 0.00125 inch, a quarter of 2A's pitch-diameter tolerance for 0.5-13 UN, Unified inch assumed from the 60° tool and its lead, a whole number of threads per inch)\nG92 X0.5 Z-17.6 F0.07692\n"), "{out}");
+    let e = fanuc_to_haas(&inch("-17.8"), None).unwrap_err();
+    assert!(e.message.contains("drifts 0.0007254 inch over the thread's 18. inch, 0.0012564 inch on the pitch diameter at cot 30°, beyond the limit 0.00125 inch, a quarter of 2A's"), "{}", e.message);
+    assert!(fanuc_to_haas(&inch("-17.8"), Some(0.00073)).is_ok());
+    assert!(fanuc_to_haas(&inch("-17.6"), Some(0.0007)).is_err());
+    // A negative limit is no length.
+    let e = fanuc_to_haas(&inch("-1."), Some(-1.0)).unwrap_err();
+    assert!(
+        e.message.contains("expected a length of 0 or more"),
+        "{}",
+        e.message
+    );
+}
+
+/// Issue 26's 1/2-13 UNC program: E13 (1/13") on Fanuc is F.07692, .0000031" short a turn; over
+/// the thread's .95" (12.35 turns) .000038", .0000658" on the pitch diameter, a nineteenth of
+/// the limit .00125": converted, the drift stated in a comment and a warning.
+#[test]
+fn the_half_inch_unc_example_converts_with_its_drift_stated() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/ab9-inch-p3-e.nc"),
+    )
+    .unwrap();
+    let mut out = Vec::new();
+    let report = convert::convert(
+        text.as_bytes(),
+        &mut out,
+        &Machine::built_in("ab9").unwrap(),
+        &Machine::built_in("fanuc").unwrap(),
+        &Default::default(),
+    )
+    .unwrap();
+    let out = String::from_utf8(out).unwrap();
+    assert!(out.contains("(threadcut: lead 0.076923 inch written as 0.07692 inch drifts 0.000038 inch over the thread's 0.95 inch, 0.0000658 inch on the pitch diameter at cot 30°; limit 0.00125 inch"), "{out}");
+    assert!(report
+        .summary
+        .warnings
+        .iter()
+        .any(|w| w.message.contains("0.0000658 inch on the pitch diameter")));
 }
 
 /// `post` states what its program relies on, for every lathe controller: the units (the code, or
@@ -761,8 +874,11 @@ fn programs_with_control_flow_need_flatten() {
         loop_,
         &Machine::built_in("fanuc").unwrap(),
         &Machine::built_in("haas").unwrap(),
-        &program::Options {
-            flatten: true,
+        &convert::Options {
+            run: program::Options {
+                flatten: true,
+                ..Default::default()
+            },
             ..Default::default()
         },
     )
@@ -798,11 +914,92 @@ fn lines_after_the_end_keep_their_comments_only() {
         after,
         &Machine::built_in("fanuc").unwrap(),
         &Machine::built_in("linuxcnc").unwrap(),
-        &program::Options {
-            flatten: true,
+        &convert::Options {
+            run: program::Options {
+                flatten: true,
+                ..Default::default()
+            },
             ..Default::default()
         },
     )
     .unwrap();
     assert!(flat.ends_with("M30\n"), "{flat}");
+}
+
+fn first_lines(text: &str, n: usize) -> Vec<&str> {
+    text.lines().take(n).collect()
+}
+
+/// A converted program is laid out as its target expects (issue 26): the delimiter `%` where the
+/// target uses one, the program's number or name (Fanuc's O number is the first block after `%`:
+/// "% / O0001(MEMORY CARD SAMPLE FILE) / G17 G49 G97 … / M30 / %", FANUC Series 16i/18i-TB
+/// operator's manual B-63524EN/01, memory card file format), then the comment naming the
+/// conversion and the block of stated modes; the end code as the source wrote it.
+#[test]
+fn programs_begin_with_their_number_then_the_stated_modes() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/fanuc-m30x2-g76.nc"),
+    )
+    .unwrap();
+    let haas = conv(&text, "fanuc", "haas").unwrap();
+    assert_eq!(
+        first_lines(&haas, 4),
+        [
+            "%",
+            "O0001 (M30x2 external thread, G76)",
+            "(threadcut convert: fanuc to haas, mm, feed per revolution)",
+            "G21 G18 G99 G97"
+        ]
+    );
+    assert!(haas.ends_with("M30\n%\n"), "{haas}");
+    // LinuxCNC numbers no programs (its o-words label subroutines): the number is a comment,
+    // first after its `%`.
+    let linuxcnc = conv(&text, "fanuc", "linuxcnc").unwrap();
+    assert_eq!(
+        first_lines(&linuxcnc, 4),
+        [
+            "%",
+            "(program O0001; M30x2 external thread, G76)",
+            "(threadcut convert: fanuc to linuxcnc, mm, feed per revolution)",
+            "G21 G90 G8 G18 G95 G97"
+        ]
+    );
+    assert!(linuxcnc.ends_with("M30\n%\n"), "{linuxcnc}");
+    // Sinumerik names a program by its file: the number a comment, first; no `%`.
+    let sinumerik = conv(&text, "fanuc", "sinumerik").unwrap();
+    assert_eq!(
+        first_lines(&sinumerik, 3),
+        [
+            "; program O0001; M30x2 external thread, G76",
+            "; threadcut convert: fanuc to sinumerik, mm, feed per revolution",
+            "G71 G90 DIAMON G18 G95 G97"
+        ]
+    );
+    assert!(sinumerik.ends_with("M30\n"), "{sinumerik}");
+    // The same profile: the program as it is, the comment after its number.
+    let same = conv(&text, "fanuc", "fanuc").unwrap();
+    assert_eq!(
+        first_lines(&same, 3),
+        [
+            "%",
+            "O0001 (M30x2 external thread, G76)",
+            "(threadcut convert: fanuc to fanuc)"
+        ]
+    );
+    // Sinumerik's name header first (a comment for Fanuc), then what the program states.
+    let src = "%_N_TEST_MPF\n;$PATH=/_N_MPF_DIR\nG71\nG0 X20 Z5\nM2\n";
+    let fanuc = conv(src, "sinumerik", "fanuc").unwrap();
+    assert_eq!(
+        first_lines(&fanuc, 4),
+        [
+            "(%_N_TEST_MPF)",
+            "(threadcut convert: sinumerik to fanuc, mm, feed per minute)",
+            "G21 G18 G98 G97",
+            "($PATH=/_N_MPF_DIR)"
+        ]
+    );
+    assert!(fanuc.ends_with("G0 X20. Z5.\nM2\n"), "{fanuc}");
+    // A number on a block with words is that block: the modes come before it.
+    let with_words = conv("O0005 G0 X20. Z5.\nM30\n", "fanuc", "haas").unwrap();
+    assert_eq!(first_lines(&with_words, 3)[2], "O0005 G0 X20. Z5.");
 }

@@ -120,7 +120,7 @@ fn convert_rewrites_between_g_code_systems() {
         "fanuc-b",
     ]));
     assert!(
-        text.starts_with("%\n(threadcut convert: fanuc to fanuc-b, mm, feed per revolution)\nG21 G90 G18 G95 G97\nO0001"),
+        text.starts_with("%\nO0001 (M30x2 external thread, G76)\n(threadcut convert: fanuc to fanuc-b, mm, feed per revolution)\nG21 G90 G18 G95 G97\nG21 G95"),
         "{text}"
     );
     assert!(

@@ -841,12 +841,16 @@ fn mill_py(
 /// same toolpath, else as plain moves with a comment saying why; every other block through the
 /// two controllers' codes. A program with control flow is copied as it is for the same
 /// controller; for another one it is converted as executed only with `flatten=True`.
+/// `max_lead_drift`: the largest drift of a lead the target cannot write exactly, over its thread,
+/// in the converted program's units (default: a quarter of the thread's medium-class
+/// pitch-diameter tolerance; the drift is always stated in a comment and an `InputWarning`).
 /// `source_machine` and `target_machine` are machine profiles, as `machine` elsewhere.
 ///
 /// Raises `InputError` at the first block the target cannot express (its line, column and word),
 /// for an unknown controller, or for a program the source controller refuses.
 #[pyfunction(name = "convert")]
-#[pyo3(signature = (program, source, target, *, source_machine=None, target_machine=None, flatten=false))]
+#[pyo3(signature = (program, source, target, *, source_machine=None, target_machine=None, flatten=false, max_lead_drift=None))]
+#[allow(clippy::too_many_arguments)]
 fn convert_py(
     py: Python<'_>,
     program: String,
@@ -855,12 +859,16 @@ fn convert_py(
     source_machine: Option<&Bound<'_, PyAny>>,
     target_machine: Option<&Bound<'_, PyAny>>,
     flatten: bool,
+    max_lead_drift: Option<f64>,
 ) -> PyResult<String> {
     let from = resolve(py, source, source_machine)?;
     let to = resolve(py, target, target_machine)?;
-    let options = Options {
-        flatten,
-        ..Options::default()
+    let options = threadcut::convert::Options {
+        run: Options {
+            flatten,
+            ..Options::default()
+        },
+        max_lead_drift,
     };
     let mut out = Vec::new();
     let report = py

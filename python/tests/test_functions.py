@@ -412,6 +412,18 @@ def test_convert_writes_the_targets_cycle():
     assert "milling profile" in e.value.message
 
 
+def test_convert_states_the_lead_drift_and_takes_a_limit():
+    # F1.50004 on Haas is F1.5: 0.00004 mm a turn over 35 mm, 0.0009333 mm; stated (a comment
+    # and a warning), within a quarter of M20x1.5-6g's Td2; refused below max_lead_drift.
+    lead = "G21 G99\nG0 X22. Z5.\nG92 X20. Z-30. F1.50004\nM30\n"
+    with pytest.warns(threadcut.InputWarning, match="drifts 0.0009333 mm"):
+        out = threadcut.convert(lead, "fanuc", "haas")
+    assert "drifts 0.0009333 mm" in out
+    with pytest.raises(threadcut.InputError) as e:
+        threadcut.convert(lead, "fanuc", "haas", max_lead_drift=0.0005)
+    assert "the limit given" in e.value.message
+
+
 def test_plot_svg_draws_one_cycle_on_request():
     two = "G21 G99\n" + "".join(
         l + "\n" for l in M30_G76.splitlines() if l.startswith(("G0 ", "G76"))

@@ -139,6 +139,7 @@ pub fn write<R: BufRead>(
             }
             Event::Cycle(job) => {
                 let mut job = *job;
+                let rule = translate::DriftRule::new(job.units);
                 job.units = units;
                 check_lead(&format, &job, target)?;
                 if let Some(c) =
@@ -156,7 +157,7 @@ pub fn write<R: BufRead>(
                     };
                     writeln!(out, "{}", plain_move(&format, units, at, &m)?)?;
                 }
-                translate::write_job(out, target, &job)?;
+                translate::write_job_with(out, target, &job, &rule)?;
                 f_current = false;
                 at = Some(job.start);
             }

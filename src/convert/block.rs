@@ -64,9 +64,28 @@ pub struct Block {
     pub data: bool,
     /// The line's comments, joined.
     pub comment: String,
+    /// The line is the program's name header (`%_N_NAME_MPF`).
+    pub name_line: bool,
 }
 
 impl Block {
+    /// The block only names the program (a program number and comments, or a name header): a
+    /// converted program begins with it, before what it states (docs/translation.md).
+    pub fn names_program(&self) -> bool {
+        self.name_line
+            || (self.program.is_some()
+                && self.functions.is_empty()
+                && self.x.is_none()
+                && self.z.is_none()
+                && self.feed.is_none()
+                && self.speed.is_none()
+                && self.limit.is_none()
+                && self.tools.is_empty()
+                && self.dwell.is_none()
+                && self.radius.is_none()
+                && self.machine_axes.iter().all(Option::is_none))
+    }
+
     pub fn has(&self, f: Function) -> bool {
         self.functions.iter().any(|(g, _, _)| *g == f)
     }
@@ -430,6 +449,10 @@ fn own_terms(terms: Vec<Term>, src: &mut Source, block: &mut Block) -> Result<Ve
                 block.data = true;
             }
             Term::Passive { .. } => block.data = true,
+            Term::ProgramName => {
+                block.data = true;
+                block.name_line = true;
+            }
             Term::Unknown { what, span } => return Err(meaningless(span, what, src.name)),
         }
     }

@@ -27,7 +27,7 @@ use crate::dialect;
 use crate::gcode::{Line, Modal};
 use crate::interp::Text;
 use crate::machine::Machine;
-use crate::program::{self, Error, Event, Options, Summary, Where};
+use crate::program::{self, Error, Event, Summary, Where};
 
 use block::Source;
 
@@ -39,6 +39,21 @@ pub struct Report {
     pub native: u32,
     /// Cycles written as plain moves: the line of the cycle and why its native cycle was not used.
     pub plain: Vec<(u32, String)>,
+    /// The conversion's own warnings (a lead that drifts over its thread), before they join
+    /// `summary.warnings`.
+    pub warnings: Vec<Diagnostic>,
+}
+
+/// How a program is converted.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Options {
+    /// How the program is run (`--max-blocks`, `--flatten`).
+    pub run: program::Options,
+    /// The largest drift accepted of a lead written in the target's words, over its thread, in
+    /// the units of the converted program (`--max-lead-drift`). `None`: a quarter of the medium
+    /// class's pitch-diameter tolerance for the thread, on the drift's pitch-diameter equivalent
+    /// (docs/translation.md, "The lead's rounding").
+    pub max_lead_drift: Option<f64>,
 }
 
 /// Converts the program `input`, written for `from`, into a program for `to`, written to `out`.
@@ -49,7 +64,7 @@ pub struct Report {
 ///
 /// A program with control flow (subroutines, loops, parameters) is copied as it is for the same
 /// profile; for another controller it is an error at its first line of control flow unless
-/// `options.flatten`, which converts the executed program (every block the interpreter runs, with
+/// `options.run.flatten`, which converts the executed program (every block the interpreter runs, with
 /// its computed values): threadcut does not translate one macro language into another, and a
 /// block with computed words has no one value to rewrite (docs/translation.md, "Programs with
 /// control flow").
@@ -60,6 +75,16 @@ pub fn convert<R: BufRead>(
     to: &Machine,
     options: &Options,
 ) -> Result<Report, Error> {
+    if let Some(v) = options
+        .max_lead_drift
+        .filter(|v| !(v.is_finite() && *v >= 0.0))
+    {
+        return Err(Error::Input(Diagnostic::error(
+            Code::OutOfRange,
+            Span::default(),
+            format!("maximum lead drift {v}: expected a length of 0 or more, in the converted program's units"),
+        )));
+    }
     let ending = crate::eol::LineEnding::peek(&mut input)?;
     let out = &mut crate::eol::Writer::new(out, ending);
     let source_dialect = dialect::open(from).map_err(Error::Setup)?;
@@ -89,21 +114,24 @@ pub fn convert<R: BufRead>(
             to,
             target.as_ref(),
             &src.meanings,
+            options.max_lead_drift,
         )?))
     };
     let mut conversion = Conversion {
         side,
         src,
-        flatten: options.flatten,
+        flatten: options.run.flatten,
         unrun: Vec::new(),
     };
-    let summary = program::run_output(input, from, options, &mut conversion)?;
+    let summary = program::run_output(input, from, &options.run, &mut conversion)?;
     conversion.after_end()?;
     let mut report = match conversion.side {
         Side::Other(w) => w.finish(),
         Side::Same { .. } => Report::default(),
     };
     report.summary = summary;
+    let own = std::mem::take(&mut report.warnings);
+    report.summary.warnings.extend(own);
     Ok(report)
 }
 
@@ -173,25 +201,25 @@ impl program::Output for Conversion<'_, '_, '_> {
         match &mut self.side {
             Side::Same { out, header } => {
                 let line = event_line(&ev);
-                same_header(out, header, line)?;
+                same_header(out, header, line, self.src.meanings.program_number)?;
                 out.write_all(line.raw)?;
                 Ok(())
             }
             Side::Other(w) => match ev {
                 Event::Plain { line, mv } => {
-                    w.header_before(line)?;
                     if line.shape.percent {
                         return w.delimiter();
                     }
                     let b = block::decode(line, &mut self.src, modal)?;
+                    w.header_before(line, b.names_program())?;
                     w.plain(line, &b, mv, modal)
                 }
                 Event::Settings { line } => {
-                    w.header_before(line)?;
+                    w.header_before(line, false)?;
                     w.comment_only(&block::comments(line.text, self.src.paren_comments))
                 }
                 Event::Cycle { line, job, .. } => {
-                    w.header_before(line)?;
+                    w.header_before(line, false)?;
                     w.cycle(
                         line,
                         *job,
@@ -235,7 +263,7 @@ impl program::Output for Conversion<'_, '_, '_> {
         match &mut self.side {
             Side::Same { out, header } => {
                 let line = event_line(&ev);
-                same_header(out, header, line)?;
+                same_header(out, header, line, self.src.meanings.program_number)?;
                 program::write_executed_block(*out, line, at.verbatim, modal)?;
                 Ok(())
             }
@@ -258,6 +286,19 @@ impl program::Output for Conversion<'_, '_, '_> {
                 out.write_all(&bytes[..first])?;
                 bytes = &bytes[first..];
             }
+            // The program number that begins the program stays first.
+            let next = bytes
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(bytes.len(), |i| i + 1);
+            let t = bytes[..next].trim_ascii_start();
+            if self.src.meanings.program_number
+                && t.first() == Some(&b'O')
+                && t.get(1).is_some_and(u8::is_ascii_digit)
+            {
+                out.write_all(&bytes[..next])?;
+                bytes = &bytes[next..];
+            }
             writeln!(out, "{h}")?;
         }
         out.write_all(bytes)?;
@@ -269,9 +310,17 @@ fn event_line<'a, 'l>(ev: &Event<'a, 'l>) -> &'a Line<'l> {
     ev.line()
 }
 
-/// The same profile's header comment, before the first line that is not a `%` delimiter.
-fn same_header(out: &mut dyn Write, header: &mut Option<String>, line: &Line) -> Result<(), Error> {
-    if !line.shape.percent {
+/// The same profile's header comment, before the first line that is neither a `%` delimiter nor
+/// the program number that begins the program (`numbers`: the control numbers programs with O).
+fn same_header(
+    out: &mut dyn Write,
+    header: &mut Option<String>,
+    line: &Line,
+    numbers: bool,
+) -> Result<(), Error> {
+    let number_only =
+        numbers && !line.words.is_empty() && line.words.iter().all(|w| w.letter == b'O');
+    if !line.shape.percent && !number_only {
         if let Some(h) = header.take() {
             writeln!(out, "{h}")?;
         }

@@ -6,7 +6,7 @@
 use std::io::Write;
 
 use crate::diag::{Code as DiagCode, Diagnostic, Span};
-use crate::dialect::{self, Dialect};
+use crate::dialect::Dialect;
 use crate::gcode::{Line, Modal, MotionMode, PlainMove, Position};
 use crate::machine::Machine;
 use crate::post::{self, path_lead, Format};
@@ -54,6 +54,9 @@ pub(super) struct Writer<'o, 'm> {
     source_tool: ToolForm,
     /// A source's return code without axis words returns every axis.
     source_returns_all: bool,
+    /// The largest drift of a lead over its thread (output units; `None`: a quarter of the
+    /// thread's class tolerance on the pitch diameter).
+    max_lead_drift: Option<f64>,
     report: Report,
 }
 
@@ -90,6 +93,7 @@ impl<'o, 'm> Writer<'o, 'm> {
         to: &'m Machine,
         target: &dyn Dialect,
         source: &Meanings,
+        max_lead_drift: Option<f64>,
     ) -> Result<Writer<'o, 'm>, Error> {
         let tlex = target.meanings();
         let format = target.format();
@@ -147,6 +151,7 @@ impl<'o, 'm> Writer<'o, 'm> {
             pending_limit: None,
             source_tool: source.tool,
             source_returns_all: source.return_all_without_axes,
+            max_lead_drift,
             report: Report::default(),
         })
     }
@@ -155,9 +160,11 @@ impl<'o, 'm> Writer<'o, 'm> {
         self.report
     }
 
-    /// The header, before the first line that is not a `%` delimiter.
-    pub fn header_before(&mut self, line: &Line) -> Result<(), Error> {
-        if !line.shape.percent {
+    /// The header, before the first line that is neither a `%` delimiter nor the line that names
+    /// the program (`names`: its number or name comes first, as the target's manuals lay a
+    /// program out: `%`, `O0001`, the blocks).
+    pub fn header_before(&mut self, line: &Line, names: bool) -> Result<(), Error> {
+        if !line.shape.percent && !names {
             if let Some(h) = self.header.take() {
                 for l in h {
                     writeln!(self.out, "{l}")?;
@@ -1037,18 +1044,15 @@ impl<'o, 'm> Writer<'o, 'm> {
         if !self.tlex.has_units(job.units) {
             job.units = self.out_units;
         }
-        if job.units != source_units {
-            let d = dialect::open(self.to).map_err(Error::Setup)?;
-            let r = translate::lead_rounding(self.to, d.as_ref(), &job);
-            if r.over_length <= r.resolution {
-                self.comment_only(&format!(
-                    "threadcut: in {}: {}",
-                    job.units.name(),
-                    r.describe(source_units)
-                ))?;
-            }
+        let rule = translate::DriftRule {
+            max: self.max_lead_drift,
+            source_units,
+        };
+        let (written, drift) = translate::write_job_with(self.out, self.to, &job, &rule)?;
+        if let Some(drift) = drift {
+            self.report.warnings.push(drift.warning(&job));
         }
-        match translate::write_job(self.out, self.to, &job)? {
+        match written {
             Written::Native => self.report.native += 1,
             Written::Plain(why) => self.report.plain.push((line.number, why)),
         }

@@ -406,6 +406,9 @@ pub enum Term {
     /// Values set for later blocks (`R1=1.5`, `DEF REAL LEAD=3`), and the names it declares: the
     /// converted blocks carry the values, so the line becomes a comment.
     Data { declares: Vec<String> },
+    /// The program's name line (a file header such as `%_N_NAME_MPF`): a comment, written first in
+    /// a converted program, as a program number is.
+    ProgramName,
     /// A call that changes nothing threadcut follows (`MSG("…")`): a comment.
     Passive { span: crate::diag::Span },
     /// A call, keyword or setting conversion has no meaning for.

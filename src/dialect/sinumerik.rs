@@ -799,7 +799,8 @@ fn own_terms(items: Vec<Item>) -> Vec<Term> {
             Item::Def { vars, .. } => Term::Data {
                 declares: vars.into_iter().map(|(n, _, _)| n).collect(),
             },
-            Item::Header | Item::Label => Term::Data {
+            Item::Header => Term::ProgramName,
+            Item::Label => Term::Data {
                 declares: Vec::new(),
             },
         })

@@ -383,6 +383,10 @@ struct ConvertRequest {
     /// A program with control flow: convert the executed program (`threadcut convert --flatten`).
     #[serde(default)]
     flatten: bool,
+    /// The largest drift of a lead over its thread, in the converted program's units
+    /// (`threadcut convert --max-lead-drift`); absent: a quarter of the class tolerance.
+    #[serde(default)]
+    max_lead_drift: Option<f64>,
 }
 
 /// A program converted for another controller, as `threadcut convert` writes it
@@ -407,9 +411,12 @@ pub fn convert(request: &str) -> Value {
         (Err(e), _) | (_, Err(e)) => return e,
     };
     let mut out = Vec::new();
-    let options = threadcut::program::Options {
-        flatten: r.flatten,
-        ..Default::default()
+    let options = threadcut::convert::Options {
+        run: threadcut::program::Options {
+            flatten: r.flatten,
+            ..Default::default()
+        },
+        max_lead_drift: r.max_lead_drift,
     };
     match threadcut::convert::convert(r.program.as_bytes(), &mut out, &from, &to, &options) {
         Ok(report) => json!({

@@ -427,7 +427,32 @@ fn convert_gives_the_program_its_cycles_and_the_refusal_with_its_place() {
     let r = api::convert(&json!({"from": "fanuc", "to": "omniturn", "program": fanuc}).to_string());
     assert_eq!(r["ok"], false, "{r}");
     assert_eq!(r["diagnostics"][0]["line"], 4);
-    assert!(r["error"].as_str().unwrap().contains("drifts"), "{r}");
+    assert!(r["error"].as_str().unwrap().contains("G33"), "{r}");
+    // A lead Haas writes to 4 decimals drifts: stated, within the class's limit; refused beyond
+    // the request's own limit (the converted program's units, along the thread).
+    let lead = "G21 G99\nG0 X22. Z5.\nG92 X20. Z-30. F1.50004\nM30\n";
+    let r = api::convert(&json!({"from": "fanuc", "to": "haas", "program": lead}).to_string());
+    assert_eq!(r["ok"], true, "{r}");
+    assert!(
+        r["program"]
+            .as_str()
+            .unwrap()
+            .contains("drifts 0.0009333 mm"),
+        "{r}"
+    );
+    assert!(
+        r["warnings"].to_string().contains("drifts 0.0009333 mm"),
+        "{r}"
+    );
+    let r = api::convert(
+        &json!({"from": "fanuc", "to": "haas", "program": lead, "max_lead_drift": 0.0005})
+            .to_string(),
+    );
+    assert_eq!(r["ok"], false, "{r}");
+    assert!(
+        r["error"].as_str().unwrap().contains("the limit given"),
+        "{r}"
+    );
     let r = api::convert(&json!({"from": "fanuc", "to": "nope", "program": ""}).to_string());
     assert!(r["error"]
         .as_str()

@@ -406,6 +406,11 @@ struct ConvertArgs {
     /// (docs/linuxcnc-filter.md).
     #[arg(long, conflicts_with = "output")]
     filter: bool,
+    /// The largest drift accepted of a lead the target cannot write exactly, over the thread, in
+    /// the converted program's units (the default: a quarter of the thread's medium-class
+    /// pitch-diameter tolerance, on the drift's pitch-diameter equivalent).
+    #[arg(long, value_name = "VALUE")]
+    max_lead_drift: Option<f64>,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -684,7 +689,10 @@ fn run_post(args: PostArgs) -> Result<ExitCode, Failure> {
 /// `threadcut convert`: a program rewritten from one controller's language to another's.
 fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
     let GcodeFormat::Gcode = args.format;
-    let options = args.run.options(args.flatten)?;
+    let options = threadcut::convert::Options {
+        run: args.run.options(args.flatten)?,
+        max_lead_drift: args.max_lead_drift,
+    };
     let from = load_machine(&MachineArgs {
         controller: args.from,
         machine: args.from_machine,

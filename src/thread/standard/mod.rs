@@ -29,6 +29,7 @@ mod json;
 pub mod lathe;
 pub mod pipe;
 pub mod profile;
+pub mod tolerance;
 pub mod trapezoidal;
 pub mod whitworth;
 pub mod wires;

@@ -383,6 +383,20 @@ fn deviation(position: char, p: f64) -> Option<f64> {
 /// and 2.65 = 1.32·2 for grade 9; the coarse classes 8c/9H).
 const INTERNAL_GRADES: &[(u8, f64)] = &[(7, 1.7), (8, 2.12), (9, 2.65)];
 
+/// The pitch-diameter tolerance (mm) of class `class` for diameter `d` and pitch `p` (mm), as
+/// [`limits`] computes it.
+pub(super) fn pitch_tolerance(d: f64, p: f64, class: Class) -> Option<f64> {
+    let Class::Trapezoidal { grade, position } = class else {
+        return None;
+    };
+    let table = if position == 'H' {
+        INTERNAL_GRADES
+    } else {
+        TD2_GRADES
+    };
+    Some(r40(td2_6(d, p)? * grade_factor(grade, table)?) / 1000.0)
+}
+
 pub(super) fn limits(t: &StandardThread, class: Class) -> std::result::Result<Limits, String> {
     let Class::Trapezoidal { grade, position } = class else {
         return Err("a trapezoidal thread takes an ISO 2903 class such as 7e or 7H".into());
