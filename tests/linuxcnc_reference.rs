@@ -505,9 +505,12 @@ fn the_filters_output_runs_in_linuxcnc_as_its_source_reads() {
     let table: String = (1..100).map(|t| format!("T{t} P{t} X0 Z0 ;\n")).collect();
     std::fs::write(&tools, table).unwrap();
     let linuxcnc = Machine::built_in("linuxcnc").unwrap();
-    let options = program::Options {
-        flatten: true,
-        ..program::Options::default()
+    let options = threadcut::convert::Options {
+        run: program::Options {
+            flatten: true,
+            ..program::Options::default()
+        },
+        max_lead_drift: None,
     };
     let (mut same, mut refused, mut failures) = (0, Vec::new(), Vec::new());
     let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))
