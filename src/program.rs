@@ -93,13 +93,16 @@ pub struct Summary {
 }
 
 /// How a program is run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Options {
     /// The interpreter stops a program after this many executed blocks (`--max-blocks`).
     pub max_blocks: u64,
     /// `expand`: write the executed program as straight-line code (loops unrolled, calls inlined,
     /// expressions evaluated) instead of the program's own text (`--flatten`).
     pub flatten: bool,
+    /// Where calls find programs the program's text does not hold (`--include DIR`): none by
+    /// default.
+    pub library: Option<crate::interp::library::Library>,
 }
 
 impl Default for Options {
@@ -107,6 +110,7 @@ impl Default for Options {
         Options {
             max_blocks: crate::interp::Limits::default().max_blocks,
             flatten: false,
+            library: None,
         }
     }
 }

@@ -95,6 +95,8 @@ pub struct Options {
     /// A program with control flow stops after this many executed blocks (`--max-blocks`; by
     /// default the interpreter's, [`crate::interp::Limits`]).
     pub max_blocks: u64,
+    /// Where calls find programs the program's text does not hold (`--include DIR`).
+    pub library: Option<crate::interp::library::Library>,
 }
 
 impl Default for Options {
@@ -108,6 +110,7 @@ impl Default for Options {
             thread: None,
             wire: None,
             max_blocks: program::Options::default().max_blocks,
+            library: None,
         }
     }
 }
@@ -605,6 +608,7 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     let mut unknown_starts = Vec::new();
     let run = program::Options {
         max_blocks: opts.max_blocks,
+        library: opts.library.clone(),
         ..program::Options::default()
     };
     let mut work_system = None;

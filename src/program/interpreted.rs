@@ -119,11 +119,16 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         .into());
     };
     let first_line = if base == 0 { 1 } else { at.line };
-    let code = interp::compile(
-        Text::new(bytes, first_line, base),
-        &at.syntax,
-        dialect.conventions().syntax,
-    );
+    let lexer = dialect.conventions().syntax;
+    let code = interp::compile(Text::new(bytes, first_line, base), &at.syntax, lexer);
+    let names = |w: &interp::library::Wanted| dialect.program_files(w);
+    let linked = interp::Linker {
+        names: &names,
+        library: options.library.as_ref(),
+        syntax: &at.syntax,
+        lexer,
+    }
+    .link(code);
     summary.interpreted_from = Some(at.line);
     sink.interpreting(at.line)?;
     let conv = dialect.conventions().clone();
@@ -140,7 +145,7 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
     let limits = interp::Limits {
         max_blocks: options.max_blocks,
     };
-    let outcome = interp::run(&code, &at.syntax, limits, at.line, &mut host)?;
+    let outcome = interp::run(&linked, &at.syntax, limits, at.line, &mut host)?;
     host.dialect.end_of_input()?;
     let RunHost {
         mut sink,
@@ -148,8 +153,9 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         ..
     } = host;
     summary.executed = outcome.executed;
-    let from = code.text.index_of(at.line).unwrap_or(0);
-    sink.interpreted_end(&code.text, from)?;
+    let text = &linked.units[0].text;
+    let from = text.index_of(at.line).unwrap_or(0);
+    sink.interpreted_end(text, from)?;
     Ok(summary)
 }
 
@@ -216,6 +222,9 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         for w in &mut self.summary.warnings[before..] {
             if w.span.line == 0 {
                 w.span = line.span();
+            }
+            if w.calls.is_empty() {
+                w.calls = ctx.calls.to_vec();
             }
         }
         // issue 23: the block takes a subroutine as its profile.
@@ -286,6 +295,15 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
 
     fn warn(&mut self, d: Diagnostic) {
         self.summary.warnings.push(d);
+    }
+
+    fn in_calls(&self, mut e: Error, calls: &[crate::diag::Span]) -> Error {
+        if let Error::Input(d) = &mut e {
+            if d.calls.is_empty() {
+                d.calls = calls.to_vec();
+            }
+        }
+        e
     }
 
     // issue 23: a turning cycle's profile subroutine (LinuxCNC's G7x Q).

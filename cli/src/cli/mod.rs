@@ -151,12 +151,16 @@ impl StockArgs {
 }
 
 /// How a program with control flow (subroutines, loops, parameters) is run.
-#[derive(clap::Args, Clone, Copy)]
+#[derive(clap::Args, Clone)]
 struct RunArgs {
     /// Stop a program with control flow after N executed blocks (an endless loop ends with an
     /// error naming it).
     #[arg(long, value_name = "N", default_value_t = 1_000_000)]
     max_blocks: u64,
+    /// A directory where calls find programs the program does not hold (LinuxCNC's name.ngc,
+    /// Fanuc's O9010, O9010.nc, 9010.nc; repeat it to search several, in order).
+    #[arg(long = "include", value_name = "DIR")]
+    include: Vec<std::path::PathBuf>,
 }
 
 impl RunArgs {
@@ -169,7 +173,17 @@ impl RunArgs {
         Ok(program::Options {
             max_blocks: self.max_blocks,
             flatten,
+            library: self.library(),
         })
+    }
+
+    /// The include directories as the library calls search (none: no library), which the
+    /// messages also read a called file's lines from.
+    fn library(&self) -> Option<threadcut::interp::library::Library> {
+        if self.include.is_empty() {
+            return None;
+        }
+        Some(render::library(&self.include))
     }
 }
 
@@ -754,6 +768,7 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
         threadcut::check::Options {
             tip: args.tool.given_tip()?,
             max_blocks: options.max_blocks,
+            library: options.library.clone(),
             ..threadcut::check::Options::default()
         },
         args.stock.given()?,
