@@ -315,3 +315,56 @@ fn macro_errors_point_at_the_source() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+fn multifile(path: &str) -> String {
+    format!(
+        "{}/../tests/data/multifile/{path}",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+#[test]
+fn include_finds_a_called_program_and_an_error_in_it_shows_its_file() {
+    // O9010 from the include directory: three thread passes (docs/cli.md, `--include`).
+    let out = threadcut(&[
+        "expand",
+        "-c",
+        "fanuc",
+        "--format",
+        "jsonl",
+        "--include",
+        &multifile("fanuc/lib"),
+        &multifile("fanuc/main-m98.nc"),
+    ]);
+    assert_eq!(stdout(&out).matches("\"thread\"").count(), 3);
+    // An error on line 3 of O9030.nc: its text under its name, then the call.
+    let out = threadcut(&[
+        "expand",
+        "-c",
+        "fanuc",
+        "--include",
+        &multifile("errors/lib"),
+        &multifile("errors/bad-inside.nc"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("errors/lib/O9030.nc:3:12"), "{err}");
+    assert!(err.contains("3 | G32 Z[-20.*] F2."), "{err}");
+    assert!(
+        err.contains("note: called from line 5 of ") && err.contains("errors/bad-inside.nc"),
+        "{err}"
+    );
+    // Not found: every path tried.
+    let out = threadcut(&[
+        "expand",
+        "-c",
+        "fanuc",
+        "--include",
+        &multifile("errors/lib"),
+        &multifile("errors/missing.nc"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("missing.nc:4:5"), "{err}");
+    assert!(err.contains("errors/lib/O9020.nc"), "{err}");
+}

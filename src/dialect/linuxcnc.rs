@@ -789,7 +789,7 @@ impl Dialect for LinuxCnc {
     ) -> crate::interp::library::FileNames {
         // `o<name> call` of a subroutine the file does not define reads `name.ngc` from the
         // directories of [RS274NGC]SUBROUTINE_PATH, the name as the interpreter reads it (lower
-        // case), the file name's case as it is (o-code.adoc, "Calling Files";
+        // case), the file name's case as it is (o-code.adoc, "Calling Files":
         // docs/dialects/linuxcnc.md, "Programs in other files").
         use crate::interp::library::{FileNames, Wanted};
         match wanted {

@@ -186,7 +186,8 @@ impl FanucFamily {
 /// controls and DNC software store programs: the program's name `O9010` (zero-filled to four
 /// digits, as the control lists it, to five as Haas's does, and as written when different: `O10`
 /// for `O0010`), or its
-/// digits alone, each bare or with the extensions DNC software gives (`.nc`, `.txt`, `.tap`),
+/// digits alone, each bare or with the extensions DNC software gives (`.nc`, `.cnc`, `.txt`,
+/// `.tap`),
 /// in any case (`o9010.NC`; file names on the PCs that hold them ignore case). Decisions:
 /// docs/dialects/fanuc.md, "Programs in other files".
 pub(crate) fn program_files(
@@ -202,7 +203,7 @@ pub(crate) fn program_files(
     stems.push(format!("{n}"));
     let mut names = Vec::new();
     for stem in &stems {
-        for ext in ["", ".nc", ".txt", ".tap"] {
+        for ext in ["", ".nc", ".cnc", ".txt", ".tap"] {
             // Digits alone without an extension are no program file's name.
             if ext.is_empty() && !stem.starts_with('O') {
                 continue;
