@@ -368,3 +368,35 @@ fn include_finds_a_called_program_and_an_error_in_it_shows_its_file() {
     assert!(err.contains("missing.nc:4:5"), "{err}");
     assert!(err.contains("errors/lib/O9020.nc"), "{err}");
 }
+
+#[test]
+fn a_profile_names_include_directories_relative_to_itself() {
+    // `include = ["lib"]` in a profile beside a copy of O9010.nc's directory.
+    let dir = temp_dir("profile-include");
+    std::fs::create_dir_all(dir.join("lib")).unwrap();
+    std::fs::copy(multifile("fanuc/lib/O9010.nc"), dir.join("lib/O9010.nc")).unwrap();
+    let fanuc = std::fs::read_to_string(format!(
+        "{}/../profiles/fanuc.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let profile = write(&dir, "shop.toml", &format!("include = [\"lib\"]\n{fanuc}"));
+    let out = threadcut(&[
+        "expand",
+        "--machine",
+        profile.to_str().unwrap(),
+        "--format",
+        "jsonl",
+        &multifile("fanuc/main-m98.nc"),
+    ]);
+    assert_eq!(stdout(&out).matches("\"thread\"").count(), 3);
+    // Without it, the call is not found.
+    let plain = write(&dir, "plain.toml", &fanuc);
+    let out = threadcut(&[
+        "expand",
+        "--machine",
+        plain.to_str().unwrap(),
+        &multifile("fanuc/main-m98.nc"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}

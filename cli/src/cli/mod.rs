@@ -164,7 +164,7 @@ struct RunArgs {
 }
 
 impl RunArgs {
-    fn options(&self, flatten: bool) -> Result<program::Options, Failure> {
+    fn options(&self, flatten: bool, machine: &MachineArgs) -> Result<program::Options, Failure> {
         if self.max_blocks == 0 {
             return Err(Failure::Usage(
                 "--max-blocks 0: expected at least 1".to_string(),
@@ -173,17 +173,26 @@ impl RunArgs {
         Ok(program::Options {
             max_blocks: self.max_blocks,
             flatten,
-            library: self.library(),
+            library: self.library(machine),
         })
     }
 
-    /// The include directories as the library calls search (none: no library), which the
-    /// messages also read a called file's lines from.
-    fn library(&self) -> Option<threadcut::interp::library::Library> {
-        if self.include.is_empty() {
+    /// The directories calls search for programs (none: no library): the `--include`
+    /// directories in their order, then the profile's `include` (relative to the profile
+    /// file's directory). The messages read a called file's lines from the same library.
+    fn library(&self, machine: &MachineArgs) -> Option<threadcut::interp::library::Library> {
+        let mut dirs = self.include.clone();
+        if let Some(path) = &machine.machine {
+            // A profile that cannot be read is the command's error, given when it loads it.
+            if let Ok(m) = load_machine(machine) {
+                let base = path.parent().unwrap_or(std::path::Path::new("."));
+                dirs.extend(m.include.iter().map(|d| base.join(d)));
+            }
+        }
+        if dirs.is_empty() {
             return None;
         }
-        Some(render::library(&self.include))
+        Some(render::library(&dirs))
     }
 }
 
@@ -635,7 +644,7 @@ fn taper_cycle_args(args: &ThreadArgs) -> Result<Option<mill::CycleArgs>, Failur
 /// `threadcut expand`: a G-code program with its cycles as plain moves (or its motions), or an
 /// APT/CL file posted (or its motions).
 fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
-    let options = args.run.options(args.flatten)?;
+    let options = args.run.options(args.flatten, &args.machine)?;
     let file = &args.input.file;
     let out = args.output.output.as_deref();
     let (mut reader, content) = input::open(file)?;
@@ -681,11 +690,12 @@ fn run_post(args: PostArgs) -> Result<ExitCode, Failure> {
 /// `threadcut convert`: a program rewritten from one controller's language to another's.
 fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
     let GcodeFormat::Gcode = args.format;
-    let options = args.run.options(args.flatten)?;
-    let from = load_machine(&MachineArgs {
+    let source = MachineArgs {
         controller: args.from,
         machine: args.from_machine,
-    })?;
+    };
+    let options = args.run.options(args.flatten, &source)?;
+    let from = load_machine(&source)?;
     let to = load_machine(&MachineArgs {
         controller: args.to,
         machine: args.to_machine,
@@ -723,7 +733,7 @@ fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
             wire: args.wire,
             format: args.format,
             output: args.output.output.as_deref(),
-            run: &args.run.options(false)?,
+            run: &args.run.options(false, &args.machine)?,
         },
     )
 }
@@ -740,7 +750,7 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
             part: args.part,
             tool: &args.tool,
             stock: args.stock.given()?,
-            run: &args.run.options(false)?,
+            run: &args.run.options(false, &args.machine)?,
         },
     )
 }
@@ -748,7 +758,7 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
 /// `threadcut passes`: each cycle's pass table, of a G-code program or an APT/CL file. A G-code
 /// program without a thread is said on standard error.
 fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
-    let options = args.run.options(false)?;
+    let options = args.run.options(false, &args.machine)?;
     let format = if args.json {
         ReportFormat::Json
     } else {
