@@ -229,8 +229,12 @@ fn rs274() -> Option<PathBuf> {
         .find(|p| p.is_file())
 }
 
+static RS274: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// rs274's moves: (kind, x, z, lead when synchronised).
 fn canon(rs274: &Path, main: &Path, subroutines: &Path) -> Vec<(String, f64, f64, Option<f64>)> {
+    // One rs274 at a time: the runs share the INI and the output file.
+    let _one_at_a_time = RS274.lock().unwrap_or_else(|e| e.into_inner());
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("multifile");
     std::fs::create_dir_all(&dir).unwrap();
     let ini = dir.join("subroutines.ini");
@@ -298,6 +302,103 @@ fn linuxcnc_subroutine_file_move_for_move_against_rs274() {
     assert_eq!(ours.len(), 14);
     for (r, o) in reference.iter().zip(&ours) {
         // rs274 prints four decimals of a position and six of a lead.
+        assert_eq!(r.0, o.kind, "{r:?} {o:?}");
+        assert!(
+            (r.1 - o.x).abs() < 0.6e-4 && (r.2 - o.z).abs() < 0.6e-4,
+            "{r:?} {o:?}"
+        );
+        if let (Some(a), Some(b)) = (r.3, o.lead) {
+            assert!((a - b).abs() < 1e-6, "{r:?} {o:?}");
+        }
+    }
+}
+
+/// `--call`: the LatheMacro-style file `call/threading.ngc` run as its GUI calls it.
+fn call(text: &str) -> Options {
+    Options {
+        call: Some(text.to_string()),
+        ..Options::default()
+    }
+}
+
+const THREADING_CALL: &str = "o<threading> call [20] [2.5] [-25] [1.5] [3]";
+
+#[test]
+fn call_runs_a_subroutine_file_with_the_values_given() {
+    let moves = run("linuxcnc", "call/threading.ngc", &call(THREADING_CALL)).unwrap();
+    // #1 = 20 (major diameter), #2 = 2.5 (pitch), #3 = -25 (end Z), #4 = 1.5 (depth), #5 = 3
+    // passes, in G8 (X a radius): pass k at X = 20/2 − 1.5·k/3 = 9.5, 9.0, 8.5, to Z-25 at
+    // lead 2.5, each from and back to X = 20/2 + 1 = 11 at Z2.
+    assert_near(
+        &threads(&moves),
+        &[(9.5, -25.0, 2.5), (9.0, -25.0, 2.5), (8.5, -25.0, 2.5)],
+        1e-3,
+    );
+    assert_eq!((moves[0].x, moves[0].z, moves[0].line), (11.0, 2.0, 7));
+}
+
+#[test]
+fn a_file_that_only_defines_subroutines_says_so() {
+    let text = std::fs::read(data("call/threading.ngc")).unwrap();
+    let machine = Machine::built_in("linuxcnc").unwrap();
+    let summary = program::run(text.as_slice(), &machine, |_, _| Ok(())).unwrap();
+    assert_eq!(summary.uncalled, ["threading"]);
+    let w = &summary.warnings[0];
+    assert_eq!((w.code, w.span.line), (Code::Suspicious, 3));
+    assert!(w
+        .message
+        .contains("defines subroutines (o<threading>) and calls none"));
+    assert!(w
+        .hint
+        .as_deref()
+        .unwrap()
+        .contains("--call 'o<threading> call"));
+}
+
+#[test]
+fn call_runs_a_fanuc_macro_file_with_g65_arguments() {
+    // O9011 (9011.nc) called as `G65 P9011 A19.4 B-20. F2.`: #1 = 19.4 (radius 9.7), #2 = -20,
+    // #9 = 2. Its first block `G0 X#1` leaves Z unknown (nothing placed the tool before the
+    // call), so the first move listed is the thread.
+    let moves = run(
+        "fanuc",
+        "fanuc/lib/9011.nc",
+        &call("G65 P9011 A19.4 B-20. F2."),
+    )
+    .unwrap();
+    assert_near(&threads(&moves), &[(9.7, -20.0, 2.0)], 1e-3);
+}
+
+#[test]
+fn a_call_that_does_not_parse_is_refused_on_its_line() {
+    // The call is read as the line after the file's 18: line 19.
+    let d = run(
+        "linuxcnc",
+        "call/threading.ngc",
+        &call("o<threading> call [20] [2.5"),
+    )
+    .unwrap_err();
+    assert_eq!((d.code, d.span.line), (Code::Syntax, 19));
+}
+
+#[test]
+fn call_move_for_move_against_rs274() {
+    let Some(rs274) = rs274() else {
+        eprintln!("rs274 not found: the comparison with LinuxCNC is skipped");
+        return;
+    };
+    // rs274 runs a one-line main program with the call, finding threading.ngc on its path.
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("multifile-call");
+    std::fs::create_dir_all(&dir).unwrap();
+    let main = dir.join("main.ngc");
+    std::fs::write(&main, format!("{THREADING_CALL}\nM2\n")).unwrap();
+    let reference = canon(&rs274, &main, &data("call"));
+    let ours = run("linuxcnc", "call/threading.ngc", &call(THREADING_CALL)).unwrap();
+    // rs274 starts at the origin and lists the first rapid; threadcut's first move has an
+    // unknown start: both list it.
+    assert_eq!(reference.len(), ours.len(), "{reference:?}\n{ours:?}");
+    assert_eq!(ours.len(), 13);
+    for (r, o) in reference.iter().zip(&ours) {
         assert_eq!(r.0, o.kind, "{r:?} {o:?}");
         assert!(
             (r.1 - o.x).abs() < 0.6e-4 && (r.2 - o.z).abs() < 0.6e-4,

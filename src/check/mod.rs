@@ -97,6 +97,9 @@ pub struct Options {
     pub max_blocks: u64,
     /// Where calls find programs the program's text does not hold (`--include DIR`).
     pub library: Option<crate::interp::library::Library>,
+    /// A call of a subroutine the program defines, run instead of its main program (`--call`,
+    /// [`program::Options::call`]).
+    pub call: Option<String>,
 }
 
 impl Default for Options {
@@ -111,6 +114,7 @@ impl Default for Options {
             wire: None,
             max_blocks: program::Options::default().max_blocks,
             library: None,
+            call: None,
         }
     }
 }
@@ -149,6 +153,9 @@ pub struct Report {
     pub part: whole::View,
     /// Each thread's blank, in the order the threads were checked.
     pub blanks: Vec<ThreadBlank>,
+    /// The program defines subroutines and calls none ([`program::Summary::uncalled`]): it said
+    /// so, and has no thread for that reason.
+    pub uncalled: bool,
 }
 
 /// How a boundary of a thread's blank is known.
@@ -609,6 +616,7 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     let run = program::Options {
         max_blocks: opts.max_blocks,
         library: opts.library.clone(),
+        call: opts.call.clone(),
         ..program::Options::default()
     };
     let mut work_system = None;
@@ -677,6 +685,7 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     match result {
         Ok(summary) => {
             report.lines = summary.lines;
+            report.uncalled = !summary.uncalled.is_empty();
             report.diagnostics = summary.warnings;
         }
         Err(Error::Input(alarm)) => {
@@ -764,6 +773,7 @@ fn check_apt<R: BufRead>(
     match result {
         Ok(summary) => {
             report.lines = summary.lines;
+            report.uncalled = !summary.uncalled.is_empty();
             report.diagnostics = summary.warnings;
         }
         Err(Error::Input(alarm)) => {

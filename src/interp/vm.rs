@@ -62,6 +62,8 @@ pub struct Context<'a> {
 pub struct Outcome {
     /// Blocks and statements executed.
     pub executed: u64,
+    /// Calls run (of subroutines and subprograms; a call repeated by L counts once).
+    pub calls: u64,
 }
 
 struct Frame {
@@ -286,6 +288,8 @@ pub struct Vm<'c> {
     callers: Vec<u32>,
     /// The calls' lines as spans.
     calls: Vec<Span>,
+    /// Calls run so far.
+    called: u64,
     stack: Vec<Option<f64>>,
     words: Vec<Word>,
     budget: Budget,
@@ -328,6 +332,7 @@ impl<'c> Vm<'c> {
             frames: vec![Frame::new(CallKind::OWord, 0, 0, code.repeat_slots)],
             callers: Vec::new(),
             calls: Vec::new(),
+            called: 0,
             stack: Vec::new(),
             words: Vec::new(),
             budget: Budget {
@@ -371,6 +376,7 @@ impl<'c> Vm<'c> {
         }
         Ok(Outcome {
             executed: self.executed,
+            calls: self.called,
         })
     }
 
@@ -1136,6 +1142,7 @@ impl<'c> Vm<'c> {
 
     /// Runs `frame`, called at instruction `pc`, in unit `unit` (the calling one, or a file's).
     fn enter(&mut self, mut frame: Frame, pc: u32, unit: u32) {
+        self.called += 1;
         let line = self.line(pc);
         self.callers.push(line.number);
         self.calls.push(line.whole());

@@ -78,6 +78,9 @@ pub(super) struct Switch {
     /// Offset of the line's first byte.
     pub offset: u64,
     pub line: u32,
+    /// The line the run starts at: `line`, or the line of a call the run was given
+    /// ([`super::Options::call`]).
+    pub start: u32,
     pub syntax: Syntax,
 }
 
@@ -145,7 +148,7 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
     let limits = interp::Limits {
         max_blocks: options.max_blocks,
     };
-    let outcome = interp::run(&linked, &at.syntax, limits, at.line, &mut host)?;
+    let outcome = interp::run(&linked, &at.syntax, limits, at.start, &mut host)?;
     host.dialect.end_of_input()?;
     let RunHost {
         mut sink,
@@ -153,10 +156,54 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         ..
     } = host;
     summary.executed = outcome.executed;
+    if outcome.calls == 0 {
+        uncalled(&linked.units[0], &mut summary);
+    }
     let text = &linked.units[0].text;
     let from = text.index_of(at.line).unwrap_or(0);
     sink.interpreted_end(text, from)?;
     Ok(summary)
+}
+
+/// A program that defines subroutines and calls none of them (a subroutine file as a GUI calls
+/// it): nothing of it ran, which is said, with how to run one.
+fn uncalled(code: &interp::code::Code, summary: &mut Summary) {
+    let mut names: Vec<String> = code
+        .subs
+        .keys()
+        .map(|id| code.exprs.name(*id).to_string())
+        .collect();
+    if names.is_empty() {
+        return;
+    }
+    names.sort();
+    let first = code
+        .subs
+        .values()
+        .min()
+        // (The instruction before a body is its `sub` line's.)
+        .map(|&pc| {
+            code.text
+                .line(code.inst_line[pc.saturating_sub(1) as usize] as usize)
+                .whole()
+        })
+        .unwrap_or_default();
+    let listed: Vec<String> = names.iter().map(|n| format!("o<{n}>")).collect();
+    summary.warnings.push(
+        Diagnostic::warning(
+            Code::Suspicious,
+            first,
+            format!(
+                "the program defines subroutines ({}) and calls none: nothing of it ran",
+                listed.join(", ")
+            ),
+        )
+        .with_hint(format!(
+            "run one as its GUI calls it, with the values a user would type: --call 'o<{}> call [arg1] [arg2] …'",
+            names[0]
+        )),
+    );
+    summary.uncalled = names;
 }
 
 /// The interpreter's host: executes each block as the run loop executes a line.

@@ -161,6 +161,11 @@ struct RunArgs {
     /// Fanuc's O9010, O9010.nc, 9010.nc; repeat it to search several, in order).
     #[arg(long = "include", value_name = "DIR")]
     include: Vec<std::path::PathBuf>,
+    /// Run this call of a subroutine the file defines instead of the file's own flow, as a GUI
+    /// calls it: `--call 'o<thread> call [20] [2.5]'` (LinuxCNC), `--call 'G65 P9010 A20.'`
+    /// (Fanuc).
+    #[arg(long = "call", value_name = "CALL")]
+    call: Option<String>,
 }
 
 impl RunArgs {
@@ -174,6 +179,7 @@ impl RunArgs {
             max_blocks: self.max_blocks,
             flatten,
             library: self.library(machine),
+            call: self.call.clone(),
         })
     }
 
@@ -779,6 +785,7 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
             tip: args.tool.given_tip()?,
             max_blocks: options.max_blocks,
             library: options.library.clone(),
+            call: options.call.clone(),
             ..threadcut::check::Options::default()
         },
         args.stock.given()?,
@@ -797,7 +804,8 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
         Ok(done)
     })?;
     warn(file, &summary);
-    if count == 0 {
+    // A file of subroutines was told so (and how to call one) among the warnings.
+    if count == 0 && summary.uncalled.is_empty() {
         no_thread(file, &thread_codes(&machine));
     }
     Ok(ExitCode::SUCCESS)
