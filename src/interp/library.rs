@@ -12,8 +12,6 @@
 
 use std::sync::Arc;
 
-use super::MAX_PROGRAM_BYTES;
-
 /// A program a call names.
 #[derive(Clone, Debug, PartialEq, Eq, Hash)]
 pub enum Wanted {
@@ -191,10 +189,10 @@ impl Dirs {
         let size = std::fs::metadata(&path)
             .map_err(|e| format!("{shown}: {e}"))?
             .len();
-        if size > MAX_PROGRAM_BYTES as u64 {
+        if size > super::MAX_PROGRAM_BYTES as u64 {
             return Err(format!(
                 "{shown} is longer than {} MiB, the largest program threadcut holds",
-                MAX_PROGRAM_BYTES >> 20
+                super::MAX_PROGRAM_BYTES >> 20
             ));
         }
         let text = std::fs::read(&path).map_err(|e| format!("{shown}: {e}"))?;
