@@ -91,7 +91,7 @@ pub struct Summary {
     /// Blocks and statements the interpreter executed.
     pub executed: u64,
     /// The subroutines a program defines when it calls none of them (a subroutine file, run
-    /// without `Options::call`): nothing of it ran.
+    /// without `Options::call`): none of them ran.
     pub uncalled: Vec<String>,
 }
 

@@ -400,3 +400,27 @@ fn a_profile_names_include_directories_relative_to_itself() {
     ]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn call_runs_a_subroutine_file_and_without_it_the_file_says_so() {
+    let file = multifile("call/threading.ngc");
+    let out = threadcut(&[
+        "passes",
+        "-c",
+        "linuxcnc",
+        "--call",
+        "o<threading> call [20] [2.5] [-25] [1.5] [3]",
+        &file,
+    ]);
+    // Three passes of lead 2.5 to depth 1.5 (docs/cli.md, `--call`).
+    assert!(stdout(&out).contains("3 synchronised passes"));
+    let out = threadcut(&["passes", "-c", "linuxcnc", &file]);
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("defines subroutines (o<threading>) and calls none of them"),
+        "{err}"
+    );
+    assert!(err.contains("--call 'o<threading> call"), "{err}");
+    assert!(!err.contains("no thread found"), "{err}");
+}

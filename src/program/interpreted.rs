@@ -166,7 +166,7 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
 }
 
 /// A program that defines subroutines and calls none of them (a subroutine file as a GUI calls
-/// it): nothing of it ran, which is said, with how to run one.
+/// it): said, with how to run one.
 fn uncalled(code: &interp::code::Code, summary: &mut Summary) {
     let mut names: Vec<String> = code
         .subs
@@ -194,7 +194,7 @@ fn uncalled(code: &interp::code::Code, summary: &mut Summary) {
             Code::Suspicious,
             first,
             format!(
-                "the program defines subroutines ({}) and calls none: nothing of it ran",
+                "the program defines subroutines ({}) and calls none of them",
                 listed.join(", ")
             ),
         )
