@@ -9,6 +9,10 @@ calls, so that its data is the command's JSON. A program is G-code for `controll
 as an open file or `io.StringIO(toml_text)`. A `str` is always a path, never TOML text. The profile
 must be the controller's: its `name` or its `dialect` is `controller`.
 
+`include`, where a function takes it, is a list of directories where calls find the programs the
+program does not hold (`--include DIR`, in order): Fanuc/Haas/GSK `O9010`, `O9010.nc`, `9010.nc`
+(any case), LinuxCNC `name.ngc` for `o<name> call`.
+
 Bad input raises `InputError`; findings that do not stop a function are issued as `InputWarning`
 through Python's `warnings` module.
 """
@@ -74,6 +78,7 @@ def passes(
     stock_start: float | None = None,
     stock_length: float | None = None,
     stock_bore: float | None = None,
+    include: list[str | os.PathLike[str]] | None = None,
 ) -> list[dict[str, Any]]:
     """Each thread's pass table: the `cycles` of `threadcut passes --json`.
 
@@ -97,7 +102,11 @@ def passes(
     """
 
 def motions(
-    program: str, controller: str, *, machine: _Machine | None = None
+    program: str,
+    controller: str,
+    *,
+    machine: _Machine | None = None,
+    include: list[str | os.PathLike[str]] | None = None,
 ) -> list[dict[str, Any]]:
     """Every motion of the program: the objects of `threadcut expand --format jsonl`.
 
@@ -109,7 +118,12 @@ def motions(
     """
 
 def expand(
-    program: str, controller: str, *, machine: _Machine | None = None, flatten: bool = False
+    program: str,
+    controller: str,
+    *,
+    machine: _Machine | None = None,
+    flatten: bool = False,
+    include: list[str | os.PathLike[str]] | None = None,
 ) -> str:
     """The program with each threading cycle replaced by plain moves in the controller's own
     format (`threadcut expand`); every other line is kept as written. An APT/CL program is posted
@@ -139,6 +153,7 @@ def check(
     stock_start: float | None = None,
     stock_length: float | None = None,
     stock_bore: float | None = None,
+    include: list[str | os.PathLike[str]] | None = None,
 ) -> CheckResult:
     """What the program will do wrong before the spindle turns: `threadcut check --format json`.
 
@@ -172,6 +187,7 @@ def plot_svg(
     stock_start: float | None = None,
     stock_length: float | None = None,
     stock_bore: float | None = None,
+    include: list[str | os.PathLike[str]] | None = None,
 ) -> str:
     """One SVG of the threads' pass diagrams and XZ toolpaths (`threadcut plot`): at most the first
     50 threads, the picture saying what it left out, or only the `cycle`th thread (1-based).

@@ -280,6 +280,8 @@ pub fn plot_program<R: BufRead>(
     };
     let opts = check::Options {
         max_blocks: options.max_blocks,
+        library: options.library.clone(),
+        call: options.call.clone(),
         ..part.check.clone()
     };
     let report = check::check(open()?, source, &opts)?;
@@ -382,6 +384,8 @@ pub fn passes_json_with<R: BufRead>(
 ) -> Result<Run, Error> {
     let opts = check::Options {
         max_blocks: options.max_blocks,
+        library: options.library.clone(),
+        call: options.call.clone(),
         ..check.clone()
     };
     // APT/CL: `passes` of a CL file states no blank (the command line's, which reads it without

@@ -19,7 +19,19 @@ pub struct Span {
     pub column: u32,
 }
 
+/// How far apart the offsets of two programs' texts lie: the main input's bytes from 0, those
+/// of the `k`th program read from another file (a subprogram a call found in an include
+/// directory) from `k × FILE_SPACING`, so that a span names its file by its offset alone, as a
+/// compiler's source map places every file in one range of positions. 1 TiB: no input reaches it.
+pub const FILE_SPACING: u64 = 1 << 40;
+
 impl Span {
+    /// The file the span lies in: 0 for the main input, `k` for the `k`th file a library gave
+    /// (see [`FILE_SPACING`]).
+    pub const fn file(&self) -> u32 {
+        (self.start / FILE_SPACING) as u32
+    }
+
     pub const fn new(start: u64, len: u32, line: u32, column: u32) -> Span {
         Span {
             start,
@@ -186,6 +198,11 @@ pub struct Diagnostic {
     pub span: Span,
     pub message: String,
     pub hint: Option<String>,
+    /// Where the program ran when the finding was raised inside a called program: each call's
+    /// line, outermost first (empty in the main program). A span's file is its offset's
+    /// ([`Span::file`]).
+    #[serde(skip)]
+    pub calls: Vec<Span>,
 }
 
 impl Diagnostic {
@@ -196,6 +213,7 @@ impl Diagnostic {
             span,
             message: message.into(),
             hint: None,
+            calls: Vec::new(),
         }
     }
 
@@ -206,6 +224,7 @@ impl Diagnostic {
             span,
             message: message.into(),
             hint: None,
+            calls: Vec::new(),
         }
     }
 

@@ -413,6 +413,11 @@ pub struct Machine {
     /// known).
     #[serde(default)]
     pub stock: Option<Stock>,
+    /// Directories where calls find programs a program does not hold (issue 25), searched after
+    /// the command's `--include` directories; a relative one is relative to the profile file's
+    /// directory (the command line resolves them: the library reads no files).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub include: Vec<String>,
 }
 
 impl Machine {

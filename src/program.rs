@@ -90,16 +90,26 @@ pub struct Summary {
     pub interpreted_from: Option<u32>,
     /// Blocks and statements the interpreter executed.
     pub executed: u64,
+    /// The subroutines a program defines when it calls none of them (a subroutine file, run
+    /// without `Options::call`): none of them ran.
+    pub uncalled: Vec<String>,
 }
 
 /// How a program is run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Options {
     /// The interpreter stops a program after this many executed blocks (`--max-blocks`).
     pub max_blocks: u64,
     /// `expand`: write the executed program as straight-line code (loops unrolled, calls inlined,
     /// expressions evaluated) instead of the program's own text (`--flatten`).
     pub flatten: bool,
+    /// Where calls find programs the program's text does not hold (`--include DIR`): none by
+    /// default.
+    pub library: Option<crate::interp::library::Library>,
+    /// Runs this call of a subroutine or program the input defines instead of the input's own
+    /// main program (`--call 'o<thread> call [20] [2.5]'`, `--call 'G65 P9010 A20.'`): the call
+    /// is read as the line after the input's last, then the program ends (M2).
+    pub call: Option<String>,
 }
 
 impl Default for Options {
@@ -107,6 +117,8 @@ impl Default for Options {
         Options {
             max_blocks: crate::interp::Limits::default().max_blocks,
             flatten: false,
+            library: None,
+            call: None,
         }
     }
 }
@@ -202,6 +214,20 @@ fn drive<R: BufRead, S: Sink>(
     options: &Options,
     sink: S,
 ) -> Result<Summary, Error> {
+    if let Some(call) = &options.call {
+        let (text, start) = with_call(input, call)?;
+        return dialect::open_with(
+            machine,
+            Drive {
+                input: text.as_slice(),
+                machine,
+                options,
+                sink,
+                start: Some(start),
+            },
+        )
+        .map_err(Error::Setup)?;
+    }
     dialect::open_with(
         machine,
         Drive {
@@ -209,9 +235,40 @@ fn drive<R: BufRead, S: Sink>(
             machine,
             options,
             sink,
+            start: None,
         },
     )
     .map_err(Error::Setup)?
+}
+
+/// The input with `call` as the line after its last, and the program's end after it (`M2`,
+/// which ends a program on every control with subprograms); the call's line number.
+fn with_call<R: BufRead>(input: R, call: &str) -> Result<(Vec<u8>, u32), Error> {
+    let limit = crate::interp::MAX_PROGRAM_BYTES;
+    let mut text = Vec::new();
+    std::io::Read::read_to_end(&mut input.take(limit as u64 + 1), &mut text)?;
+    if text.len() > limit || call.len() > limit {
+        return Err(Error::Setup(format!(
+            "a program run by a call is held in memory: at most {} MiB",
+            limit >> 20
+        )));
+    }
+    if !text.is_empty() && text.last() != Some(&b'\n') {
+        text.push(b'\n');
+    }
+    let line = memchr::memchr_iter(b'\n', &text).count() as u32 + 1;
+    // One line: a line break in the call would shift what follows.
+    let call = call.replace(['\r', '\n'], " ");
+    text.extend_from_slice(call.trim().as_bytes());
+    text.extend_from_slice(b"\nM2\n");
+    Ok((text, line))
+}
+
+/// What a run is given, besides its input and sink.
+struct Run<'m> {
+    machine: &'m Machine,
+    options: &'m Options,
+    start: Option<u32>,
 }
 
 /// [`drive`]'s arguments, waiting for the dialect.
@@ -220,12 +277,19 @@ struct Drive<'m, R, S> {
     machine: &'m Machine,
     options: &'m Options,
     sink: S,
+    /// Where the interpreter starts ([`Options::call`]'s line), instead of streaming from line 1.
+    start: Option<u32>,
 }
 
 impl<R: BufRead, S: Sink> dialect::WithDialect for Drive<'_, R, S> {
     type Output = Result<Summary, Error>;
     fn run<D: dialect::Dialect + 'static>(self, dialect: D) -> Result<Summary, Error> {
-        drive_with(self.input, self.machine, self.options, self.sink, dialect)
+        let run = Run {
+            machine: self.machine,
+            options: self.options,
+            start: self.start,
+        };
+        drive_with(self.input, &run, self.sink, dialect)
     }
 }
 
@@ -238,11 +302,11 @@ impl<R: BufRead, S: Sink> dialect::WithDialect for Drive<'_, R, S> {
 /// after it are not run.
 fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     input: R,
-    machine: &Machine,
-    options: &Options,
+    run: &Run,
     mut sink: S,
     mut dialect: D,
 ) -> Result<Summary, Error> {
+    let (machine, options) = (run.machine, run.options);
     let conv = dialect.conventions().clone();
     let mut modal = Modal::for_machine(&conv, machine);
     // A G code the controller does not have is its alarm.
@@ -254,6 +318,24 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
         reader.keep_prefix(crate::interp::PREFIX_KEPT);
     }
     let mut summary = Summary::default();
+    if let Some(start) = run.start {
+        // A call of a subroutine the input defines: the interpreter runs it from the call's line,
+        // nothing of the input's own flow before.
+        let Some(syntax) = macros else {
+            return Err(Error::Setup(
+                "a call (--call) needs a controller with subprograms: this one has none".into(),
+            ));
+        };
+        let switch = interpreted::Switch {
+            offset: 0,
+            line: 1,
+            start,
+            syntax,
+        };
+        return interpreted::switch(
+            reader, switch, machine, options, dialect, modal, sink, summary,
+        );
+    }
     let mut pending = 0usize;
     loop {
         // Most lines are plain lines that the reader's fast path lexes and that are none of the
@@ -298,6 +380,7 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
                         let switch = interpreted::Switch {
                             offset,
                             line: e.span.line,
+                            start: e.span.line,
                             syntax,
                         };
                         return interpreted::switch(
@@ -318,6 +401,7 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
                     let switch = interpreted::Switch {
                         offset: line.offset,
                         line: line.number,
+                        start: line.number,
                         syntax,
                     };
                     return interpreted::switch(

@@ -315,3 +315,112 @@ fn macro_errors_point_at_the_source() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+fn multifile(path: &str) -> String {
+    format!(
+        "{}/../tests/data/multifile/{path}",
+        env!("CARGO_MANIFEST_DIR")
+    )
+}
+
+#[test]
+fn include_finds_a_called_program_and_an_error_in_it_shows_its_file() {
+    // O9010 from the include directory: three thread passes (docs/cli.md, `--include`).
+    let out = threadcut(&[
+        "expand",
+        "-c",
+        "fanuc",
+        "--format",
+        "jsonl",
+        "--include",
+        &multifile("fanuc/lib"),
+        &multifile("fanuc/main-m98.nc"),
+    ]);
+    assert_eq!(stdout(&out).matches("\"thread\"").count(), 3);
+    // An error on line 3 of O9030.nc: its text under its name, then the call.
+    let out = threadcut(&[
+        "expand",
+        "-c",
+        "fanuc",
+        "--include",
+        &multifile("errors/lib"),
+        &multifile("errors/bad-inside.nc"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("errors/lib/O9030.nc:3:12"), "{err}");
+    assert!(err.contains("3 | G32 Z[-20.*] F2."), "{err}");
+    assert!(
+        err.contains("note: called from line 5 of ") && err.contains("errors/bad-inside.nc"),
+        "{err}"
+    );
+    // Not found: every path tried.
+    let out = threadcut(&[
+        "expand",
+        "-c",
+        "fanuc",
+        "--include",
+        &multifile("errors/lib"),
+        &multifile("errors/missing.nc"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(err.contains("missing.nc:4:5"), "{err}");
+    assert!(err.contains("errors/lib/O9020.nc"), "{err}");
+}
+
+#[test]
+fn a_profile_names_include_directories_relative_to_itself() {
+    // `include = ["lib"]` in a profile beside a copy of O9010.nc's directory.
+    let dir = temp_dir("profile-include");
+    std::fs::create_dir_all(dir.join("lib")).unwrap();
+    std::fs::copy(multifile("fanuc/lib/O9010.nc"), dir.join("lib/O9010.nc")).unwrap();
+    let fanuc = std::fs::read_to_string(format!(
+        "{}/../profiles/fanuc.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .unwrap();
+    let profile = write(&dir, "shop.toml", &format!("include = [\"lib\"]\n{fanuc}"));
+    let out = threadcut(&[
+        "expand",
+        "--machine",
+        profile.to_str().unwrap(),
+        "--format",
+        "jsonl",
+        &multifile("fanuc/main-m98.nc"),
+    ]);
+    assert_eq!(stdout(&out).matches("\"thread\"").count(), 3);
+    // Without it, the call is not found.
+    let plain = write(&dir, "plain.toml", &fanuc);
+    let out = threadcut(&[
+        "expand",
+        "--machine",
+        plain.to_str().unwrap(),
+        &multifile("fanuc/main-m98.nc"),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn call_runs_a_subroutine_file_and_without_it_the_file_says_so() {
+    let file = multifile("call/threading.ngc");
+    let out = threadcut(&[
+        "passes",
+        "-c",
+        "linuxcnc",
+        "--call",
+        "o<threading> call [20] [2.5] [-25] [1.5] [3]",
+        &file,
+    ]);
+    // Three passes of lead 2.5 to depth 1.5 (docs/cli.md, `--call`).
+    assert!(stdout(&out).contains("3 synchronised passes"));
+    let out = threadcut(&["passes", "-c", "linuxcnc", &file]);
+    assert_eq!(out.status.code(), Some(0));
+    let err = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        err.contains("defines subroutines (o<threading>) and calls none of them"),
+        "{err}"
+    );
+    assert!(err.contains("--call 'o<threading> call"), "{err}");
+    assert!(!err.contains("no thread found"), "{err}");
+}

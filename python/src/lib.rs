@@ -18,6 +18,7 @@ use pyo3::types::{PyDict, PyList};
 use threadcut::check::{self, Report};
 use threadcut::commands::{self, ExpandFormat, Source};
 use threadcut::diag::Diagnostic;
+use threadcut::interp::library::{Dirs, Library};
 use threadcut::machine::{built_in_name, Machine, NameError, ProfileKind, Stock};
 use threadcut::mill::profile::MillProfile;
 use threadcut::mill::{Comp, Direction, Hand, LeadIn, Request, Side};
@@ -282,6 +283,13 @@ fn text(bytes: Vec<u8>) -> String {
     String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
 }
 
+/// The library of the `include` keyword's directories (issue 25: `--include DIR`): none without.
+fn library(include: Option<Vec<std::path::PathBuf>>) -> Option<Library> {
+    include
+        .filter(|dirs| !dirs.is_empty())
+        .map(|dirs| Library::new(Dirs::new(dirs)))
+}
+
 /// The built-in controller profiles, as `threadcut controllers` lists them: the lathe
 /// controllers, then the milling ones (`centroid`, `fanuc-mill`, `linuxcnc-mill`, for `mill`).
 #[pyfunction(name = "controllers")]
@@ -312,7 +320,7 @@ fn controllers_py() -> Vec<&'static str> {
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
 /// the controller refuses (at its line and column) or an unknown controller.
 #[pyfunction(name = "passes")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None))]
 #[allow(clippy::too_many_arguments)]
 fn passes_py<'py>(
     py: Python<'py>,
@@ -325,7 +333,12 @@ fn passes_py<'py>(
     stock_start: Option<f64>,
     stock_length: Option<f64>,
     stock_bore: Option<f64>,
+    include: Option<Vec<std::path::PathBuf>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let run_options = Options {
+        library: library(include),
+        ..Options::default()
+    };
     let m = resolve(py, controller, machine)?;
     let src = source(&program, &m);
     let stock = Stock {
@@ -345,6 +358,7 @@ fn passes_py<'py>(
         check::Options {
             thread,
             wire,
+            library: run_options.library.clone(),
             ..check::Options::default()
         },
         stock,
@@ -357,7 +371,7 @@ fn passes_py<'py>(
                 || Ok(program.as_bytes()),
                 src,
                 Tip::Sharp,
-                &Options::default(),
+                &run_options,
                 &opts,
                 &mut out,
             )
@@ -376,14 +390,19 @@ fn passes_py<'py>(
 ///
 /// Raises `InputError` for a program the controller refuses or an unknown controller.
 #[pyfunction(name = "motions")]
-#[pyo3(signature = (program, controller, *, machine=None))]
+#[pyo3(signature = (program, controller, *, machine=None, include=None))]
 fn motions_py<'py>(
     py: Python<'py>,
     program: String,
     controller: &str,
     machine: Option<&Bound<'py, PyAny>>,
+    include: Option<Vec<std::path::PathBuf>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let m = resolve(py, controller, machine)?;
+    let options = Options {
+        library: library(include),
+        ..Options::default()
+    };
     let src = source(&program, &m);
     let mut out = Vec::new();
     let summary = py
@@ -392,7 +411,7 @@ fn motions_py<'py>(
                 program.as_bytes(),
                 src,
                 ExpandFormat::Jsonl,
-                &Options::default(),
+                &options,
                 &mut out,
             )
         })
@@ -422,18 +441,20 @@ fn motions_py<'py>(
 ///
 /// Raises `InputError` for a program the controller refuses or an unknown controller.
 #[pyfunction(name = "expand")]
-#[pyo3(signature = (program, controller, *, machine=None, flatten=false))]
+#[pyo3(signature = (program, controller, *, machine=None, flatten=false, include=None))]
 fn expand_py(
     py: Python<'_>,
     program: String,
     controller: &str,
     machine: Option<&Bound<'_, PyAny>>,
     flatten: bool,
+    include: Option<Vec<std::path::PathBuf>>,
 ) -> PyResult<String> {
     let m = resolve(py, controller, machine)?;
     let src = source(&program, &m);
     let options = Options {
         flatten,
+        library: library(include),
         ..Options::default()
     };
     let mut out = Vec::new();
@@ -472,7 +493,7 @@ fn expand_py(
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for an unknown
 /// controller or thread.
 #[pyfunction(name = "check")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None))]
 #[allow(clippy::too_many_arguments)]
 fn check_py<'py>(
     py: Python<'py>,
@@ -485,6 +506,7 @@ fn check_py<'py>(
     stock_start: Option<f64>,
     stock_length: Option<f64>,
     stock_bore: Option<f64>,
+    include: Option<Vec<std::path::PathBuf>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let m = resolve(py, controller, machine)?;
     let thread = match thread {
@@ -504,6 +526,7 @@ fn check_py<'py>(
         check::Options {
             thread,
             wire,
+            library: library(include),
             ..check::Options::default()
         },
         stock,
@@ -596,7 +619,7 @@ fn findings<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py, PyList
 /// `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an
 /// unknown controller, or a `cycle` the program does not have.
 #[pyfunction(name = "plot_svg")]
-#[pyo3(signature = (program, controller, *, machine=None, cycle=None, part=false, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None))]
+#[pyo3(signature = (program, controller, *, machine=None, cycle=None, part=false, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None))]
 #[allow(clippy::too_many_arguments)]
 fn plot_svg_py(
     py: Python<'_>,
@@ -609,8 +632,13 @@ fn plot_svg_py(
     stock_start: Option<f64>,
     stock_length: Option<f64>,
     stock_bore: Option<f64>,
+    include: Option<Vec<std::path::PathBuf>>,
 ) -> PyResult<String> {
     let m = resolve(py, controller, machine)?;
+    let run_options = Options {
+        library: library(include),
+        ..Options::default()
+    };
     let src = source(&program, &m);
     if cycle == Some(0) {
         return Err(Problem::usage("cycle=0: threads are counted from 1").error(py));
@@ -629,7 +657,14 @@ fn plot_svg_py(
         bore: stock_bore,
     };
     let part_plot = commands::PartPlot {
-        check: commands::with_stock(check::Options::default(), stock, Some(&m)),
+        check: commands::with_stock(
+            check::Options {
+                library: run_options.library.clone(),
+                ..check::Options::default()
+            },
+            stock,
+            Some(&m),
+        ),
         alone: part,
     };
     let plot = py
@@ -639,7 +674,7 @@ fn plot_svg_py(
                 src,
                 Tip::Sharp,
                 selection,
-                &Options::default(),
+                &run_options,
                 &part_plot,
             )
         })

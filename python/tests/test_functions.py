@@ -507,3 +507,19 @@ def test_plot_svg_draws_the_part_as_plot(cli, tmp_path):
     assert "Pass diagram" not in alone
     with pytest.raises(threadcut.InputError):
         threadcut.plot_svg(TURNED_HIT, "fanuc", part=True, cycle=1)
+
+
+def test_include_finds_called_programs_as_the_command_does(cli):
+    # O9010 from tests/data/multifile/fanuc/lib (`--include DIR`): three thread passes.
+    data = ROOT / "tests" / "data" / "multifile"
+    main = data / "fanuc" / "main-m98.nc"
+    lib = data / "fanuc" / "lib"
+    lines = cli.out(
+        "expand", str(main), "-c", "fanuc", "--format", "jsonl", "--include", str(lib)
+    ).splitlines()
+    motions = threadcut.motions(main.read_text(), "fanuc", include=[lib])
+    assert motions == [json.loads(l) for l in lines]
+    assert [m["x"] for m in motions if m["kind"] == "thread"] == [9.7, 9.5, 9.35]
+    # Without it, the call is not found.
+    with pytest.raises(threadcut.InputError):
+        threadcut.motions(main.read_text(), "fanuc")

@@ -97,6 +97,11 @@ pub struct Options {
     /// A program with control flow stops after this many executed blocks (`--max-blocks`; by
     /// default the interpreter's, [`crate::interp::Limits`]).
     pub max_blocks: u64,
+    /// Where calls find programs the program's text does not hold (`--include DIR`).
+    pub library: Option<crate::interp::library::Library>,
+    /// A call of a subroutine the program defines, run instead of its main program (`--call`,
+    /// [`program::Options::call`]).
+    pub call: Option<String>,
 }
 
 impl Default for Options {
@@ -110,6 +115,8 @@ impl Default for Options {
             thread: None,
             wire: None,
             max_blocks: program::Options::default().max_blocks,
+            library: None,
+            call: None,
         }
     }
 }
@@ -148,6 +155,9 @@ pub struct Report {
     pub part: whole::View,
     /// Each thread's blank, in the order the threads were checked.
     pub blanks: Vec<ThreadBlank>,
+    /// The program defines subroutines and calls none ([`program::Summary::uncalled`]): it said
+    /// so, and has no thread for that reason.
+    pub uncalled: bool,
 }
 
 /// How a boundary of a thread's blank is known.
@@ -607,6 +617,8 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     let mut unknown_starts = Vec::new();
     let run = program::Options {
         max_blocks: opts.max_blocks,
+        library: opts.library.clone(),
+        call: opts.call.clone(),
         ..program::Options::default()
     };
     let mut work_system = None;
@@ -675,6 +687,7 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     match result {
         Ok(summary) => {
             report.lines = summary.lines;
+            report.uncalled = !summary.uncalled.is_empty();
             report.diagnostics = summary.warnings;
         }
         Err(Error::Input(alarm)) => {
@@ -762,6 +775,7 @@ fn check_apt<R: BufRead>(
     match result {
         Ok(summary) => {
             report.lines = summary.lines;
+            report.uncalled = !summary.uncalled.is_empty();
             report.diagnostics = summary.warnings;
         }
         Err(Error::Input(alarm)) => {

@@ -45,7 +45,7 @@ pub struct Report {
 }
 
 /// How a program is converted.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct Options {
     /// How the program is run (`--max-blocks`, `--flatten`).
     pub run: program::Options,

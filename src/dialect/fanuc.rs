@@ -150,6 +150,13 @@ impl Dialect for Fanuc {
         }
     }
 
+    fn program_files(
+        &self,
+        wanted: &crate::interp::library::Wanted,
+    ) -> crate::interp::library::FileNames {
+        fanuc_family::program_files(wanted)
+    }
+
     fn macros(&self) -> Option<crate::interp::Syntax> {
         // Custom Macro B: subprograms (M98) nest four levels deep, and macro calls (G65) four
         // levels apart from them (Fanuc 16i/18i operator's manual, custom macro "call nesting";

@@ -733,6 +733,13 @@ impl Dialect for Gsk {
         }
     }
 
+    fn program_files(
+        &self,
+        wanted: &crate::interp::library::Wanted,
+    ) -> crate::interp::library::FileNames {
+        fanuc_family::program_files(wanted)
+    }
+
     fn macros(&self) -> Option<crate::interp::Syntax> {
         // GSK 980TDi: G65 is its macro operation `G65 Hm P#i Q#j R#k`, M98 packs the count in P
         // (`M98 P00031000`), subprograms nest four levels (docs/dialects/gsk-g78.md).

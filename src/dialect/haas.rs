@@ -298,6 +298,13 @@ impl Dialect for Haas {
     /// not return; `[condition] M99 P n` when the condition holds), and `#10000`–`#10999` are
     /// general-purpose variables besides `#100`–`#199` and `#500`–`#999`. Nesting: Fanuc's four
     /// levels of M97/M98 and four of G65 (docs/dialects/haas.md, "Macros").
+    fn program_files(
+        &self,
+        wanted: &crate::interp::library::Wanted,
+    ) -> crate::interp::library::FileNames {
+        fanuc_family::program_files(wanted)
+    }
+
     fn macros(&self) -> Option<crate::interp::Syntax> {
         Some(crate::interp::Syntax {
             m97_local_calls: true,

@@ -804,6 +804,24 @@ impl Dialect for LinuxCnc {
         Ok(Read::Cycle(Box::new(job)))
     }
 
+    fn program_files(
+        &self,
+        wanted: &crate::interp::library::Wanted,
+    ) -> crate::interp::library::FileNames {
+        // `o<name> call` of a subroutine the file does not define reads `name.ngc` from the
+        // directories of [RS274NGC]SUBROUTINE_PATH, the name as the interpreter reads it (lower
+        // case), the file name's case as it is (o-code.adoc, "Calling Files":
+        // docs/dialects/linuxcnc.md, "Programs in other files").
+        use crate::interp::library::{FileNames, Wanted};
+        match wanted {
+            Wanted::Name(name) => FileNames {
+                names: vec![format!("{name}.ngc")],
+                any_case: false,
+            },
+            Wanted::Number(_) => FileNames::default(),
+        }
+    }
+
     fn macros(&self) -> Option<crate::interp::Syntax> {
         // o-word subroutines and control flow, parameters, expressions (o-code.adoc). Calls nest
         // ten levels, the main program counted (INTERP_SUB_ROUTINE_LEVELS).

@@ -198,6 +198,15 @@ pub trait Dialect {
     fn macros(&self) -> Option<crate::interp::Syntax> {
         None
     }
+    /// The names of the files that may hold a program a call wants and the program's text does
+    /// not hold, in the order they are tried in each include directory (LinuxCNC's `name.ngc`,
+    /// Fanuc's `O9010`, `O9010.nc`, …). None by default: the control reads no other files.
+    fn program_files(
+        &self,
+        _wanted: &crate::interp::library::Wanted,
+    ) -> crate::interp::library::FileNames {
+        crate::interp::library::FileNames::default()
+    }
     // issue 23 (turning cycles with an o-word profile): the interpreter's hand-over.
     /// After [`read`](Dialect::read): the o-word subroutine (its number) whose blocks the last
     /// block takes as its profile (LinuxCNC's G70/G71/G72 `Q`). The interpreter then hands its

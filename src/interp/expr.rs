@@ -116,6 +116,14 @@ impl Exprs {
         i
     }
 
+    /// The expression's value when it is a number as written (a call's `P9010`).
+    pub fn constant(&self, e: Expr) -> Option<f64> {
+        match self.ops[e.start as usize..e.end as usize] {
+            [(Op::Num(v), _)] => Some(v),
+            _ => None,
+        }
+    }
+
     /// A single number as an expression (for words the front ends write themselves).
     pub fn number(&mut self, v: f64, span: Span) -> Expr {
         let start = self.ops.len() as u32;

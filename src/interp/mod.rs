@@ -17,6 +17,7 @@
 pub(crate) mod code;
 pub(crate) mod expr;
 pub(crate) mod fanuc;
+pub mod library;
 pub(crate) mod ngc;
 pub(crate) mod scan;
 pub mod text;
@@ -26,7 +27,11 @@ pub use expr::Lang;
 pub use text::{Text, TextLine};
 pub(crate) use vm::{Context, Host, Outcome};
 
+use std::collections::HashMap;
+
+use crate::diag::FILE_SPACING;
 use crate::gcode::Line;
+use library::{FileNames, Library, Missing, Wanted};
 
 /// A control's macro language, as its dialect describes it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -170,19 +175,187 @@ pub(crate) fn compile(text: Text, syntax: &Syntax, lexer: crate::gcode::Syntax) 
     }
 }
 
+/// The most files a program's calls may read (each at most [`MAX_PROGRAM_BYTES`]).
+pub const MAX_FILES: usize = 64;
+
+/// A program and the programs its calls found in other files.
+pub(crate) struct Linked {
+    /// The main text's code first, then each file's, in the order they were found.
+    pub units: Vec<code::Code>,
+    /// Where a call to a program its own text does not hold goes: the unit and the first
+    /// instruction, or what was looked for.
+    pub external: HashMap<Wanted, Result<(u32, u32), Missing>>,
+}
+
+/// What a program's calls need from outside it: the dialect's file names for a wanted program,
+/// and the library that has the files.
+pub(crate) struct Linker<'a> {
+    pub names: &'a dyn Fn(&Wanted) -> FileNames,
+    pub library: Option<&'a Library>,
+    pub syntax: &'a Syntax,
+    pub lexer: crate::gcode::Syntax,
+}
+
+impl Linker<'_> {
+    /// Finds, for every call whose program is written as a number or a name and is not in the
+    /// calling text, the program in the library (and the programs those call, to
+    /// [`MAX_FILES`] files). A program not found is an error only when its call runs.
+    pub(crate) fn link(&self, main: code::Code) -> Linked {
+        let mut linked = Linked {
+            units: vec![main],
+            external: HashMap::new(),
+        };
+        let mut files: HashMap<u32, u32> = HashMap::new();
+        let mut u = 0;
+        while u < linked.units.len() {
+            for wanted in static_calls(&linked.units[u]) {
+                if linked.external.contains_key(&wanted) {
+                    continue;
+                }
+                if let Some(at) = defined(&linked.units, &wanted) {
+                    linked.external.insert(wanted, Ok(at));
+                    continue;
+                }
+                let names = (self.names)(&wanted);
+                let Some(library) = self.library.filter(|_| !names.names.is_empty()) else {
+                    continue;
+                };
+                let found = library.0.find(&names).and_then(|found| {
+                    let unit = self.unit_of(&mut linked, &mut files, found)?;
+                    entry_of(&linked.units[unit as usize], &wanted)
+                        .map(|entry| (unit, entry))
+                        .ok_or_else(|| Missing {
+                            tried: Vec::new(),
+                            problem: Some(format!(
+                                "the file does not hold {}",
+                                what(linked.units[0].lang, &wanted)
+                            )),
+                        })
+                });
+                linked.external.insert(wanted, found);
+            }
+            u += 1;
+        }
+        linked
+    }
+
+    /// The unit of a file found: compiled the first time.
+    fn unit_of(
+        &self,
+        linked: &mut Linked,
+        files: &mut HashMap<u32, u32>,
+        found: library::Found,
+    ) -> Result<u32, Missing> {
+        if let Some(u) = files.get(&found.file) {
+            return Ok(*u);
+        }
+        if linked.units.len() > MAX_FILES || found.file == 0 {
+            return Err(Missing {
+                tried: vec![found.name],
+                problem: Some(format!(
+                    "a program's calls read at most {MAX_FILES} other files"
+                )),
+            });
+        }
+        let text = Text::new(found.text, 1, u64::from(found.file) * FILE_SPACING);
+        linked.units.push(compile(text, self.syntax, self.lexer));
+        let u = linked.units.len() as u32 - 1;
+        files.insert(found.file, u);
+        Ok(u)
+    }
+}
+
+/// How a wanted program is named in messages.
+pub(crate) fn what(lang: Lang, wanted: &Wanted) -> String {
+    match (lang, wanted) {
+        (Lang::MacroB, Wanted::Number(n)) => format!("program O{n:04}"),
+        (_, Wanted::Number(n)) => format!("o{n}"),
+        (_, Wanted::Name(s)) => format!("o<{s}> sub"),
+    }
+}
+
+/// The programs a text's calls name by a number or a name as written.
+fn static_calls(code: &code::Code) -> Vec<Wanted> {
+    use code::CallTarget;
+    let mut out = Vec::new();
+    for call in &code.calls {
+        let wanted = match (&call.target, code.lang) {
+            (CallTarget::Program { number, packed }, Lang::MacroB) => {
+                match code.exprs.constant(*number) {
+                    Some(p) if p >= 0.0 && p.fract() == 0.0 && p < 1e8 => {
+                        let p = p as u32;
+                        Wanted::Number(if *packed && p > 9999 { p % 10_000 } else { p })
+                    }
+                    _ => continue,
+                }
+            }
+            (CallTarget::Name(id), Lang::Ngc) => Wanted::Name(code.exprs.name(*id).to_string()),
+            (CallTarget::Number(e), Lang::Ngc) => match code.exprs.constant(*e) {
+                Some(v) if v >= 0.0 && v.fract() == 0.0 && v < 1e9 => {
+                    Wanted::Name(format!("{}", v as u64))
+                }
+                _ => continue,
+            },
+            _ => continue,
+        };
+        if !out.contains(&wanted) {
+            out.push(wanted);
+        }
+    }
+    out
+}
+
+/// Where a text defines a wanted program: the program with that number, or the subroutine
+/// with that name.
+fn defined_in(code: &code::Code, wanted: &Wanted) -> Option<u32> {
+    match wanted {
+        Wanted::Number(n) => code
+            .programs
+            .iter()
+            .find(|p| p.number == Some(*n))
+            .map(|p| p.first),
+        Wanted::Name(s) => code
+            .exprs
+            .find(s)
+            .and_then(|id| code.subs.get(&id).copied()),
+    }
+}
+
+fn defined(units: &[code::Code], wanted: &Wanted) -> Option<(u32, u32)> {
+    units
+        .iter()
+        .enumerate()
+        .find_map(|(u, code)| Some((u as u32, defined_in(code, wanted)?)))
+}
+
+/// The first instruction of a wanted program in the file found for it: the program or the
+/// subroutine it defines, or a Fanuc file's only program when it has no number (a file stored
+/// by its name only, `9010.nc` holding the blocks without `O9010`).
+fn entry_of(code: &code::Code, wanted: &Wanted) -> Option<u32> {
+    defined_in(code, wanted).or_else(|| match wanted {
+        Wanted::Number(_) => code
+            .programs
+            .first()
+            .filter(|p| p.number.is_none())
+            .map(|p| p.first),
+        Wanted::Name(_) => None,
+    })
+}
+
 /// Runs a compiled program from line number `from` (the first line of control flow; the lines
 /// before it have run already).
 pub(crate) fn run<H: Host>(
-    code: &code::Code,
+    linked: &Linked,
     syntax: &Syntax,
     limits: Limits,
     from: u32,
     host: &mut H,
 ) -> Result<Outcome, H::Error> {
+    let code = &linked.units[0];
     let start = code
         .text
         .index_of(from)
         .and_then(|i| code.line_inst.get(i).copied())
         .unwrap_or(code.insts.len() as u32);
-    vm::Vm::new(code, *syntax, limits).run(start, host)
+    vm::Vm::new(linked, *syntax, limits).run(start, host)
 }

@@ -10,8 +10,9 @@ use crate::units::Units;
 
 use super::code::{Block, Call, CallKind, CallTarget, Code, Inst, MacroOp, Target, WordValue};
 use super::expr::{whole, Budget, Expr, Lang, Vars};
+use super::library::{Missing, Wanted};
 use super::text::TextLine;
-use super::{Limits, Syntax};
+use super::{Limits, Linked, Syntax};
 
 /// What the evaluator needs from the run loop.
 pub trait Host {
@@ -29,6 +30,11 @@ pub trait Host {
     /// The input resolution in the current units (Fanuc rounds computed lengths to it).
     fn resolution(&self, units: Units) -> f64;
     fn warn(&mut self, d: Diagnostic);
+    /// An error raised inside called programs: `calls` are the lines of the calls, outermost
+    /// first (the host records them on the error's diagnostic).
+    fn in_calls(&self, e: Self::Error, _calls: &[Span]) -> Self::Error {
+        e
+    }
     /// After a block: the o-word subroutine (its number) the block asks to be run as a profile
     /// (LinuxCNC's G70/G71/G72 `Q`): its blocks are read, not executed, until it returns.
     fn profile_call(&mut self) -> Option<f64> {
@@ -45,6 +51,8 @@ pub trait Host {
 pub struct Context<'a> {
     /// The lines of the calls it runs inside, outermost first.
     pub callers: &'a [u32],
+    /// The same calls' lines as spans (their files named by their offsets).
+    pub calls: &'a [Span],
     /// The block is its line exactly as written (a plain line): its text may be copied as it is.
     pub verbatim: bool,
 }
@@ -54,12 +62,16 @@ pub struct Context<'a> {
 pub struct Outcome {
     /// Blocks and statements executed.
     pub executed: u64,
+    /// Calls run (of subroutines and subprograms; a call repeated by L counts once).
+    pub calls: u64,
 }
 
 struct Frame {
     kind: CallKind,
-    /// The call instruction (the run goes on after it).
+    /// The call instruction (the run goes on after it), in the caller's unit.
     call: u32,
+    /// The caller's unit ([`Linked::units`]): the run returns to it.
+    unit: u32,
     /// The first instruction of the called body (for repeats).
     entry: u32,
     /// Passes of the body still to run after this one (M98 L, G65 L).
@@ -79,6 +91,7 @@ impl Frame {
         Frame {
             kind,
             call,
+            unit: 0,
             entry,
             remaining: 0,
             saved: None,
@@ -262,13 +275,21 @@ fn predefined(
 
 /// The evaluator of one program.
 pub struct Vm<'c> {
+    /// The code running now: `units[unit]`.
     code: &'c Code,
+    units: &'c [Code],
+    unit: u32,
+    external: &'c HashMap<Wanted, Result<(u32, u32), Missing>>,
     syntax: Syntax,
     limits: Limits,
     state: State,
     frames: Vec<Frame>,
     /// Line numbers of the calls being run (for [`Context`]).
     callers: Vec<u32>,
+    /// The calls' lines as spans.
+    calls: Vec<Span>,
+    /// Calls run so far.
+    called: u64,
     stack: Vec<Option<f64>>,
     words: Vec<Word>,
     budget: Budget,
@@ -280,10 +301,14 @@ pub struct Vm<'c> {
 type R<T, E> = Result<T, E>;
 
 impl<'c> Vm<'c> {
-    pub fn new(code: &'c Code, syntax: Syntax, limits: Limits) -> Vm<'c> {
+    pub fn new(linked: &'c Linked, syntax: Syntax, limits: Limits) -> Vm<'c> {
+        let code = &linked.units[0];
         let lang = code.lang;
         Vm {
             code,
+            units: &linked.units,
+            unit: 0,
+            external: &linked.external,
             syntax,
             limits,
             state: State {
@@ -306,6 +331,8 @@ impl<'c> Vm<'c> {
             },
             frames: vec![Frame::new(CallKind::OWord, 0, 0, code.repeat_slots)],
             callers: Vec::new(),
+            calls: Vec::new(),
+            called: 0,
             stack: Vec::new(),
             words: Vec::new(),
             budget: Budget {
@@ -329,9 +356,16 @@ impl<'c> Vm<'c> {
                 return Err(self.too_long(pc).into());
             }
             self.state.line_number = self.code.line_number(pc);
-            match self.step(pc, inst, host)? {
+            let unit = self.unit;
+            let step = match self.step(pc, inst, host) {
+                Ok(step) => step,
+                Err(e) if !self.calls.is_empty() => return Err(host.in_calls(e, &self.calls)),
+                Err(e) => return Err(e),
+            };
+            match step {
                 Next::Go(to) => {
-                    if to <= pc {
+                    // (A call or a return between files is no loop.)
+                    if to <= pc && unit == self.unit {
                         self.last_loop =
                             Some((self.code.line_number(to), self.code.line_number(pc)));
                     }
@@ -342,6 +376,7 @@ impl<'c> Vm<'c> {
         }
         Ok(Outcome {
             executed: self.executed,
+            calls: self.called,
         })
     }
 
@@ -431,16 +466,14 @@ impl<'c> Vm<'c> {
     }
 
     fn no_return(&self, pc: u32) -> Diagnostic {
-        let frame = self.frames.last().expect("a called frame");
-        let call = self.line(frame.call);
+        let call = self.callers.last().copied().unwrap_or(0);
         Diagnostic::error(
             DiagCode::Syntax,
             self.line(pc).whole(),
             match self.code.lang {
                 Lang::Ngc => "the subroutine ends without endsub".to_string(),
                 Lang::MacroB => format!(
-                    "the subprogram called at line {} runs into the next program without M99",
-                    call.number
+                    "the subprogram called at line {call} runs into the next program without M99"
                 ),
             },
         )
@@ -524,6 +557,7 @@ impl<'c> Vm<'c> {
             shape.block_delete,
             &Context {
                 callers: &self.callers,
+                calls: &self.calls,
                 verbatim: true,
             },
         );
@@ -544,6 +578,7 @@ impl<'c> Vm<'c> {
                 b.block_delete,
                 &Context {
                     callers: &self.callers,
+                    calls: &self.calls,
                     verbatim: false,
                 },
             ),
@@ -783,8 +818,7 @@ impl<'c> Vm<'c> {
         let mut frame = Frame::new(CallKind::OWord, pc, entry, self.code.repeat_slots);
         frame.saved = Some(saved);
         frame.profile = true;
-        self.frames.push(frame);
-        self.callers.push(line.number);
+        self.enter(frame, pc, self.unit);
         Ok(Some(Next::Go(entry)))
     }
 
@@ -805,16 +839,23 @@ impl<'c> Vm<'c> {
             }
             CallTarget::Program { .. } | CallTarget::Label { .. } => None,
         };
-        let entry = name.and_then(|id| self.code.subs.get(&id).copied());
-        let Some(entry) = entry else {
-            let shown = match (&call.target, name) {
-                (_, Some(id)) => self.code.exprs.name(id).to_string(),
-                (CallTarget::Number(e), None) => {
-                    let v = self.eval(*e, host)?.unwrap_or(0.0);
-                    format!("{v}")
-                }
-                _ => String::new(),
-            };
+        let own = name.and_then(|id| self.code.subs.get(&id).copied());
+        let shown = match (&call.target, name) {
+            _ if own.is_some() => String::new(),
+            (_, Some(id)) => self.code.exprs.name(id).to_string(),
+            (CallTarget::Number(e), None) => {
+                let v = self.eval(*e, host)?.unwrap_or(0.0);
+                format!("{v}")
+            }
+            _ => String::new(),
+        };
+        let found = match own {
+            Some(entry) => Some((self.unit, entry)),
+            None => self
+                .external(&Wanted::Name(shown.clone()), call.span)
+                .transpose()?,
+        };
+        let Some((unit, entry)) = found else {
             return Err(Diagnostic::error(
                 DiagCode::MissingWord,
                 call.span,
@@ -849,8 +890,7 @@ impl<'c> Vm<'c> {
         self.state.value = None;
         let mut frame = Frame::new(CallKind::OWord, pc, entry, self.code.repeat_slots);
         frame.saved = Some(saved);
-        self.frames.push(frame);
-        self.callers.push(self.line(pc).number);
+        self.enter(frame, pc, unit);
         Ok(Next::Go(entry))
     }
 
@@ -892,13 +932,19 @@ impl<'c> Vm<'c> {
         if count == 0 {
             return Ok(Next::Go(pc + 1));
         }
-        let Some(entry) = self
+        let own = self
             .code
             .programs
             .iter()
             .find(|info| info.number == Some(program as u32))
-            .map(|info| info.first)
-        else {
+            .map(|info| (self.unit, info.first));
+        let found = match own {
+            Some(at) => Some(at),
+            None => self
+                .external(&Wanted::Number(program as u32), p_span)
+                .transpose()?,
+        };
+        let Some((unit, entry)) = found else {
             if self.code.lang == Lang::Ngc {
                 return Err(Diagnostic::error(
                     DiagCode::MissingWord,
@@ -965,8 +1011,7 @@ impl<'c> Vm<'c> {
             }
             self.state.locals.push(locals);
         }
-        self.frames.push(frame);
-        self.callers.push(self.line(pc).number);
+        self.enter(frame, pc, unit);
         Ok(Next::Go(entry))
     }
 
@@ -1011,8 +1056,7 @@ impl<'c> Vm<'c> {
         }
         let mut frame = Frame::new(CallKind::M98, pc, entry, self.code.repeat_slots);
         frame.remaining = count - 1;
-        self.frames.push(frame);
-        self.callers.push(self.line(pc).number);
+        self.enter(frame, pc, self.unit);
         Ok(Next::Go(entry))
     }
 
@@ -1064,12 +1108,17 @@ impl<'c> Vm<'c> {
         let frame = self.frames.last_mut().expect("a called frame");
         if frame.remaining > 0 {
             frame.remaining -= 1;
-            let (entry, call) = (frame.entry, frame.call);
-            self.last_loop = Some((self.line(call).number, self.line(pc).number));
+            let entry = frame.entry;
+            let call = self.callers.last().copied().unwrap_or(0);
+            self.last_loop = Some((call, self.line(pc).number));
             return Ok(Next::Go(entry));
         }
+        let end = self.line(pc);
         let frame = self.frames.pop().expect("a called frame");
         self.callers.pop();
+        self.calls.pop();
+        self.unit = frame.unit;
+        self.code = &self.units[frame.unit as usize];
         if let Some(saved) = frame.saved {
             self.state.params[1..31].copy_from_slice(&saved[..]);
         }
@@ -1080,7 +1129,7 @@ impl<'c> Vm<'c> {
             self.state.value = v;
         }
         if frame.profile {
-            host.profile_end(self.line(frame.call), self.line(pc))?;
+            host.profile_end(self.line(frame.call), end)?;
         }
         match to_label {
             Some(n) => {
@@ -1089,6 +1138,42 @@ impl<'c> Vm<'c> {
             }
             None => Ok(Next::Go(frame.call + 1)),
         }
+    }
+
+    /// Runs `frame`, called at instruction `pc`, in unit `unit` (the calling one, or a file's).
+    fn enter(&mut self, mut frame: Frame, pc: u32, unit: u32) {
+        self.called += 1;
+        let line = self.line(pc);
+        self.callers.push(line.number);
+        self.calls.push(line.whole());
+        frame.unit = self.unit;
+        if unit != self.unit {
+            self.unit = unit;
+            self.code = &self.units[unit as usize];
+            frame.repeats = vec![0; self.code.repeat_slots as usize];
+        }
+        self.frames.push(frame);
+    }
+
+    /// A program the running text does not hold: where the call found it in another file (its
+    /// unit and first instruction), or the error naming what was looked for.
+    fn external(&self, wanted: &Wanted, span: Span) -> Option<Result<(u32, u32), Diagnostic>> {
+        let found = self.external.get(wanted)?;
+        Some(found.clone().map_err(|m| {
+            let what = super::what(self.code.lang, wanted);
+            let mut d = Diagnostic::error(
+                DiagCode::MissingWord,
+                span,
+                match &m.problem {
+                    Some(p) => format!("{what}: {p}"),
+                    None => format!("{what} is not in the file nor in the include directories"),
+                },
+            );
+            if !m.tried.is_empty() {
+                d = d.with_hint(format!("looked for {}", m.tried.join(", ")));
+            }
+            d
+        }))
     }
 
     /// The Fanuc program instruction `at` belongs to.

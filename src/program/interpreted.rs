@@ -78,6 +78,9 @@ pub(super) struct Switch {
     /// Offset of the line's first byte.
     pub offset: u64,
     pub line: u32,
+    /// The line the run starts at: `line`, or the line of a call the run was given
+    /// ([`super::Options::call`]).
+    pub start: u32,
     pub syntax: Syntax,
 }
 
@@ -119,11 +122,16 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         .into());
     };
     let first_line = if base == 0 { 1 } else { at.line };
-    let code = interp::compile(
-        Text::new(bytes, first_line, base),
-        &at.syntax,
-        dialect.conventions().syntax,
-    );
+    let lexer = dialect.conventions().syntax;
+    let code = interp::compile(Text::new(bytes, first_line, base), &at.syntax, lexer);
+    let names = |w: &interp::library::Wanted| dialect.program_files(w);
+    let linked = interp::Linker {
+        names: &names,
+        library: options.library.as_ref(),
+        syntax: &at.syntax,
+        lexer,
+    }
+    .link(code);
     summary.interpreted_from = Some(at.line);
     sink.interpreting(at.line)?;
     let conv = dialect.conventions().clone();
@@ -140,7 +148,7 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
     let limits = interp::Limits {
         max_blocks: options.max_blocks,
     };
-    let outcome = interp::run(&code, &at.syntax, limits, at.line, &mut host)?;
+    let outcome = interp::run(&linked, &at.syntax, limits, at.start, &mut host)?;
     host.dialect.end_of_input()?;
     let RunHost {
         mut sink,
@@ -148,9 +156,54 @@ pub(super) fn switch<R: BufRead, S: Sink, D: dialect::Dialect>(
         ..
     } = host;
     summary.executed = outcome.executed;
-    let from = code.text.index_of(at.line).unwrap_or(0);
-    sink.interpreted_end(&code.text, from)?;
+    if outcome.calls == 0 {
+        uncalled(&linked.units[0], &mut summary);
+    }
+    let text = &linked.units[0].text;
+    let from = text.index_of(at.line).unwrap_or(0);
+    sink.interpreted_end(text, from)?;
     Ok(summary)
+}
+
+/// A program that defines subroutines and calls none of them (a subroutine file as a GUI calls
+/// it): said, with how to run one.
+fn uncalled(code: &interp::code::Code, summary: &mut Summary) {
+    let mut names: Vec<String> = code
+        .subs
+        .keys()
+        .map(|id| code.exprs.name(*id).to_string())
+        .collect();
+    if names.is_empty() {
+        return;
+    }
+    names.sort();
+    let first = code
+        .subs
+        .values()
+        .min()
+        // (The instruction before a body is its `sub` line's.)
+        .map(|&pc| {
+            code.text
+                .line(code.inst_line[pc.saturating_sub(1) as usize] as usize)
+                .whole()
+        })
+        .unwrap_or_default();
+    let listed: Vec<String> = names.iter().map(|n| format!("o<{n}>")).collect();
+    summary.warnings.push(
+        Diagnostic::warning(
+            Code::Suspicious,
+            first,
+            format!(
+                "the program defines subroutines ({}) and calls none of them",
+                listed.join(", ")
+            ),
+        )
+        .with_hint(format!(
+            "run one as its GUI calls it, with the values a user would type: --call 'o<{}> call [arg1] [arg2] …'",
+            names[0]
+        )),
+    );
+    summary.uncalled = names;
 }
 
 /// The interpreter's host: executes each block as the run loop executes a line.
@@ -216,6 +269,9 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         for w in &mut self.summary.warnings[before..] {
             if w.span.line == 0 {
                 w.span = line.span();
+            }
+            if w.calls.is_empty() {
+                w.calls = ctx.calls.to_vec();
             }
         }
         // issue 23: the block takes a subroutine as its profile.
@@ -286,6 +342,15 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
 
     fn warn(&mut self, d: Diagnostic) {
         self.summary.warnings.push(d);
+    }
+
+    fn in_calls(&self, mut e: Error, calls: &[crate::diag::Span]) -> Error {
+        if let Error::Input(d) = &mut e {
+            if d.calls.is_empty() {
+                d.calls = calls.to_vec();
+            }
+        }
+        e
     }
 
     // issue 23: a turning cycle's profile subroutine (LinuxCNC's G7x Q).

@@ -46,6 +46,8 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         thread,
         wire: args.wire,
         max_blocks: args.run.max_blocks,
+        library: args.run.library.clone(),
+        call: args.run.call.clone(),
         ..Options::default()
     };
     let (mut input, content) = input::open(file)?;
@@ -63,7 +65,7 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
     }
     .map_err(|e| failure(file, e))?;
     not_empty(file, &content)?;
-    if report.threads == 0 && !report.stopped {
+    if report.threads == 0 && !report.stopped && !report.uncalled {
         super::no_thread(file, &report.thread_codes);
     }
     output::write(file, args.output, |out| {

@@ -151,16 +151,25 @@ impl StockArgs {
 }
 
 /// How a program with control flow (subroutines, loops, parameters) is run.
-#[derive(clap::Args, Clone, Copy)]
+#[derive(clap::Args, Clone)]
 struct RunArgs {
     /// Stop a program with control flow after N executed blocks (an endless loop ends with an
     /// error naming it).
     #[arg(long, value_name = "N", default_value_t = 1_000_000)]
     max_blocks: u64,
+    /// A directory where calls find programs the program does not hold (LinuxCNC's name.ngc,
+    /// Fanuc's O9010, O9010.nc, 9010.nc; repeat it to search several, in order).
+    #[arg(long = "include", value_name = "DIR")]
+    include: Vec<std::path::PathBuf>,
+    /// Run this call of a subroutine the file defines instead of the file's own flow, as a GUI
+    /// calls it: `--call 'o<thread> call [20] [2.5]'` (LinuxCNC), `--call 'G65 P9010 A20.'`
+    /// (Fanuc).
+    #[arg(long = "call", value_name = "CALL")]
+    call: Option<String>,
 }
 
 impl RunArgs {
-    fn options(&self, flatten: bool) -> Result<program::Options, Failure> {
+    fn options(&self, flatten: bool, machine: &MachineArgs) -> Result<program::Options, Failure> {
         if self.max_blocks == 0 {
             return Err(Failure::Usage(
                 "--max-blocks 0: expected at least 1".to_string(),
@@ -169,7 +178,27 @@ impl RunArgs {
         Ok(program::Options {
             max_blocks: self.max_blocks,
             flatten,
+            library: self.library(machine),
+            call: self.call.clone(),
         })
+    }
+
+    /// The directories calls search for programs (none: no library): the `--include`
+    /// directories in their order, then the profile's `include` (relative to the profile
+    /// file's directory). The messages read a called file's lines from the same library.
+    fn library(&self, machine: &MachineArgs) -> Option<threadcut::interp::library::Library> {
+        let mut dirs = self.include.clone();
+        if let Some(path) = &machine.machine {
+            // A profile that cannot be read is the command's error, given when it loads it.
+            if let Ok(m) = load_machine(machine) {
+                let base = path.parent().unwrap_or(std::path::Path::new("."));
+                dirs.extend(m.include.iter().map(|d| base.join(d)));
+            }
+        }
+        if dirs.is_empty() {
+            return None;
+        }
+        Some(render::library(&dirs))
     }
 }
 
@@ -643,7 +672,7 @@ fn taper_cycle_args(args: &ThreadArgs) -> Result<Option<mill::CycleArgs>, Failur
 /// `threadcut expand`: a G-code program with its cycles as plain moves (or its motions), or an
 /// APT/CL file posted (or its motions).
 fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
-    let options = args.run.options(args.flatten)?;
+    let options = args.run.options(args.flatten, &args.machine)?;
     let file = &args.input.file;
     let out = args.output.output.as_deref();
     let (mut reader, content) = input::open(file)?;
@@ -689,14 +718,15 @@ fn run_post(args: PostArgs) -> Result<ExitCode, Failure> {
 /// `threadcut convert`: a program rewritten from one controller's language to another's.
 fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
     let GcodeFormat::Gcode = args.format;
-    let options = threadcut::convert::Options {
-        run: args.run.options(args.flatten)?,
-        max_lead_drift: args.max_lead_drift,
-    };
-    let from = load_machine(&MachineArgs {
+    let source = MachineArgs {
         controller: args.from,
         machine: args.from_machine,
-    })?;
+    };
+    let options = threadcut::convert::Options {
+        run: args.run.options(args.flatten, &source)?,
+        max_lead_drift: args.max_lead_drift,
+    };
+    let from = load_machine(&source)?;
     let to = load_machine(&MachineArgs {
         controller: args.to,
         machine: args.to_machine,
@@ -737,7 +767,7 @@ fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
             wire: args.wire,
             format: args.format,
             output: args.output.output.as_deref(),
-            run: &args.run.options(false)?,
+            run: &args.run.options(false, &args.machine)?,
         },
     )
 }
@@ -754,7 +784,7 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
             part: args.part,
             tool: &args.tool,
             stock: args.stock.given()?,
-            run: &args.run.options(false)?,
+            run: &args.run.options(false, &args.machine)?,
         },
     )
 }
@@ -762,7 +792,7 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
 /// `threadcut passes`: each cycle's pass table, of a G-code program or an APT/CL file. A G-code
 /// program without a thread is said on standard error.
 fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
-    let options = args.run.options(false)?;
+    let options = args.run.options(false, &args.machine)?;
     let format = if args.json {
         ReportFormat::Json
     } else {
@@ -782,6 +812,8 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
         threadcut::check::Options {
             tip: args.tool.given_tip()?,
             max_blocks: options.max_blocks,
+            library: options.library.clone(),
+            call: options.call.clone(),
             ..threadcut::check::Options::default()
         },
         args.stock.given()?,
@@ -806,7 +838,8 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
         Ok(done)
     })?;
     warn(file, &summary);
-    if count == 0 {
+    // A file of subroutines was told so (and how to call one) among the warnings.
+    if count == 0 && summary.uncalled.is_empty() {
         no_thread(file, &thread_codes(&machine));
     }
     Ok(ExitCode::SUCCESS)

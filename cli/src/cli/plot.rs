@@ -89,7 +89,10 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         return Ok(ExitCode::SUCCESS);
     }
     if plot.threads == 0 {
-        no_thread(file, &codes);
+        // (A file of subroutines was told so among the warnings.)
+        if plot.summary.uncalled.is_empty() {
+            no_thread(file, &codes);
+        }
     } else if cycle.is_none() && plot.drawn.len() < plot.threads {
         let numbers: Vec<usize> = plot.drawn.iter().map(|(n, _)| *n).collect();
         let lines = match (plot.drawn.first(), plot.drawn.last()) {

@@ -6,12 +6,63 @@ use std::path::Path;
 
 use annotate_snippets::{AnnotationKind, Level, Renderer, Snippet};
 
-use threadcut::diag::{Diagnostic, Severity};
+use threadcut::diag::{Diagnostic, Severity, Span};
+use threadcut::interp::library::{Dirs, Library};
+
+/// The library of the command's include directories (one a process: the files it numbered
+/// are the ones the messages show).
+static LIBRARY: std::sync::OnceLock<Library> = std::sync::OnceLock::new();
+
+/// The library that searches `dirs`, made once.
+pub fn library(dirs: &[std::path::PathBuf]) -> Library {
+    LIBRARY
+        .get_or_init(|| Library::new(Dirs::new(dirs.to_vec())))
+        .clone()
+}
+
+/// The name and text of the file a span lies in, when it is a file a call read.
+fn called_file(span: &Span) -> Option<(String, std::sync::Arc<[u8]>)> {
+    match span.file() {
+        0 => None,
+        k => LIBRARY.get()?.0.source(k),
+    }
+}
+
+/// Line `line` of a text held in memory.
+fn line_of(text: &[u8], line: u32) -> Option<Vec<u8>> {
+    let mut l = text
+        .split(|&b| b == b'\n')
+        .nth(line.checked_sub(1)? as usize)?
+        .to_vec();
+    while matches!(l.last(), Some(b'\r')) {
+        l.pop();
+    }
+    Some(l)
+}
+
+/// Where a span is, for a "called from" line: `line 11 of MAIN.MPF`.
+fn place(main: &Path, span: &Span) -> String {
+    let name = match called_file(span) {
+        Some((name, _)) => name,
+        None if main.as_os_str() == "-" => "<stdin>".to_string(),
+        None => main.display().to_string(),
+    };
+    format!("line {} of {name}", span.line)
+}
 
 /// At most this much of a long line is shown around the caret.
 const WINDOW: usize = 100;
 
-pub fn diagnostic(file: &Path, d: &Diagnostic) -> String {
+pub fn diagnostic(main: &Path, d: &Diagnostic) -> String {
+    let called = called_file(&d.span);
+    let path_buf;
+    let file = match &called {
+        Some((name, _)) => {
+            path_buf = std::path::PathBuf::from(name);
+            path_buf.as_path()
+        }
+        None => main,
+    };
     let level = match d.severity {
         Severity::Error => Level::ERROR,
         Severity::Warning => Level::WARNING,
@@ -27,7 +78,17 @@ pub fn diagnostic(file: &Path, d: &Diagnostic) -> String {
         d.span.column
     );
     let title = level.primary_title(d.message.as_str()).id(d.code.as_str());
-    let source = source_line(file, d.span.line);
+    let source = match &called {
+        Some((_, text)) => line_of(text, d.span.line),
+        None => source_line(file, d.span.line),
+    };
+    // The calls it ran inside, innermost first.
+    let chain: Vec<String> = d
+        .calls
+        .iter()
+        .rev()
+        .map(|c| format!("called from {}", place(main, c)))
+        .collect();
     let mut out = match &source {
         Some(line) if d.span.line > 0 => {
             let (text, start, end) = window(line, d.span.column as usize, d.span.len as usize);
@@ -36,6 +97,9 @@ pub fn diagnostic(file: &Path, d: &Diagnostic) -> String {
                 .path(file.display().to_string())
                 .annotation(AnnotationKind::Primary.span(start..end));
             let mut group = title.element(snippet);
+            for c in &chain {
+                group = group.element(Level::NOTE.message(c.as_str()));
+            }
             if let Some(hint) = &d.hint {
                 group = group.element(Level::HELP.message(hint.as_str()));
             }
@@ -46,6 +110,9 @@ pub fn diagnostic(file: &Path, d: &Diagnostic) -> String {
             let mut text = format!("{}[{}]: {}", level_name(d), d.code, d.message);
             if d.span.line > 0 {
                 text.push_str(&format!("\n --> {origin}"));
+            }
+            for c in &chain {
+                text.push_str(&format!("\n  = note: {c}"));
             }
             if let Some(hint) = &d.hint {
                 text.push_str(&format!("\n  = help: {hint}"));

@@ -181,3 +181,41 @@ impl FanucFamily {
         Ok(None)
     }
 }
+
+/// The files that may hold program `O{n}` a call (`M98 P…`, `G65 P…`) wants, as the Fanuc-style
+/// controls and DNC software store programs: the program's name `O9010` (zero-filled to four
+/// digits, as the control lists it, to five as Haas's does, and as written when different: `O10`
+/// for `O0010`), or its
+/// digits alone, each bare or with the extensions DNC software gives (`.nc`, `.cnc`, `.txt`,
+/// `.tap`),
+/// in any case (`o9010.NC`; file names on the PCs that hold them ignore case). Decisions:
+/// docs/dialects/fanuc.md, "Programs in other files".
+pub(crate) fn program_files(
+    wanted: &crate::interp::library::Wanted,
+) -> crate::interp::library::FileNames {
+    use crate::interp::library::{FileNames, Wanted};
+    let Wanted::Number(n) = wanted else {
+        return FileNames::default();
+    };
+    // Haas's NGC control names its programs with five digits (`O01234`).
+    let mut stems = vec![format!("O{n:04}"), format!("O{n:05}"), format!("O{n}")];
+    stems.push(format!("{n:04}"));
+    stems.push(format!("{n}"));
+    let mut names = Vec::new();
+    for stem in &stems {
+        for ext in ["", ".nc", ".cnc", ".txt", ".tap"] {
+            // Digits alone without an extension are no program file's name.
+            if ext.is_empty() && !stem.starts_with('O') {
+                continue;
+            }
+            let name = format!("{stem}{ext}");
+            if !names.contains(&name) {
+                names.push(name);
+            }
+        }
+    }
+    FileNames {
+        names,
+        any_case: true,
+    }
+}
