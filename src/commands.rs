@@ -280,6 +280,7 @@ pub fn plot_program<R: BufRead>(
     };
     let opts = check::Options {
         max_blocks: options.max_blocks,
+        start: options.start,
         ..part.check.clone()
     };
     let report = check::check(open()?, source, &opts)?;
@@ -382,6 +383,7 @@ pub fn passes_json_with<R: BufRead>(
 ) -> Result<Run, Error> {
     let opts = check::Options {
         max_blocks: options.max_blocks,
+        start: options.start,
         ..check.clone()
     };
     // APT/CL: `passes` of a CL file states no blank (the command line's, which reads it without

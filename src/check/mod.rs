@@ -95,6 +95,10 @@ pub struct Options {
     /// A program with control flow stops after this many executed blocks (`--max-blocks`; by
     /// default the interpreter's, [`crate::interp::Limits`]).
     pub max_blocks: u64,
+    /// Where the tool is before the program's first line (`--start X,Z`, program units at
+    /// power-on): a cycle shown without the lines before it starts there. [`program::Start::At`]
+    /// or [`program::Start::Unknown`]: a check judges motion only from a start it is given.
+    pub start: program::Start,
 }
 
 impl Default for Options {
@@ -108,6 +112,7 @@ impl Default for Options {
             thread: None,
             wire: None,
             max_blocks: program::Options::default().max_blocks,
+            start: program::Start::Unknown,
         }
     }
 }
@@ -605,6 +610,11 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     let mut unknown_starts = Vec::new();
     let run = program::Options {
         max_blocks: opts.max_blocks,
+        // A start the check is not given is not assumed: the motion from it is not known.
+        start: match opts.start {
+            program::Start::Unstated => program::Start::Unknown,
+            given => given,
+        },
         ..program::Options::default()
     };
     let mut work_system = None;

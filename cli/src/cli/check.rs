@@ -46,6 +46,7 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         thread,
         wire: args.wire,
         max_blocks: args.run.max_blocks,
+        start: args.run.start,
         ..Options::default()
     };
     let (mut input, content) = input::open(file)?;
