@@ -75,7 +75,11 @@ fn haas_one_block_g76_on_its_own() {
     for (pass, d) in p.iter().zip(want) {
         close(pass.depth, d, &format!("depth of pass {}", pass.n));
         // X as the program writes it (diameter): X + 2·(K − d).
-        close(pass.start.x * 2.0, 16.93 + 2.0 * (1.534 - d), "X of the pass");
+        close(
+            pass.start.x * 2.0,
+            16.93 + 2.0 * (1.534 - d),
+            "X of the pass",
+        );
     }
     for pass in &p[..10] {
         close(pass.area, 0.13581, "a constant-amount pass's chip");
@@ -190,7 +194,11 @@ fn an_incremental_end_needs_the_start() {
     let d = refused("gsk980", "G92 U-3. Z-25. F2.5\n", Start::Unstated);
     assert_eq!(d.code, Code::UnknownPosition);
     assert_eq!((d.span.line, d.span.column), (1, 5));
-    assert!(d.message.contains("U counts from the cycle's start point"), "{}", d.message);
+    assert!(
+        d.message.contains("U counts from the cycle's start point"),
+        "{}",
+        d.message
+    );
 }
 
 /// LinuxCNC's G76 places every pass from its drive line, which starts where the tool is: no table
@@ -216,7 +224,11 @@ fn linuxcnc_g76_refuses_with_its_reason() {
 fn expand_and_check_still_need_the_start() {
     let src = "G76 X16.93 Z-25. K1.534 D.485 F2.5\n";
     let d = refused("fanuc15", src, Start::Unknown);
-    assert!(d.message.contains("the tool's X and Z are not known here"), "{}", d.message);
+    assert!(
+        d.message.contains("the tool's X and Z are not known here"),
+        "{}",
+        d.message
+    );
     assert!(d.hint.unwrap_or_default().contains("--start X,Z"));
     let m = machine("fanuc15");
     let mut out = Vec::new();

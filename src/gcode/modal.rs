@@ -412,7 +412,10 @@ pub struct Modal {
 /// reads as external (the start X above the thread's X) and the start Z lies before the thread's
 /// end on the usual side (a thread cut toward −Z). Nothing placed from it is ever reported: the
 /// columns that depend on it are not known.
-pub const UNSTATED_START: Pos = Pos { x: 10_000.0, z: 10_000.0 };
+pub const UNSTATED_START: Pos = Pos {
+    x: 10_000.0,
+    z: 10_000.0,
+};
 
 impl Modal {
     /// `no_point`: the worth of a number written without a decimal point, in mm and in inch
