@@ -503,8 +503,9 @@ def test_passes_of_a_cycle_on_its_own(cli, tmp_path):
 
 
 def test_start_places_the_tool(cli, tmp_path):
-    with pytest.raises(threadcut.InputError, match="--start X,Z"):
+    with pytest.raises(threadcut.InputError, match="the tool's X and Z are not known here") as e:
         threadcut.expand(G76_ALONE, "fanuc15")
+    assert "--start X,Z" in e.value.hint
     # Given the start, the table is the same, with Z: pass 1 at Z5 plus its flank shift
     # (1.534 − 0.485)·tan 30° = 0.60564.
     [cycle] = threadcut.passes(G76_ALONE, "fanuc15", start=(22.0, 5.0))
