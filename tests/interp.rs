@@ -1114,7 +1114,10 @@ proptest! {
             src.push_str(&l.join(" "));
             src.push('\n');
         }
-        let options = Options { max_blocks: 5_000, flatten: false };
+        let options = Options {
+            max_blocks: 5_000,
+            ..Options::default()
+        };
         for controller in ["linuxcnc", "fanuc", "gsk980", "haas"] {
             let t = std::time::Instant::now();
             let _ = run_jsonl(&src, controller, &options);
