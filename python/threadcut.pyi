@@ -79,6 +79,7 @@ def passes(
     stock_length: float | None = None,
     stock_bore: float | None = None,
     include: list[str | os.PathLike[str]] | None = None,
+    start: tuple[float, float] | None = None,
 ) -> list[dict[str, Any]]:
     """Each thread's pass table: the `cycles` of `threadcut passes --json`.
 
@@ -97,6 +98,13 @@ def passes(
     `deeper` change of the final depth to the window's middle, and `assumed`), or `{not_stated}`
     with the reason; `wire` the measuring wire one owns (the thread's units).
 
+    `start=(x, z)` places the tool before the program's first line, as the program writes it at
+    power-on (the profile's units, X on diameter where the control's X is; `--start X,Z`).
+    Without it, a cycle whose start point is not known (a cycle shown on its own) still gives its
+    pass table where the table does not depend on the start (Fanuc-family G76 and G92, the
+    one-block G76, GSK's G78): its `z` is None and `start_unknown` (`{axes, note}`) says what is
+    not known; LinuxCNC's G76, whose passes are placed from the drive line, raises `InputError`.
+
     A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
     the controller refuses (at its line and column) or an unknown controller.
     """
@@ -107,6 +115,7 @@ def motions(
     *,
     machine: _Machine | None = None,
     include: list[str | os.PathLike[str]] | None = None,
+    start: tuple[float, float] | None = None,
 ) -> list[dict[str, Any]]:
     """Every motion of the program: the objects of `threadcut expand --format jsonl`.
 
@@ -124,6 +133,7 @@ def expand(
     machine: _Machine | None = None,
     flatten: bool = False,
     include: list[str | os.PathLike[str]] | None = None,
+    start: tuple[float, float] | None = None,
 ) -> str:
     """The program with each threading cycle replaced by plain moves in the controller's own
     format (`threadcut expand`); every other line is kept as written. An APT/CL program is posted
@@ -154,6 +164,7 @@ def check(
     stock_length: float | None = None,
     stock_bore: float | None = None,
     include: list[str | os.PathLike[str]] | None = None,
+    start: tuple[float, float] | None = None,
 ) -> CheckResult:
     """What the program will do wrong before the spindle turns: `threadcut check --format json`.
 
@@ -188,6 +199,7 @@ def plot_svg(
     stock_length: float | None = None,
     stock_bore: float | None = None,
     include: list[str | os.PathLike[str]] | None = None,
+    start: tuple[float, float] | None = None,
 ) -> str:
     """One SVG of the threads' pass diagrams and XZ toolpaths (`threadcut plot`): at most the first
     50 threads, the picture saying what it left out, or only the `cycle`th thread (1-based).

@@ -282,6 +282,7 @@ pub fn plot_program<R: BufRead>(
         max_blocks: options.max_blocks,
         library: options.library.clone(),
         call: options.call.clone(),
+        start: options.start,
         ..part.check.clone()
     };
     let report = check::check(open()?, source, &opts)?;
@@ -386,6 +387,7 @@ pub fn passes_json_with<R: BufRead>(
         max_blocks: options.max_blocks,
         library: options.library.clone(),
         call: options.call.clone(),
+        start: options.start,
         ..check.clone()
     };
     // APT/CL: `passes` of a CL file states no blank (the command line's, which reads it without

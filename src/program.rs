@@ -96,7 +96,7 @@ pub struct Summary {
 }
 
 /// How a program is run.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Options {
     /// The interpreter stops a program after this many executed blocks (`--max-blocks`).
     pub max_blocks: u64,
@@ -110,6 +110,8 @@ pub struct Options {
     /// main program (`--call 'o<thread> call [20] [2.5]'`, `--call 'G65 P9010 A20.'`): the call
     /// is read as the line after the input's last, then the program ends (M2).
     pub call: Option<String>,
+    /// Where the tool is before the program's first line (`--start X,Z`).
+    pub start: Start,
 }
 
 impl Default for Options {
@@ -119,6 +121,35 @@ impl Default for Options {
             flatten: false,
             library: None,
             call: None,
+            start: Start::Unknown,
+        }
+    }
+}
+
+/// Where the tool is before the program's first line.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum Start {
+    /// Not known, as at power-on: a cycle that starts where the tool is refuses to start before
+    /// the program has placed the tool.
+    #[default]
+    Unknown,
+    /// At (`x`, `z`), as the program writes them at power-on: the profile's units, X on diameter
+    /// where the control's X is (`--start X,Z`).
+    At { x: f64, z: f64 },
+    /// Not known, and a threading cycle whose pass table does not depend on its start point
+    /// (Fanuc-family G76 and G92, the one-block G76, GSK's G78) is read all the same: the axes it
+    /// took unknown are marked ([`Modal::assumed`]), and what depends on them is reported not
+    /// known (`passes` for a cycle shown without the lines before it).
+    Unstated,
+}
+
+impl Start {
+    /// The modal state at the program's first line under this start.
+    pub fn apply(self, modal: &mut Modal) {
+        match self {
+            Start::Unknown => {}
+            Start::At { x, z } => modal.place(x, z),
+            Start::Unstated => modal.start_unstated = true,
         }
     }
 }
@@ -309,6 +340,7 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     let (machine, options) = (run.machine, run.options);
     let conv = dialect.conventions().clone();
     let mut modal = Modal::for_machine(&conv, machine);
+    options.start.apply(&mut modal);
     // A G code the controller does not have is its alarm.
     modal.vocabulary = Some(dialect.vocabulary());
     let mut reader = Reader::new(input).with_syntax(conv.syntax);
@@ -519,7 +551,7 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
         Read::Cycle(job) => {
             summary.cycles += 1;
             // Fanuc-style cycles end where they started; LinuxCNC's G76 at its Z end.
-            modal.position = crate::gcode::Position::at(job.end_point());
+            modal.cycle_ended(job.end_point());
             sink.event(
                 modal,
                 Event::Cycle {
@@ -528,6 +560,7 @@ fn dialect_line<S: Sink, D: dialect::Dialect>(
                     dialect,
                 },
             )?;
+            modal.assumed = [false; 2];
         }
         Read::Turning(job) => {
             if let Some(job) = &job {

@@ -72,6 +72,10 @@ pub struct Thread {
     /// Passes written after a cycle that continue its thread (a spring pass as a plain move, a
     /// single-pass cycle over the same span): they follow the cycle's passes in `passes`.
     pub extra_passes: u32,
+    /// The axes (X, Z) of the start point that were not known (a cycle shown without the lines
+    /// before it, read with [`program::Start::Unstated`]): the Z where each pass starts (on Z), the
+    /// retract X and the side (on X) are not known. Both false for every other thread.
+    pub unknown_start: [bool; 2],
 }
 
 impl Thread {
@@ -88,6 +92,7 @@ impl Thread {
             pass_spans,
             diameter_x,
             extra_passes: 0,
+            unknown_start: [false; 2],
         })
     }
 
@@ -313,6 +318,10 @@ pub struct Collector<C> {
     chain: Vec<Move>,
     chain_start: Option<(C, Setting, bool)>,
     open: Option<Open<C>>,
+    /// The axes of the start not known, of the passes of the thread being read or left open.
+    unknown: [bool; 2],
+    /// The axes of the next cycle's start not known ([`Collector::start_unknown`]).
+    next_unknown: [bool; 2],
 }
 
 impl<C: Clone> Collector<C> {
@@ -325,7 +334,15 @@ impl<C: Clone> Collector<C> {
             chain: Vec::new(),
             chain_start: None,
             open: None,
+            unknown: [false; 2],
+            next_unknown: [false; 2],
         }
+    }
+
+    /// The axes (X, Z) of the next cycle's start point that were not known
+    /// ([`crate::gcode::Modal::assumed`]): its thread says so.
+    pub fn start_unknown(&mut self, axes: [bool; 2]) {
+        self.next_unknown = axes;
     }
 
     /// Whether a thread written as moves (or as single-pass cycles) is being read: the moves now
@@ -398,6 +415,7 @@ impl<C: Clone> Collector<C> {
         out: &mut dyn FnMut(Found<C>),
     ) {
         self.end_chain(out);
+        let unknown = std::mem::take(&mut self.next_unknown);
         let box_cycle = job.geometry.depth == 0.0
             && matches!(&job.plan.law, DepthLaw::Explicit { depths } if depths.is_empty())
             && job.plan.finish_passes == 1;
@@ -438,6 +456,7 @@ impl<C: Clone> Collector<C> {
                     }
                     // The cycle's path ends back at its start point: its pass is complete.
                     self.end_chain(out);
+                    self.unknown = either(self.unknown, unknown);
                     return;
                 }
                 self.close(out);
@@ -453,6 +472,7 @@ impl<C: Clone> Collector<C> {
                     pass_spans,
                     diameter_x,
                     extra_passes: 0,
+                    unknown_start: unknown,
                 };
                 match key {
                     Some(key) => {
@@ -553,8 +573,10 @@ impl<C: Clone> Collector<C> {
                     });
                 }
             }
+            o.thread.unknown_start = either(o.thread.unknown_start, self.unknown);
             out(Found::Thread(Box::new(o.thread), o.ctxs));
         }
+        let unknown = std::mem::take(&mut self.unknown);
         let Some(b) = self.building.take() else {
             self.after.clear();
             return;
@@ -569,8 +591,17 @@ impl<C: Clone> Collector<C> {
             b.from_cycles,
             self.crest,
         );
+        let thread = Thread {
+            unknown_start: unknown,
+            ..thread
+        };
         out(Found::Thread(Box::new(thread), b.ctxs));
     }
+}
+
+/// Axis by axis, either not known.
+fn either(a: [bool; 2], b: [bool; 2]) -> [bool; 2] {
+    [a[0] || b[0], a[1] || b[1]]
 }
 
 /// A block that ends a thread being read: a tool change, the end of the program.
@@ -683,7 +714,10 @@ pub fn each_gcode_with<R: BufRead>(
             }
             // A turning cycle is no thread (its moves are not synchronised).
             Event::Settings { .. } | Event::Turning { .. } => {}
-            Event::Cycle { job, .. } => collector.cycle(*job, modal.diameter_x, || (), &mut push),
+            Event::Cycle { job, .. } => {
+                collector.start_unknown(modal.assumed);
+                collector.cycle(*job, modal.diameter_x, || (), &mut push)
+            }
         }
         drain(&mut queue)
     })?;
@@ -744,6 +778,39 @@ pub fn each_apt<R: BufRead>(
 }
 
 impl Thread {
+    /// What is not known of a thread whose start point was not ([`Thread::unknown_start`]), as a
+    /// sentence; `None` when the start is known.
+    pub fn start_note(&self) -> Option<String> {
+        let [x, z] = self.unknown_start;
+        if !x && !z {
+            return None;
+        }
+        let mut unknown = Vec::new();
+        if z {
+            unknown.push("the Z where each pass starts (the thread's length)");
+        }
+        if x {
+            unknown.push("the X the tool retracts to");
+        }
+        let axes = match (x, z) {
+            (true, true) => "X and Z",
+            (true, false) => "X",
+            _ => "Z",
+        };
+        let side = if x {
+            "; the thread is read as external (the start X above the thread's X, as the passes' X \
+             show): an internal thread needs its start point"
+        } else {
+            ""
+        };
+        Some(format!(
+            "the start point is not known (the tool's {axes} before the cycle): not known are {}{side}; \
+             the depths, increments, lateral offsets and chip areas do not depend on it; \
+             give the start point with --start X,Z for the rest",
+            unknown.join(" and ")
+        ))
+    }
+
     /// The section `passes` cuts for its simulated columns (chip area with the tool's real tip,
     /// share, cutting flank, chip thickness): the thread's own tool angle with `tip` (in program
     /// units). A tool the section cannot draw (a 0° angle, an absurd size) gives `None`, and the
@@ -769,6 +836,25 @@ pub fn passes_json(t: &Thread, section: Option<&crate::sim::Section>) -> serde_j
             Origin::Moves { .. } => "moves",
         };
         o.insert("source".into(), source.into());
+        if let Some(note) = t.start_note() {
+            // The Z where each pass starts is not known: null, never the assumed point's.
+            if t.unknown_start[1] {
+                if let Some(rows) = o.get_mut("passes").and_then(|p| p.as_array_mut()) {
+                    for r in rows.iter_mut().filter_map(|r| r.as_object_mut()) {
+                        r.insert("z".into(), serde_json::Value::Null);
+                    }
+                }
+            }
+            let axes: Vec<&str> = ["X", "Z"]
+                .into_iter()
+                .zip(t.unknown_start)
+                .filter_map(|(a, unknown)| unknown.then_some(a))
+                .collect();
+            o.insert(
+                "start_unknown".into(),
+                serde_json::json!({ "axes": axes, "note": note }),
+            );
+        }
         o.insert(
             "depth_from".into(),
             if t.crest_known() {
@@ -1066,6 +1152,7 @@ fn build(
         pass_spans: passes.iter().map(|p| p.chain[0].span).collect(),
         diameter_x: setting.diameter_x,
         extra_passes: 0,
+        unknown_start: [false; 2],
     }
 }
 

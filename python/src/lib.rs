@@ -22,7 +22,7 @@ use threadcut::interp::library::{Dirs, Library};
 use threadcut::machine::{built_in_name, Machine, NameError, ProfileKind, Stock};
 use threadcut::mill::profile::MillProfile;
 use threadcut::mill::{Comp, Direction, Hand, LeadIn, Request, Side};
-use threadcut::program::{Error, Options, Summary};
+use threadcut::program::{Error, Options, Start, Summary};
 use threadcut::sim::Tip;
 use threadcut::thread::standard;
 use threadcut::units::Units;
@@ -278,6 +278,32 @@ fn json_loads<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
     py.import("json")?.call_method1("loads", (text,))
 }
 
+/// The run's options with `start=(x, z)` (`--start X,Z`: the tool before the first line), else
+/// `otherwise` (`Start::Unstated` for `passes`: a cycle on its own gives its table), and the
+/// directories calls search (`include=`, `--include`).
+fn run_options(
+    py: Python<'_>,
+    start: Option<(f64, f64)>,
+    otherwise: Start,
+    include: Option<Vec<std::path::PathBuf>>,
+) -> PyResult<Options> {
+    let start = match start {
+        Some((x, z)) if x.is_finite() && z.is_finite() => Start::At { x, z },
+        Some((x, z)) => {
+            return Err(Problem::usage(format!(
+                "start=({x}, {z}): expected two finite numbers, X and Z"
+            ))
+            .error(py))
+        }
+        None => otherwise,
+    };
+    Ok(Options {
+        start,
+        library: library(include),
+        ..Options::default()
+    })
+}
+
 /// Text the library wrote (UTF-8: the program came in as `str`).
 fn text(bytes: Vec<u8>) -> String {
     String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
@@ -317,10 +343,17 @@ fn controllers_py() -> Vec<&'static str> {
 /// `deeper` change of the final depth to the window's middle, and `assumed`), or `{not_stated}`
 /// with the reason; `wire` the measuring wire one owns (the thread's units).
 ///
+/// `start=(x, z)` places the tool before the program's first line, as the program writes it at
+/// power-on (the profile's units, X on diameter where the control's X is; `--start X,Z`).
+/// Without it, a cycle whose start point is not known (a cycle shown on its own) still gives its
+/// pass table where the table does not depend on the start (Fanuc-family G76 and G92, the
+/// one-block G76, GSK's G78): its `z` is None and `start_unknown` (`{axes, note}`) says what is
+/// not known; LinuxCNC's G76, whose passes are placed from the drive line, raises `InputError`.
+///
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
 /// the controller refuses (at its line and column) or an unknown controller.
 #[pyfunction(name = "passes")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None))]
 #[allow(clippy::too_many_arguments)]
 fn passes_py<'py>(
     py: Python<'py>,
@@ -334,13 +367,11 @@ fn passes_py<'py>(
     stock_length: Option<f64>,
     stock_bore: Option<f64>,
     include: Option<Vec<std::path::PathBuf>>,
+    start: Option<(f64, f64)>,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let run_options = Options {
-        library: library(include),
-        ..Options::default()
-    };
     let m = resolve(py, controller, machine)?;
     let src = source(&program, &m);
+    let options = run_options(py, start, Start::Unstated, include)?;
     let stock = Stock {
         diameter: stock_diameter,
         face: stock_start,
@@ -358,7 +389,7 @@ fn passes_py<'py>(
         check::Options {
             thread,
             wire,
-            library: run_options.library.clone(),
+            library: options.library.clone(),
             ..check::Options::default()
         },
         stock,
@@ -371,7 +402,7 @@ fn passes_py<'py>(
                 || Ok(program.as_bytes()),
                 src,
                 Tip::Sharp,
-                &run_options,
+                &options,
                 &opts,
                 &mut out,
             )
@@ -390,20 +421,18 @@ fn passes_py<'py>(
 ///
 /// Raises `InputError` for a program the controller refuses or an unknown controller.
 #[pyfunction(name = "motions")]
-#[pyo3(signature = (program, controller, *, machine=None, include=None))]
+#[pyo3(signature = (program, controller, *, machine=None, include=None, start=None))]
 fn motions_py<'py>(
     py: Python<'py>,
     program: String,
     controller: &str,
     machine: Option<&Bound<'py, PyAny>>,
     include: Option<Vec<std::path::PathBuf>>,
+    start: Option<(f64, f64)>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let m = resolve(py, controller, machine)?;
-    let options = Options {
-        library: library(include),
-        ..Options::default()
-    };
     let src = source(&program, &m);
+    let options = run_options(py, start, Start::Unknown, include)?;
     let mut out = Vec::new();
     let summary = py
         .detach(|| {
@@ -441,7 +470,7 @@ fn motions_py<'py>(
 ///
 /// Raises `InputError` for a program the controller refuses or an unknown controller.
 #[pyfunction(name = "expand")]
-#[pyo3(signature = (program, controller, *, machine=None, flatten=false, include=None))]
+#[pyo3(signature = (program, controller, *, machine=None, flatten=false, include=None, start=None))]
 fn expand_py(
     py: Python<'_>,
     program: String,
@@ -449,13 +478,13 @@ fn expand_py(
     machine: Option<&Bound<'_, PyAny>>,
     flatten: bool,
     include: Option<Vec<std::path::PathBuf>>,
+    start: Option<(f64, f64)>,
 ) -> PyResult<String> {
     let m = resolve(py, controller, machine)?;
     let src = source(&program, &m);
     let options = Options {
         flatten,
-        library: library(include),
-        ..Options::default()
+        ..run_options(py, start, Start::Unknown, include)?
     };
     let mut out = Vec::new();
     let summary = py
@@ -493,7 +522,7 @@ fn expand_py(
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for an unknown
 /// controller or thread.
 #[pyfunction(name = "check")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None))]
 #[allow(clippy::too_many_arguments)]
 fn check_py<'py>(
     py: Python<'py>,
@@ -507,8 +536,10 @@ fn check_py<'py>(
     stock_length: Option<f64>,
     stock_bore: Option<f64>,
     include: Option<Vec<std::path::PathBuf>>,
+    start: Option<(f64, f64)>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let m = resolve(py, controller, machine)?;
+    let run = run_options(py, start, Start::Unknown, include)?;
     let thread = match thread {
         Some(name) => {
             Some(standard::lookup(name).map_err(|d| Problem::diagnostic(&d, None).error(py))?)
@@ -526,7 +557,8 @@ fn check_py<'py>(
         check::Options {
             thread,
             wire,
-            library: library(include),
+            library: run.library.clone(),
+            start: run.start,
             ..check::Options::default()
         },
         stock,
@@ -619,7 +651,7 @@ fn findings<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py, PyList
 /// `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an
 /// unknown controller, or a `cycle` the program does not have.
 #[pyfunction(name = "plot_svg")]
-#[pyo3(signature = (program, controller, *, machine=None, cycle=None, part=false, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None))]
+#[pyo3(signature = (program, controller, *, machine=None, cycle=None, part=false, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None))]
 #[allow(clippy::too_many_arguments)]
 fn plot_svg_py(
     py: Python<'_>,
@@ -633,13 +665,12 @@ fn plot_svg_py(
     stock_length: Option<f64>,
     stock_bore: Option<f64>,
     include: Option<Vec<std::path::PathBuf>>,
+    start: Option<(f64, f64)>,
 ) -> PyResult<String> {
     let m = resolve(py, controller, machine)?;
-    let run_options = Options {
-        library: library(include),
-        ..Options::default()
-    };
+
     let src = source(&program, &m);
+    let options = run_options(py, start, Start::Unknown, include)?;
     if cycle == Some(0) {
         return Err(Problem::usage("cycle=0: threads are counted from 1").error(py));
     }
@@ -659,7 +690,8 @@ fn plot_svg_py(
     let part_plot = commands::PartPlot {
         check: commands::with_stock(
             check::Options {
-                library: run_options.library.clone(),
+                library: options.library.clone(),
+                start: options.start,
                 ..check::Options::default()
             },
             stock,
@@ -674,7 +706,7 @@ fn plot_svg_py(
                 src,
                 Tip::Sharp,
                 selection,
-                &run_options,
+                &options,
                 &part_plot,
             )
         })

@@ -523,3 +523,44 @@ def test_include_finds_called_programs_as_the_command_does(cli):
     # Without it, the call is not found.
     with pytest.raises(threadcut.InputError):
         threadcut.motions(main.read_text(), "fanuc")
+# A cycle on its own (no line before it places the tool): FS15's one-block G76, mm. FS15's
+# profile: the least cut 0.1, the finishing allowance 0.05. Rough passes at D·√n, D = 0.485:
+# 0.485, 0.68589, 0.84004, 0.97, 1.08449, 1.188; 0.485·√7 = 1.28319 < 1.188 + 0.1 → 1.288, 1.388;
+# then K − 0.05 = 1.484; the finishing pass at K = 1.534. X (diameter) = 16.93 + 2·(K − d).
+G76_ALONE = "M3 S500\nG76 X16.93 Z-25. K1.534 D.485 F2.5\nM30\n"
+
+
+def test_passes_of_a_cycle_on_its_own(cli, tmp_path):
+    [cycle] = threadcut.passes(G76_ALONE, "fanuc15")
+    p = cycle["passes"]
+    depths = [0.485, 0.68589, 0.84004, 0.97, 1.08449, 1.188, 1.288, 1.388, 1.484, 1.534]
+    assert [r["depth"] for r in p] == pytest.approx(depths, abs=1e-5)
+    assert [r["x"] for r in p] == pytest.approx([16.93 + 2 * (1.534 - d) for d in depths], abs=1e-5)
+    assert all(r["z"] is None for r in p)
+    assert cycle["start_unknown"]["axes"] == ["X", "Z"]
+    assert "the Z where each pass starts" in cycle["start_unknown"]["note"]
+    # The command's table, the same.
+    path = tmp_path / "alone.nc"
+    path.write_text(G76_ALONE)
+    assert cli.json("passes", str(path), "-c", "fanuc15", "--json")["cycles"] == [cycle]
+
+
+def test_start_places_the_tool(cli, tmp_path):
+    with pytest.raises(threadcut.InputError, match="the tool's X and Z are not known here") as e:
+        threadcut.expand(G76_ALONE, "fanuc15")
+    assert "--start X,Z" in e.value.hint
+    # Given the start, the table is the same, with Z: pass 1 at Z5 plus its flank shift
+    # (1.534 − 0.485)·tan 30° = 0.60564.
+    [cycle] = threadcut.passes(G76_ALONE, "fanuc15", start=(22.0, 5.0))
+    assert "start_unknown" not in cycle
+    assert cycle["passes"][0]["z"] == pytest.approx(5.60564, abs=1e-5)
+    # A start below the crest (16.93 + 2·1.534 = 19.998): the return between passes would cut
+    # through the thread.
+    found = threadcut.check(G76_ALONE, "fanuc15", start=(18.0, 5.0))
+    assert [f["code"] for f in found if f["level"] == "error"] == ["E007"]
+    assert not [f for f in threadcut.check(G76_ALONE, "fanuc15", start=(22.0, 5.0)) if f["level"] == "error"]
+    path = tmp_path / "alone.nc"
+    path.write_text(G76_ALONE)
+    assert threadcut.expand(G76_ALONE, "fanuc15", start=(22.0, 5.0)) == cli.out(
+        "expand", str(path), "-c", "fanuc15", "--start", "22,5"
+    )

@@ -102,6 +102,10 @@ pub struct Options {
     /// A call of a subroutine the program defines, run instead of its main program (`--call`,
     /// [`program::Options::call`]).
     pub call: Option<String>,
+    /// Where the tool is before the program's first line (`--start X,Z`, program units at
+    /// power-on): a cycle shown without the lines before it starts there. [`program::Start::At`]
+    /// or [`program::Start::Unknown`]: a check judges motion only from a start it is given.
+    pub start: program::Start,
 }
 
 impl Default for Options {
@@ -117,6 +121,7 @@ impl Default for Options {
             max_blocks: program::Options::default().max_blocks,
             library: None,
             call: None,
+            start: program::Start::Unknown,
         }
     }
 }
@@ -619,6 +624,11 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
         max_blocks: opts.max_blocks,
         library: opts.library.clone(),
         call: opts.call.clone(),
+        // A start the check is not given is not assumed: the motion from it is not known.
+        start: match opts.start {
+            program::Start::Unstated => program::Start::Unknown,
+            given => given,
+        },
         ..program::Options::default()
     };
     let mut work_system = None;

@@ -393,7 +393,7 @@ impl Gsk {
                 "G78 needs the thread end point: X (or U) and Z (or W)",
             ));
         }
-        let a = super::start_point(
+        let a = super::start_point_unstated(
             modal,
             g78,
             "G78",

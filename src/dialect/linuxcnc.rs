@@ -587,7 +587,9 @@ impl G76Drive {
                 g76,
                 "G76",
                 "starts its drive line where the tool is",
-                "position the tool with G0 X.. Z.. before the cycle",
+                "every pass is placed from the drive line (its X is the drive line's X, I and the \
+                 depth), so without the tool's position there is no pass table: position the tool \
+                 with G0 X.. Z.. before the cycle",
             )
         })?;
         let z_end = if modal.absolute {

@@ -503,6 +503,22 @@ pub(crate) fn start_point(
         .ok_or_else(|| unknown_start(modal, cycle, name, "starts where the tool is", hint))
 }
 
+/// Where a threading cycle starts whose pass table does not depend on its start point (the depth
+/// of each pass from the thread height and the first depth, the X of each pass programmed): as
+/// [`start_point`], but a run that allows it ([`Modal::start_unstated`]: `passes` for a cycle shown
+/// on its own) takes an unknown axis at [`crate::gcode::modal::UNSTATED_START`] and marks it, and
+/// what depends on it (the Z where each pass starts, the retract, the side) is reported not known.
+pub(crate) fn start_point_unstated(
+    modal: &mut Modal,
+    cycle: Span,
+    name: &str,
+    hint: &str,
+) -> Result<crate::units::Pos> {
+    modal
+        .start_or_unstated()
+        .ok_or_else(|| unknown_start(modal, cycle, name, "starts where the tool is", hint))
+}
+
 /// The error of a cycle whose start point is not known: it names the axes that are not.
 #[cold]
 pub(crate) fn unknown_start(
@@ -522,7 +538,9 @@ pub(crate) fn unknown_start(
             if axes.len() == 1 { "is" } else { "are" }
         ),
     )
-    .with_hint(hint)
+    .with_hint(format!(
+        "{hint}; for a cycle shown without the lines before it, give the start point (--start X,Z)"
+    ))
 }
 
 /// Warns when one lead is longer than the thread's Z travel: each pass turns the spindle less than

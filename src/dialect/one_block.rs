@@ -450,7 +450,7 @@ pub fn read_g76(
         None => 0.0,
     };
     let taper = line.word(b'I').map_or(0.0, |i| modal.length_mm(i));
-    let start = super::start_point(
+    let start = super::start_point_unstated(
         modal,
         g76,
         name,

@@ -430,7 +430,24 @@ pub struct Modal {
     /// An arc's I/K are the centre itself, not its distance from the start (LinuxCNC's G90.1,
     /// which its dialect tracks; false at power-on and on every other control).
     pub arc_centre_absolute: bool,
+    /// A threading cycle whose pass table does not depend on its start point may start where the
+    /// tool's position is not known ([`Modal::assume_start`]; `passes` for a cycle shown without
+    /// the lines before it). False: such a cycle is refused, as the control would have no start.
+    pub start_unstated: bool,
+    /// The axes (X, Z) of the current cycle's start point that were not known and were taken at
+    /// [`UNSTATED_START`]: what depends on them is not known. Cleared after the cycle's event.
+    pub assumed: [bool; 2],
 }
+
+/// Where a cycle's start is taken on an axis whose position is not known, when the run allows it
+/// ([`Modal::start_unstated`]), in mm, X a radius: far outside any lathe's part, so that the side
+/// reads as external (the start X above the thread's X) and the start Z lies before the thread's
+/// end on the usual side (a thread cut toward −Z). Nothing placed from it is ever reported: the
+/// columns that depend on it are not known.
+pub const UNSTATED_START: Pos = Pos {
+    x: 10_000.0,
+    z: 10_000.0,
+};
 
 impl Modal {
     /// `no_point`: the worth of a number written without a decimal point, in mm and in inch
@@ -452,6 +469,45 @@ impl Modal {
             work_system: conv.positions.power_on_work_system,
             vocabulary: None,
             arc_centre_absolute: false,
+            start_unstated: false,
+            assumed: [false; 2],
+        }
+    }
+
+    /// The tool placed at (`x`, `z`) as the program writes them at power-on (its units, X on
+    /// diameter where the control's X is), before the program's first line (`--start X,Z`).
+    pub fn place(&mut self, x: f64, z: f64) {
+        self.position = Position::at(Pos::new(self.x_to_mm(x), self.units.to_mm(z)));
+    }
+
+    /// Where a cycle starts whose pass table does not depend on its start point: the tool's
+    /// position, its unknown axes taken at [`UNSTATED_START`] and marked [`assumed`](Modal::assumed)
+    /// when the run allows it (`None` otherwise, and the cycle is refused).
+    pub fn start_or_unstated(&mut self) -> Option<Pos> {
+        let p = self.position;
+        self.assumed = [p.x.is_none(), p.z.is_none()];
+        if let Some(known) = p.known() {
+            return Some(known);
+        }
+        if !self.start_unstated {
+            self.assumed = [false; 2];
+            return None;
+        }
+        Some(Pos::new(
+            p.x.unwrap_or(UNSTATED_START.x),
+            p.z.unwrap_or(UNSTATED_START.z),
+        ))
+    }
+
+    /// After a cycle: the tool at `end`, except on an axis whose start was not known (the cycle
+    /// returns there).
+    pub fn cycle_ended(&mut self, end: Pos) {
+        self.position = Position::at(end);
+        if self.assumed[0] {
+            self.position.x = None;
+        }
+        if self.assumed[1] {
+            self.position.z = None;
         }
     }
 
@@ -544,6 +600,18 @@ impl Modal {
                 return Err(axis_twice(first, w));
             }
             let is_x = matches!(w.letter, b'X' | b'U');
+            if incremental && self.assumed[usize::from(!is_x)] {
+                return Err(Diagnostic::error(
+                    Code::UnknownPosition,
+                    w.span,
+                    format!(
+                        "{} counts from the cycle's start point, and the tool's {} is not known here",
+                        w.letter as char,
+                        if is_x { "X" } else { "Z" }
+                    ),
+                )
+                .with_hint("write the end point in absolute coordinates, or give the start point (--start X,Z)"));
+            }
             let v = if is_x {
                 self.x_to_mm(self.value(w))
             } else {

@@ -303,8 +303,8 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
             }
             Read::Cycle(job) => {
                 self.summary.cycles += 1;
-                self.modal.position = Position::at(job.end_point());
-                self.sink.interpreted(
+                self.modal.cycle_ended(job.end_point());
+                let done = self.sink.interpreted(
                     &self.modal,
                     Event::Cycle {
                         line: &line,
@@ -312,7 +312,9 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
                         dialect: &self.dialect,
                     },
                     &at,
-                )
+                );
+                self.modal.assumed = [false; 2];
+                done
             }
             Read::Turning(job) => {
                 if let Some(job) = &job {

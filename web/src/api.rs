@@ -6,7 +6,7 @@ use serde_json::{json, Map, Value};
 
 use threadcut::check::{self, Source};
 use threadcut::commands;
-use threadcut::diag::Diagnostic;
+use threadcut::diag::{Code, Diagnostic, Severity};
 use threadcut::machine::{Machine, Stock, BUILT_IN};
 use threadcut::program::{self, Error};
 use threadcut::render;
@@ -157,6 +157,10 @@ struct AnalyseRequest {
     stock_length: Option<f64>,
     #[serde(default)]
     stock_bore: Option<f64>,
+    /// Where the tool is before the program's first line, `[x, z]` as the program writes them at
+    /// power-on (`--start X,Z`); absent: not known.
+    #[serde(default)]
+    start: Option<[f64; 2]>,
 }
 
 /// What an analysis lists besides its findings, and the stock it checks with.
@@ -165,6 +169,8 @@ struct Listing {
     motions: bool,
     max_cycles: usize,
     stock: Stock,
+    /// `--start X,Z`, or not known.
+    start: program::Start,
 }
 
 fn yes() -> bool {
@@ -186,6 +192,10 @@ pub fn analyse(request: &str) -> Value {
                     face: r.stock_start,
                     length: r.stock_length,
                     bore: r.stock_bore,
+                },
+                start: match r.start {
+                    Some([x, z]) if x.is_finite() && z.is_finite() => program::Start::At { x, z },
+                    _ => program::Start::Unknown,
                 },
             },
         ),
@@ -222,6 +232,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
             motions: true,
             max_cycles: usize::MAX,
             stock: Stock::default(),
+            start: program::Start::Unknown,
         },
     )
 }
@@ -260,11 +271,22 @@ fn analyse_with(
     let mut lines = 0;
     let mut blanks = Vec::new();
     let mut part = None;
-    let opts = commands::with_stock(check::Options::default(), listing.stock, Some(&machine));
+    let opts = check::Options {
+        start: listing.start,
+        ..commands::with_stock(check::Options::default(), listing.stock, Some(&machine))
+    };
+    // A cycle on its own (the check stopped where a cycle's start is not known): its pass table
+    // is still shown where it does not depend on the start, as `passes` gives it.
+    let mut start_unknown = false;
     match check::check(text.as_bytes(), Source::Gcode(&machine), &opts) {
         Ok(report) => {
             lines = report.lines;
             failed = report.stopped;
+            start_unknown = report.stopped
+                && report
+                    .diagnostics
+                    .iter()
+                    .any(|d| d.code == Code::UnknownPosition && d.severity == Severity::Error);
             // The part picture from this check, as `plot` composes it (`commands::plot_program`).
             part = Some(commands::part_picture(&report.part, machine.units))
                 .filter(|p| p.worth_drawing());
@@ -290,8 +312,20 @@ fn analyse_with(
     // The pass tables, thread by thread.
     let mut cycles = Vec::new();
     let mut cycles_total = 0usize;
-    if !failed {
-        let run = threads::each_gcode(text.as_bytes(), &machine, None, |t| {
+    let options = program::Options {
+        start: listing.start,
+        ..program::Options::default()
+    };
+    if !failed || start_unknown {
+        let tables = program::Options {
+            start: if start_unknown {
+                program::Start::Unstated
+            } else {
+                listing.start
+            },
+            ..options.clone()
+        };
+        let run = threads::each_gcode_with(text.as_bytes(), &machine, None, &tables, |t| {
             cycles_total += 1;
             if cycles.len() >= listing.max_cycles {
                 return Ok(());
@@ -306,8 +340,11 @@ fn analyse_with(
             cycles.push(threads::passes_json(&t, section.as_ref()));
             Ok(())
         });
-        if let Err(e) = run {
-            fail(e, &mut diagnostics, &mut failed);
+        match run {
+            // The check said it already (a LinuxCNC G76, whose passes depend on its start).
+            Err(_) if start_unknown => {}
+            Err(e) => fail(e, &mut diagnostics, &mut failed),
+            Ok(_) => {}
         }
     }
 
@@ -317,14 +354,14 @@ fn analyse_with(
     let mut motions_total = 0usize;
     if !failed {
         let mut buf = Vec::new();
-        match program::expand_gcode(text.as_bytes(), &mut buf, &machine) {
+        match program::expand_gcode_with(text.as_bytes(), &mut buf, &machine, &options) {
             Ok(_) => gcode = Some(String::from_utf8_lossy(&buf).into_owned()),
             Err(e) => fail(e, &mut diagnostics, &mut failed),
         }
     }
     if !failed && listing.motions {
         let mut buf = Vec::new();
-        match program::expand_jsonl(text.as_bytes(), &mut buf, &machine) {
+        match program::expand_jsonl_with(text.as_bytes(), &mut buf, &machine, &options) {
             Ok(_) => {
                 for l in String::from_utf8_lossy(&buf).lines() {
                     motions_total += 1;

@@ -528,3 +528,40 @@ fn thread_gives_wires_and_gauges() {
         "{tr}"
     );
 }
+
+/// A cycle pasted on its own: the check says it cannot start without the tool's position, and
+/// the pass table is shown all the same (the Z column null, the note saying what is not known);
+/// with `start` the program is expanded. FS15's one-block G76: pass 1 at D = 0.485 below the
+/// crest, X = 16.93 + 2·(1.534 − 0.485) = 19.028.
+#[test]
+fn a_cycle_on_its_own_shows_its_pass_table() {
+    let program = "M3 S500\nG76 X16.93 Z-25. K1.534 D.485 F2.5\nM30\n";
+    let out = api::analyse(&json!({"controller": "fanuc15", "program": program}).to_string());
+    assert_eq!(out["ok"], false, "{out}");
+    let errors: Vec<&Value> = out["diagnostics"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|d| d["severity"] == "error")
+        .collect();
+    assert_eq!(errors.len(), 1, "{out}");
+    assert_eq!(errors[0]["code"], "E006");
+    let cycle = &out["cycles"][0];
+    assert!(
+        (cycle["passes"][0]["x"].as_f64().unwrap() - 19.028).abs() < 1e-6,
+        "{cycle}"
+    );
+    assert!(cycle["passes"][0]["z"].is_null());
+    assert!(cycle["start_unknown"]["note"]
+        .as_str()
+        .unwrap()
+        .contains("the start point is not known"));
+    assert!(out["gcode"].is_null(), "{out}");
+
+    let out = api::analyse(
+        &json!({"controller": "fanuc15", "program": program, "start": [22.0, 5.0]}).to_string(),
+    );
+    assert_eq!(out["ok"], true, "{out}");
+    assert!(out["cycles"][0].get("start_unknown").is_none());
+    assert!(out["gcode"].as_str().unwrap().contains("X19.028"));
+}

@@ -377,7 +377,7 @@ function show(r) {
     const n = (v) => v.toFixed(d);
     const rows = cycle.passes.map((p) =>
       `<tr class="${p.kind}"><td>${p.n}</td><td>${p.kind}</td><td>${n(p.depth)}</td><td>${n(p.increment)}</td>` +
-      `<td>${n(p.x)}</td><td>${n(p.z)}</td><td>${p.area.toFixed(d + 2)}</td><td>${(p.share * 100).toFixed(1)}%</td>` +
+      `<td>${n(p.x)}</td><td>${p.z === null ? '?' : n(p.z)}</td><td>${p.area.toFixed(d + 2)}</td><td>${(p.share * 100).toFixed(1)}%</td>` +
       (p.sim_area !== undefined ? `<td>${p.cutting_flank}</td>` : '') + '</tr>').join('');
     const flank = cycle.passes.length && cycle.passes[0].sim_area !== undefined ? '<th>cutting flank</th>' : '';
     const what = cycle.source === 'moves'
@@ -386,6 +386,7 @@ function show(r) {
     const from = cycle.depth_from === 'first_pass' ? '; depths from the first pass: the crest is not known' : '';
     passes.insertAdjacentHTML('beforeend',
       `<p>Line ${cycle.line}: ${what} (${units}; depth radial, X as programmed${from})</p>` +
+      (cycle.start_unknown ? `<p class="muted">Note: ${esc(cycle.start_unknown.note)}</p>` : '') +
       `<table><thead><tr><th>pass</th><th>kind</th><th>depth</th><th>increment</th><th>x</th><th>z</th><th>area (${units}²)</th><th>share</th>${flank}</tr></thead>` +
       `<tbody>${rows}</tbody></table>`);
   }

@@ -48,6 +48,7 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
         max_blocks: args.run.max_blocks,
         library: args.run.library.clone(),
         call: args.run.call.clone(),
+        start: args.run.start,
         ..Options::default()
     };
     let (mut input, content) = input::open(file)?;

@@ -166,6 +166,25 @@ struct RunArgs {
     /// (Fanuc).
     #[arg(long = "call", value_name = "CALL")]
     call: Option<String>,
+    /// Where the tool is before the program's first line, as the program writes it at power-on
+    /// (the profile's units; X on diameter where the control's X is): for a cycle shown without
+    /// the lines that position the tool.
+    #[arg(long, value_name = "X,Z", value_parser = parse_start, allow_hyphen_values = true)]
+    start: Option<(f64, f64)>,
+}
+
+/// `--start X,Z`: two finite numbers.
+fn parse_start(text: &str) -> Result<(f64, f64), String> {
+    let expected = || format!("`{text}`: expected X,Z (two numbers, as --start 40,5)");
+    let (x, z) = text.split_once(',').ok_or_else(expected)?;
+    let number = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(expected)
+    };
+    Ok((number(x)?, number(z)?))
 }
 
 impl RunArgs {
@@ -180,6 +199,10 @@ impl RunArgs {
             flatten,
             library: self.library(machine),
             call: self.call.clone(),
+            start: match self.start {
+                Some((x, z)) => program::Start::At { x, z },
+                None => program::Start::Unknown,
+            },
         })
     }
 
@@ -792,7 +815,12 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
 /// `threadcut passes`: each cycle's pass table, of a G-code program or an APT/CL file. A G-code
 /// program without a thread is said on standard error.
 fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
-    let options = args.run.options(false, &args.machine)?;
+    let mut options = args.run.options(false, &args.machine)?;
+    // A cycle shown without the lines before it still has its pass table, where it does not
+    // depend on the start point (docs/cli.md, "A cycle on its own").
+    if options.start == program::Start::Unknown {
+        options.start = program::Start::Unstated;
+    }
     let format = if args.json {
         ReportFormat::Json
     } else {
@@ -814,6 +842,7 @@ fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
             max_blocks: options.max_blocks,
             library: options.library.clone(),
             call: options.call.clone(),
+            start: options.start,
             ..threadcut::check::Options::default()
         },
         args.stock.given()?,

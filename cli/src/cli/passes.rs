@@ -127,6 +127,10 @@ impl PassesWriter {
             if let Some(r) = self.reading(t) {
                 writeln!(out, "{}", commands::reading_text(&r, job.units))?;
             }
+            if let Some(note) = t.start_note() {
+                writeln!(out, "note: {note}")?;
+            }
+            let z_known = !t.unknown_start[1];
             writeln!(
                 out,
                 "{:>4}  {:<6} {:>10} {:>10} {:>11} {:>11} {:>10} {:>6} {:>10} {:>6}  {:<5}",
@@ -149,13 +153,17 @@ impl PassesWriter {
                 };
                 writeln!(
                     out,
-                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11.d$} {:>10.5} {:>5.1}% {:>10} {:>6}  {:<5}",
+                    "{:>4}  {:<6} {:>10.d$} {:>10.d$} {:>11.d$} {:>11} {:>10.5} {:>5.1}% {:>10} {:>6}  {:<5}",
                     r.n,
                     kind,
                     r.depth,
                     r.increment,
                     r.x,
-                    r.z,
+                    if z_known {
+                        format!("{:.d$}", r.z)
+                    } else {
+                        "?".into()
+                    },
                     r.area,
                     r.share * 100.0,
                     sim(i).map_or("-".into(), |s| format!("{:.5}", s.area / area_scale)),

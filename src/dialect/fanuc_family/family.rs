@@ -386,7 +386,7 @@ impl FanucFamily {
         &self,
         conv: &Conventions,
         line: &Line,
-        modal: &Modal,
+        modal: &mut Modal,
         span: Span,
         cycle: &str,
     ) -> Result<(Pos, Pos)> {
@@ -399,7 +399,7 @@ impl FanucFamily {
                 format!("{cycle} needs the thread end point: X (or U) and Z (or W)"),
             ));
         }
-        let a = start_point(modal, span, cycle)?;
+        let a = thread_start(modal, span, cycle)?;
         Ok((a, modal.target(conv, line, a)?))
     }
 
@@ -427,6 +427,17 @@ impl FanucFamily {
         }
         Ok(())
     }
+}
+
+/// Where a threading cycle (G76, G92) starts: its pass table does not depend on it
+/// ([`crate::dialect::start_point_unstated`]).
+pub(super) fn thread_start(modal: &mut Modal, span: Span, cycle: &str) -> Result<Pos> {
+    crate::dialect::start_point_unstated(
+        modal,
+        span,
+        cycle,
+        "position the tool with G00 X.. Z.. before the cycle",
+    )
 }
 
 pub(super) fn start_point(modal: &Modal, span: Span, cycle: &str) -> Result<Pos> {

@@ -30,7 +30,7 @@ impl FanucFamily {
         let (letters, format) = self.g92_words(conv);
         only_words(line, &letters, &format!("a {name} block"), &format)?;
         let lead = self.lead(conv, line, modal, span, &name)?;
-        let a = start_point(modal, span, &name)?;
+        let a = thread_start(modal, span, &name)?;
         let mut end = modal.target(conv, line, a)?;
         let has_z = line.word(b'Z').or(line.word(b'W')).is_some();
         let has_x = line.word(b'X').or(line.word(b'U')).is_some();
