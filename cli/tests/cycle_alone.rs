@@ -15,12 +15,10 @@ fn run(args: &[&str], src: &str) -> (i32, String, String) {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(src.as_bytes())
-        .unwrap();
+    // A usage error exits before reading: the program's bytes then meet a closed pipe.
+    if let Err(e) = child.stdin.take().unwrap().write_all(src.as_bytes()) {
+        assert_eq!(e.kind(), std::io::ErrorKind::BrokenPipe, "{e}");
+    }
     let out = child.wait_with_output().unwrap();
     (
         out.status.code().unwrap(),
