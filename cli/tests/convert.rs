@@ -11,8 +11,12 @@ use threadcut::toolpath::{self, MotionKind};
 use threadcut::translate::{job_to_string, Written};
 use threadcut::units::Pos;
 
+/// `text` written to a file of that name, in a directory of its own: tests run in parallel and
+/// several write a `t.nc` of their own.
 fn file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("threadcut-convert-{}", std::process::id()));
+    static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let dir = std::env::temp_dir().join(format!("threadcut-convert-{}-{n}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
