@@ -249,8 +249,9 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     modal.vocabulary = Some(dialect.vocabulary());
     let mut reader = Reader::new(input).with_syntax(conv.syntax);
     let macros = dialect.macros();
-    if macros.is_some_and(|m| m.lang == Lang::MacroB) {
-        // A Fanuc-style GOTO may jump back to a plain line before the first macro statement.
+    if macros.is_some_and(|m| m.lang != Lang::Ngc) {
+        // A Fanuc-style GOTO (a Sinumerik GOTOB) may jump back to a plain line before the first
+        // macro statement.
         reader.keep_prefix(crate::interp::PREFIX_KEPT);
     }
     let mut summary = Summary::default();
@@ -538,7 +539,7 @@ pub fn expand_gcode_with<R: BufRead>(
     let ending = LineEnding::peek(&mut input)?;
     let format = d.format();
     let distance_words = d.conventions().g90_g91_distance;
-    let keeps_prefix = d.macros().is_some_and(|m| m.lang == Lang::MacroB);
+    let keeps_prefix = d.macros().is_some_and(|m| m.lang != Lang::Ngc);
     drive(
         input,
         machine,

@@ -852,6 +852,46 @@ impl Dialect for Sinumerik {
     /// CYCLE97 takes a taper as the thread's crest diameters at SPL and FPL (S2, S5: "DM1 thread
     /// diameter at the starting point", "DM2 … at the end point"; inside, the tap hole's), the
     /// run-in APP before SPL on the same cone (docs/dialects/sinumerik.md, "Taper threads").
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        // Program flow, R parameters and DEF variables in expressions, PROC subprograms of the
+        // same file (docs/dialects/sinumerik.md, "Program flow"): the main program and 15
+        // subprogram levels.
+        Some(crate::interp::Syntax {
+            lang: crate::interp::Lang::Sinumerik,
+            max_call_depth: 16,
+            max_macro_depth: 0,
+            g65_operations: false,
+            m98_l_word: false,
+            m97_local_calls: false,
+            m99_p_jumps: false,
+            wide_commons: false,
+            plain_names: &[
+                PASSIVE_KEYWORDS,
+                PASSIVE_CALLS,
+                TURNING_CALLS,
+                FRAMES,
+                &["DIAMON", "DIAMOF", "DIAM90", "SUPA", "CYCLE97", "CYCLE99"],
+            ],
+        })
+    }
+
+    fn parameters(&self) -> Vec<(String, f64)> {
+        let r = self.r.iter().map(|(n, v)| (format!("R{n}"), *v));
+        r.chain(self.vars.iter().map(|(k, v)| (k.clone(), *v)))
+            .collect()
+    }
+
+    fn set_parameter(&mut self, name: &str, value: f64) {
+        match name.strip_prefix('R').and_then(|n| n.parse::<u32>().ok()) {
+            Some(n) => {
+                self.r.insert(n, value);
+            }
+            None => {
+                self.vars.insert(name.to_string(), value);
+            }
+        }
+    }
+
     fn cycle_taper(&self) -> Option<super::CycleTaper> {
         Some(super::CycleTaper::Diameters(super::TaperDiameters {
             cycles: "CYCLE97 DM1/DM2",

@@ -7,7 +7,8 @@
 //! [`code`]) and runs it ([`vm`]), handing every executed block back to the run loop as a line
 //! whose words carry evaluated values and whose spans point at the source text. Two front ends
 //! feed the one evaluator: LinuxCNC's o-words and parameters ([`ngc`]) and Fanuc's Custom Macro B
-//! ([`fanuc`], which GSK shares with its own `G65 H` operations). The dialect says which
+//! ([`fanuc`], which GSK shares with its own `G65 H` operations), and Sinumerik's NC language
+//! ([`sinumerik`]: R parameters, labels, structured flow, PROC subprograms in the same file). The dialect says which
 //! ([`crate::dialect::Dialect::macros`]); this module knows no controller by name.
 //!
 //! Every run is bounded: a number of executed blocks (`--max-blocks`), a budget of expression
@@ -19,6 +20,7 @@ pub(crate) mod expr;
 pub(crate) mod fanuc;
 pub(crate) mod ngc;
 pub(crate) mod scan;
+pub(crate) mod sinumerik;
 pub mod text;
 pub(crate) mod vm;
 
@@ -51,6 +53,9 @@ pub struct Syntax {
     /// `#10000`–`#10999` are common variables too (Haas's NGC numbering of its general-purpose
     /// variables), besides `#100`–`#199` and `#500`–`#999`.
     pub wide_commons: bool,
+    /// Names a block may hold that are the dialect's words, not calls of subprograms (Sinumerik's
+    /// keywords and the calls of its cycles): a line of them is no reason to interpret.
+    pub plain_names: &'static [&'static [&'static str]],
 }
 
 impl Syntax {
@@ -65,6 +70,7 @@ impl Syntax {
         m97_local_calls: false,
         m99_p_jumps: false,
         wide_commons: false,
+        plain_names: &[],
     };
 }
 
@@ -109,13 +115,24 @@ impl Syntax {
         match self.lang {
             Lang::Ngc => ngc::looks_like_macro(text),
             Lang::MacroB => fanuc::looks_like_macro(text),
+            Lang::Sinumerik => sinumerik::looks_like_macro(text, self.plain_names),
         }
     }
 
     /// What a lexed line is to the interpreter. Cheap for most lines (the word summary answers).
     #[inline]
     pub fn control(&self, line: &Line) -> Control {
-        if !line.summary.may_be_control() {
+        if line.shape.unread {
+            // A line in the control's own syntax (Sinumerik's): program flow, a label, a call by
+            // name or an expression take the interpreter.
+            return if self.looks_like_macro(line.text) {
+                Control::Interpret
+            } else {
+                Control::No
+            };
+        }
+        // (Sinumerik's address words are none of the interpreter's: its calls are names.)
+        if !line.summary.may_be_control() || self.lang == Lang::Sinumerik {
             return Control::No;
         }
         self.control_words(line)
@@ -167,6 +184,7 @@ pub(crate) fn compile(text: Text, syntax: &Syntax, lexer: crate::gcode::Syntax) 
     match syntax.lang {
         Lang::Ngc => ngc::compile(text, lexer),
         Lang::MacroB => fanuc::compile(text, syntax, lexer),
+        Lang::Sinumerik => sinumerik::compile(text, syntax, lexer),
     }
 }
 

@@ -188,7 +188,7 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
             shape: LineShape {
                 block_delete,
                 percent: false,
-                unread: false,
+                unread: ctx.unread,
             },
             before: &[],
             summary: WordSummary::of(words),
@@ -286,6 +286,14 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
 
     fn warn(&mut self, d: Diagnostic) {
         self.summary.warnings.push(d);
+    }
+
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.dialect.parameters()
+    }
+
+    fn set_parameter(&mut self, name: &str, value: f64) {
+        self.dialect.set_parameter(name, value);
     }
 
     // issue 23: a turning cycle's profile subroutine (LinuxCNC's G7x Q).

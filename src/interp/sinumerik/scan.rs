@@ -1,0 +1,132 @@
+//! Whether a line the dialect would read itself needs the interpreter: program flow, a label, a
+//! call of a subprogram by name, or a computed value.
+
+/// The words that begin program flow in Sinumerik's language.
+pub(super) const FLOW: &[&str] = &[
+    "IF", "ELSE", "ENDIF", "WHILE", "ENDWHILE", "FOR", "ENDFOR", "LOOP", "ENDLOOP", "REPEAT",
+    "REPEATB", "UNTIL", "GOTO", "GOTOF", "GOTOB", "GOTOC", "PROC", "RET", "CALL",
+];
+
+/// Whether `text` (a line in Sinumerik's own syntax) holds program flow, a label, a call by name
+/// or an expression. `plain` lists the names that are the dialect's own words.
+pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
+    let mut k = 0;
+    let mut first = true;
+    while k < text.len() {
+        let c = text[k];
+        match c {
+            b';' => break,
+            b'"' => {
+                k += 1;
+                while k < text.len() && text[k] != b'"' {
+                    k += 1;
+                }
+                k += 1;
+            }
+            c if (c.is_ascii_alphabetic() || c == b'_')
+                && !(k > 0 && (text[k - 1].is_ascii_alphanumeric() || text[k - 1] == b'.')) =>
+            {
+                let mut e = k;
+                while e < text.len() && (text[e].is_ascii_alphanumeric() || text[e] == b'_') {
+                    e += 1;
+                }
+                if needs_interpreter(text, k, e, first, plain) {
+                    return true;
+                }
+                first = false;
+                k = e;
+            }
+            _ => k += 1,
+        }
+    }
+    false
+}
+
+/// Whether the name at `k..e` takes the interpreter.
+fn needs_interpreter(text: &[u8], k: usize, e: usize, first: bool, plain: &[&[&str]]) -> bool {
+    let name = String::from_utf8_lossy(&text[k..e]).to_ascii_uppercase();
+    let mut n = e;
+    while n < text.len() && matches!(text[n], b' ' | b'\t') {
+        n += 1;
+    }
+    let next = text.get(n).copied().unwrap_or(0);
+    if FLOW.contains(&name.as_str()) {
+        return true;
+    }
+    if next == b':' && text.get(n + 1) != Some(&b'=') && first && name.len() >= 2 {
+        // A jump label.
+        return true;
+    }
+    if next == b'=' && text.get(n + 1) != Some(&b'=') {
+        return computed(text, n + 1);
+    }
+    // A letter and a number: an address word.
+    let second = text.get(k + 1).copied().unwrap_or(0);
+    if second.is_ascii_digit() || matches!(second, b'.' | b'-' | b'+') || e == k + 1 {
+        return false;
+    }
+    const DECLARATIONS: &[&str] = &[
+        "DEF", "EXTERN", "REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME",
+    ];
+    let own = name.starts_with("CYCLE") || DECLARATIONS.contains(&name.as_str());
+    !own && !plain.iter().any(|list| list.contains(&name.as_str()))
+}
+
+/// Whether the value after an `=` at `k` is an expression (more than a signed number or name).
+fn computed(text: &[u8], mut k: usize) -> bool {
+    while k < text.len() && matches!(text[k], b' ' | b'\t') {
+        k += 1;
+    }
+    if matches!(text.get(k), Some(b'-' | b'+')) {
+        k += 1;
+    }
+    if text.get(k) == Some(&b'"') {
+        return false;
+    }
+    let start = k;
+    while k < text.len() && (text[k].is_ascii_alphanumeric() || matches!(text[k], b'_' | b'.')) {
+        k += 1;
+    }
+    if k == start {
+        return true;
+    }
+    matches!(
+        text.get(k),
+        Some(b'+' | b'-' | b'*' | b'/' | b'(' | b'[' | b'<' | b'>' | b'=')
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flow_labels_calls_and_expressions_take_the_interpreter() {
+        let plain: &[&[&str]] = &[&["DIAMON", "STOPRE", "MSG"]];
+        for yes in [
+            "IF R1==R2 GOTOF END2",
+            "PRAV: G0 X10",
+            "N20 GOTOB PRAV",
+            "BAR_CENTR",
+            "THREAD_PASS(1.5, 2)",
+            "G33 Z=R6+R3 K=R5",
+            "X=(R1) Z0",
+            "WHILE R1<5",
+        ] {
+            assert!(looks_like_macro(yes.as_bytes(), plain), "{yes}");
+        }
+        for no in [
+            "G0 X10 Z5",
+            "DIAMON",
+            "R1=2.5 R2=-3",
+            "X=R1 Z=-R2",
+            "CYCLE97(2,,0,-30,20,20,3,3,1.227,0.05,0,0,5,1,3,1)",
+            "MSG(\"IF a GOTOF b\")",
+            "T=\"THREAD\" D1 ; IF in a comment",
+            "SF=90",
+            "DEF REAL DEPTH=1.5",
+        ] {
+            assert!(!looks_like_macro(no.as_bytes(), plain), "{no}");
+        }
+    }
+}
