@@ -291,7 +291,8 @@ impl Compiler {
             }
             let name = String::from_utf8_lossy(&cur.line.text[k..end]).to_ascii_uppercase();
             let (c, eq) = cur.next_char(end);
-            if c != b'=' || cur.at(eq + 1) == b'=' {
+            if c != b'=' || cur.at(eq + 1) == b'=' || cur.next_char(eq + 1).0 == b'"' {
+                // A keyword, a call, a comparison or a name given as text (`T="TOOL"`).
                 return Ok(None);
             }
             let target = if name.len() == 1 {

@@ -12,6 +12,10 @@ pub(super) const FLOW: &[&str] = &[
 pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
     let mut k = 0;
     let mut first = true;
+    if text.iter().find(|c| !c.is_ascii_whitespace()) == Some(&b'%') {
+        // The program's header, `%_N_NAME_MPF`.
+        return false;
+    }
     while k < text.len() {
         let c = text[k];
         match c {
@@ -125,6 +129,8 @@ mod tests {
             "T=\"THREAD\" D1 ; IF in a comment",
             "SF=90",
             "DEF REAL DEPTH=1.5",
+            "%_N_SHAFT_M24_MPF",
+            "N30 T=\"ROUGHING_80\" D1",
         ] {
             assert!(!looks_like_macro(no.as_bytes(), plain), "{no}");
         }
