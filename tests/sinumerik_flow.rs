@@ -219,6 +219,43 @@ fn if_else_endif_while_for_loop_and_repeat() {
 }
 
 #[test]
+fn repeat_with_labels_runs_a_section_again() {
+    let src = format!(
+        "{HEAD}R1=0\n\
+         G0 X0 Z0\n\
+         START: R1=R1+1\n\
+         G0 Z=-R1\n\
+         REPEAT START P=2\n\
+         ONE: R1=R1+1 G0 X=R1*2\n\
+         REPEATB ONE P=2\n\
+         REPEAT START ONE\n\
+         M30\n"
+    );
+    // START..(the block before REPEAT) has run once; P=2 runs it twice more: Z −1, −2, −3.
+    // ONE: R1 4, X8 (radius 4); REPEATB runs that block twice more: radius 5, 6.
+    // REPEAT START ONE runs START to ONE once more, the inner REPEAT with it: Z −7, then −8 and
+    // −9, then ONE: R1 10, radius 10.
+    assert_points(
+        &points(&src),
+        &[
+            (0.0, 0.0),
+            (0.0, -1.0),
+            (0.0, -2.0),
+            (0.0, -3.0),
+            (4.0, -3.0),
+            (5.0, -3.0),
+            (6.0, -3.0),
+            (6.0, -7.0),
+            (6.0, -8.0),
+            (6.0, -9.0),
+            (10.0, -9.0),
+        ],
+    );
+    let e = error(&format!("{HEAD}R1=0\nREPEAT NOWHERE P=2\nM30\n"));
+    assert!(e.message.contains("NOWHERE") && e.span.line == 3, "{e}");
+}
+
+#[test]
 fn procs_called_by_name_with_parameters_and_a_repeat_count() {
     let src = format!(
         "{HEAD}G0 X50 Z5\n\

@@ -669,9 +669,9 @@ impl Sinumerik {
                 return Err(Diagnostic::error(
                     Code::Unsupported,
                     span,
-                    format!("{n}: threadcut reads a program from top to bottom and does not follow program flow"),
+                    format!("{n}: threadcut does not follow this program flow"),
                 )
-                .with_hint("threadcut runs the macro languages of LinuxCNC and the Fanuc family, not Sinumerik's: unroll the program (or run it in the control's simulation) before expanding it"))
+                .with_hint("threadcut follows labels and GOTOF/GOTOB/GOTO/GOTOC, IF/ELSE/ENDIF, WHILE, FOR, LOOP, REPEAT/UNTIL and the PROCs of the same file (docs/dialects/sinumerik.md, \"Program flow\"); not CASE, MCALL, PCALL or REPEAT with labels"))
             }
             n if FRAMES.contains(&n) => return Err(frame_refused(n, span)),
             n => {
@@ -680,7 +680,7 @@ impl Sinumerik {
                     span,
                     format!("{n} is not a word threadcut reads on Sinumerik"),
                 )
-                .with_hint("a name alone calls a subprogram, which threadcut does not follow"))
+                .with_hint("a name alone calls a subprogram: threadcut follows the PROCs of the same file, and this program defines no PROC of this name"))
             }
         }
         Ok(false)

@@ -130,6 +130,9 @@ pub enum CallKind {
     /// Sinumerik: a subprogram (`PROC NAME(params)`) called by name; its parameters and DEF
     /// variables are its own.
     Proc,
+    /// Sinumerik's `REPEAT`/`REPEATB` with labels: a section of the same program run again,
+    /// with the same variables.
+    Section,
 }
 
 #[derive(Clone, Debug)]
@@ -142,6 +145,8 @@ pub enum CallTarget {
     Program { number: Expr, packed: bool },
     /// A sequence number in Fanuc-style program `program` (Haas's local subprogram, `M97 P…`).
     Label { label: Expr, program: u32 },
+    /// A section of the program: its first instruction and the one after its last.
+    Section { first: u32, end: u32 },
 }
 
 #[derive(Clone, Debug)]

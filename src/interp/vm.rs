@@ -337,6 +337,8 @@ pub struct Vm<'c> {
     words: Vec<Word>,
     budget: Budget,
     executed: u64,
+    /// Sinumerik's sections being repeated (`REPEAT LABEL P=n`), innermost last.
+    sections: Vec<Section>,
     /// The last backward jump: the loop's first line and the line that jumped.
     last_loop: Option<(u32, u32)>,
 }
@@ -378,6 +380,7 @@ impl<'c> Vm<'c> {
                 steps_left: limits.max_blocks.saturating_mul(STEPS_PER_BLOCK),
             },
             executed: 0,
+            sections: Vec::new(),
             last_loop: None,
         }
     }
@@ -389,6 +392,9 @@ impl<'c> Vm<'c> {
         }
         let mut pc = start;
         loop {
+            if !self.sections.is_empty() {
+                pc = self.section_end(pc);
+            }
             let Some(inst) = self.code.insts.get(pc as usize) else {
                 self.end_of_text(pc)?;
                 break;
@@ -950,6 +956,7 @@ impl<'c> Vm<'c> {
             CallKind::OWord => self.call_oword(pc, call, host).map_err(Into::into),
             CallKind::M98 | CallKind::G65 => self.call_program(pc, call, host).map_err(Into::into),
             CallKind::Proc => self.call_proc(pc, call, host).map_err(Into::into),
+            CallKind::Section => self.repeat_section(pc, call, host).map_err(Into::into),
         }
     }
 
@@ -961,7 +968,9 @@ impl<'c> Vm<'c> {
                 let n = whole(Lang::Ngc, v, self.code.exprs.span(*e))?;
                 self.code.exprs.find(&n.to_string())
             }
-            CallTarget::Program { .. } | CallTarget::Label { .. } => None,
+            CallTarget::Program { .. } | CallTarget::Label { .. } | CallTarget::Section { .. } => {
+                None
+            }
         };
         let entry = name.and_then(|id| self.code.subs.get(&id).copied());
         let Some(entry) = entry else {
@@ -1023,7 +1032,7 @@ impl<'c> Vm<'c> {
             CallTarget::Label { label, program } => {
                 return self.call_label(pc, call, *label, *program, host)
             }
-            CallTarget::Name(_) | CallTarget::Number(_) => {
+            CallTarget::Name(_) | CallTarget::Number(_) | CallTarget::Section { .. } => {
                 return Err(Diagnostic::error(
                     DiagCode::Syntax,
                     call.span,
@@ -1251,6 +1260,69 @@ impl<'c> Vm<'c> {
         Ok(Next::Go(entry))
     }
 
+    /// `REPEAT LABEL P=n` and its kin: the section runs `n` times (once without P), then the
+    /// program goes on after the REPEAT block.
+    fn repeat_section<H: Host>(
+        &mut self,
+        pc: u32,
+        call: &Call,
+        host: &H,
+    ) -> Result<Next, Diagnostic> {
+        let CallTarget::Section { first, end } = call.target else {
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                call.span,
+                "a repeat without its section",
+            ));
+        };
+        let count = match call.count {
+            Some(p) => {
+                let v = self.eval(p, host)?.unwrap_or(1.0);
+                if !(1.0..=9999.0).contains(&v) || v.fract() != 0.0 {
+                    return Err(Diagnostic::error(
+                        DiagCode::OutOfRange,
+                        self.code.exprs.span(p),
+                        format!("P={v}: a section repeats a whole number of times, 1 to 9999"),
+                    ));
+                }
+                v as u64
+            }
+            None => 1,
+        };
+        if self.sections.len() >= MAX_SECTIONS {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                call.span,
+                format!("sections repeat inside one another at most {MAX_SECTIONS} deep"),
+            ));
+        }
+        self.sections.push(Section {
+            call: pc,
+            first,
+            end,
+            remaining: count - 1,
+            depth: self.frames.len(),
+        });
+        Ok(Next::Go(first))
+    }
+
+    /// Where the run goes at `pc`: on, or, at the end of the section being repeated, back to its
+    /// start or after its REPEAT block.
+    fn section_end(&mut self, mut pc: u32) -> u32 {
+        while let Some(s) = self.sections.last_mut() {
+            if s.depth != self.frames.len() || s.end != pc {
+                break;
+            }
+            if s.remaining > 0 {
+                s.remaining -= 1;
+                return s.first;
+            }
+            pc = s.call + 1;
+            self.sections.pop();
+        }
+        pc
+    }
+
     fn call_count<H: Host>(&mut self, call: &Call, host: &H) -> Result<u64, Diagnostic> {
         let Some(l) = call.count else {
             return Ok(1);
@@ -1460,6 +1532,21 @@ fn gsk_value(
 }
 
 /// What to run next.
+/// A section of a Sinumerik program being repeated.
+struct Section {
+    /// The REPEAT block.
+    call: u32,
+    first: u32,
+    /// The instruction after the section.
+    end: u32,
+    remaining: u64,
+    /// The call level it runs in.
+    depth: usize,
+}
+
+/// How deeply repeated sections nest (a bound on the run's memory).
+const MAX_SECTIONS: usize = 64;
+
 enum Next {
     Go(u32),
     Stop,

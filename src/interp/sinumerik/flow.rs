@@ -5,6 +5,7 @@ use crate::diag::{Code as DiagCode, Diagnostic, Span};
 
 use super::super::code::{Assign, Block, Call, CallKind, CallTarget, Inst, Target};
 use super::super::expr::{BinOp, Expr, Op};
+use super::super::text::Text;
 use super::cursor::{r_number, Cursor, ExprReader};
 use super::{jump_direction, jump_word, Compiler, Direction, Fixup, Open, Opened, Unit};
 
@@ -79,12 +80,7 @@ impl Compiler {
             "LOOP" | "REPEAT" | "REPEATB" => {
                 cur.i = e;
                 if word != "LOOP" && !cur.done() {
-                    return Err(Diagnostic::error(
-                        DiagCode::Unsupported,
-                        span,
-                        format!("{word} with labels (repeating a part of the program) is not read by threadcut yet"),
-                    )
-                    .with_hint("write the part as a loop (REPEAT … UNTIL, FOR … ENDFOR) or a PROC called with P"));
+                    return self.repeat_section(i, cur, word, span);
                 }
                 let top = self.code.emit(i, Inst::Nop);
                 let what = if word == "LOOP" {
@@ -117,6 +113,9 @@ impl Compiler {
                 cur.i = e;
                 self.call(i, cur)?;
             }
+            // The declaration of a subprogram's parameters: its PROC line says them again. (A
+            // subprogram only declared is called as any other, and is not found in this file.)
+            "EXTERN" => {}
             _ => return Ok(false),
         }
         Ok(true)
@@ -622,6 +621,141 @@ impl Compiler {
                 _ => {}
             }
         }
+    }
+}
+
+/// A `REPEAT`/`REPEATB` whose section is looked up when the whole program is read.
+pub(super) struct SectionFixup {
+    call: u32,
+    start: String,
+    /// REPEAT's second label (the section's last block), if written.
+    end: Option<String>,
+    /// REPEATB: the one block with the label.
+    single: bool,
+    line: usize,
+    unit: usize,
+    span: Span,
+}
+
+/// The first instruction of text line `line`, or the end of the program after its last.
+fn line_start(code: &super::super::code::Code, text: &Text, line: usize) -> u32 {
+    if line < text.len() {
+        code.line_inst[line]
+    } else {
+        code.insts.len() as u32
+    }
+}
+
+impl Compiler {
+    /// `REPEAT LABEL P=n` (from the label back before this block to it), `REPEAT START END P=n`
+    /// (from START to END, END's block included), `REPEATB LABEL P=n` (the block with LABEL).
+    fn repeat_section(&mut self, i: usize, cur: &mut Cursor, word: &str, span: Span) -> R<bool> {
+        let e = cur.i;
+        let (start, _) = label_word(cur, word, e)?;
+        let mut end = None;
+        if let Some((name, _, e)) = cur.peek_name() {
+            let count_word = name == "P"
+                || name
+                    .strip_prefix('P')
+                    .is_some_and(|d| d.parse::<u32>().is_ok());
+            if !count_word {
+                end = Some(name);
+                cur.i = e;
+            }
+        }
+        let count = self.repeat_count(cur)?;
+        self.end_of_statement(cur)?;
+        if word == "REPEATB" && end.is_some() {
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                span,
+                "REPEATB repeats one block: it takes one label",
+            ));
+        }
+        let c = self.code.calls.len() as u32;
+        self.code.calls.push(Call {
+            kind: CallKind::Section,
+            target: CallTarget::Section { first: 0, end: 0 },
+            args: Vec::new(),
+            arg_letters: Vec::new(),
+            arg_no_point: Vec::new(),
+            count,
+            span,
+        });
+        self.code.emit(i, Inst::Call(c));
+        self.sections.push(SectionFixup {
+            call: c,
+            start,
+            end,
+            single: word == "REPEATB",
+            line: i,
+            unit: self.units.len() - 1,
+            span,
+        });
+        Ok(true)
+    }
+
+    /// Every REPEAT's section, in its own program: the start label looked for backward (then
+    /// forward), the end label forward from it.
+    pub(super) fn resolve_sections(&mut self) {
+        for f in std::mem::take(&mut self.sections) {
+            let labels = &self.units[f.unit].labels;
+            let find = |label: &str, pick: &dyn Fn(&usize) -> bool, last: bool| {
+                let lines = labels.get(label)?;
+                if last {
+                    lines.iter().rev().find(|n| pick(n)).copied()
+                } else {
+                    lines.iter().find(|n| pick(n)).copied()
+                }
+            };
+            let here = f.line;
+            let start = find(&f.start, &|&n| n < here, true)
+                .or_else(|| find(&f.start, &|&n| n > here, false));
+            let missing = |label: &str| {
+                Diagnostic::error(
+                    DiagCode::MissingWord,
+                    f.span,
+                    format!("REPEAT: there is no label {label} in this program (alarm 14080, jump destination not found)"),
+                )
+            };
+            let Some(start) = start else {
+                self.code.fail_at(self.call_inst(f.call), missing(&f.start));
+                continue;
+            };
+            let last = match (&f.end, f.single) {
+                (Some(end), _) => match find(end, &|&n| n >= start, false) {
+                    Some(n) => n,
+                    None => {
+                        self.code.fail_at(self.call_inst(f.call), missing(end));
+                        continue;
+                    }
+                },
+                (None, true) => start,
+                (None, false) => here.saturating_sub(1),
+            };
+            let first = line_start(&self.code, &self.code.text, start);
+            let end = line_start(&self.code, &self.code.text, last + 1);
+            let call_at = self.call_inst(f.call);
+            if end <= first || (first <= call_at && call_at < end) {
+                let d = Diagnostic::error(
+                    DiagCode::Syntax,
+                    f.span,
+                    "REPEAT: the section holds no block to repeat, or holds the REPEAT itself",
+                );
+                self.code.fail_at(call_at, d);
+                continue;
+            }
+            self.code.calls[f.call as usize].target = CallTarget::Section { first, end };
+        }
+    }
+
+    /// The instruction of call `c`.
+    fn call_inst(&self, c: u32) -> u32 {
+        self.code
+            .insts
+            .iter()
+            .position(|inst| matches!(inst, Inst::Call(k) if *k == c))
+            .unwrap_or(0) as u32
     }
 }
 

@@ -87,10 +87,12 @@ struct Opened {
 
 struct Compiler {
     code: Code,
-    /// The names PROC defines in this file.
+    /// The names PROC defines in this file, and those EXTERN declares.
     procs: HashSet<String>,
     units: Vec<Unit>,
     fixups: Vec<Fixup>,
+    /// The sections REPEAT runs again, looked up when the whole program is read.
+    sections: Vec<flow::SectionFixup>,
     open: Vec<Opened>,
     lexed: Vec<Word>,
 }
@@ -102,6 +104,7 @@ pub fn compile(text: Text, _syntax: &Syntax, lexer: crate::gcode::Syntax) -> Cod
         procs: HashSet::new(),
         units: vec![Unit::new(false)],
         fixups: Vec::new(),
+        sections: Vec::new(),
         open: Vec::new(),
         lexed: Vec::new(),
     };
@@ -114,6 +117,7 @@ pub fn compile(text: Text, _syntax: &Syntax, lexer: crate::gcode::Syntax) -> Cod
     }
     c.close_structures();
     c.resolve_jumps();
+    c.resolve_sections();
     c.code
 }
 
@@ -122,7 +126,7 @@ impl Compiler {
     fn collect_procs(&mut self) {
         for i in 0..self.code.text.len() {
             let mut cur = Cursor::new(self.code.text.line(i));
-            if cur.eat_name("PROC") {
+            if cur.eat_name("PROC") || cur.eat_name("EXTERN") {
                 if let Some((name, _, _)) = cur.peek_name() {
                     self.procs.insert(name);
                 }
@@ -216,7 +220,7 @@ impl Compiler {
             block_delete,
         });
         self.code.emit(i, Inst::Block(b));
-        if let Some((_, label, span, direction)) = parts.jump {
+        if let Some((label, span, direction)) = parts.jump {
             self.jump(i, Inst::Jump(0), label, span, direction);
         }
         self.end_block(i, ends)
@@ -254,12 +258,7 @@ impl Compiler {
             };
             if let Some(direction) = jump_direction(&name) {
                 let (label, label_end) = label_word(cur, &name, e)?;
-                parts.jump = Some((
-                    jump_word(direction),
-                    label,
-                    cur.span(k, label_end),
-                    direction,
-                ));
+                parts.jump = Some((label, cur.span(k, label_end), direction));
                 if !cur.done() {
                     let at = cur.i;
                     return Err(cur.error(
@@ -347,7 +346,8 @@ struct Parts {
     /// The words written as numbers (for M2, M17, M30).
     lexed: Vec<Word>,
     assigns: Vec<Assign>,
-    jump: Option<(&'static str, String, Span, Direction)>,
+    /// A jump at the block's end: its label, where it is written, which way it looks.
+    jump: Option<(String, Span, Direction)>,
 }
 
 /// The jump words and which way they look.
