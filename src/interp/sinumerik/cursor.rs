@@ -403,7 +403,7 @@ impl<'a, 't> ExprReader<'a, 't> {
             _ => return Err(Diagnostic::error(
                 Code::Unsupported,
                 span,
-                format!("{name}(…) is not a function threadcut evaluates"),
+                format!("{name}(…): threadcut does not evaluate this function"),
             )
             .with_hint(
                 "threadcut evaluates SIN COS TAN ASIN ACOS ATAN2 SQRT ABS POT TRUNC ROUND LN EXP",
