@@ -1345,6 +1345,22 @@ mod tests {
     }
 
     #[test]
+    fn sinumerik_compares_by_relative_equality_and_its_logic_is_logical() {
+        let span = Span::new(0, 1, 1, 1);
+        let op = |b, x, y| sinumerik_binary(b, x, y, span).unwrap();
+        // 0.1 + 0.2 is not 0.3 in doubles, but equal to 12 digits; 1 and 1.0000001 are not.
+        assert_eq!(op(BinOp::Eq, 0.1 + 0.2, 0.3), 1.0);
+        assert_eq!(op(BinOp::Ge, 0.3, 0.1 + 0.2), 1.0);
+        assert_eq!(op(BinOp::Lt, 0.3, 0.1 + 0.2), 0.0);
+        assert_eq!(op(BinOp::Eq, 1.0000001, 1.0), 0.0);
+        assert_eq!(op(BinOp::Gt, 1.0000001, 1.0), 1.0);
+        assert_eq!(op(BinOp::And, 2.0, 5.0), 1.0);
+        assert_eq!(op(BinOp::Xor, 2.0, 0.0), 1.0);
+        assert_eq!(op(BinOp::Mod, -7.0, 3.0), -1.0);
+        assert!(sinumerik_binary(BinOp::Div, 1.0, 0.0, span).is_err());
+    }
+
+    #[test]
     fn long_chains_do_not_recurse() {
         let src = format!("[1{}]", "+1".repeat(200_000));
         assert_eq!(ngc(&src), 200_001.0);
