@@ -12,6 +12,9 @@ pub(super) const FLOW: &[&str] = &[
 pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
     let mut k = 0;
     let mut first = true;
+    // Parentheses open: a call's arguments and an expression's parts are values, not calls (and
+    // a `(` comment of another controller is no Sinumerik at all).
+    let mut depth = 0usize;
     if text.iter().find(|c| !c.is_ascii_whitespace()) == Some(&b'%') {
         // The program's header, `%_N_NAME_MPF`.
         return false;
@@ -20,6 +23,14 @@ pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
         let c = text[k];
         match c {
             b';' => break,
+            b'(' => {
+                depth += 1;
+                k += 1;
+            }
+            b')' => {
+                depth = depth.saturating_sub(1);
+                k += 1;
+            }
             b'"' => {
                 k += 1;
                 while k < text.len() && text[k] != b'"' {
@@ -34,7 +45,7 @@ pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
                 while e < text.len() && (text[e].is_ascii_alphanumeric() || text[e] == b'_') {
                     e += 1;
                 }
-                if needs_interpreter(text, k, e, first, plain) {
+                if depth == 0 && !is_value(text, k) && needs_interpreter(text, k, e, first, plain) {
                     return true;
                 }
                 first = false;
@@ -44,6 +55,15 @@ pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
         }
     }
     false
+}
+
+/// Whether the name at `k` is a value (after `=`, `,` or an operator), not a word of its own.
+fn is_value(text: &[u8], k: usize) -> bool {
+    let before = text[..k].iter().rev().find(|c| !matches!(c, b' ' | b'\t'));
+    matches!(
+        before,
+        Some(b'=' | b',' | b'+' | b'-' | b'*' | b'/' | b'<' | b'>' | b'[')
+    )
 }
 
 /// Whether the name at `k..e` takes the interpreter.
@@ -131,6 +151,9 @@ mod tests {
             "DEF REAL DEPTH=1.5",
             "%_N_SHAFT_M24_MPF",
             "N30 T=\"ROUGHING_80\" D1",
+            "N50 CYCLE97(LEAD,,0,-25,38.376,38.376,6,2,DEPTH,0.04,0,0,8,1,4,2)",
+            "G0 X=DEPTH Z=-LEAD",
+            "(Allen-Bradley 9/Series G78: M10x1.5 external)",
         ] {
             assert!(!looks_like_macro(no.as_bytes(), plain), "{no}");
         }
