@@ -48,7 +48,11 @@ pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
                 if depth == 0 && !is_value(text, k) && needs_interpreter(text, k, e, first, plain) {
                     return true;
                 }
-                first = false;
+                // (The block number does not count: `N20 LABEL:`, `N30 NAME`.)
+                let block_number = matches!(text[k], b'N' | b'n')
+                    && e > k + 1
+                    && text[k + 1..e].iter().all(u8::is_ascii_digit);
+                first &= block_number;
                 k = e;
             }
             _ => k += 1,
@@ -93,7 +97,45 @@ fn needs_interpreter(text: &[u8], k: usize, e: usize, first: bool, plain: &[&[&s
         "DEF", "EXTERN", "REAL", "INT", "BOOL", "CHAR", "STRING", "AXIS", "FRAME",
     ];
     let own = name.starts_with("CYCLE") || DECLARATIONS.contains(&name.as_str());
-    !own && !plain.iter().any(|list| list.contains(&name.as_str()))
+    // A call by name: the block's only word (Sinumerik calls a subprogram in a block of its
+    // own), with its arguments and a repeat count.
+    !own && first && alone(text, e) && !plain.iter().any(|list| list.contains(&name.as_str()))
+}
+
+/// Whether only a call's arguments `( … )` and a repeat count `P…` follow `e` in the block.
+fn alone(text: &[u8], mut k: usize) -> bool {
+    let blanks = |k: &mut usize| {
+        while *k < text.len() && matches!(text[*k], b' ' | b'\t' | b'\r') {
+            *k += 1;
+        }
+    };
+    blanks(&mut k);
+    if text.get(k) == Some(&b'(') {
+        let mut depth = 0usize;
+        while k < text.len() {
+            match text[k] {
+                b'(' => depth += 1,
+                b')' => {
+                    depth -= 1;
+                    if depth == 0 {
+                        k += 1;
+                        break;
+                    }
+                }
+                _ => {}
+            }
+            k += 1;
+        }
+        blanks(&mut k);
+    }
+    if matches!(text.get(k), Some(b'P' | b'p')) {
+        k += 1;
+        while k < text.len() && !matches!(text[k], b';') {
+            k += 1;
+        }
+    }
+    blanks(&mut k);
+    k >= text.len() || text[k] == b';'
 }
 
 /// Whether the value after an `=` at `k` is an expression (more than a signed number or name).
@@ -136,6 +178,8 @@ mod tests {
             "G33 Z=R6+R3 K=R5",
             "X=(R1) Z0",
             "WHILE R1<5",
+            "N20 MARKE: G1 X28",
+            "N30 BAR_CENTR P3 ; eleven passes",
         ] {
             assert!(looks_like_macro(yes.as_bytes(), plain), "{yes}");
         }
@@ -154,6 +198,8 @@ mod tests {
             "N50 CYCLE97(LEAD,,0,-25,38.376,38.376,6,2,DEPTH,0.04,0,0,8,1,4,2)",
             "G0 X=DEPTH Z=-LEAD",
             "(Allen-Bradley 9/Series G78: M10x1.5 external)",
+            "$$ M20x2.5 external thread, 6 cuts at constant cross-section",
+            "G0 X10 UNKNOWN_WORD",
         ] {
             assert!(!looks_like_macro(no.as_bytes(), plain), "{no}");
         }
