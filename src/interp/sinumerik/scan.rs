@@ -153,13 +153,26 @@ fn computed(text: &[u8], mut k: usize) -> bool {
     while k < text.len() && (text[k].is_ascii_alphanumeric() || matches!(text[k], b'_' | b'.')) {
         k += 1;
     }
-    if k == start {
+    if k == start || text[start..k].eq_ignore_ascii_case(b"NOT") {
         return true;
     }
+    // An operator may follow after blanks (the interpreter reads on after them too).
+    while k < text.len() && matches!(text[k], b' ' | b'\t') {
+        k += 1;
+    }
+    let word = |w: &[u8]| {
+        text.len() >= k + w.len()
+            && text[k..k + w.len()].eq_ignore_ascii_case(w)
+            && !text
+                .get(k + w.len())
+                .is_some_and(|c| c.is_ascii_alphanumeric() || *c == b'_')
+    };
     matches!(
         text.get(k),
         Some(b'+' | b'-' | b'*' | b'/' | b'(' | b'[' | b'<' | b'>' | b'=')
-    )
+    ) || [&b"MOD"[..], b"DIV", b"AND", b"OR", b"XOR"]
+        .iter()
+        .any(|w| word(w))
 }
 
 #[cfg(test)]
@@ -180,6 +193,9 @@ mod tests {
             "WHILE R1<5",
             "N20 MARKE: G1 X28",
             "N30 BAR_CENTR P3 ; eleven passes",
+            "R9=7 MOD 3",
+            "R9=NOT R1==0",
+            "R9=R1 - 2",
         ] {
             assert!(looks_like_macro(yes.as_bytes(), plain), "{yes}");
         }
