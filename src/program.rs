@@ -175,6 +175,11 @@ trait Sink {
     fn interpreted_end(&mut self, _text: &crate::interp::Text, _from: usize) -> Result<(), Error> {
         Ok(())
     }
+    /// The interpreter set a parameter the dialect reads in lines of its own (Sinumerik's `R7`,
+    /// a DEF name).
+    fn parameter(&mut self, _name: &str, _value: f64) -> Result<(), Error> {
+        Ok(())
+    }
 }
 
 /// Every line to one closure ([`run`]).
@@ -601,6 +606,16 @@ impl Sink for ExpandSink<'_> {
     }
     fn interpreted_end(&mut self, text: &crate::interp::Text, from: usize) -> Result<(), Error> {
         interpreted::expand_end(self, text, from)
+    }
+    fn parameter(&mut self, name: &str, value: f64) -> Result<(), Error> {
+        // `--flatten` copies the lines the dialect reads itself as written: the values they read
+        // are written before them (`R7=90`), so that the straight-line program reads the same.
+        if self.interp.flatten {
+            let value = if value == 0.0 { 0.0 } else { value };
+            let mut out = eol::Writer::new(&mut *self.out, self.ending);
+            writeln!(out, "{name}={value}")?;
+        }
+        Ok(())
     }
 }
 

@@ -476,3 +476,44 @@ fn programs_without_flow_still_stream_and_mixed_blocks_go_to_the_dialect() {
     assert_eq!(m.len(), 2, "{m:?}");
     assert_eq!(m[1].lead, Some(2.0));
 }
+
+#[test]
+fn flatten_writes_straight_line_code_that_moves_the_same() {
+    // The rope-drum program, and a program whose SF= and CYCLE97 (read by the dialect as written)
+    // take R parameters set inside a loop: flattened, the values come before the lines that read
+    // them, and the straight-line program moves as the original.
+    let mixed = format!(
+        "{HEAD}G0 X40 Z5\n\
+         R1=0\n\
+         WHILE R1<1\n\
+         R1=R1+1\n\
+         R7=90 R8=1.5\n\
+         ENDWHILE\n\
+         SF=R7\n\
+         G33 Z-20 K2\n\
+         G0 X40\n\
+         CYCLE97(R8,,0,-30,24,24,4,2,0.92,0.05,30,0,6,2,3,1)\n\
+         M30\n"
+    );
+    for src in [DRUM.to_string(), mixed] {
+        let machine = Machine::built_in("sinumerik").unwrap();
+        let mut out = Vec::new();
+        let options = Options {
+            flatten: true,
+            ..Options::default()
+        };
+        program::expand_gcode_with(src.as_bytes(), &mut out, &machine, &options)
+            .unwrap_or_else(|e| panic!("{e}\n{src}"));
+        let flat = String::from_utf8(out).unwrap();
+        assert!(!flat.contains("GOTO") && !flat.contains("WHILE"), "{flat}");
+        let (a, b) = (moves(&src), moves(&flat));
+        assert_eq!(a.len(), b.len(), "{flat}");
+        for (m, n) in a.iter().zip(&b) {
+            assert_eq!((&m.kind, m.lead), (&n.kind, n.lead), "{flat}");
+            assert!(
+                (m.x - n.x).abs() < 5e-4 && (m.z - n.z).abs() < 5e-4,
+                "{m:?} {n:?}\n{flat}"
+            );
+        }
+    }
+}

@@ -44,8 +44,11 @@ pub trait Host {
     fn parameters(&self) -> Vec<(String, f64)> {
         Vec::new()
     }
-    /// A parameter the program set: the dialect keeps it too, for the lines it reads itself.
-    fn set_parameter(&mut self, _name: &str, _value: f64) {}
+    /// A parameter the program set: the dialect keeps it too, for the lines it reads itself
+    /// (and `--flatten` writes it, for the lines it copies as written).
+    fn set_parameter(&mut self, _name: &str, _value: f64) -> Result<(), Self::Error> {
+        Ok(())
+    }
 }
 
 /// Where a block runs.
@@ -437,13 +440,14 @@ impl<'c> Vm<'c> {
     }
 
     /// Tells the host the parameters the last block set (Sinumerik).
-    fn tell<H: Host>(&mut self, host: &mut H) {
+    fn tell<H: Host>(&mut self, host: &mut H) -> Result<(), H::Error> {
         for (which, v) in std::mem::take(&mut self.state.changed) {
             match which {
-                Changed::R(n) => host.set_parameter(&format!("R{n}"), v),
-                Changed::Name(id) => host.set_parameter(self.code.exprs.name(id), v),
+                Changed::R(n) => host.set_parameter(&format!("R{n}"), v)?,
+                Changed::Name(id) => host.set_parameter(self.code.exprs.name(id), v)?,
             }
         }
+        Ok(())
     }
 
     fn line(&self, pc: u32) -> TextLine<'c> {
@@ -664,7 +668,7 @@ impl<'c> Vm<'c> {
             // Sinumerik's settings come before the block's addresses (the front end refuses a
             // setting written after an address it could change).
             let r = self.assign(&b.assigns, host);
-            self.tell(host);
+            self.tell(host)?;
             r.and_then(|()| self.evaluate_words(b, host, &mut words))
         } else {
             let r = self.evaluate_words(b, host, &mut words);
