@@ -218,6 +218,11 @@ trait Sink {
     fn interpreted_end(&mut self, _text: &crate::interp::Text, _from: usize) -> Result<(), Error> {
         Ok(())
     }
+    /// The interpreter set a parameter the dialect reads in lines of its own (Sinumerik's `R7`,
+    /// a DEF name).
+    fn parameter(&mut self, _name: &str, _value: f64) -> Result<(), Error> {
+        Ok(())
+    }
 }
 
 /// Every line to one closure ([`run`]).
@@ -345,8 +350,9 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     modal.vocabulary = Some(dialect.vocabulary());
     let mut reader = Reader::new(input).with_syntax(conv.syntax);
     let macros = dialect.macros();
-    if macros.is_some_and(|m| m.lang == Lang::MacroB) {
-        // A Fanuc-style GOTO may jump back to a plain line before the first macro statement.
+    if macros.is_some_and(|m| m.lang != Lang::Ngc) {
+        // A Fanuc-style GOTO (a Sinumerik GOTOB) may jump back to a plain line before the first
+        // macro statement.
         reader.keep_prefix(crate::interp::PREFIX_KEPT);
     }
     let mut summary = Summary::default();
@@ -655,7 +661,7 @@ pub fn expand_gcode_with<R: BufRead>(
     let ending = LineEnding::peek(&mut input)?;
     let format = d.format();
     let distance_words = d.conventions().g90_g91_distance;
-    let keeps_prefix = d.macros().is_some_and(|m| m.lang == Lang::MacroB);
+    let keeps_prefix = d.macros().is_some_and(|m| m.lang != Lang::Ngc);
     drive(
         input,
         machine,
@@ -717,6 +723,16 @@ impl Sink for ExpandSink<'_> {
     }
     fn interpreted_end(&mut self, text: &crate::interp::Text, from: usize) -> Result<(), Error> {
         interpreted::expand_end(self, text, from)
+    }
+    fn parameter(&mut self, name: &str, value: f64) -> Result<(), Error> {
+        // `--flatten` copies the lines the dialect reads itself as written: the values they read
+        // are written before them (`R7=90`), so that the straight-line program reads the same.
+        if self.interp.flatten {
+            let value = if value == 0.0 { 0.0 } else { value };
+            let mut out = eol::Writer::new(&mut *self.out, self.ending);
+            writeln!(out, "{name}={value}")?;
+        }
+        Ok(())
     }
 }
 

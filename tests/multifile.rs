@@ -409,3 +409,68 @@ fn call_move_for_move_against_rs274() {
         }
     }
 }
+
+/// Sinumerik: a main program calls `BAR_GROOVE(depth)`, a PROC in `bar_groove.spf` (found as
+/// `BAR_GROOVE.SPF` in any case). Per call, pass X = 64 − depth (radius 32 − depth/2); start 0
+/// from Z10 to Z−60, start 1 shifted by 1·8/2 = 4 (Z14 to Z−56); lead 8; out to X70 (radius 35)
+/// and back to Z10. The R parameters set in the main program are the subprogram's too (they
+/// are the channel's); DEPTH is the PROC's own.
+#[test]
+fn sinumerik_calls_a_proc_in_its_spf_file() {
+    let got = run("sinumerik", "sinumerik/DRUM.MPF", &options(&["sinumerik"])).unwrap();
+    let mut want = vec![("rapid", 35.0, 10.0)];
+    for d in [0.0, 0.6, 1.0] {
+        let r = (64.0 - d) / 2.0;
+        for (zs, ze) in [(10.0, -60.0), (14.0, -56.0)] {
+            want.push(("rapid", r, zs));
+            want.push(("thread", r, ze));
+            want.push(("rapid", 35.0, ze));
+            want.push(("rapid", 35.0, 10.0));
+        }
+    }
+    want.push(("rapid", 50.0, 50.0));
+    assert_eq!(got.len(), want.len(), "{got:?}");
+    for (g, w) in got.iter().zip(&want) {
+        assert_eq!(g.kind, w.0, "{g:?} {w:?}");
+        assert!(
+            (g.x - w.1).abs() < 5e-4 && (g.z - w.2).abs() < 5e-4,
+            "{g:?} {w:?}"
+        );
+        if g.kind == "thread" {
+            assert_eq!(g.lead, Some(8.0));
+        }
+    }
+    // Without the directory the call names what it looked for.
+    let e = run("sinumerik", "sinumerik/DRUM.MPF", &options(&["fanuc"])).unwrap_err();
+    assert_eq!(e.span.line, 5, "{}", e.message);
+    assert!(e.message.contains("BAR_GROOVE"), "{}", e.message);
+    assert!(
+        e.hint
+            .as_deref()
+            .is_some_and(|h| h.contains("BAR_GROOVE.SPF")),
+        "{:?}",
+        e.hint
+    );
+}
+
+/// A subprogram file without a PROC line (`BAR_CENTR.SPF`: its blocks, then M17), called by
+/// its bare name twice: passes at X64 and X63.5 (radius 32, 31.75) from Z10 to Z−60, lead 8.
+#[test]
+fn sinumerik_calls_a_subprogram_file_by_its_bare_name() {
+    let got = run("sinumerik", "sinumerik/ROPE.MPF", &options(&["sinumerik"])).unwrap();
+    let threads: Vec<(f64, f64)> = got
+        .iter()
+        .filter(|m| m.kind == "thread")
+        .map(|m| (m.x, m.z))
+        .collect();
+    assert_eq!(threads.len(), 2, "{got:?}");
+    for (t, r) in threads.iter().zip([32.0, 31.75]) {
+        assert!((t.0 - r).abs() < 5e-4 && (t.1 + 60.0).abs() < 5e-4, "{t:?}");
+    }
+    // The motion after the calls goes on in the main program.
+    let last = got.last().unwrap();
+    assert!(
+        (last.x - 50.0).abs() < 5e-4 && (last.z - 50.0).abs() < 5e-4,
+        "{last:?}"
+    );
+}

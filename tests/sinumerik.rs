@@ -311,12 +311,8 @@ fn parameters_set_earlier_are_cycle_arguments() {
         (Code::Unsupported, 2, 9)
     );
     assert!(e.message.contains("R7 is not set"), "{}", e.message);
-    // An expression is refused at its operator.
-    let e = error("R1=1.5\nR2=R1*2\n");
-    assert_eq!(
-        (e.code, e.span.line, e.span.column),
-        (Code::Unsupported, 2, 6)
-    );
+    // An expression in a setting is computed (tests/sinumerik_flow.rs); in a cycle's argument
+    // it is refused at its operator.
     let e = error("G0 X30 Z5\nCYCLE97(R1+0.5,,0,-30,24,24,4,2,0.92,0.05,30,0,6,2,3,1)\n");
     assert_eq!((e.span.line, e.span.column), (2, 11));
 }
@@ -436,7 +432,6 @@ fn moves_threadcut_does_not_follow_are_refused_not_guessed() {
         ("G0 X20 Z5\nN5 G331 Z-20 K1.5\n", 4),
         ("G0 X20 Z5\nG91 G63 Z-20 F300\n", 5),
         ("G0 X20 Z5\nL100\n", 1),
-        ("G0 X20 Z5\nMYSUB\n", 1),
         ("G0 X20 Z5\nROT RPL=10\n", 1),
     ] {
         let e = error(src);
@@ -446,6 +441,19 @@ fn moves_threadcut_does_not_follow_are_refused_not_guessed() {
             "{src}"
         );
     }
+    // A name alone in its block is a call of the subprogram of that name: not in the file and
+    // no include directory given, the control's alarm 14011.
+    let e = error("G0 X20 Z5\nMYSUB\n");
+    assert_eq!(
+        (e.code, e.span.line, e.span.column),
+        (Code::MissingWord, 2, 1)
+    );
+    assert!(e.message.contains("alarm 14011"), "{}", e.message);
+    assert!(
+        e.hint.as_deref().is_some_and(|h| h.contains("MYSUB.SPF")),
+        "{:?}",
+        e.hint
+    );
 }
 
 #[test]

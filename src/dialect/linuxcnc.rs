@@ -836,6 +836,7 @@ impl Dialect for LinuxCnc {
             m97_local_calls: false,
             m99_p_jumps: false,
             wide_commons: false,
+            plain_names: &[],
         })
     }
 

@@ -207,6 +207,15 @@ pub trait Dialect {
     ) -> crate::interp::library::FileNames {
         crate::interp::library::FileNames::default()
     }
+
+    /// The parameters the dialect keeps for the lines it reads itself (Sinumerik's R parameters
+    /// and DEF variables, by name: `R1`, `DEPTH`): the interpreter starts from them when it takes
+    /// over a program.
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+    /// A parameter the interpreter set: kept for the lines the dialect reads itself.
+    fn set_parameter(&mut self, _name: &str, _value: f64) {}
     // issue 23 (turning cycles with an o-word profile): the interpreter's hand-over.
     /// After [`read`](Dialect::read): the o-word subroutine (its number) whose blocks the last
     /// block takes as its profile (LinuxCNC's G70/G71/G72 `Q`). The interpreter then hands its

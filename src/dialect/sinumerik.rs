@@ -670,9 +670,9 @@ impl Sinumerik {
                 return Err(Diagnostic::error(
                     Code::Unsupported,
                     span,
-                    format!("{n}: threadcut reads a program from top to bottom and does not follow program flow"),
+                    format!("{n}: threadcut does not follow this program flow"),
                 )
-                .with_hint("threadcut runs the macro languages of LinuxCNC and the Fanuc family, not Sinumerik's: unroll the program (or run it in the control's simulation) before expanding it"))
+                .with_hint("threadcut follows labels and GOTOF/GOTOB/GOTO/GOTOC, IF/ELSE/ENDIF, WHILE, FOR, LOOP, REPEAT/UNTIL and the PROCs of the same file (docs/dialects/sinumerik.md, \"Program flow\"); not CASE, MCALL, PCALL or REPEAT with labels"))
             }
             n if FRAMES.contains(&n) => return Err(frame_refused(n, span)),
             n => {
@@ -681,7 +681,7 @@ impl Sinumerik {
                     span,
                     format!("{n} is not a word threadcut reads on Sinumerik"),
                 )
-                .with_hint("a name alone calls a subprogram, which threadcut does not follow"))
+                .with_hint("a name alone calls a subprogram: threadcut follows the PROCs of the same file, and this program defines no PROC of this name"))
             }
         }
         Ok(false)
@@ -854,6 +854,65 @@ impl Dialect for Sinumerik {
     /// CYCLE97 takes a taper as the thread's crest diameters at SPL and FPL (S2, S5: "DM1 thread
     /// diameter at the starting point", "DM2 … at the end point"; inside, the tap hole's), the
     /// run-in APP before SPL on the same cone (docs/dialects/sinumerik.md, "Taper threads").
+    /// A subprogram called by name from another file: `NAME.SPF` (a subprogram), then
+    /// `NAME.MPF` (a main program called as a subprogram), then `NAME` bare, in any case — the
+    /// names the control's program memory gives (`_N_NAME_SPF`) as DNC software and the
+    /// control's own USB/network drives store them (docs/dialects/sinumerik.md, "Programs in
+    /// other files").
+    fn program_files(
+        &self,
+        wanted: &crate::interp::library::Wanted,
+    ) -> crate::interp::library::FileNames {
+        use crate::interp::library::{FileNames, Wanted};
+        match wanted {
+            Wanted::Name(name) => FileNames {
+                names: vec![format!("{name}.SPF"), format!("{name}.MPF"), name.clone()],
+                any_case: true,
+            },
+            Wanted::Number(_) => FileNames::default(),
+        }
+    }
+
+    fn macros(&self) -> Option<crate::interp::Syntax> {
+        // Program flow, R parameters and DEF variables in expressions, PROC subprograms of the
+        // same file (docs/dialects/sinumerik.md, "Program flow"): the main program and 15
+        // subprogram levels.
+        Some(crate::interp::Syntax {
+            lang: crate::interp::Lang::Sinumerik,
+            max_call_depth: 16,
+            max_macro_depth: 0,
+            g65_operations: false,
+            m98_l_word: false,
+            m97_local_calls: false,
+            m99_p_jumps: false,
+            wide_commons: false,
+            plain_names: &[
+                PASSIVE_KEYWORDS,
+                PASSIVE_CALLS,
+                TURNING_CALLS,
+                FRAMES,
+                &["DIAMON", "DIAMOF", "DIAM90", "SUPA", "CYCLE97", "CYCLE99"],
+            ],
+        })
+    }
+
+    fn parameters(&self) -> Vec<(String, f64)> {
+        let r = self.r.iter().map(|(n, v)| (format!("R{n}"), *v));
+        r.chain(self.vars.iter().map(|(k, v)| (k.clone(), *v)))
+            .collect()
+    }
+
+    fn set_parameter(&mut self, name: &str, value: f64) {
+        match name.strip_prefix('R').and_then(|n| n.parse::<u32>().ok()) {
+            Some(n) => {
+                self.r.insert(n, value);
+            }
+            None => {
+                self.vars.insert(name.to_string(), value);
+            }
+        }
+    }
+
     fn cycle_taper(&self) -> Option<super::CycleTaper> {
         Some(super::CycleTaper::Diameters(super::TaperDiameters {
             cycles: "CYCLE97 DM1/DM2",

@@ -96,8 +96,11 @@ pub struct BlockWord {
 pub enum Target {
     /// `#n`, `#[…]`: the number's expression.
     Number(Expr),
-    /// LinuxCNC `#<name>` (index into the program's names).
+    /// LinuxCNC `#<name>` (index into the program's names); Sinumerik, a variable declared
+    /// before.
     Named(u32),
+    /// Sinumerik `DEF … NAME=…`: declares the name in the running program (its frame).
+    Declare(u32),
 }
 
 #[derive(Clone, Debug)]
@@ -124,6 +127,12 @@ pub enum CallKind {
     M98,
     /// Fanuc `G65 P… args`: a macro; a new level of local variables #1–#33.
     G65,
+    /// Sinumerik: a subprogram (`PROC NAME(params)`) called by name; its parameters and DEF
+    /// variables are its own.
+    Proc,
+    /// Sinumerik's `REPEAT`/`REPEATB` with labels: a section of the same program run again,
+    /// with the same variables.
+    Section,
 }
 
 #[derive(Clone, Debug)]
@@ -136,6 +145,8 @@ pub enum CallTarget {
     Program { number: Expr, packed: bool },
     /// A sequence number in Fanuc-style program `program` (Haas's local subprogram, `M97 P…`).
     Label { label: Expr, program: u32 },
+    /// A section of the program: its first instruction and the one after its last.
+    Section { first: u32, end: u32 },
 }
 
 #[derive(Clone, Debug)]
@@ -193,8 +204,10 @@ pub struct Code {
     pub calls: Vec<Call>,
     pub ops: Vec<MacroOp>,
     pub failures: Vec<Diagnostic>,
-    /// LinuxCNC subroutines: name → first instruction of the body.
+    /// LinuxCNC subroutines, Sinumerik PROCs: name → first instruction of the body.
     pub subs: HashMap<u32, u32>,
+    /// Sinumerik PROCs: name → the names of their parameters, in order.
+    pub params: HashMap<u32, Vec<u32>>,
     /// Fanuc programs; `programs[0]` is the main program.
     pub programs: Vec<ProgramInfo>,
     /// How many repeat slots a frame needs.
@@ -219,6 +232,7 @@ impl Code {
             ops: Vec::new(),
             failures: Vec::new(),
             subs: HashMap::new(),
+            params: HashMap::new(),
             programs: Vec::new(),
             repeat_slots: 0,
             lexer,

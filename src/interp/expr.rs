@@ -16,6 +16,10 @@ pub enum Lang {
     /// Fanuc Custom Macro B (and GSK): AND with the multiplications, OR/XOR with the additions,
     /// bitwise on whole numbers; the vacant value `#0`; FIX/FUP towards/away from zero.
     MacroB,
+    /// Sinumerik's NC language: R parameters and DEF variables, parentheses, `==`/`<>`, the
+    /// comparisons below AND/XOR/OR (which are logical), relative equality, angles in degrees
+    /// (docs/dialects/sinumerik.md, "Program flow").
+    Sinumerik,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -124,6 +128,24 @@ impl Exprs {
         }
     }
 
+    /// Where the next step goes: with [`since`](Exprs::since), an expression a front end writes
+    /// step by step ([`push`](Exprs::push)).
+    pub fn mark(&self) -> u32 {
+        self.ops.len() as u32
+    }
+
+    pub fn push(&mut self, op: Op, span: Span) {
+        self.ops.push((op, span));
+    }
+
+    /// The steps pushed since `mark`, as one expression.
+    pub fn since(&self, mark: u32) -> Expr {
+        Expr {
+            start: mark,
+            end: self.ops.len() as u32,
+        }
+    }
+
     /// A single number as an expression (for words the front ends write themselves).
     pub fn number(&mut self, v: f64, span: Span) -> Expr {
         let start = self.ops.len() as u32;
@@ -140,7 +162,7 @@ impl Exprs {
 pub fn max_nesting(lang: Lang) -> usize {
     match lang {
         Lang::Ngc => 64,
-        Lang::MacroB => 5,
+        Lang::MacroB | Lang::Sinumerik => 5,
     }
 }
 
@@ -154,6 +176,8 @@ fn precedence(lang: Lang, op: BinOp) -> u8 {
         (Lang::MacroB, Or | Xor) => 4,
         (_, Eq | Ne | Gt | Ge | Lt | Le) => 3,
         (Lang::Ngc, And | Or | Xor) => 2,
+        // (Sinumerik's expressions are read by its own front end, with its own precedence.)
+        (Lang::Sinumerik, And | Or | Xor) => 2,
     }
 }
 
@@ -234,7 +258,7 @@ impl<'a, 's> Parser<'a, 's> {
                 open,
                 open + 1,
                 match self.lang {
-                    Lang::MacroB => {
+                    Lang::MacroB | Lang::Sinumerik => {
                         "brackets nested more than five deep (alarm PS0118)".to_string()
                     }
                     Lang::Ngc => {
@@ -288,7 +312,7 @@ impl<'a, 's> Parser<'a, 's> {
                             }
                             _ => self.s.error(at, at + 1, "Unknown operation"),
                         },
-                        Lang::MacroB => self
+                        Lang::MacroB | Lang::Sinumerik => self
                             .s
                             .error(
                                 at,
@@ -324,7 +348,7 @@ impl<'a, 's> Parser<'a, 's> {
     fn unclosed(&self, open: usize) -> Diagnostic {
         match self.lang {
             Lang::Ngc => self.s.error(open, self.s.len(), "Unclosed expression"),
-            Lang::MacroB => self.s.error(
+            Lang::MacroB | Lang::Sinumerik => self.s.error(
                 open,
                 self.s.len(),
                 "the expression is not closed with `]` (alarm PS0114)",
@@ -400,13 +424,14 @@ impl<'a, 's> Parser<'a, 's> {
                 Lang::Ngc => self
                     .s
                     .error(at, at + 1, "No characters found in reading real value"),
-                Lang::MacroB => self
-                    .s
-                    .error(at, at + 1, "a value is missing here (alarm PS0114)"),
+                Lang::MacroB | Lang::Sinumerik => {
+                    self.s
+                        .error(at, at + 1, "a value is missing here (alarm PS0114)")
+                }
             }),
             _ => Err(match self.lang {
                 Lang::Ngc => self.s.error(at, at + 1, "Bad number format"),
-                Lang::MacroB => self.s.error(
+                Lang::MacroB | Lang::Sinumerik => self.s.error(
                     at,
                     at + 1,
                     format!("`{}` cannot start a value (alarm PS0114)", c as char),
@@ -441,7 +466,7 @@ impl<'a, 's> Parser<'a, 's> {
             _ => {
                 return Err(match self.lang {
                     Lang::Ngc => self.s.error(at, *i + 1, "Bad number format"),
-                    Lang::MacroB => self.s.error(
+                    Lang::MacroB | Lang::Sinumerik => self.s.error(
                         at,
                         *i + 1,
                         "`#` must be followed by a variable number or `[` (alarm PS0114)",
@@ -487,7 +512,7 @@ impl<'a, 's> Parser<'a, 's> {
                         end.max(at + 1),
                         "Unknown word where unary operation could be",
                     ),
-                    Lang::MacroB => self.s.error(
+                    Lang::MacroB | Lang::Sinumerik => self.s.error(
                         at,
                         end.max(at + 1),
                         format!(
@@ -505,7 +530,7 @@ impl<'a, 's> Parser<'a, 's> {
                     end + 1,
                     "Left bracket missing after unary operation name",
                 ),
-                Lang::MacroB => self.s.error(
+                Lang::MacroB | Lang::Sinumerik => self.s.error(
                     end,
                     end + 1,
                     "`[` must follow the function's name (alarm PS0114)",
@@ -691,7 +716,9 @@ pub fn read_number(s: &Squeezed, at: usize, lang: Lang) -> PResult<(f64, bool, u
                             String::from_utf8_lossy(s.source(at, k + 1))
                         ),
                     ),
-                    Lang::MacroB => s.error(k, k + 1, "a second decimal point (alarm PS0114)"),
+                    Lang::MacroB | Lang::Sinumerik => {
+                        s.error(k, k + 1, "a second decimal point (alarm PS0114)")
+                    }
                 })
             }
             _ => break,
@@ -701,7 +728,9 @@ pub fn read_number(s: &Squeezed, at: usize, lang: Lang) -> PResult<(f64, bool, u
     if digits == 0 {
         return Err(match lang {
             Lang::Ngc => s.error(at, k.max(at + 1), "Bad number format"),
-            Lang::MacroB => s.error(at, k.max(at + 1), "a number was expected (alarm PS0114)"),
+            Lang::MacroB | Lang::Sinumerik => {
+                s.error(at, k.max(at + 1), "a number was expected (alarm PS0114)")
+            }
         });
     }
     let text: String = (at..k).map(|j| s.at(j) as char).collect();
@@ -780,7 +809,7 @@ pub fn whole(lang: Lang, v: Option<f64>, span: Span) -> Result<i64, Diagnostic> 
             }
             Ok(n as i64)
         }
-        Lang::MacroB => {
+        Lang::MacroB | Lang::Sinumerik => {
             let n = v.round();
             if n.abs() > 1e15 {
                 return Err(Diagnostic::error(
@@ -826,7 +855,7 @@ impl Exprs {
                 Op::Neg => stack.pop().flatten().map(|v| -v).or(match lang {
                     // -#0 is vacant made negative: 0 in arithmetic, and stays vacant.
                     Lang::MacroB => None,
-                    Lang::Ngc => Some(0.0),
+                    Lang::Ngc | Lang::Sinumerik => Some(0.0),
                 }),
                 Op::Bin(b) => {
                     let r = stack.pop().flatten();
@@ -879,6 +908,7 @@ fn check_finite(lang: Lang, v: f64, span: Span) -> Result<(), Diagnostic> {
             (Lang::Ngc, true) => "Calculation resulted in 'not a number'",
             (Lang::Ngc, false) => "Calculation resulted in 'infinity'",
             (Lang::MacroB, _) => "calculated data overflow (alarm PS0111)",
+            (Lang::Sinumerik, _) => "the calculation overflows (no finite number)",
         },
     ))
 }
@@ -910,6 +940,9 @@ fn binary(
         return Ok(truth(same == (op == Eq)));
     }
     let (a, b) = (l.unwrap_or(0.0), r.unwrap_or(0.0));
+    if lang == Lang::Sinumerik {
+        return sinumerik_binary(op, a, b, span).map(Some);
+    }
     const TOLERANCE_EQUAL: f64 = 1e-6;
     Ok(match op {
         Add => Some(a + b),
@@ -923,6 +956,7 @@ fn binary(
                     match lang {
                         Lang::Ngc => "Attempt to divide by zero",
                         Lang::MacroB => "division by zero (alarm PS0112)",
+                        Lang::Sinumerik => "division by zero (alarm 14051, arithmetic error)",
                     },
                 ));
             }
@@ -935,7 +969,7 @@ fn binary(
                 Some(if m < 0.0 { m + b.abs() } else { m })
             }
             // Fanuc: the remainder of the whole numbers, with the dividend's sign.
-            Lang::MacroB => {
+            Lang::MacroB | Lang::Sinumerik => {
                 let (a, b) = (a.round(), b.round());
                 if b == 0.0 {
                     return Err(Diagnostic::error(
@@ -963,11 +997,11 @@ fn binary(
         Gt => truth(a > b),
         Le => match lang {
             Lang::Ngc => truth((a - b).abs() < TOLERANCE_EQUAL || a <= b),
-            Lang::MacroB => truth(a <= b),
+            Lang::MacroB | Lang::Sinumerik => truth(a <= b),
         },
         Ge => match lang {
             Lang::Ngc => truth((a - b).abs() < TOLERANCE_EQUAL || a >= b),
-            Lang::MacroB => truth(a >= b),
+            Lang::MacroB | Lang::Sinumerik => truth(a >= b),
         },
         And | Or | Xor => match lang {
             Lang::Ngc => {
@@ -979,7 +1013,7 @@ fn binary(
                 })
             }
             // Fanuc: bitwise on the whole numbers (on the 0 and 1 of conditions: logical).
-            Lang::MacroB => {
+            Lang::MacroB | Lang::Sinumerik => {
                 let (p, q) = (bits(a, span)?, bits(b, span)?);
                 Some(match op {
                     And => p & q,
@@ -988,6 +1022,41 @@ fn binary(
                 } as f64)
             }
         },
+    })
+}
+
+/// Sinumerik's arithmetic on two values: MOD keeps the dividend's sign, AND/OR/XOR are logical,
+/// and the comparisons test relative equality (12 significant digits: "the comparison commands
+/// do not check for absolute equality, but rather for relative equality").
+fn sinumerik_binary(op: BinOp, a: f64, b: f64, span: Span) -> Result<f64, Diagnostic> {
+    use BinOp::*;
+    let truth = |t: bool| if t { 1.0 } else { 0.0 };
+    let equal = a == b || (a - b).abs() <= 1e-12 * a.abs().max(b.abs());
+    let zero = || {
+        Diagnostic::error(
+            Code::OutOfRange,
+            span,
+            "division by zero (alarm 14051, arithmetic error)",
+        )
+    };
+    Ok(match op {
+        Add => a + b,
+        Sub => a - b,
+        Mul => a * b,
+        Div if b == 0.0 => return Err(zero()),
+        Div => a / b,
+        Mod if b == 0.0 => return Err(zero()),
+        Mod => a % b,
+        Pow => a.powf(b),
+        Eq => truth(equal),
+        Ne => truth(!equal),
+        Lt => truth(a < b && !equal),
+        Gt => truth(a > b && !equal),
+        Le => truth(a < b || equal),
+        Ge => truth(a > b || equal),
+        And => truth(a != 0.0 && b != 0.0),
+        Or => truth(a != 0.0 || b != 0.0),
+        Xor => truth((a != 0.0) != (b != 0.0)),
     })
 }
 
@@ -1014,6 +1083,12 @@ pub(crate) fn unary(
     let err = |ngc_msg: &str, fanuc: &str| {
         if ngc {
             Diagnostic::error(Code::OutOfRange, span, ngc_msg)
+        } else if lang == Lang::Sinumerik {
+            Diagnostic::error(
+                Code::OutOfRange,
+                span,
+                format!("{fanuc} (alarm 14051, arithmetic error)"),
+            )
         } else {
             argument(span, fanuc)
         }
@@ -1275,6 +1350,22 @@ mod tests {
             eval(Lang::MacroB, "[[[[[1]]]]]", vec![]).unwrap(),
             Some(1.0)
         );
+    }
+
+    #[test]
+    fn sinumerik_compares_by_relative_equality_and_its_logic_is_logical() {
+        let span = Span::new(0, 1, 1, 1);
+        let op = |b, x, y| sinumerik_binary(b, x, y, span).unwrap();
+        // 0.1 + 0.2 is not 0.3 in doubles, but equal to 12 digits; 1 and 1.0000001 are not.
+        assert_eq!(op(BinOp::Eq, 0.1 + 0.2, 0.3), 1.0);
+        assert_eq!(op(BinOp::Ge, 0.3, 0.1 + 0.2), 1.0);
+        assert_eq!(op(BinOp::Lt, 0.3, 0.1 + 0.2), 0.0);
+        assert_eq!(op(BinOp::Eq, 1.0000001, 1.0), 0.0);
+        assert_eq!(op(BinOp::Gt, 1.0000001, 1.0), 1.0);
+        assert_eq!(op(BinOp::And, 2.0, 5.0), 1.0);
+        assert_eq!(op(BinOp::Xor, 2.0, 0.0), 1.0);
+        assert_eq!(op(BinOp::Mod, -7.0, 3.0), -1.0);
+        assert!(sinumerik_binary(BinOp::Div, 1.0, 0.0, span).is_err());
     }
 
     #[test]

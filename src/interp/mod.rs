@@ -7,7 +7,8 @@
 //! [`code`]) and runs it ([`vm`]), handing every executed block back to the run loop as a line
 //! whose words carry evaluated values and whose spans point at the source text. Two front ends
 //! feed the one evaluator: LinuxCNC's o-words and parameters ([`ngc`]) and Fanuc's Custom Macro B
-//! ([`fanuc`], which GSK shares with its own `G65 H` operations). The dialect says which
+//! ([`fanuc`], which GSK shares with its own `G65 H` operations), and Sinumerik's NC language
+//! ([`sinumerik`]: R parameters, labels, structured flow, PROC subprograms in the same file). The dialect says which
 //! ([`crate::dialect::Dialect::macros`]); this module knows no controller by name.
 //!
 //! Every run is bounded: a number of executed blocks (`--max-blocks`), a budget of expression
@@ -20,6 +21,7 @@ pub(crate) mod fanuc;
 pub mod library;
 pub(crate) mod ngc;
 pub(crate) mod scan;
+pub(crate) mod sinumerik;
 pub mod text;
 pub(crate) mod vm;
 
@@ -56,6 +58,9 @@ pub struct Syntax {
     /// `#10000`–`#10999` are common variables too (Haas's NGC numbering of its general-purpose
     /// variables), besides `#100`–`#199` and `#500`–`#999`.
     pub wide_commons: bool,
+    /// Names a block may hold that are the dialect's words, not calls of subprograms (Sinumerik's
+    /// keywords and the calls of its cycles): a line of them is no reason to interpret.
+    pub plain_names: &'static [&'static [&'static str]],
 }
 
 impl Syntax {
@@ -70,6 +75,7 @@ impl Syntax {
         m97_local_calls: false,
         m99_p_jumps: false,
         wide_commons: false,
+        plain_names: &[],
     };
 }
 
@@ -114,13 +120,24 @@ impl Syntax {
         match self.lang {
             Lang::Ngc => ngc::looks_like_macro(text),
             Lang::MacroB => fanuc::looks_like_macro(text),
+            Lang::Sinumerik => sinumerik::looks_like_macro(text, self.plain_names),
         }
     }
 
     /// What a lexed line is to the interpreter. Cheap for most lines (the word summary answers).
     #[inline]
     pub fn control(&self, line: &Line) -> Control {
-        if !line.summary.may_be_control() {
+        if line.shape.unread {
+            // A line in the control's own syntax (Sinumerik's): program flow, a label, a call by
+            // name or an expression take the interpreter.
+            return if self.looks_like_macro(line.text) {
+                Control::Interpret
+            } else {
+                Control::No
+            };
+        }
+        // (Sinumerik's address words are none of the interpreter's: its calls are names.)
+        if !line.summary.may_be_control() || self.lang == Lang::Sinumerik {
             return Control::No;
         }
         self.control_words(line)
@@ -172,6 +189,7 @@ pub(crate) fn compile(text: Text, syntax: &Syntax, lexer: crate::gcode::Syntax) 
     match syntax.lang {
         Lang::Ngc => ngc::compile(text, lexer),
         Lang::MacroB => fanuc::compile(text, syntax, lexer),
+        Lang::Sinumerik => sinumerik::compile(text, syntax, lexer),
     }
 }
 
@@ -270,6 +288,7 @@ pub(crate) fn what(lang: Lang, wanted: &Wanted) -> String {
     match (lang, wanted) {
         (Lang::MacroB, Wanted::Number(n)) => format!("program O{n:04}"),
         (_, Wanted::Number(n)) => format!("o{n}"),
+        (Lang::Sinumerik, Wanted::Name(s)) => format!("subprogram {s}"),
         (_, Wanted::Name(s)) => format!("o<{s}> sub"),
     }
 }
@@ -289,7 +308,9 @@ fn static_calls(code: &code::Code) -> Vec<Wanted> {
                     _ => continue,
                 }
             }
-            (CallTarget::Name(id), Lang::Ngc) => Wanted::Name(code.exprs.name(*id).to_string()),
+            (CallTarget::Name(id), Lang::Ngc | Lang::Sinumerik) => {
+                Wanted::Name(code.exprs.name(*id).to_string())
+            }
             (CallTarget::Number(e), Lang::Ngc) => match code.exprs.constant(*e) {
                 Some(v) if v >= 0.0 && v.fract() == 0.0 && v < 1e9 => {
                     Wanted::Name(format!("{}", v as u64))
@@ -330,7 +351,8 @@ fn defined(units: &[code::Code], wanted: &Wanted) -> Option<(u32, u32)> {
 
 /// The first instruction of a wanted program in the file found for it: the program or the
 /// subroutine it defines, or a Fanuc file's only program when it has no number (a file stored
-/// by its name only, `9010.nc` holding the blocks without `O9010`).
+/// by its name only, `9010.nc` holding the blocks without `O9010`), or a Sinumerik file's
+/// first block when no PROC names it.
 fn entry_of(code: &code::Code, wanted: &Wanted) -> Option<u32> {
     defined_in(code, wanted).or_else(|| match wanted {
         Wanted::Number(_) => code
@@ -338,6 +360,9 @@ fn entry_of(code: &code::Code, wanted: &Wanted) -> Option<u32> {
             .first()
             .filter(|p| p.number.is_none())
             .map(|p| p.first),
+        // A Sinumerik subprogram file without a PROC line: the file is the subprogram, named
+        // by its file's name (`BAR_CENTR.SPF`), from its first block to its M17 or RET.
+        Wanted::Name(_) if code.lang == Lang::Sinumerik => Some(0),
         Wanted::Name(_) => None,
     })
 }

@@ -45,6 +45,16 @@ pub trait Host {
     fn profile_end(&mut self, _line: TextLine<'_>, _end: TextLine<'_>) -> Result<(), Self::Error> {
         Ok(())
     }
+    /// The parameters the lines before the interpreter's first set (Sinumerik's `R1`, a DEF
+    /// name), as the dialect keeps them.
+    fn parameters(&self) -> Vec<(String, f64)> {
+        Vec::new()
+    }
+    /// A parameter the program set: the dialect keeps it too, for the lines it reads itself
+    /// (and `--flatten` writes it, for the lines it copies as written).
+    fn set_parameter(&mut self, _name: &str, _value: f64) -> Result<(), Self::Error> {
+        Ok(())
+    }
 }
 
 /// Where a block runs.
@@ -55,6 +65,8 @@ pub struct Context<'a> {
     pub calls: &'a [Span],
     /// The block is its line exactly as written (a plain line): its text may be copied as it is.
     pub verbatim: bool,
+    /// The line is in the control's own syntax, unread: the dialect reads it.
+    pub unread: bool,
 }
 
 /// How a run ended.
@@ -121,6 +133,15 @@ struct State {
     /// The value a LinuxCNC subroutine returned, if it returned one.
     value: Option<f64>,
     line_number: u32,
+    /// Sinumerik: the parameters set since the host was last told.
+    changed: Vec<(Changed, f64)>,
+}
+
+/// A Sinumerik parameter the program set.
+#[derive(Clone, Copy)]
+enum Changed {
+    R(i64),
+    Name(u32),
 }
 
 /// The state and the frames, seen by an expression.
@@ -148,6 +169,18 @@ impl Vars for View<'_> {
                     _ => self.state.params[n as usize],
                 }))
             }
+            Lang::Sinumerik => match self.state.commons.get(n as usize) {
+                Some(Some(v)) if n >= 0 => Ok(Some(*v)),
+                Some(None) if n >= 0 => Err(Diagnostic::error(
+                    DiagCode::Unsupported,
+                    span,
+                    format!(
+                        "R{n} is not set earlier in this program: its value lives on the control"
+                    ),
+                )
+                .with_hint(format!("set it before it is used, e.g. `R{n}=1.5`"))),
+                _ => Err(r_out_of_range(n, span)),
+            },
             Lang::MacroB => match n {
                 0 => Ok(None),
                 1..=33 => Ok(self.state.locals.last().and_then(|l| l[n as usize])),
@@ -166,6 +199,14 @@ impl Vars for View<'_> {
 
     fn named(&mut self, name: u32, span: Span) -> Result<f64, Diagnostic> {
         let text = &self.names[name as usize];
+        if self.state.lang == Lang::Sinumerik {
+            return self
+                .frame
+                .named
+                .get(&name)
+                .copied()
+                .ok_or_else(|| undeclared(text, span));
+        }
         if let Some(v) = self.frame.named.get(&name) {
             return Ok(*v);
         }
@@ -187,6 +228,32 @@ impl Vars for View<'_> {
             || self.state.globals.contains_key(&name)
             || is_predefined(&self.names[name as usize])
     }
+}
+
+/// Sinumerik's R parameters threadcut keeps: R0–R999 (machine data 28050 sets how many a control
+/// has; 100 as delivered).
+const R_PARAMETERS: usize = 1000;
+
+fn r_out_of_range(n: i64, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        DiagCode::OutOfRange,
+        span,
+        format!("R{n} is not an R parameter threadcut keeps (alarm 12550, name not defined)"),
+    )
+    .with_hint("threadcut keeps R0 to R999")
+}
+
+fn undeclared(name: &str, span: Span) -> Diagnostic {
+    Diagnostic::error(
+        DiagCode::MissingWord,
+        span,
+        format!(
+            "{name} is not a variable declared in this program (alarm 12550, name not defined)"
+        ),
+    )
+    .with_hint(format!(
+        "declare it with `DEF REAL {name}` in the program or subprogram that uses it"
+    ))
 }
 
 fn unknown_variable(n: i64, span: Span) -> Diagnostic {
@@ -294,6 +361,8 @@ pub struct Vm<'c> {
     words: Vec<Word>,
     budget: Budget,
     executed: u64,
+    /// Sinumerik's sections being repeated (`REPEAT LABEL P=n`), innermost last.
+    sections: Vec<Section>,
     /// The last backward jump: the loop's first line and the line that jumped.
     last_loop: Option<(u32, u32)>,
 }
@@ -323,11 +392,13 @@ impl<'c> Vm<'c> {
                 commons: match lang {
                     Lang::MacroB if syntax.wide_commons => vec![None; 1900],
                     Lang::MacroB => vec![None; 900],
+                    Lang::Sinumerik => vec![None; R_PARAMETERS],
                     Lang::Ngc => Vec::new(),
                 },
                 wide_commons: syntax.wide_commons,
                 value: None,
                 line_number: 0,
+                changed: Vec::new(),
             },
             frames: vec![Frame::new(CallKind::OWord, 0, 0, code.repeat_slots)],
             callers: Vec::new(),
@@ -339,14 +410,21 @@ impl<'c> Vm<'c> {
                 steps_left: limits.max_blocks.saturating_mul(STEPS_PER_BLOCK),
             },
             executed: 0,
+            sections: Vec::new(),
             last_loop: None,
         }
     }
 
     /// Runs from instruction `start` to the program's end.
     pub fn run<H: Host>(mut self, start: u32, host: &mut H) -> R<Outcome, H::Error> {
+        if self.code.lang == Lang::Sinumerik {
+            self.take_parameters(host);
+        }
         let mut pc = start;
         loop {
+            if !self.sections.is_empty() {
+                pc = self.section_end(pc);
+            }
             let Some(inst) = self.code.insts.get(pc as usize) else {
                 self.end_of_text(pc)?;
                 break;
@@ -378,6 +456,33 @@ impl<'c> Vm<'c> {
             executed: self.executed,
             calls: self.called,
         })
+    }
+
+    /// Sinumerik: the R parameters and DEF variables the lines before the interpreter set.
+    fn take_parameters<H: Host>(&mut self, host: &H) {
+        for (name, v) in host.parameters() {
+            let r = name.strip_prefix('R').and_then(|n| n.parse::<usize>().ok());
+            match r {
+                Some(n) if n < R_PARAMETERS => self.state.commons[n] = Some(v),
+                Some(_) => {}
+                None => {
+                    if let Some(id) = self.code.exprs.find(&name) {
+                        self.frames[0].named.insert(id, v);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Tells the host the parameters the last block set (Sinumerik).
+    fn tell<H: Host>(&mut self, host: &mut H) -> Result<(), H::Error> {
+        for (which, v) in std::mem::take(&mut self.state.changed) {
+            match which {
+                Changed::R(n) => host.set_parameter(&format!("R{n}"), v)?,
+                Changed::Name(id) => host.set_parameter(self.code.exprs.name(id), v)?,
+            }
+        }
+        Ok(())
     }
 
     fn line(&self, pc: u32) -> TextLine<'c> {
@@ -444,6 +549,11 @@ impl<'c> Vm<'c> {
             }
             Inst::Call(c) => self.call(pc, &self.code.calls[*c as usize], host)?,
             Inst::Return { value, to_label } => self.ret(pc, *value, *to_label, host)?,
+            // Sinumerik: a program called as a subprogram (a file without PROC) returns at its
+            // end code (M17, M2, M30, RET) as a subprogram does.
+            Inst::End if self.code.lang == Lang::Sinumerik && self.frames.len() > 1 => {
+                self.ret(pc, None, None, host)?
+            }
             Inst::End => Next::Stop,
             Inst::NextProgram => {
                 if self.frames.len() > 1 {
@@ -475,9 +585,15 @@ impl<'c> Vm<'c> {
                 Lang::MacroB => format!(
                     "the subprogram called at line {call} runs into the next program without M99"
                 ),
+                Lang::Sinumerik => {
+                    format!("the subprogram called at line {call} ends without RET or M17")
+                }
             },
         )
-        .with_hint("end a subprogram with M99")
+        .with_hint(match self.code.lang {
+            Lang::Sinumerik => "end a subprogram with RET or M17",
+            _ => "end a subprogram with M99",
+        })
     }
 
     fn too_long(&self, pc: u32) -> Diagnostic {
@@ -540,13 +656,30 @@ impl<'c> Vm<'c> {
 
     fn plain<H: Host>(&mut self, pc: u32, host: &mut H) -> R<(), H::Error> {
         let line = self.line(pc);
-        let shape = lex_line_syntax(
+        let shape = match lex_line_syntax(
             line.text,
             line.number,
             line.offset,
             &mut self.words,
             &self.code.lexer,
-        )?;
+        ) {
+            Ok(shape) => shape,
+            // A line in the control's own syntax: the dialect reads it.
+            Err(_) if self.code.lexer.hand_over_unread => {
+                return host.block(
+                    line,
+                    &[],
+                    false,
+                    &Context {
+                        callers: &self.callers,
+                        calls: &self.calls,
+                        verbatim: true,
+                        unread: true,
+                    },
+                );
+            }
+            Err(e) => return Err(e.into()),
+        };
         if self.words.is_empty() {
             return Ok(());
         }
@@ -559,6 +692,7 @@ impl<'c> Vm<'c> {
                 callers: &self.callers,
                 calls: &self.calls,
                 verbatim: true,
+                unread: false,
             },
         );
         self.words = words;
@@ -569,8 +703,16 @@ impl<'c> Vm<'c> {
         let line = self.line(pc);
         let mut words = std::mem::take(&mut self.words);
         words.clear();
-        let r = self.evaluate_words(b, host, &mut words);
-        let r = r.and_then(|()| self.assign(&b.assigns, host));
+        let r = if self.code.lang == Lang::Sinumerik {
+            // Sinumerik's settings come before the block's addresses (the front end refuses a
+            // setting written after an address it could change).
+            let r = self.assign(&b.assigns, host);
+            self.tell(host)?;
+            r.and_then(|()| self.evaluate_words(b, host, &mut words))
+        } else {
+            let r = self.evaluate_words(b, host, &mut words);
+            r.and_then(|()| self.assign(&b.assigns, host))
+        };
         let r = match r {
             Ok(()) if !words.is_empty() => host.block(
                 line,
@@ -580,6 +722,7 @@ impl<'c> Vm<'c> {
                     callers: &self.callers,
                     calls: &self.calls,
                     verbatim: false,
+                    unread: false,
                 },
             ),
             Ok(()) => Ok(()),
@@ -650,22 +793,51 @@ impl<'c> Vm<'c> {
                     let n = self.eval(*e, host)?;
                     Err(whole(self.code.lang, n, self.code.exprs.span(*e))?)
                 }
-                Target::Named(id) => Ok(*id),
+                Target::Named(id) | Target::Declare(id) => Ok(*id),
             };
             let v = self.eval(a.value, host)?;
             values.push((target, v, a.span));
         }
-        for (target, v, span) in values {
+        for ((target, v, span), a) in values.into_iter().zip(assigns) {
             match target {
                 Err(n) => self.store(n, v, span)?,
+                Ok(name) if self.code.lang == Lang::Sinumerik => {
+                    let declare = matches!(a.target, Target::Declare(_));
+                    self.store_variable(name, v.unwrap_or(0.0), declare, span)?
+                }
                 Ok(name) => self.store_named(name, v.unwrap_or(0.0), span)?,
             }
         }
         Ok(())
     }
 
+    /// Sinumerik: a DEF variable of the running program (declared by `declare`).
+    fn store_variable(
+        &mut self,
+        name: u32,
+        v: f64,
+        declare: bool,
+        span: Span,
+    ) -> Result<(), Diagnostic> {
+        let frame = self.frames.last_mut().expect("main frame");
+        if !declare && !frame.named.contains_key(&name) {
+            return Err(undeclared(self.code.exprs.name(name), span));
+        }
+        frame.named.insert(name, v);
+        self.state.changed.push((Changed::Name(name), v));
+        Ok(())
+    }
+
     fn store(&mut self, n: i64, v: Option<f64>, span: Span) -> Result<(), Diagnostic> {
         match self.code.lang {
+            Lang::Sinumerik => {
+                if n < 0 || n as usize >= R_PARAMETERS {
+                    return Err(r_out_of_range(n, span));
+                }
+                let v = v.unwrap_or(0.0);
+                self.state.commons[n as usize] = Some(v);
+                self.state.changed.push((Changed::R(n), v));
+            }
             Lang::Ngc => {
                 if n < 1 || n as usize >= NGC_PARAMETERS {
                     return Err(Diagnostic::error(
@@ -826,6 +998,8 @@ impl<'c> Vm<'c> {
         match call.kind {
             CallKind::OWord => self.call_oword(pc, call, host).map_err(Into::into),
             CallKind::M98 | CallKind::G65 => self.call_program(pc, call, host).map_err(Into::into),
+            CallKind::Proc => self.call_proc(pc, call, host).map_err(Into::into),
+            CallKind::Section => self.repeat_section(pc, call, host).map_err(Into::into),
         }
     }
 
@@ -837,7 +1011,9 @@ impl<'c> Vm<'c> {
                 let n = whole(Lang::Ngc, v, self.code.exprs.span(*e))?;
                 self.code.exprs.find(&n.to_string())
             }
-            CallTarget::Program { .. } | CallTarget::Label { .. } => None,
+            CallTarget::Program { .. } | CallTarget::Label { .. } | CallTarget::Section { .. } => {
+                None
+            }
         };
         let own = name.and_then(|id| self.code.subs.get(&id).copied());
         let shown = match (&call.target, name) {
@@ -905,7 +1081,7 @@ impl<'c> Vm<'c> {
             CallTarget::Label { label, program } => {
                 return self.call_label(pc, call, *label, *program, host)
             }
-            CallTarget::Name(_) | CallTarget::Number(_) => {
+            CallTarget::Name(_) | CallTarget::Number(_) | CallTarget::Section { .. } => {
                 return Err(Diagnostic::error(
                     DiagCode::Syntax,
                     call.span,
@@ -986,7 +1162,9 @@ impl<'c> Vm<'c> {
                 call.span,
                 match self.code.lang {
                     Lang::Ngc => "Too many subroutine levels".to_string(),
-                    Lang::MacroB => format!("{what} at most {max} levels deep (alarm PS0077)"),
+                    Lang::MacroB | Lang::Sinumerik => {
+                        format!("{what} at most {max} levels deep (alarm PS0077)")
+                    }
                 },
             ));
         }
@@ -1061,6 +1239,162 @@ impl<'c> Vm<'c> {
     }
 
     /// A call's count (L; 1 without): a whole number from 0 to 9999.
+    /// Sinumerik: `NAME(args) P n`, a PROC of this file called by name; its parameters are
+    /// variables of its own, given the arguments' values (by value), 0 when not given.
+    fn call_proc<H: Host>(&mut self, pc: u32, call: &Call, host: &H) -> Result<Next, Diagnostic> {
+        let CallTarget::Name(id) = call.target else {
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                call.span,
+                "a call without a name",
+            ));
+        };
+        let name = self.code.exprs.name(id).to_string();
+        // A PROC of this file, else of a file the include directories hold (`NAME.SPF`): its
+        // unit, first instruction and parameters (named in its own unit's code).
+        let (unit, entry, params): (u32, u32, Vec<_>) = match self.code.subs.get(&id) {
+            Some(&entry) => (
+                self.unit,
+                entry,
+                self.code.params.get(&id).cloned().unwrap_or_default(),
+            ),
+            None => match self.external(&Wanted::Name(name.clone()), call.span) {
+                Some(found) => {
+                    let (unit, entry) = found?;
+                    let callee = &self.units[unit as usize];
+                    let params = callee
+                        .exprs
+                        .find(&name)
+                        .and_then(|p| callee.params.get(&p).cloned())
+                        .unwrap_or_default();
+                    (unit, entry, params)
+                }
+                None => {
+                    return Err(Diagnostic::error(
+                        DiagCode::MissingWord,
+                        call.span,
+                        format!(
+                            "{name} is not a subprogram of this file (alarm 14011, program not available)"
+                        ),
+                    )
+                    .with_hint(format!(
+                        "define it after the main program's end (PROC {name} … RET), or give the directory of {name}.SPF with --include"
+                    )))
+                }
+            },
+        };
+        if call.args.len() > params.len() {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                call.span,
+                format!(
+                    "{name} takes {} parameters and is given {} (alarm 12340, number of parameters too high)",
+                    params.len(),
+                    call.args.len()
+                ),
+            ));
+        }
+        // The main program and 15 subprogram levels (the levels interrupts take not counted).
+        if self.frames.len() >= self.syntax.max_call_depth as usize {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                call.span,
+                format!(
+                    "subprograms nest at most {} levels deep, the main program counted (alarm 14000)",
+                    self.syntax.max_call_depth
+                ),
+            ));
+        }
+        let count = match call.count {
+            Some(p) => {
+                let v = self.eval(p, host)?.unwrap_or(1.0);
+                if !(1.0..=9999.0).contains(&v) || v.fract() != 0.0 {
+                    return Err(Diagnostic::error(
+                        DiagCode::OutOfRange,
+                        self.code.exprs.span(p),
+                        format!("P{v}: a subprogram runs a whole number of times, 1 to 9999"),
+                    ));
+                }
+                v as u64
+            }
+            None => 1,
+        };
+        let mut frame = Frame::new(CallKind::Proc, pc, entry, self.code.repeat_slots);
+        for (k, &param) in params.iter().enumerate() {
+            let v = match call.args.get(k) {
+                Some(&e) => self.eval(e, host)?.unwrap_or(0.0),
+                None => 0.0,
+            };
+            frame.named.insert(param, v);
+        }
+        frame.remaining = count - 1;
+        self.enter(frame, pc, unit);
+        Ok(Next::Go(entry))
+    }
+
+    /// `REPEAT LABEL P=n` and its kin: the section runs `n` times (once without P), then the
+    /// program goes on after the REPEAT block.
+    fn repeat_section<H: Host>(
+        &mut self,
+        pc: u32,
+        call: &Call,
+        host: &H,
+    ) -> Result<Next, Diagnostic> {
+        let CallTarget::Section { first, end } = call.target else {
+            return Err(Diagnostic::error(
+                DiagCode::Syntax,
+                call.span,
+                "a repeat without its section",
+            ));
+        };
+        let count = match call.count {
+            Some(p) => {
+                let v = self.eval(p, host)?.unwrap_or(1.0);
+                if !(1.0..=9999.0).contains(&v) || v.fract() != 0.0 {
+                    return Err(Diagnostic::error(
+                        DiagCode::OutOfRange,
+                        self.code.exprs.span(p),
+                        format!("P={v}: a section repeats a whole number of times, 1 to 9999"),
+                    ));
+                }
+                v as u64
+            }
+            None => 1,
+        };
+        if self.sections.len() >= MAX_SECTIONS {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                call.span,
+                format!("sections repeat inside one another at most {MAX_SECTIONS} deep"),
+            ));
+        }
+        self.sections.push(Section {
+            call: pc,
+            first,
+            end,
+            remaining: count - 1,
+            depth: self.frames.len(),
+        });
+        Ok(Next::Go(first))
+    }
+
+    /// Where the run goes at `pc`: on, or, at the end of the section being repeated, back to its
+    /// start or after its REPEAT block.
+    fn section_end(&mut self, mut pc: u32) -> u32 {
+        while let Some(s) = self.sections.last_mut() {
+            if s.depth != self.frames.len() || s.end != pc {
+                break;
+            }
+            if s.remaining > 0 {
+                s.remaining -= 1;
+                return s.first;
+            }
+            pc = s.call + 1;
+            self.sections.pop();
+        }
+        pc
+    }
+
     fn call_count<H: Host>(&mut self, call: &Call, host: &H) -> Result<u64, Diagnostic> {
         let Some(l) = call.count else {
             return Ok(1);
@@ -1311,6 +1645,21 @@ fn gsk_value(
 }
 
 /// What to run next.
+/// A section of a Sinumerik program being repeated.
+struct Section {
+    /// The REPEAT block.
+    call: u32,
+    first: u32,
+    /// The instruction after the section.
+    end: u32,
+    remaining: u64,
+    /// The call level it runs in.
+    depth: usize,
+}
+
+/// How deeply repeated sections nest (a bound on the run's memory).
+const MAX_SECTIONS: usize = 64;
+
 enum Next {
     Go(u32),
     Stop,

@@ -241,7 +241,7 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
             shape: LineShape {
                 block_delete,
                 percent: false,
-                unread: false,
+                unread: ctx.unread,
             },
             before: &[],
             summary: WordSummary::of(words),
@@ -355,6 +355,15 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         e
     }
 
+    fn parameters(&self) -> Vec<(String, f64)> {
+        self.dialect.parameters()
+    }
+
+    fn set_parameter(&mut self, name: &str, value: f64) -> Result<(), Error> {
+        self.dialect.set_parameter(name, value);
+        self.sink.parameter(name, value)
+    }
+
     // issue 23: a turning cycle's profile subroutine (LinuxCNC's G7x Q).
     fn profile_call(&mut self) -> Option<f64> {
         self.call.take()
@@ -407,7 +416,7 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
 
 /// `expand`'s state for a program with control flow.
 pub(super) struct ExpandState {
-    flatten: bool,
+    pub(super) flatten: bool,
     /// While the beginning of a Fanuc-style program streams: a digest of each cycle's expansion,
     /// for a jump back that runs the cycle again (it must expand the same).
     prefix: Option<HashMap<u32, u64>>,
