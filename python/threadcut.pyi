@@ -11,7 +11,7 @@ must be the controller's: its `name` or its `dialect` is `controller`.
 
 `include`, where a function takes it, is a list of directories where calls find the programs the
 program does not hold (`--include DIR`, in order): Fanuc/Haas/GSK `O9010`, `O9010.nc`, `9010.nc`
-(any case), LinuxCNC `name.ngc` for `o<name> call`.
+(any case), LinuxCNC `name.ngc` for `o<name> call`, Sinumerik `NAME.SPF` (any case).
 
 Bad input raises `InputError`; findings that do not stop a function are issued as `InputWarning`
 through Python's `warnings` module.
@@ -286,8 +286,8 @@ def convert(
     same toolpath, else as plain moves with a comment saying why; every other block through the
     two controllers' codes. A program with control flow is copied as it is for the same
     controller; for another one it is converted as executed only with `flatten=True`.
-    `max_lead_drift`: the largest drift of a lead the target cannot write exactly, over its
-    thread, in the converted program's units (default: a quarter of the thread's medium-class
+    `max_lead_drift`: the largest drift of a lead the target cannot write exactly, over its thread,
+    in the converted program's units (default: a quarter of the thread's medium-class
     pitch-diameter tolerance; the drift is always stated in a comment and an `InputWarning`).
     `source_machine` and `target_machine` are machine profiles, as `machine` elsewhere.
 

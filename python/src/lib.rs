@@ -978,6 +978,10 @@ fn post_py(
 /// as an open file or `io.StringIO(toml_text)`. A `str` is always a path, never TOML text. The profile
 /// must be the controller's: its `name` or its `dialect` is `controller`.
 ///
+/// `include`, where a function takes it, is a list of directories where calls find the programs the
+/// program does not hold (`--include DIR`, in order): Fanuc/Haas/GSK `O9010`, `O9010.nc`, `9010.nc`
+/// (any case), LinuxCNC `name.ngc` for `o<name> call`, Sinumerik `NAME.SPF` (any case).
+///
 /// Bad input raises `InputError`; findings that do not stop a function are issued as `InputWarning`
 /// through Python's `warnings` module.
 #[pymodule(name = "threadcut")]
