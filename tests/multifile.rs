@@ -474,3 +474,24 @@ fn sinumerik_calls_a_subprogram_file_by_its_bare_name() {
         "{last:?}"
     );
 }
+
+/// A numbered subprogram: `L10` (and `L10 P2`, run twice) calls `L10.SPF`: passes at X64, then
+/// twice at X63.5 (radius 32, 31.75, 31.75), Z10 to Z−40, lead 2.
+#[test]
+fn sinumerik_calls_a_numbered_subprogram() {
+    let got = run(
+        "sinumerik",
+        "sinumerik/NUMBERED.MPF",
+        &options(&["sinumerik"]),
+    )
+    .unwrap();
+    let threads: Vec<f64> = got
+        .iter()
+        .filter(|m| m.kind == "thread")
+        .map(|m| m.x)
+        .collect();
+    assert_eq!(threads.len(), 3, "{got:?}");
+    for (x, r) in threads.iter().zip([32.0, 31.75, 31.75]) {
+        assert!((x - r).abs() < 5e-4, "{x} {r}");
+    }
+}

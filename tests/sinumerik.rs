@@ -431,7 +431,6 @@ fn moves_threadcut_does_not_follow_are_refused_not_guessed() {
         ("G0 X20 Z5\nG34 Z-20 K1.5 F0.01\n", 1),
         ("G0 X20 Z5\nN5 G331 Z-20 K1.5\n", 4),
         ("G0 X20 Z5\nG91 G63 Z-20 F300\n", 5),
-        ("G0 X20 Z5\nL100\n", 1),
         ("G0 X20 Z5\nROT RPL=10\n", 1),
     ] {
         let e = error(src);
@@ -443,17 +442,23 @@ fn moves_threadcut_does_not_follow_are_refused_not_guessed() {
     }
     // A name alone in its block is a call of the subprogram of that name: not in the file and
     // no include directory given, the control's alarm 14011.
-    let e = error("G0 X20 Z5\nMYSUB\n");
-    assert_eq!(
-        (e.code, e.span.line, e.span.column),
-        (Code::MissingWord, 2, 1)
-    );
-    assert!(e.message.contains("alarm 14011"), "{}", e.message);
-    assert!(
-        e.hint.as_deref().is_some_and(|h| h.contains("MYSUB.SPF")),
-        "{:?}",
-        e.hint
-    );
+    for (src, file) in [
+        ("G0 X20 Z5\nMYSUB\n", "MYSUB.SPF"),
+        ("G0 X20 Z5\nL100\n", "L100.SPF"),
+    ] {
+        let e = error(src);
+        assert_eq!(
+            (e.code, e.span.line, e.span.column),
+            (Code::MissingWord, 2, 1),
+            "{src}"
+        );
+        assert!(e.message.contains("alarm 14011"), "{}", e.message);
+        assert!(
+            e.hint.as_deref().is_some_and(|h| h.contains(file)),
+            "{:?}",
+            e.hint
+        );
+    }
 }
 
 #[test]

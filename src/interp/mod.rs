@@ -136,8 +136,22 @@ impl Syntax {
                 Control::No
             };
         }
-        // (Sinumerik's address words are none of the interpreter's: its calls are names.)
-        if !line.summary.may_be_control() || self.lang == Lang::Sinumerik {
+        // (Sinumerik's address words are none of the interpreter's: its calls are names, and
+        // `L10` alone in its block — with its block number and a repeat count `P` — the numbered
+        // subprogram L10.)
+        if self.lang == Lang::Sinumerik {
+            let l = line.words.iter().filter(|w| w.letter == b'L').count();
+            let others = line
+                .words
+                .iter()
+                .any(|w| !matches!(w.letter, b'L' | b'N' | b'P'));
+            return if l == 1 && !others {
+                Control::Interpret
+            } else {
+                Control::No
+            };
+        }
+        if !line.summary.may_be_control() {
             return Control::No;
         }
         self.control_words(line)

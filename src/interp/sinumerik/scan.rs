@@ -88,6 +88,10 @@ fn needs_interpreter(text: &[u8], k: usize, e: usize, first: bool, plain: &[&[&s
     if next == b'=' && text.get(n + 1) != Some(&b'=') {
         return computed(text, n + 1);
     }
+    // `L100` alone in its block: the subprogram L100 (`L100.SPF`), called by its number.
+    if is_l_number(&name) && first && alone(text, e) {
+        return true;
+    }
     // A letter and a number: an address word.
     let second = text.get(k + 1).copied().unwrap_or(0);
     if second.is_ascii_digit() || matches!(second, b'.' | b'-' | b'+') || e == k + 1 {
@@ -116,6 +120,14 @@ pub(super) fn is_bare_call(text: &[u8], k: usize, e: usize, plain: &[&[&str]]) -
                 .and_then(|r| r.iter().find(|c| !matches!(c, b' ' | b'\t'))),
             Some(b':' | b'=')
         )
+}
+
+/// `L` and one to seven digits: a subprogram called by its number (`L10`).
+fn is_l_number(name: &str) -> bool {
+    name.len() > 1
+        && name.len() <= 8
+        && name.starts_with('L')
+        && name[1..].bytes().all(|b| b.is_ascii_digit())
 }
 
 /// Whether only a call's arguments `( … )` and a repeat count `P…` follow `e` in the block.
