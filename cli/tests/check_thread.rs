@@ -15,10 +15,15 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn check(name: &str, src: &str, args: &[&str]) -> (i32, String) {
-    let input = tmp(&format!("thread-{name}.nc"));
+    threadcut("check", &format!("thread-{name}.nc"), src, args)
+}
+
+/// `threadcut COMMAND FILE ARGS` on `src` written to `file`: (exit status, stdout and stderr).
+fn threadcut(command: &str, file: &str, src: &str, args: &[&str]) -> (i32, String) {
+    let input = tmp(file);
     std::fs::write(&input, src).unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_threadcut"))
-        .arg("check")
+        .arg(command)
         .arg(&input)
         .args(args)
         .output()
@@ -500,16 +505,7 @@ fn check_takes_the_wire_one_owns() {
 }
 
 fn passes(name: &str, src: &str, args: &[&str]) -> (i32, String) {
-    let input = tmp(&format!("passes-{name}.nc"));
-    std::fs::write(&input, src).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_threadcut"))
-        .arg("passes")
-        .arg(&input)
-        .args(args)
-        .output()
-        .unwrap();
-    let text = String::from_utf8(out.stdout).unwrap() + &String::from_utf8(out.stderr).unwrap();
-    (out.status.code().unwrap(), text)
+    threadcut("passes", &format!("passes-{name}.nc"), src, args)
 }
 
 /// `passes` states what a thread will measure when the tool's form is known. The bundled Fanuc

@@ -1305,20 +1305,7 @@ impl<'c> Vm<'c> {
                 ),
             ));
         }
-        let count = match call.count {
-            Some(p) => {
-                let v = self.eval(p, host)?.unwrap_or(1.0);
-                if !(1.0..=9999.0).contains(&v) || v.fract() != 0.0 {
-                    return Err(Diagnostic::error(
-                        DiagCode::OutOfRange,
-                        self.code.exprs.span(p),
-                        format!("P{v}: a subprogram runs a whole number of times, 1 to 9999"),
-                    ));
-                }
-                v as u64
-            }
-            None => 1,
-        };
+        let count = self.times(call, host, "P", "a subprogram runs")?;
         let mut frame = Frame::new(CallKind::Proc, pc, entry, self.code.repeat_slots);
         for (k, &param) in params.iter().enumerate() {
             let v = match call.args.get(k) {
@@ -1330,6 +1317,29 @@ impl<'c> Vm<'c> {
         frame.remaining = count - 1;
         self.enter(frame, pc, unit);
         Ok(Next::Go(entry))
+    }
+
+    /// Sinumerik's repeat count of a call or a section (`P n`, `P=n`; 1 without): a whole number
+    /// from 1 to 9999, else an error naming `what` runs (written `word` then the value).
+    fn times<H: Host>(
+        &mut self,
+        call: &Call,
+        host: &H,
+        word: &str,
+        what: &str,
+    ) -> Result<u64, Diagnostic> {
+        let Some(p) = call.count else {
+            return Ok(1);
+        };
+        let v = self.eval(p, host)?.unwrap_or(1.0);
+        if !(1.0..=9999.0).contains(&v) || v.fract() != 0.0 {
+            return Err(Diagnostic::error(
+                DiagCode::OutOfRange,
+                self.code.exprs.span(p),
+                format!("{word}{v}: {what} a whole number of times, 1 to 9999"),
+            ));
+        }
+        Ok(v as u64)
     }
 
     /// `REPEAT LABEL P=n` and its kin: the section runs `n` times (once without P), then the
@@ -1347,20 +1357,7 @@ impl<'c> Vm<'c> {
                 "a repeat without its section",
             ));
         };
-        let count = match call.count {
-            Some(p) => {
-                let v = self.eval(p, host)?.unwrap_or(1.0);
-                if !(1.0..=9999.0).contains(&v) || v.fract() != 0.0 {
-                    return Err(Diagnostic::error(
-                        DiagCode::OutOfRange,
-                        self.code.exprs.span(p),
-                        format!("P={v}: a section repeats a whole number of times, 1 to 9999"),
-                    ));
-                }
-                v as u64
-            }
-            None => 1,
-        };
+        let count = self.times(call, host, "P=", "a section repeats")?;
         if self.sections.len() >= MAX_SECTIONS {
             return Err(Diagnostic::error(
                 DiagCode::OutOfRange,
