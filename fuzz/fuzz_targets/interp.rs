@@ -9,12 +9,13 @@ use threadcut::machine::Machine;
 use threadcut::program::{self, Options};
 
 fuzz_target!(|data: &[u8]| {
-    for name in ["linuxcnc", "fanuc", "gsk980", "haas", "fanuc15", "fanuc-b"] {
+    for name in ["linuxcnc", "fanuc", "gsk980", "haas", "fanuc15", "fanuc-b", "sinumerik"] {
         let machine = Machine::built_in(name).unwrap();
         for flatten in [false, true] {
             let options = Options {
                 max_blocks: 20_000,
                 flatten,
+                ..Options::default()
             };
             let mut out = Vec::new();
             let expanded = program::expand_gcode_with(data, &mut out, &machine, &options);
@@ -26,9 +27,11 @@ fuzz_target!(|data: &[u8]| {
             }
         }
         let mut out = Vec::new();
+        // Also as `passes` reads a cycle shown on its own (its start not stated).
         let options = Options {
             max_blocks: 20_000,
-            flatten: false,
+            start: program::Start::Unstated,
+            ..Options::default()
         };
         if program::expand_jsonl_with(data, &mut out, &machine, &options).is_ok() {
             for line in String::from_utf8_lossy(&out).lines() {

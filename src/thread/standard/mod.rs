@@ -1352,6 +1352,12 @@ fn lookup_unified(text: &str) -> Result<StandardThread> {
 /// The three known names nearest to `name`: by diameter and pitch when they could be read, else
 /// by edit distance.
 pub fn nearest(name: &str, target: Option<(f64, f64)>) -> Vec<String> {
+    // No thread's name is this long: text pasted by mistake (a whole program) gets no
+    // suggestion rather than a similarity measured against every name.
+    const LONGEST: usize = 64;
+    if name.len() > LONGEST {
+        return Vec::new();
+    }
     let all = known_names();
     // Threads of the family the name is read as (`M99`: ISO metric, `Tr41x7`: trapezoidal), or
     // every thread when the family has none of its own to offer.
