@@ -93,6 +93,26 @@ pub struct Summary {
     /// The subroutines a program defines when it calls none of them (a subroutine file, run
     /// without `Options::call`): none of them ran.
     pub uncalled: Vec<String>,
+    /// For each line of a called file that ran (by its offset, `diag::FILE_SPACING` and up), the
+    /// calls it first ran inside, outermost first: a finding made later about the line (a
+    /// thread's, by `check`) names them as an error raised there does.
+    pub called_from: std::collections::BTreeMap<u64, Vec<crate::diag::Span>>,
+}
+
+impl Summary {
+    /// The calls the line holding `span` ran inside, when it is a line of a called file.
+    pub fn calls_at(&self, span: crate::diag::Span) -> Option<&[crate::diag::Span]> {
+        if span.file() == 0 {
+            return None;
+        }
+        self.called_from
+            .range(..=span.start)
+            .next_back()
+            .filter(|(offset, _)| {
+                **offset / crate::diag::FILE_SPACING == span.start / crate::diag::FILE_SPACING
+            })
+            .map(|(_, calls)| calls.as_slice())
+    }
 }
 
 /// How a program is run.

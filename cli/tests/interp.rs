@@ -424,3 +424,77 @@ fn call_runs_a_subroutine_file_and_without_it_the_file_says_so() {
     assert!(err.contains("--call 'o<threading> call"), "{err}");
     assert!(!err.contains("no thread found"), "{err}");
 }
+
+/// `check`'s own findings about a thread in a called file (issue 25, item 5): the thread O9010
+/// cuts (three G32 passes to X18.7 from the crest Ø20: 0.65 deep) is judged against M20x2-6g,
+/// whose minor diameter is at most 17.508; the error is at line 4 of O9010.nc, called from line 8
+/// of main-m98.nc, in the text, and in JSON with `called_from`. The notes name the called file.
+#[test]
+fn checks_findings_in_a_called_file_name_the_call() {
+    let args = |format: &str| {
+        threadcut(&[
+            "check",
+            "-c",
+            "fanuc",
+            "--thread",
+            "M20x2-6g",
+            "--format",
+            format,
+            "--include",
+            &multifile("fanuc/lib"),
+            &multifile("fanuc/main-m98.nc"),
+        ])
+    };
+    // Exit status 2: the check found an error.
+    let out = args("text");
+    assert_eq!(out.status.code(), Some(2));
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("fanuc/lib/O9010.nc:4:1"), "{text}");
+    assert!(text.contains("minor diameter 18.7 > 17.508 max"), "{text}");
+    assert!(
+        text.contains("note: called from line 8 of ") && text.contains("main-m98.nc"),
+        "{text}"
+    );
+    assert!(
+        text.contains("note: ") && text.contains("O9010.nc:4: judged against M20x2-6g"),
+        "{text}"
+    );
+    let json: serde_json::Value = serde_json::from_slice(&args("json").stdout).unwrap();
+    let e016 = json
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|f| f["code"] == "E016")
+        .unwrap();
+    assert!(
+        e016["file"]
+            .as_str()
+            .unwrap()
+            .ends_with("fanuc/lib/O9010.nc"),
+        "{e016}"
+    );
+    assert_eq!(e016["line"], 4);
+    let from = &e016["called_from"][0];
+    assert!(
+        from["file"]
+            .as_str()
+            .unwrap()
+            .ends_with("fanuc/main-m98.nc"),
+        "{e016}"
+    );
+    assert_eq!(from["line"], 8);
+    // `passes` names the file its thread lies in.
+    let out = threadcut(&[
+        "passes",
+        "-c",
+        "fanuc",
+        "--include",
+        &multifile("fanuc/lib"),
+        &multifile("fanuc/main-m98.nc"),
+    ]);
+    let text = stdout(&out);
+    assert!(
+        text.starts_with("line 4 of ") && text.contains("fanuc/lib/O9010.nc: "),
+        "{text}"
+    );
+}

@@ -201,11 +201,18 @@ impl Report {
 
     /// The findings as `check --format json` writes them: errors and warnings, then the notes.
     pub fn findings(&self, file: &str) -> Vec<Finding> {
+        self.findings_in(&|_| file.to_string())
+    }
+
+    /// [`Report::findings`], each named in the file its span lies in (`name_of`: the program's
+    /// name for the program's own lines, a called file's for its lines), with the calls a finding
+    /// in a called file ran inside.
+    pub fn findings_in(&self, name_of: &dyn Fn(&Span) -> String) -> Vec<Finding> {
         let mut out: Vec<Finding> = self
             .diagnostics
             .iter()
             .map(|d| Finding {
-                file: file.to_string(),
+                file: name_of(&d.span),
                 line: d.span.line,
                 column: d.span.column,
                 level: match d.severity {
@@ -215,23 +222,34 @@ impl Report {
                 code: Some(d.code.as_str()),
                 message: d.message.clone(),
                 hint: d.hint.clone(),
+                called_from: d
+                    .calls
+                    .iter()
+                    .rev()
+                    .map(|c| Place {
+                        file: name_of(c),
+                        line: c.line,
+                    })
+                    .collect(),
             })
             .collect();
         out.extend(self.notes.iter().map(|n| Finding {
-            file: file.to_string(),
+            file: name_of(&n.span),
             line: n.span.line,
             column: n.span.column,
             level: "note",
             code: None,
             message: n.message.clone(),
             hint: None,
+            called_from: Vec::new(),
         }));
         out
     }
 }
 
 /// One finding of `check --format json`: `{file, line, column, level, code, message, hint}`;
-/// `level` is `error`, `warning` or `note` (an assumption), `code` is null for a note.
+/// `level` is `error`, `warning` or `note` (an assumption), `code` is null for a note; a finding
+/// in a called file adds `called_from: [{file, line}]`, innermost call first.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Finding {
     pub file: String,
@@ -241,6 +259,17 @@ pub struct Finding {
     pub code: Option<&'static str>,
     pub message: String,
     pub hint: Option<String>,
+    /// For a finding in a called file: the calls it ran inside, innermost first (absent
+    /// otherwise).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub called_from: Vec<Place>,
+}
+
+/// A line of a file: where a call was made.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Place {
+    pub file: String,
+    pub line: u32,
 }
 
 /// A crest the program turned outside the named thread's class (its major diameter for an
@@ -694,11 +723,14 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
         Ok(())
     });
     collector.finish(&mut |f| sink.take(f));
+    let mut called_from = None;
     match result {
         Ok(summary) => {
             report.lines = summary.lines;
             report.uncalled = !summary.uncalled.is_empty();
-            report.diagnostics = summary.warnings;
+            let mut summary = summary;
+            report.diagnostics = std::mem::take(&mut summary.warnings);
+            called_from = Some(summary);
         }
         Err(Error::Input(alarm)) => {
             report.stopped = true;
@@ -714,7 +746,17 @@ fn check_gcode<R: BufRead>(input: R, machine: &Machine, opts: &Options) -> Resul
     if let Some(w) = decimals.and_then(decimal::DecimalWords::finding) {
         report.diagnostics.push(w);
     }
-    Ok(finish(report, sink))
+    let mut report = finish(report, sink);
+    // A finding about a line of a called file names the calls it ran inside, as an error raised
+    // there does ("called from line 11 of MAIN.MPF").
+    if let Some(summary) = called_from {
+        for d in report.diagnostics.iter_mut().filter(|d| d.calls.is_empty()) {
+            if let Some(calls) = summary.calls_at(d.span) {
+                d.calls = calls.to_vec();
+            }
+        }
+    }
+    Ok(report)
 }
 
 fn check_apt<R: BufRead>(

@@ -232,6 +232,12 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
     ) -> Result<(), Error> {
         let mut index: WordIndex = [0; 32];
         index_words(words, &mut index);
+        if text.offset >= crate::diag::FILE_SPACING && !ctx.calls.is_empty() {
+            self.summary
+                .called_from
+                .entry(text.offset)
+                .or_insert_with(|| ctx.calls.to_vec());
+        }
         let line = Line {
             number: text.number,
             offset: text.offset,

@@ -72,13 +72,13 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
     output::write(file, args.output, |out| {
         match args.format {
             ReportFormat::Json => {
-                let findings = report.findings(&file.display().to_string());
+                let findings = report.findings_in(&|span| render::file_of(file, span));
                 serde_json::to_writer_pretty(&mut *out, &findings)
                     .map_err(|e| failure(file, std::io::Error::from(e).into()))?;
                 writeln!(out).map_err(|e| failure(file, e.into()))?;
             }
             ReportFormat::Jsonl => {
-                for f in report.findings(&file.display().to_string()) {
+                for f in report.findings_in(&|span| render::file_of(file, span)) {
                     serde_json::to_writer(&mut *out, &f)
                         .map_err(|e| failure(file, std::io::Error::from(e).into()))?;
                     writeln!(out).map_err(|e| failure(file, e.into()))?;
@@ -105,7 +105,7 @@ fn write_text(out: &mut dyn Write, file: &Path, report: &Report) -> std::io::Res
         writeln!(
             out,
             "note: {}:{}: {}",
-            file.display(),
+            render::file_of(file, &n.span),
             n.span.line,
             n.message
         )?;

@@ -98,6 +98,9 @@ impl PassesWriter {
             if let (Some(o), Some(b)) = (cycle.as_object_mut(), blank) {
                 o.insert("blank".into(), commands::blank_json(b));
             }
+            if let (Some(o), Some(f)) = (cycle.as_object_mut(), called_file(t)) {
+                o.insert("file".into(), f.into());
+            }
             if let (Some(o), Some(r)) = (cycle.as_object_mut(), self.reading(t)) {
                 o.insert("measure".into(), commands::reading_json(&r, job.units));
             }
@@ -110,8 +113,9 @@ impl PassesWriter {
             let rough = passes.iter().filter(|p| p.kind == PassKind::Rough).count();
             writeln!(
                 out,
-                "line {}: {}{columns}, {} ({}){}",
+                "line {}{}: {}{columns}, {} ({}){}",
                 job.line,
+                called_file(t).map_or(String::new(), |f| format!(" of {f}")),
                 t.describe(),
                 threadcut::text::rough_and_finishing(rough, passes.len() - rough),
                 job.units.name(),
@@ -183,4 +187,10 @@ impl PassesWriter {
         }
         Ok(())
     }
+}
+
+/// The name of the called file a thread lies in (`--include`), if it is not in the program's own
+/// file: the table's title and its JSON (`file`) name it.
+fn called_file(t: &Thread) -> Option<String> {
+    (t.job.span.file() != 0).then(|| super::render::file_of(std::path::Path::new(""), &t.job.span))
 }

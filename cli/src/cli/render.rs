@@ -50,6 +50,14 @@ fn place(main: &Path, span: &Span) -> String {
     format!("line {} of {name}", span.line)
 }
 
+/// The file a span lies in, as messages name it: the called file's name, else the program's.
+pub fn file_of(main: &Path, span: &Span) -> String {
+    match called_file(span) {
+        Some((name, _)) => name,
+        None => main.display().to_string(),
+    }
+}
+
 /// At most this much of a long line is shown around the caret.
 const WINDOW: usize = 100;
 
