@@ -495,3 +495,37 @@ fn sinumerik_calls_a_numbered_subprogram() {
         assert!((x - r).abs() < 5e-4, "{x} {r}");
     }
 }
+
+/// Sinumerik's `--call`: `PASSES(20, -25, 2.5)` runs the PROC of `PASSES.SPF` with DIA = 20,
+/// ZEND = −25, LEAD = 2.5 (DIAMON: X a diameter, the stream a radius): one pass at X20 (radius
+/// 10) from Z5 to Z−25, lead 2.5. Without the call the file says what it defines, in its own
+/// words.
+#[test]
+fn call_runs_a_sinumerik_proc_file() {
+    let moves = run(
+        "sinumerik",
+        "call/PASSES.SPF",
+        &call("PASSES(20, -25, 2.5)"),
+    )
+    .unwrap();
+    assert_near(&threads(&moves), &[(10.0, -25.0, 2.5)], 1e-3);
+    let text = std::fs::read(data("call/PASSES.SPF")).unwrap();
+    let machine = Machine::built_in("sinumerik").unwrap();
+    let summary = program::run(text.as_slice(), &machine, |_, _| Ok(())).unwrap();
+    assert_eq!(summary.uncalled, ["PASSES"]);
+    let w = &summary.warnings[0];
+    assert!(
+        w.message
+            .contains("defines subroutines (PROC PASSES) and calls none"),
+        "{}",
+        w.message
+    );
+    assert!(
+        w.hint
+            .as_deref()
+            .unwrap()
+            .contains("--call 'PASSES(arg1, arg2, …)'"),
+        "{:?}",
+        w.hint
+    );
+}

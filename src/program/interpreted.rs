@@ -188,7 +188,23 @@ fn uncalled(code: &interp::code::Code, summary: &mut Summary) {
                 .whole()
         })
         .unwrap_or_default();
-    let listed: Vec<String> = names.iter().map(|n| format!("o<{n}>")).collect();
+    // Each language names its subroutines and calls them its own way.
+    let sinumerik = code.lang == interp::Lang::Sinumerik;
+    let listed: Vec<String> = names
+        .iter()
+        .map(|n| {
+            if sinumerik {
+                format!("PROC {n}")
+            } else {
+                format!("o<{n}>")
+            }
+        })
+        .collect();
+    let call = if sinumerik {
+        format!("--call '{}(arg1, arg2, …)'", names[0])
+    } else {
+        format!("--call 'o<{}> call [arg1] [arg2] …'", names[0])
+    };
     summary.warnings.push(
         Diagnostic::warning(
             Code::Suspicious,
@@ -199,8 +215,7 @@ fn uncalled(code: &interp::code::Code, summary: &mut Summary) {
             ),
         )
         .with_hint(format!(
-            "run one as its GUI calls it, with the values a user would type: --call 'o<{}> call [arg1] [arg2] …'",
-            names[0]
+            "run one as its GUI calls it, with the values a user would type: {call}"
         )),
     );
     summary.uncalled = names;
