@@ -245,3 +245,36 @@ fn expand_and_check_still_need_the_start() {
     close(first["x"].as_f64().unwrap(), 9.514, "X of pass 1 (radius)");
     close(first["z"].as_f64().unwrap(), 5.60564, "Z of pass 1");
 }
+
+/// Allen-Bradley's G78 on its own (the shared one-block lowering, as FS15's and Haas's G76): the
+/// bundled M10x1.5 (K0.92, D0.35, P1), whose depths are D·√n: 0.35, 0.35·√2 = 0.49497,
+/// 0.35·√3 = 0.60622, 0.7; the X of pass 1 (diameter) = 8.16 + 2·(0.92 − 0.35) = 9.3. The table
+/// is the one its start (X12 Z5, the example's) gives, but for the Z where each pass starts.
+#[test]
+fn allen_bradley_g78_on_its_own() {
+    let src = "G21\nG78 X8.16 Z-20. K0.92 D0.35 F1.5 A60 P1\nM30\n";
+    let t = &alone("ab9", src)[0];
+    assert_eq!(t.unknown_start, [true, true]);
+    for (p, d) in t.passes.iter().zip([0.35, 0.49497, 0.60622, 0.7]) {
+        close(p.depth, d, "depth");
+    }
+    let rows = program::pass_rows(&t.job, &t.passes, t.diameter_x);
+    close(rows[0].x, 9.3, "X of pass 1");
+    // Inch at power-on (the profile's units): X12 Z5 in the example are mm after its G21, so the
+    // start is given as 12/25.4, 5/25.4 in.
+    let given = threads_with(
+        "ab9",
+        src,
+        Start::At {
+            x: 12.0 / 25.4,
+            z: 5.0 / 25.4,
+        },
+    )
+    .unwrap();
+    assert_eq!(given[0].passes.len(), t.passes.len());
+    for (g, u) in given[0].passes.iter().zip(&t.passes) {
+        close(g.depth, u.depth, "depth");
+        close(g.start.x, u.start.x, "X");
+        close(g.area, u.area, "chip");
+    }
+}

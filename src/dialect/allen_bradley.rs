@@ -193,7 +193,9 @@ impl AllenBradley {
             }
         };
         let taper = line.word(b'I').map_or(0.0, |i| modal.length_mm(i));
-        let start = super::start_point(
+        // Its pass table does not depend on the start point (the shared one-block lowering, as
+        // FS15's and Haas's G76): a cycle shown on its own still has it (`passes`).
+        let start = super::start_point_unstated(
             modal,
             g78,
             "G78",
