@@ -378,13 +378,7 @@ fn passes_py<'py>(
         length: stock_length,
         bore: stock_bore,
     };
-    let thread = match thread {
-        Some(name) => {
-            Some(standard::lookup(name).map_err(|d| Problem::diagnostic(&d, None).error(py))?)
-        }
-        None => None,
-    };
-    let wire = wire_keyword(py, wire, thread.is_some())?;
+    let (thread, wire) = thread_keywords(py, thread, wire)?;
     let opts = commands::with_stock(
         check::Options {
             thread,
@@ -540,13 +534,7 @@ fn check_py<'py>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let m = resolve(py, controller, machine)?;
     let run = run_options(py, start, Start::Unknown, include)?;
-    let thread = match thread {
-        Some(name) => {
-            Some(standard::lookup(name).map_err(|d| Problem::diagnostic(&d, None).error(py))?)
-        }
-        None => None,
-    };
-    let wire = wire_keyword(py, wire, thread.is_some())?;
+    let (thread, wire) = thread_keywords(py, thread, wire)?;
     let stock = Stock {
         diameter: stock_diameter,
         face: stock_start,
@@ -761,6 +749,22 @@ fn thread_py<'py>(py: Python<'py>, name: &str, wire: Option<f64>) -> PyResult<Bo
 
 /// The `wire` keyword (`--wire`): a positive diameter in the thread's units, and only with a
 /// thread to measure.
+/// `thread=` (a standard thread's name, as `--thread`) and `wire=` (with it, as `--wire`).
+fn thread_keywords(
+    py: Python<'_>,
+    thread: Option<&str>,
+    wire: Option<f64>,
+) -> PyResult<(Option<standard::StandardThread>, Option<f64>)> {
+    let thread = match thread {
+        Some(name) => {
+            Some(standard::lookup(name).map_err(|d| Problem::diagnostic(&d, None).error(py))?)
+        }
+        None => None,
+    };
+    let wire = wire_keyword(py, wire, thread.is_some())?;
+    Ok((thread, wire))
+}
+
 fn wire_keyword(py: Python<'_>, wire: Option<f64>, thread: bool) -> PyResult<Option<f64>> {
     match wire {
         Some(w) if !thread => Err(Problem::usage(format!(
