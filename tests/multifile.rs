@@ -298,19 +298,8 @@ fn linuxcnc_subroutine_file_move_for_move_against_rs274() {
     };
     let reference = canon(&rs274, &data("linuxcnc/main.ngc"), &data("linuxcnc/lib"));
     let ours = run("linuxcnc", "linuxcnc/main.ngc", &options(&["linuxcnc/lib"])).unwrap();
-    assert_eq!(reference.len(), ours.len(), "{reference:?}\n{ours:?}");
+    same_as_rs274(&reference, &ours);
     assert_eq!(ours.len(), 14);
-    for (r, o) in reference.iter().zip(&ours) {
-        // rs274 prints four decimals of a position and six of a lead.
-        assert_eq!(r.0, o.kind, "{r:?} {o:?}");
-        assert!(
-            (r.1 - o.x).abs() < 0.6e-4 && (r.2 - o.z).abs() < 0.6e-4,
-            "{r:?} {o:?}"
-        );
-        if let (Some(a), Some(b)) = (r.3, o.lead) {
-            assert!((a - b).abs() < 1e-6, "{r:?} {o:?}");
-        }
-    }
 }
 
 /// `--call`: the LatheMacro-style file `call/threading.ngc` run as its GUI calls it.
@@ -396,18 +385,8 @@ fn call_move_for_move_against_rs274() {
     let ours = run("linuxcnc", "call/threading.ngc", &call(THREADING_CALL)).unwrap();
     // rs274 starts at the origin and lists the first rapid; threadcut's first move has an
     // unknown start: both list it.
-    assert_eq!(reference.len(), ours.len(), "{reference:?}\n{ours:?}");
+    same_as_rs274(&reference, &ours);
     assert_eq!(ours.len(), 13);
-    for (r, o) in reference.iter().zip(&ours) {
-        assert_eq!(r.0, o.kind, "{r:?} {o:?}");
-        assert!(
-            (r.1 - o.x).abs() < 0.6e-4 && (r.2 - o.z).abs() < 0.6e-4,
-            "{r:?} {o:?}"
-        );
-        if let (Some(a), Some(b)) = (r.3, o.lead) {
-            assert!((a - b).abs() < 1e-6, "{r:?} {o:?}");
-        }
-    }
 }
 
 /// Sinumerik: a main program calls `BAR_GROOVE(depth)`, a PROC in `bar_groove.spf` (found as
@@ -528,4 +507,21 @@ fn call_runs_a_sinumerik_proc_file() {
         "{:?}",
         w.hint
     );
+}
+
+/// rs274's moves and threadcut's, the same: kind, end (rs274 prints four decimals of a position)
+/// and lead (six decimals).
+#[track_caller]
+fn same_as_rs274(reference: &[(String, f64, f64, Option<f64>)], ours: &[Move]) {
+    assert_eq!(reference.len(), ours.len(), "{reference:?}\n{ours:?}");
+    for (r, o) in reference.iter().zip(ours) {
+        assert_eq!(r.0, o.kind, "{r:?} {o:?}");
+        assert!(
+            (r.1 - o.x).abs() < 0.6e-4 && (r.2 - o.z).abs() < 0.6e-4,
+            "{r:?} {o:?}"
+        );
+        if let (Some(a), Some(b)) = (r.3, o.lead) {
+            assert!((a - b).abs() < 1e-6, "{r:?} {o:?}");
+        }
+    }
 }
