@@ -693,7 +693,7 @@ impl Part {
             let k = i as f64 / INSIDE_SAMPLES as f64;
             let p = Pos::new(from.x + k * (to.x - from.x), from.z + k * (to.z - from.z));
             let g = (p.x / GRID, p.z / GRID);
-            let inside = outline::inside_banded(&self.rings, self.slabs(), g);
+            let inside = outline::inside(&self.rings, self.slabs(), g);
             if !inside {
                 leading = false;
                 continue;
@@ -753,7 +753,8 @@ impl Part {
             let (t0, t1) = (w[0], w[1]);
             let inside = (1..=DEPTH_SAMPLES).any(|i| {
                 let p = at(t0 + (t1 - t0) * i as f64 / (DEPTH_SAMPLES + 1) as f64);
-                outline::inside(&self.rings, p) && !outline::near_edge(&self.rings, p, deep)
+                outline::inside(&self.rings, self.slabs(), p)
+                    && !outline::near_edge(&self.rings, p, deep)
             });
             if inside && !was_inside {
                 let entry = at(t0);

@@ -470,8 +470,9 @@ pub fn extent_at_z(rings: &[Ring], slabs: Option<&Slabs>, z: f64) -> Option<(f64
     extent
 }
 
-/// [`inside`], looking only at the edges of the band holding `p` when `slabs` are given.
-pub fn inside_banded(rings: &[Ring], slabs: Option<&Slabs>, p: (f64, f64)) -> bool {
+/// Whether the point (grid steps) lies in the material (non-zero winding), looking only at the
+/// edges of the band holding `p` when `slabs` (built from these rings) are given.
+pub fn inside(rings: &[Ring], slabs: Option<&Slabs>, p: (f64, f64)) -> bool {
     let mut winding = 0i32;
     each_edge_at(rings, slabs, p.1, |ring, i| {
         let n = ring.pts.len();
@@ -627,7 +628,7 @@ pub fn removes_nothing(
         let (sx, sy) = piece.iter().fold((0.0, 0.0), |(x, y), p| {
             (x + f64::from(p.x), y + f64::from(p.y))
         });
-        !inside_banded(material, slabs, (sx / n, sy / n))
+        !inside(material, slabs, (sx / n, sy / n))
     })
 }
 
@@ -661,21 +662,6 @@ fn enters_convex(piece: &[Point], sign: i64, a: Point, b: Point) -> bool {
         }
     }
     t1 - t0 > 1e-12
-}
-
-/// Whether the point (grid steps) lies in the material (non-zero winding).
-pub fn inside(rings: &[Ring], p: (f64, f64)) -> bool {
-    let mut winding = 0i32;
-    for (a, b, _) in rings.iter().flat_map(Ring::edges) {
-        let (a, b) = (float(a), float(b));
-        if (a.1 <= p.1) != (b.1 <= p.1) {
-            let x = a.0 + (p.1 - a.1) / (b.1 - a.1) * (b.0 - a.0);
-            if x > p.0 {
-                winding += if b.1 > a.1 { 1 } else { -1 };
-            }
-        }
-    }
-    winding != 0
 }
 
 /// The distance (grid steps) from `p` to the nearest edge, with that edge.
@@ -801,7 +787,7 @@ mod tests {
         let xs = crossings_at_z(&rings, -2.0 * GRID);
         assert_eq!(xs.len(), 2);
         assert!((xs[1] - 100.0 * GRID).abs() < 1e-12);
-        assert!(inside(&rings, (50.0, -20.0)));
-        assert!(!inside(&rings, (150.0, -20.0)));
+        assert!(inside(&rings, None, (50.0, -20.0)));
+        assert!(!inside(&rings, None, (150.0, -20.0)));
     }
 }
