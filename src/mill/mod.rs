@@ -30,6 +30,7 @@
 //!
 //! Everything is millimetres inside; [`post`] writes program units.
 
+pub mod motion;
 pub mod post;
 pub mod profile;
 pub mod readback;
