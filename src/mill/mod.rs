@@ -34,6 +34,7 @@ pub mod motion;
 pub mod post;
 pub mod profile;
 pub mod readback;
+pub mod recognise;
 pub mod request;
 
 pub use request::{Milling, Request, Warning};
