@@ -68,6 +68,29 @@ pub enum Known {
     Passes,
 }
 
+/// The side of the material (internal or external) as each source tells it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Sides {
+    pub given: Option<Side>,
+    pub compensation: Option<Side>,
+    pub entry: Option<Side>,
+    pub passes: Option<Side>,
+}
+
+impl Sides {
+    /// The side, from the first source that tells it: given, compensation, entry, passes.
+    pub fn decided(&self) -> Option<(Side, Known)> {
+        [
+            (self.given, Known::Given),
+            (self.compensation, Known::Compensation),
+            (self.entry, Known::Entry),
+            (self.passes, Known::Passes),
+        ]
+        .into_iter()
+        .find_map(|(s, k)| s.map(|s| (s, k)))
+    }
+}
+
 /// One run of helical moves: a radial pass of one start.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Helix {
@@ -80,9 +103,8 @@ pub struct Helix {
     pub to: f64,
     /// Turns made (sweep / 360°).
     pub turns: f64,
-    /// Advance per turn of each arc of the run (mm, positive), in order: all equal on a good
-    /// program.
-    pub leads: Vec<f64>,
+    /// Each arc of the run, in order: its advance per turn is the same on a good program.
+    pub arcs: Vec<Turn>,
     /// The normal-axis position the helix has at angle 0 of the plane's first axis, modulo the
     /// lead (mm): the start it cuts.
     pub phase: f64,
@@ -96,11 +118,32 @@ pub struct Helix {
     /// a helix (the entry's start).
     #[serde(skip)]
     pub came_from: Option<[f64; 3]>,
+    /// The move just before the run (the entry: a straight move or a lead-in arc) and just after
+    /// it (the exit).
+    #[serde(skip)]
+    pub entry: Option<MillMotion>,
+    #[serde(skip)]
+    pub exit: Option<MillMotion>,
     /// Where the run's first arc begins and its last ends.
     #[serde(skip)]
     pub start: [f64; 3],
     #[serde(skip)]
     pub end: [f64; 3],
+}
+
+/// One arc of a helix.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Turn {
+    /// Along the axis (mm, signed) and in turns (sweep / 360°).
+    pub advance: f64,
+    pub turns: f64,
+    pub line: u32,
+}
+
+impl Turn {
+    pub fn lead(&self) -> f64 {
+        self.advance.abs() / self.turns
+    }
 }
 
 impl Helix {
@@ -124,6 +167,8 @@ pub struct MilledThread {
     pub hand: Hand,
     pub direction: Direction,
     pub side: Option<(Side, Known)>,
+    /// What each way of knowing the side says.
+    pub sides: Sides,
     /// Climb milling (else conventional), when the spindle's rotation is known.
     pub climb: Option<bool>,
     /// The runs in program order.
@@ -160,6 +205,8 @@ pub struct Recogniser {
     thread: Option<Building>,
     /// Where the tool was before the current non-helix moves began (the entry's start).
     last_off_helix: Option<[f64; 3]>,
+    /// The move pushed before the current one.
+    prev: Option<MillMotion>,
 }
 
 /// What every arc of one run shares.
@@ -186,13 +233,20 @@ impl Recogniser {
             run_key: None,
             thread: None,
             last_off_helix: None,
+            prev: None,
         }
     }
 
     /// One move; returns a thread that this move showed to be complete.
     pub fn push(&mut self, m: &MillMotion) -> Option<MilledThread> {
+        let done = self.take(m);
+        self.prev = Some(*m);
+        done
+    }
+
+    fn take(&mut self, m: &MillMotion) -> Option<MilledThread> {
         let Some((key, end_radius, sweep)) = self.helical(m) else {
-            let done = self.end_run();
+            let done = self.end_run(Some(m));
             if self.run.is_none() {
                 self.last_off_helix = Some(m.from);
             }
@@ -209,7 +263,7 @@ impl Recogniser {
             .is_some_and(|k| same_key(&k, &key, eps) && self.continues(m));
         let mut done = None;
         if !same_run {
-            done = self.end_run();
+            done = self.end_run(Some(m));
             self.start_run(m, key);
         }
         let (_, _, n) = key.plane.axes();
@@ -223,14 +277,18 @@ impl Recogniser {
         let turns = sweep.abs() / std::f64::consts::TAU;
         run.turns += turns;
         run.to = m.to[n];
-        run.leads.push((m.to[n] - m.from[n]).abs() / turns);
+        run.arcs.push(Turn {
+            advance: m.to[n] - m.from[n],
+            turns,
+            line: m.line,
+        });
         run.lines.1 = m.line;
         done
     }
 
     /// The threads still being built (the last run may end one and begin another).
     pub fn finish(mut self) -> Vec<MilledThread> {
-        let done = self.end_run();
+        let done = self.end_run(None);
         done.into_iter().chain(self.take_thread()).collect()
     }
 
@@ -283,7 +341,7 @@ impl Recogniser {
             from: m.from[n],
             to: m.from[n],
             turns: 0.0,
-            leads: Vec::new(),
+            arcs: Vec::new(),
             phase: 0.0,
             clockwise: key.clockwise,
             comp: m.state.comp,
@@ -291,6 +349,8 @@ impl Recogniser {
             tool: m.state.tool,
             lines: (m.line, m.line),
             came_from: self.last_off_helix,
+            entry: self.prev,
+            exit: None,
             start: m.from,
             end: m.from,
         });
@@ -303,8 +363,9 @@ impl Recogniser {
 
     /// Ends the current run: it joins the thread being built, or ends that thread and starts
     /// another (returned).
-    fn end_run(&mut self) -> Option<MilledThread> {
+    fn end_run(&mut self, next: Option<&MillMotion>) -> Option<MilledThread> {
         let mut run = self.run.take()?;
+        run.exit = next.copied();
         let key = self.run_key.take().expect("a run has its key");
         if run.turns < MIN_TURNS {
             // A lead-in or lead-out arc, or a ramp: part of the way in or out, not a thread.
@@ -380,7 +441,8 @@ fn describe(b: Building, o: &Options) -> MilledThread {
     } else {
         Direction::TopDown
     };
-    let side = side_of(&helices, &key, o);
+    let sides = side_of(&helices, &key, o);
+    let side = sides.decided();
     let (lo, hi) = helices.iter().fold((f64::MAX, f64::MIN), |(lo, hi), h| {
         (lo.min(h.from.min(h.to)), hi.max(h.from.max(h.to)))
     });
@@ -401,6 +463,7 @@ fn describe(b: Building, o: &Options) -> MilledThread {
         from: hi + comb,
         to: lo,
         root_diameter,
+        sides,
         helices,
     }
 }
@@ -420,49 +483,36 @@ fn count_starts(helices: &[Helix], lead: f64, eps: f64) -> u32 {
     u32::try_from(phases.len()).unwrap_or(u32::MAX).max(1)
 }
 
-fn side_of(helices: &[Helix], key: &RunKey, o: &Options) -> Option<(Side, Known)> {
-    if let Some(s) = o.side {
-        return Some((s, Known::Given));
-    }
+fn side_of(helices: &[Helix], key: &RunKey, o: &Options) -> Sides {
     let first = &helices[0];
     let ccw = !key.clockwise;
-    match first.comp {
-        Comp::Left { .. } => {
-            return Some((
-                if ccw { Side::Internal } else { Side::External },
-                Known::Compensation,
-            ))
-        }
-        Comp::Right { .. } => {
-            return Some((
-                if ccw { Side::External } else { Side::Internal },
-                Known::Compensation,
-            ))
-        }
-        Comp::Off => {}
-    }
-    if let Some(p) = first.came_from {
-        let (a, b, _) = key.plane.axes();
-        let r = (p[a] - key.axis[0]).hypot(p[b] - key.axis[1]);
-        if (r - first.radius).abs() > o.eps {
-            let s = if r < first.radius {
-                Side::Internal
-            } else {
-                Side::External
-            };
-            return Some((s, Known::Entry));
-        }
-    }
-    let (r0, r1) = (first.radius, helices.last()?.radius);
-    if (r1 - r0).abs() > o.eps {
-        let s = if r1 > r0 {
+    let compensation = match first.comp {
+        Comp::Left { .. } if ccw => Some(Side::Internal),
+        Comp::Left { .. } => Some(Side::External),
+        Comp::Right { .. } if ccw => Some(Side::External),
+        Comp::Right { .. } => Some(Side::Internal),
+        Comp::Off => None,
+    };
+    let outward = |inward: bool| {
+        if inward {
             Side::Internal
         } else {
             Side::External
-        };
-        return Some((s, Known::Passes));
+        }
+    };
+    let entry = first.came_from.and_then(|p| {
+        let (a, b, _) = key.plane.axes();
+        let r = (p[a] - key.axis[0]).hypot(p[b] - key.axis[1]);
+        ((r - first.radius).abs() > o.eps).then(|| outward(r < first.radius))
+    });
+    let (r0, r1) = (first.radius, helices[helices.len() - 1].radius);
+    let passes = ((r1 - r0).abs() > o.eps).then(|| outward(r1 > r0));
+    Sides {
+        given: o.side,
+        compensation,
+        entry,
+        passes,
     }
-    None
 }
 
 /// The diameter the helix cuts: the path itself under compensation, else the tool centre's
@@ -660,9 +710,9 @@ mod tests {
         // The third turn rises 2.4: a wrong Z on one block.
         moves[2].to[2] = moves[2].from[2] + 2.4;
         let t = &threads(&moves, Options::default())[0];
-        let l = &t.helices[0].leads;
+        let l = &t.helices[0].arcs;
         assert_eq!(l.len(), 3);
-        assert!((l[0] - 2.5).abs() < 1e-9 && (l[2] - 2.4).abs() < 1e-9);
+        assert!((l[0].lead() - 2.5).abs() < 1e-9 && (l[2].lead() - 2.4).abs() < 1e-9);
     }
 
     #[test]
