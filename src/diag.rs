@@ -115,11 +115,24 @@ pub enum Code {
     /// `check`: E017's twin where it rests on an assumption (a program stop that stops the
     /// spindle on most machines, the same tool restated between passes).
     MachineStateAssumed,
+    /// `check` of a milled thread: its helix is not a thread — turns of unequal lead, passes
+    /// about one axis advancing differently, compensation on the side that cuts the wall, an
+    /// entry or exit arc that gouges the finished thread.
+    Helix,
+    /// `check` of a milled thread: an entry that leaves a mark (a straight move onto the finished
+    /// thread's radius), or E019 on an assumption.
+    HelixAssumed,
+    /// `check` of a tapping cycle: the feed is not the tap's lead (F ≠ pitch × rpm per minute),
+    /// the spindle turns against the tap's hand, or the cycle's words are not the control's.
+    Tapping,
+    /// `check` of a tapping cycle: E020 on an assumption (a floating holder's compensation, the
+    /// pitch taken from the program rather than named).
+    TappingAssumed,
 }
 
 impl Code {
     /// Every code, in the order of their numbers' introduction.
-    pub const ALL: [Code; 28] = [
+    pub const ALL: [Code; 32] = [
         Code::Syntax,
         Code::BadNumber,
         Code::MissingWord,
@@ -148,6 +161,10 @@ impl Code {
         Code::OutOfClassAssumed,
         Code::MachineState,
         Code::MachineStateAssumed,
+        Code::Helix,
+        Code::HelixAssumed,
+        Code::Tapping,
+        Code::TappingAssumed,
     ];
 
     pub fn as_str(self) -> &'static str {
@@ -180,6 +197,10 @@ impl Code {
             Code::MachineState => "E017",
             Code::MachineStateAssumed => "W010",
             Code::Shoulder => "E018",
+            Code::Helix => "E019",
+            Code::HelixAssumed => "W011",
+            Code::Tapping => "E020",
+            Code::TappingAssumed => "W012",
         }
     }
 }
@@ -329,7 +350,11 @@ mod tests {
             | Code::Shoulder
             | Code::OutOfClassAssumed
             | Code::MachineState
-            | Code::MachineStateAssumed => Code::ALL.contains(&c),
+            | Code::MachineStateAssumed
+            | Code::Helix
+            | Code::HelixAssumed
+            | Code::Tapping
+            | Code::TappingAssumed => Code::ALL.contains(&c),
         };
         assert!(Code::ALL.iter().all(|&c| listed(c)));
         let mut names: Vec<&str> = Code::ALL.iter().map(|c| c.as_str()).collect();

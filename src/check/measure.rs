@@ -214,3 +214,61 @@ pub struct Face {
     /// The user gave it (`--stock-start`); otherwise `check` assumed it.
     pub given: bool,
 }
+
+/// The pitch diameter of the groove a form tool cuts with its tip on the diameter `root` (an
+/// external thread's minor, an internal one's major) in one plunge: where the groove is half a
+/// pitch wide. `None` when it is nowhere (a tip wider than half a pitch).
+pub fn pitch_diameter_at_root(root: f64, side: Surface, tool: &Tool, pitch: f64) -> Option<f64> {
+    let form = tool.form();
+    // A crest well above the groove: 4 pitches outside the root.
+    let depth = 4.0 * pitch;
+    let cut = [(0.0, depth)];
+    let width = |v: f64| groove_edges(&cut, &form, v).map_or(0.0, |(l, r)| r - l);
+    let (mut a, mut b) = (0.0, depth);
+    if width(a) < pitch / 2.0 || width(b) > pitch / 2.0 {
+        return None;
+    }
+    while b - a > BISECTION_WIDTH {
+        let m = (a + b) / 2.0;
+        if width(m) >= pitch / 2.0 {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    // From the root, the pitch line lies `depth − a` toward the crest.
+    let up = depth - a;
+    Some(match side {
+        Surface::External => root + 2.0 * up,
+        Surface::Internal => root - 2.0 * up,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::Tip;
+
+    #[test]
+    fn the_pitch_diameter_of_a_plunged_groove() {
+        // A sharp 60° tool: the groove is P/2 wide at (P/2)/(2·tan 30°) = 0.4330·P above the tip.
+        // External, root Ø17 with P = 2.5: PD = 17 + 2·1.0825 = 19.1651.
+        let pd = pitch_diameter_at_root(17.0, Surface::External, &Tool::sharp(60.0), 2.5).unwrap();
+        assert!((pd - (17.0 + 2.0 * 1.25 / (2.0 * 30f64.to_radians().tan()))).abs() < 1e-6);
+        // Internal with a flat of P/8 = 0.3125: the width grows from 0.3125 at the root, so P/2 is
+        // reached (1.25 − 0.3125)/(2·tan 30°) = 0.8119 above it. Root Ø20: PD = 20 − 1.6238.
+        let flat = Tool {
+            angle_deg: 60.0,
+            tip: Tip::Flat { width: 0.3125 },
+        };
+        let pd = pitch_diameter_at_root(20.0, Surface::Internal, &flat, 2.5).unwrap();
+        let up = (1.25 - 0.3125) / (2.0 * 30f64.to_radians().tan());
+        assert!((pd - (20.0 - 2.0 * up)).abs() < 1e-6, "{pd}");
+        // A flat wider than half the pitch: no pitch diameter.
+        let wide = Tool {
+            angle_deg: 60.0,
+            tip: Tip::Flat { width: 1.5 },
+        };
+        assert!(pitch_diameter_at_root(20.0, Surface::Internal, &wide, 2.5).is_none());
+    }
+}

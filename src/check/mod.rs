@@ -44,6 +44,7 @@ pub mod blank;
 pub mod cut;
 mod decimal;
 mod measure;
+pub mod milled;
 pub mod reading;
 pub mod spindle;
 pub mod standard;

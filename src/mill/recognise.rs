@@ -148,7 +148,19 @@ impl Turn {
 
 impl Helix {
     /// The advance per turn over the whole run.
+    /// The lead most of the run's turns have: the median of its arcs' (weighted by their turns),
+    /// so that one arc off the lead does not move it.
     pub fn lead(&self) -> f64 {
+        let mut leads: Vec<(f64, f64)> = self.arcs.iter().map(|a| (a.lead(), a.turns)).collect();
+        leads.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let half = leads.iter().map(|l| l.1).sum::<f64>() / 2.0;
+        let mut seen = 0.0;
+        for (lead, turns) in &leads {
+            seen += turns;
+            if seen >= half {
+                return *lead;
+            }
+        }
         (self.to - self.from).abs() / self.turns
     }
 }
@@ -433,7 +445,7 @@ fn hand_of(k: &RunKey) -> Hand {
 fn describe(b: Building, o: &Options) -> MilledThread {
     let key = b.key;
     let helices = b.helices;
-    let lead = helices.iter().map(Helix::lead).sum::<f64>() / helices.len() as f64;
+    let lead = helices[0].lead();
     let starts = count_starts(&helices, lead, o.eps);
     let pitch = lead / f64::from(starts);
     let direction = if key.rising > 0.0 {
@@ -555,16 +567,13 @@ pub fn threads<'a>(
     out
 }
 
+/// Moves for tests: straight lines and helices built by hand.
 #[cfg(test)]
-mod tests {
+pub(crate) mod testing {
     use super::*;
     use crate::mill::motion::{Feed, State};
-    use crate::mill::profile::MillProfile;
-    use crate::mill::readback::{self, SegKind};
-    use crate::mill::request::Request;
-    use crate::units::Units;
 
-    fn state(comp: Comp) -> State {
+    pub fn state(comp: Comp) -> State {
         State {
             feed: Feed::PerMinute(100.0),
             rpm: Some(1000.0),
@@ -575,7 +584,7 @@ mod tests {
         }
     }
 
-    fn line(from: [f64; 3], to: [f64; 3], comp: Comp) -> MillMotion {
+    pub fn line(from: [f64; 3], to: [f64; 3], comp: Comp) -> MillMotion {
         MillMotion {
             kind: MillKind::Feed,
             from,
@@ -586,7 +595,7 @@ mod tests {
     }
 
     /// Full turns about (cx, cy) at radius r from z0, `advance` per turn (signed).
-    fn helix(
+    pub fn helix(
         c: [f64; 2],
         r: f64,
         z0: f64,
@@ -613,6 +622,16 @@ mod tests {
             })
             .collect()
     }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::testing::{helix, line, state};
+    use super::*;
+    use crate::mill::profile::MillProfile;
+    use crate::mill::readback::{self, SegKind};
+    use crate::mill::request::Request;
+    use crate::units::Units;
 
     #[test]
     fn an_internal_thread_milled_bottom_up_without_compensation() {
