@@ -108,6 +108,8 @@ pub struct Helix {
     /// The normal-axis position the helix has at angle 0 of the plane's first axis, modulo the
     /// lead (mm): the start it cuts.
     pub phase: f64,
+    /// Which start that is (1-based, in the order first cut).
+    pub start_index: u32,
     pub clockwise: bool,
     pub comp: Comp,
     pub rotation: Rotation,
@@ -355,6 +357,7 @@ impl Recogniser {
             turns: 0.0,
             arcs: Vec::new(),
             phase: 0.0,
+            start_index: 1,
             clockwise: key.clockwise,
             comp: m.state.comp,
             rotation: m.state.rotation,
@@ -444,9 +447,9 @@ fn hand_of(k: &RunKey) -> Hand {
 /// A thread's facts from its runs.
 fn describe(b: Building, o: &Options) -> MilledThread {
     let key = b.key;
-    let helices = b.helices;
+    let mut helices = b.helices;
     let lead = helices[0].lead();
-    let starts = count_starts(&helices, lead, o.eps);
+    let starts = count_starts(&mut helices, lead, o.eps);
     let pitch = lead / f64::from(starts);
     let direction = if key.rising > 0.0 {
         Direction::BottomUp
@@ -481,16 +484,22 @@ fn describe(b: Building, o: &Options) -> MilledThread {
 }
 
 /// Distinct phases of the helices along the axis, modulo the lead.
-fn count_starts(helices: &[Helix], lead: f64, eps: f64) -> u32 {
+/// Each helix's start (1-based, in the order first cut), and how many there are.
+fn count_starts(helices: &mut [Helix], lead: f64, eps: f64) -> u32 {
     let mut phases: Vec<f64> = Vec::new();
     for h in helices {
         let close = |p: &f64| {
             let d = (p - h.phase).rem_euclid(lead);
             d.min(lead - d) <= eps * 4.0
         };
-        if !phases.iter().any(close) {
-            phases.push(h.phase);
-        }
+        let k = match phases.iter().position(close) {
+            Some(k) => k,
+            None => {
+                phases.push(h.phase);
+                phases.len() - 1
+            }
+        };
+        h.start_index = u32::try_from(k + 1).unwrap_or(u32::MAX);
     }
     u32::try_from(phases.len()).unwrap_or(u32::MAX).max(1)
 }
@@ -859,6 +868,8 @@ mod tests {
                         t.root_diameter
                     );
                     assert_eq!(t.helices.len() as u32, passes * starts, "{what}");
+                    let last_start = t.helices.iter().map(|h| h.start_index).max();
+                    assert_eq!(last_start, Some(starts), "{what}");
                 }
             }
         }

@@ -20,6 +20,8 @@
 //! A program is G-code for a controller or APT/CL ([`Source`], as `check` takes it; [`source`]
 //! tells which from the text).
 
+pub mod milled;
+
 use std::io::{BufRead, Write};
 
 use crate::check::{self, ThreadBlank};
