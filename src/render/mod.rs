@@ -2,6 +2,7 @@
 //! the simulated section, the toolpath) and writes text; nothing computes motion.
 
 mod draw;
+pub mod milled;
 pub mod part;
 pub mod svg;
 
