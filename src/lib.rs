@@ -37,6 +37,7 @@ pub mod machine;
 pub mod mill;
 pub mod part;
 pub mod post;
+pub mod millprog;
 pub mod program;
 pub mod render;
 pub mod sim;
