@@ -231,7 +231,9 @@ impl Vars for View<'_> {
         if let Some(v) = self.state.globals.get(&name) {
             return Ok(*v);
         }
-        if let (Some(m), Some(axis)) = (self.mill, ["_x", "_y", "_z"].iter().position(|a| a == text)) {
+        if let (Some(m), Some(axis)) =
+            (self.mill, ["_x", "_y", "_z"].iter().position(|a| a == text))
+        {
             return mill_axis(m, axis, span);
         }
         if let Some(v) = predefined(text, self.modal, self.state, span)? {
@@ -1590,7 +1592,10 @@ impl<'c> Vm<'c> {
         let n = whole(Lang::MacroB, n, op.span)?;
         // H26 reads the variable it sets.
         let i = if op.h == 26 {
-            self.view(host.modal(), host.mill_position()).0.get(n, op.span)?.unwrap_or(0.0)
+            self.view(host.modal(), host.mill_position())
+                .0
+                .get(n, op.span)?
+                .unwrap_or(0.0)
         } else {
             0.0
         };

@@ -28,7 +28,11 @@ pub(crate) fn arc(
     let to = mill.end_point(line)?;
     let gspan = span_of(line, g);
     let Some(from) = known(mill.pos) else {
-        let w = line.words.iter().find(|w| w.letter == b'G').or(line.words.first());
+        let w = line
+            .words
+            .iter()
+            .find(|w| w.letter == b'G')
+            .or(line.words.first());
         return Err(match w {
             Some(w) => unknown_axis(w, "an arc (which starts where the tool is)"),
             None => Diagnostic::error(Code::UnknownPosition, gspan, "an arc's start is not known"),
@@ -145,7 +149,11 @@ fn r_centre(mill: &Mill, r: &Word, from: P3, end: P3, clockwise: bool) -> Result
         .with_hint("write a full circle with its centre (I J K)"));
     }
     let half = chord / 2.0;
-    let tol = if mill.lang.arc_turns { radius.abs() * 1e-12 } else { eps };
+    let tol = if mill.lang.arc_turns {
+        radius.abs() * 1e-12
+    } else {
+        eps
+    };
     if half > radius.abs() + tol {
         return Err(Diagnostic::error(
             Code::Geometry,

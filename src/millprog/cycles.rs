@@ -71,7 +71,10 @@ pub(crate) fn cycle(
         return Err(Diagnostic::error(
             Code::Unsupported,
             gspan,
-            format!("{} outside G17: threadcut reads canned cycles drilling along Z only", g_name(code)),
+            format!(
+                "{} outside G17: threadcut reads canned cycles drilling along Z only",
+                g_name(code)
+            ),
         ));
     }
     read_words(mill, line, code, gspan)?;
@@ -89,7 +92,10 @@ pub(crate) fn cycle(
         Diagnostic::error(
             Code::UnknownPosition,
             gspan,
-            format!("{}: the tool's Z (the initial level) is not known here", g_name(code)),
+            format!(
+                "{}: the tool's Z (the initial level) is not known here",
+                g_name(code)
+            ),
         )
         .with_hint("position Z with an absolute move before the cycle")
     })?;
@@ -103,13 +109,18 @@ pub(crate) fn cycle(
                 target[axis] = Some(if mill.absolute {
                     v + mill.local[axis] + mill.g92[axis]
                 } else {
-                    mill.pos[axis].ok_or_else(|| unknown_axis(w, "an incremental hole position"))? + v
+                    mill.pos[axis].ok_or_else(|| unknown_axis(w, "an incremental hole position"))?
+                        + v
                 });
             } else if k == 0 && target[axis].is_none() {
                 return Err(Diagnostic::error(
                     Code::UnknownPosition,
                     gspan,
-                    format!("{}: the hole's {} is not known", g_name(code), *letter as char),
+                    format!(
+                        "{}: the hole's {} is not known",
+                        g_name(code),
+                        *letter as char
+                    ),
                 ));
             }
         }
@@ -333,7 +344,11 @@ fn lead(mill: &Mill, line: &Line, feed: Feed, rpm: Option<f64>) -> Result<f64> {
             line.span(),
             format!(
                 "rigid tapping needs a feed and a spindle speed (the lead is F/S): {}",
-                if mill.rpm.is_none() { "no S is programmed" } else { "no F is programmed" }
+                if mill.rpm.is_none() {
+                    "no S is programmed"
+                } else {
+                    "no F is programmed"
+                }
             ),
         )
         .with_hint("program S (and M29 S on Fanuc) and F before the tapping cycle")),
@@ -344,11 +359,19 @@ fn lead(mill: &Mill, line: &Line, feed: Feed, rpm: Option<f64>) -> Result<f64> {
 /// revolution), the spindle reversed, back to the start.
 pub(crate) fn g33_1(mill: &mut Mill, line: &Line, g: &Word, out: &mut dyn Out) -> Result<()> {
     let k = line.word(b'K').ok_or_else(|| {
-        Diagnostic::error(Code::MissingWord, g.span, "K word missing with G33.1 (the tap's lead)")
+        Diagnostic::error(
+            Code::MissingWord,
+            g.span,
+            "K word missing with G33.1 (the tap's lead)",
+        )
     })?;
     let lead = mill.mm(k);
     if lead <= 0.0 {
-        return Err(Diagnostic::error(Code::OutOfRange, k.span, "G33.1: K (the lead) must be positive"));
+        return Err(Diagnostic::error(
+            Code::OutOfRange,
+            k.span,
+            "G33.1: K (the lead) must be positive",
+        ));
     }
     if mill.rotation == Rotation::Stopped {
         return Err(Diagnostic::error(

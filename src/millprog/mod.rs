@@ -136,7 +136,10 @@ pub fn run<R: BufRead>(
                 }
             }
         };
-        if lang.macros.is_some_and(|m| m.control(&line) == Control::Interpret) {
+        if lang
+            .macros
+            .is_some_and(|m| m.control(&line) == Control::Interpret)
+        {
             let at = (offset, line.number);
             return interpret(reader, at, &mut mill, options, out);
         }

@@ -25,7 +25,9 @@ pub(crate) trait Out {
 pub(crate) enum Motion {
     Rapid,
     Feed,
-    Arc { clockwise: bool },
+    Arc {
+        clockwise: bool,
+    },
     /// A canned cycle, its code ×10.
     Cycle(u16),
     /// G80 (or a cycle cancelled): axis words alone do not move.
@@ -209,7 +211,7 @@ impl Mill {
                         w.value, self.lang.control
                     ),
                 )
-                .with_hint("threadcut reads G0–G3, G4, G10, G17–G21, G28, G30, G40–G44, G49, G52–G59, G80–G89 (and G73, G74), G90–G95, G98, G99"));
+                .with_hint("threadcut reads G0–G3, G4, G10, G17–G21, G28, G30, G40–G44, G49, G52–G59, G61, G64, G73, G74, G80–G86, G89, G90–G95, G98, G99 and the control's own tapping, work system and arc-centre codes"));
             };
             codes.push((c, w));
         }
@@ -248,14 +250,7 @@ impl Mill {
                 | 610
                 | 640
                 | 730
-                | 800..=890
-                | 900
-                | 910
-                | 930
-                | 940
-                | 950
-                | 980
-                | 990
+                | 800..=890 | 900 | 910 | 920 | 930 | 940 | 950 | 980 | 990
         ) && c % 10 == 0;
         common
             || (c == 740 || c == 760)
@@ -410,7 +405,10 @@ impl Mill {
                     })
                     .and_then(whole)?;
                 if p == 0 || p > 300 {
-                    return Err(bad_word(w, "G54.1 P takes 1 to 300 (alarm PS0030 past the systems the control has)"));
+                    return Err(bad_word(
+                        w,
+                        "G54.1 P takes 1 to 300 (alarm PS0030 past the systems the control has)",
+                    ));
                 }
                 p
             } else {
@@ -578,7 +576,11 @@ impl Mill {
                 return Err(Diagnostic::error(
                     Code::Conflict,
                     w.span,
-                    format!("{} and {} in one block: two motion codes", g_name(g), g_name(*c)),
+                    format!(
+                        "{} and {} in one block: two motion codes",
+                        g_name(g),
+                        g_name(*c)
+                    ),
                 ));
             }
             given = Some((*c, *w));
@@ -589,7 +591,9 @@ impl Mill {
         }
         let moves = AXES.iter().any(|l| line.word(*l).is_some())
             || (matches!(self.motion, Motion::Arc { .. })
-                && [b'I', b'J', b'K', b'R'].iter().any(|l| line.word(*l).is_some()));
+                && [b'I', b'J', b'K', b'R']
+                    .iter()
+                    .any(|l| line.word(*l).is_some()));
         match self.motion {
             Motion::Rapid | Motion::Feed if moves => {
                 let to = self.end_point(line)?;
