@@ -49,8 +49,9 @@ pub struct Cycles {
     /// Without G98/G99 stated, the cycle returns to the initial level (Fanuc, Haas: G98 at
     /// power-on) rather than to R (LinuxCNC: rs274's retract mode at power-on is the R plane).
     pub initial_level_at_power_on: bool,
-    /// Before the first positioning, a tool below R rises to R (LinuxCNC's preliminary motion).
-    pub rise_to_r_first: bool,
+    /// LinuxCNC's moves (measured with rs274): each hole is positioned at the higher of the
+    /// current Z and the return level, G89 and the tapping cycles feed out to the return level; otherwise (Fanuc) positioned at the current Z, out to R, then a rapid.
+    pub linuxcnc_moves: bool,
 }
 
 /// A milling control's language.
@@ -180,7 +181,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             taps: FANUC_TAPS,
             m29_rigid: true,
             initial_level_at_power_on: true,
-            rise_to_r_first: false,
+            linuxcnc_moves: false,
         },
         program_files: fanuc_files,
     };
@@ -241,7 +242,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
                 taps: LINUXCNC_TAPS,
                 m29_rigid: false,
                 initial_level_at_power_on: false,
-                rise_to_r_first: true,
+                linuxcnc_moves: true,
             },
             program_files: ngc_files,
         },

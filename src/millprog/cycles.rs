@@ -83,12 +83,7 @@ pub(crate) fn cycle(
         None => 1,
     };
     let z_now = mill.pos[2];
-    let level = if mill.lang.cycles.rise_to_r_first {
-        z_now
-    } else {
-        mill.cycle.level.or(z_now)
-    };
-    let level = level.ok_or_else(|| {
+    let level = mill.cycle.level.or(z_now).ok_or_else(|| {
         Diagnostic::error(
             Code::UnknownPosition,
             gspan,
@@ -201,11 +196,12 @@ fn hole(
     out: &mut dyn Out,
 ) -> Result<()> {
     let n = line.number;
-    let z = mill.pos[2];
-    if mill.lang.cycles.rise_to_r_first && z.is_some_and(|z| z < lv.r) {
-        mill.rapid_to([mill.pos[0], mill.pos[1], Some(lv.r)], n, out)?;
-    }
-    mill.rapid_to([xy[0], xy[1], mill.pos[2]], n, out)?;
+    let linuxcnc = mill.lang.cycles.linuxcnc_moves;
+    let z = match mill.pos[2] {
+        Some(z) if linuxcnc => Some(z.max(lv.clear)),
+        z => z,
+    };
+    mill.rapid_to([xy[0], xy[1], z], n, out)?;
     mill.rapid_to([xy[0], xy[1], Some(lv.r)], n, out)?;
     let at = |z: f64| [xy[0], xy[1], Some(z)];
     let feed = |m: &mut Mill, z: f64, out: &mut dyn Out| m.straight(MillKind::Feed, at(z), n, out);
@@ -216,13 +212,14 @@ fn hole(
         }
         850 | 890 => {
             feed(mill, lv.bottom, out)?;
-            // Fanuc: out at feed to R, then (G98) a rapid to the initial level; LinuxCNC's
-            // G85/G89 feed out to the clear level.
-            if mill.lang.cycles.rise_to_r_first {
-                feed(mill, lv.clear, out)
-            } else {
-                feed(mill, lv.r, out)?;
-                mill.rapid_to(at(lv.clear), n, out)
+            // Fanuc: out at feed to R, then (G98) a rapid to the initial level; so LinuxCNC's
+            // G85, while its G89 feeds out to the return level (rs274).
+            match (linuxcnc, code) {
+                (true, 890) => feed(mill, lv.clear, out),
+                _ => {
+                    feed(mill, lv.r, out)?;
+                    mill.rapid_to(at(lv.clear), n, out)
+                }
             }
         }
         730 | 830 => peck(mill, code, &at, lv, n, out),
@@ -316,8 +313,9 @@ fn tap(
     mill.straight(kind, at(lv.bottom), n, out)?;
     let turning = mill.rotation;
     mill.rotation = reverse(turning);
-    let back = if mill.lang.cycles.rise_to_r_first {
-        lv.r
+    // LinuxCNC feeds out to the return level; Fanuc to R, then a rapid.
+    let back = if mill.lang.cycles.linuxcnc_moves {
+        lv.clear
     } else {
         lv.r
     };
