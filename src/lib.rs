@@ -35,6 +35,7 @@ pub mod gcode;
 pub mod interp;
 pub mod machine;
 pub mod mill;
+pub mod millprog;
 pub mod part;
 pub mod post;
 pub mod program;

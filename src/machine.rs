@@ -23,6 +23,7 @@ pub const BUILT_IN: &[(&str, &str)] = &[
 pub const MILL_BUILT_IN: &[(&str, &str)] = &[
     ("centroid", include_str!("../profiles/centroid.toml")),
     ("fanuc-mill", include_str!("../profiles/fanuc-mill.toml")),
+    ("haas-mill", include_str!("../profiles/haas-mill.toml")),
     (
         "linuxcnc-mill",
         include_str!("../profiles/linuxcnc-mill.toml"),

@@ -15,7 +15,7 @@ const FLOORS: &[&[&str]] = &[
     &["gcode", "mill"],
     &["interp"],
     &["dialect"],
-    &["program"],
+    &["program", "millprog"],
     &["translate"],
     &["convert", "apt"],
     &["threads", "source"],

@@ -10,6 +10,7 @@ pub mod gsk;
 pub mod haas;
 pub mod lexicon;
 pub mod linuxcnc;
+pub mod mill;
 pub mod omniturn;
 pub mod one_block;
 pub mod sinumerik;

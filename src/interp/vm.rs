@@ -27,6 +27,13 @@ pub trait Host {
     ) -> Result<(), Self::Error>;
     /// The modal state (for the parameters that report it: `#<_x>`, `#5001`).
     fn modal(&self) -> &Modal;
+    /// A machining centre's position, X Y Z in program units in the work coordinate system,
+    /// each axis known or not: the position parameters then read these three axes (Fanuc's
+    /// `#5001`–`#5003`, LinuxCNC's `#5420`–`#5422` and `#<_x>` `#<_y>` `#<_z>`) rather than a
+    /// lathe's X and Z. `None` (the default): a lathe.
+    fn mill_position(&self) -> Option<[Option<f64>; 3]> {
+        None
+    }
     /// The input resolution in the current units (Fanuc rounds computed lengths to it).
     fn resolution(&self, units: Units) -> f64;
     fn warn(&mut self, d: Diagnostic);
@@ -149,6 +156,8 @@ struct View<'a> {
     state: &'a mut State,
     frame: &'a mut Frame,
     modal: &'a Modal,
+    /// A machining centre's X, Y, Z ([`Host::mill_position`]).
+    mill: Option<[Option<f64>; 3]>,
     names: &'a [String],
 }
 
@@ -162,6 +171,9 @@ impl Vars for View<'_> {
                         span,
                         "Parameter number out of range",
                     ));
+                }
+                if let (Some(m), 5420..=5422) = (self.mill, n) {
+                    return Ok(Some(mill_axis(m, (n - 5420) as usize, span)?));
                 }
                 Ok(Some(match n {
                     5420 => position(self.modal, span, true)?,
@@ -188,6 +200,12 @@ impl Vars for View<'_> {
                 10_000..=10_999 if self.state.wide_commons => {
                     Ok(self.state.commons[n as usize - 10_000 + 900])
                 }
+                // A machining centre's X, Y, Z are axes 1 to 3 (#5001–#5003, #5041–#5043).
+                5001..=5003 | 5041..=5043 if self.mill.is_some() => Ok(Some(mill_axis(
+                    self.mill.unwrap_or_default(),
+                    (n % 10 - 1) as usize,
+                    span,
+                )?)),
                 // Position of the block's end point, X as the program writes it (#5001, #5041
                 // and the other axes' numbers: X is axis 1 and Z axis 2 on a two-axis lathe).
                 5001 | 5041 => Ok(Some(program_x(self.modal, span)?)),
@@ -212,6 +230,11 @@ impl Vars for View<'_> {
         }
         if let Some(v) = self.state.globals.get(&name) {
             return Ok(*v);
+        }
+        if let (Some(m), Some(axis)) =
+            (self.mill, ["_x", "_y", "_z"].iter().position(|a| a == text))
+        {
+            return mill_axis(m, axis, span);
         }
         if let Some(v) = predefined(text, self.modal, self.state, span)? {
             return Ok(v);
@@ -295,10 +318,16 @@ fn program_x(modal: &Modal, span: Span) -> Result<f64, Diagnostic> {
     Ok(modal.x_from_mm(x))
 }
 
+/// One axis (0 X, 1 Y, 2 Z) of a machining centre's position: it must be known.
+fn mill_axis(m: [Option<f64>; 3], axis: usize, span: Span) -> Result<f64, Diagnostic> {
+    m[axis].ok_or_else(|| unknown_position(span, ["X", "Y", "Z"][axis]))
+}
+
 const PREDEFINED: &[&str] = &[
     "_value",
     "_value_returned",
     "_x",
+    "_y",
     "_z",
     "_metric",
     "_imperial",
@@ -630,6 +659,7 @@ impl<'c> Vm<'c> {
     fn view<'a>(
         &'a mut self,
         modal: &'a Modal,
+        mill: Option<[Option<f64>; 3]>,
     ) -> (View<'a>, &'a mut Vec<Option<f64>>, &'a mut Budget) {
         let frame = self.frames.last_mut().expect("main frame");
         (
@@ -637,6 +667,7 @@ impl<'c> Vm<'c> {
                 state: &mut self.state,
                 frame,
                 modal,
+                mill,
                 names: &self.code.exprs.names,
             },
             &mut self.stack,
@@ -646,7 +677,7 @@ impl<'c> Vm<'c> {
 
     fn eval<H: Host>(&mut self, e: Expr, host: &H) -> Result<Option<f64>, Diagnostic> {
         let code = self.code;
-        let (mut view, stack, budget) = self.view(host.modal());
+        let (mut view, stack, budget) = self.view(host.modal(), host.mill_position());
         code.exprs.eval(e, code.lang, &mut view, stack, budget)
     }
 
@@ -1561,7 +1592,10 @@ impl<'c> Vm<'c> {
         let n = whole(Lang::MacroB, n, op.span)?;
         // H26 reads the variable it sets.
         let i = if op.h == 26 {
-            self.view(host.modal()).0.get(n, op.span)?.unwrap_or(0.0)
+            self.view(host.modal(), host.mill_position())
+                .0
+                .get(n, op.span)?
+                .unwrap_or(0.0)
         } else {
             0.0
         };

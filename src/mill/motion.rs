@@ -121,6 +121,35 @@ pub struct MillMotion {
     pub line: u32,
 }
 
+/// A tapping cycle as programmed, once for each hole it taps (Fanuc/Haas G84, G74, G84.2,
+/// G84.3; LinuxCNC G84, G74 and G33.1): what tapping recognition needs, besides the moves.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct TapCycle {
+    /// The hole's position on the plane and where the tap starts (mm, absolute).
+    pub position: P3,
+    /// The R level (where the feed starts and the tap returns), along the drilling axis (mm).
+    pub r: f64,
+    /// The bottom (mm).
+    pub bottom: f64,
+    /// The feed as programmed, with its mode (G94 mm/min, G95 mm/rev).
+    pub feed: Feed,
+    /// The spindle speed programmed (rpm).
+    pub rpm: Option<f64>,
+    /// The spindle's rotation going in (as the cycle drives it: M4 for a left-hand tap).
+    pub rotation: Rotation,
+    /// Rigid (spindle and feed synchronised: M29, G84.2, G33.1, a control that taps rigidly)
+    /// or floating.
+    pub rigid: bool,
+    /// The peck depth Q, if any (mm).
+    pub peck: Option<f64>,
+    /// The dwell P at the bottom and at R, if any (seconds).
+    pub dwell: Option<f64>,
+    /// The cycle's G code ×10 (G84 = 840, G84.2 = 842, G33.1 = 331).
+    pub code: u16,
+    /// Source line (1-based).
+    pub line: u32,
+}
+
 impl MillMotion {
     /// An arc's radius at its start in its plane, and the signed sweep (radians, positive
     /// counter-clockwise seen from the normal axis), full turns included; `None` for other moves.

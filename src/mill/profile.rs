@@ -52,6 +52,32 @@ pub struct MillProfile {
     /// Words that end the program, if any.
     #[serde(default)]
     pub end: Vec<String>,
+    /// The language the control reads (`dialect::mill::language`: "fanuc", "haas",
+    /// "linuxcnc", "centroid"), for reading its programs.
+    pub language: String,
+    /// Where G28 and G30 leave the programmed point (mm, in the work coordinate system at
+    /// power-on), axis by axis; an axis not stated is unknown after the return.
+    #[serde(default)]
+    pub reference: Option<MillReference>,
+}
+
+/// Where the reference returns leave the tool.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MillReference {
+    #[serde(default)]
+    pub g28: Axes,
+    #[serde(default)]
+    pub g30: Axes,
+}
+
+/// X, Y, Z each stated or not (mm).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Axes {
+    pub x: Option<f64>,
+    pub y: Option<f64>,
+    pub z: Option<f64>,
 }
 
 impl MillProfile {

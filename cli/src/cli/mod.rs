@@ -695,6 +695,9 @@ fn taper_cycle_args(args: &ThreadArgs) -> Result<Option<mill::CycleArgs>, Failur
 /// `threadcut expand`: a G-code program with its cycles as plain moves (or its motions), or an
 /// APT/CL file posted (or its motions).
 fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
+    if let Some(profile) = milling_profile(&args.machine) {
+        return run_expand_mill(&args, &profile);
+    }
     let options = args.run.options(args.flatten, &args.machine)?;
     let file = &args.input.file;
     let out = args.output.output.as_deref();
@@ -720,6 +723,45 @@ fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
         Ok(summary)
     })?;
     warn(file, &summary);
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The milling profile `--controller` names, if it names one.
+fn milling_profile(m: &MachineArgs) -> Option<threadcut::mill::profile::MillProfile> {
+    if m.machine.is_some() {
+        return None;
+    }
+    let name = built_in_name(m.controller.as_deref()?, ProfileKind::Mill).ok()?;
+    threadcut::mill::profile::MillProfile::built_in(name)
+}
+
+/// `threadcut expand` on a milling profile: the program's motion (jsonl), or the program
+/// flattened into plain moves (gcode).
+fn run_expand_mill(
+    args: &ExpandArgs,
+    profile: &threadcut::mill::profile::MillProfile,
+) -> Result<ExitCode, Failure> {
+    use threadcut::millprog;
+    let file = &args.input.file;
+    let (reader, content) = input::open(file)?;
+    let options = millprog::Options {
+        max_blocks: args.run.max_blocks,
+        ..millprog::Options::default()
+    };
+    let input_error = |d: Diagnostic| failure(file, Error::Input(d));
+    output::write(file, args.output.output.as_deref(), |out| {
+        match args.format {
+            ProgramFormat::Jsonl => {
+                let mut sink = millprog::output::Jsonl(out);
+                millprog::run(reader, profile, &options, &mut sink)
+            }
+            ProgramFormat::Gcode => millprog::output::Flat::new(out, profile)
+                .and_then(|mut sink| millprog::run(reader, profile, &options, &mut sink)),
+        }
+        .map_err(input_error)?;
+        not_empty(file, &content)?;
+        Ok(())
+    })?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -1009,7 +1051,7 @@ fn name_error(name: &str, e: NameError, wanted: ProfileKind) -> String {
             name: other,
             kind: ProfileKind::Mill,
         } => format!(
-            "`{name}` is a milling profile, and `threadcut {command}` reads lathe programs\n  = help: write a thread-milling program for it with `threadcut mill --controller {other} …`; lathe controllers: {}",
+            "`{name}` is a milling profile, and `threadcut {command}` reads lathe programs\n  = help: read a milling program's moves with `threadcut expand --controller {other} --format jsonl`; write a thread-milling program with `threadcut mill --controller {other} …`; lathe controllers: {}",
             ProfileKind::Lathe.names().join(", ")
         ),
         NameError::OtherKind {

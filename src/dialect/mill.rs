@@ -1,0 +1,267 @@
+//! What a machining centre's control reads: the facts the milling reader (`millprog`) needs about
+//! each milling profile's language, stated here so that the reader names no controller.
+//!
+//! Decisions and their manual sentences: docs/milling.md, "Reading milling programs".
+
+use crate::gcode::lexer::Syntax as Lexer;
+use crate::interp::library::{FileNames, Wanted};
+use crate::interp::Syntax;
+
+/// How the radii to an arc's start and end may differ before the control's alarm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RadiusCheck {
+    /// The Fanuc family: PS0020 past this many least input increments (parameter 3410 is the
+    /// machine's; the start, end and centre words are each rounded to the increment, so a
+    /// correct arc differs by up to about two, as on the lathe side).
+    Increments(f64),
+    /// LinuxCNC's `CENTER_ARC_RADIUS_TOLERANCE` rule (2·√2·0.01 mm or 2·√2·0.001 inch, or more
+    /// within 0.1 % of the radius, never 100 tolerances), with its message.
+    LinuxCnc,
+}
+
+/// A tapping cycle's code.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TapCode {
+    /// The G code ×10 (G84 = 840, G84.2 = 842).
+    pub code: u16,
+    /// Cuts going in with the spindle reversed (M4): a left-hand tap.
+    pub left: bool,
+    /// Rigid without M29 (Fanuc's G84.2/G84.3, LinuxCNC's spindle-synchronised G84/G74 are
+    /// not: LinuxCNC's G84 is a floating tap's cycle).
+    pub rigid: bool,
+}
+
+/// The hole-machining (canned) cycles a control has.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cycles {
+    /// The letter of the repeat count (Fanuc and Haas `K`, LinuxCNC `L`).
+    pub repeat: u8,
+    /// G73's retract after each peck (mm): Fanuc's parameter 5114, Haas's Setting 22,
+    /// LinuxCNC's fixed 0.010 inch.
+    pub g73_retract_mm: f64,
+    /// G83's clearance above the previous peck's depth (mm): Fanuc's parameter 5115, Haas's
+    /// Setting 22, LinuxCNC's 0.010 inch.
+    pub g83_clearance_mm: f64,
+    /// The tapping codes.
+    pub taps: &'static [TapCode],
+    /// `M29 S…` before a tapping cycle makes it rigid (Fanuc, Haas).
+    pub m29_rigid: bool,
+    /// Without G98/G99 stated, the cycle returns to the initial level (Fanuc, Haas: G98 at
+    /// power-on) rather than to R (LinuxCNC: rs274's retract mode at power-on is the R plane).
+    pub initial_level_at_power_on: bool,
+    /// LinuxCNC's moves (measured with rs274): each hole is positioned at the higher of the
+    /// current Z and the return level, G89 and the tapping cycles feed out to the return level; otherwise (Fanuc) positioned at the current Z, out to R, then a rapid.
+    pub linuxcnc_moves: bool,
+}
+
+/// A milling control's language.
+#[derive(Clone, Copy, Debug)]
+pub struct MillLanguage {
+    /// The control's name in messages.
+    pub control: &'static str,
+    pub lexer: Lexer,
+    /// Its macro language, if threadcut runs it.
+    pub macros: Option<Syntax>,
+    /// A number without a decimal point is a whole program unit (else a least increment).
+    pub calculator: bool,
+    pub radius: RadiusCheck,
+    /// The alarm an arc's radius check raises, as the control names it.
+    pub radius_alarm: &'static str,
+    /// G2/G3 take `P`, the number of turns (LinuxCNC).
+    pub arc_turns: bool,
+    /// G90.1/G91.1 choose absolute or incremental arc centres (LinuxCNC; incremental at
+    /// power-on).
+    pub centre_modes: bool,
+    /// A reference return without axis words returns every axis (Haas, LinuxCNC).
+    pub return_all_without_axes: bool,
+    /// `G54.1 P n` (Fanuc, Haas): the additional work coordinate systems.
+    pub g54_1: bool,
+    /// `G59.1`–`G59.3` (LinuxCNC).
+    pub g59_x: bool,
+    /// `G33.1` rigid tapping (LinuxCNC).
+    pub g33_1: bool,
+    pub cycles: Cycles,
+    /// The files a call of a program the text does not hold may read.
+    pub program_files: fn(&Wanted) -> FileNames,
+}
+
+const INCH: f64 = 25.4;
+
+const FANUC_TAPS: &[TapCode] = &[
+    TapCode {
+        code: 840,
+        left: false,
+        rigid: false,
+    },
+    TapCode {
+        code: 740,
+        left: true,
+        rigid: false,
+    },
+    // Fanuc's FS15-format rigid tapping (G84.2 right hand, G84.3 left hand).
+    TapCode {
+        code: 842,
+        left: false,
+        rigid: true,
+    },
+    TapCode {
+        code: 843,
+        left: true,
+        rigid: true,
+    },
+];
+
+// Haas taps rigidly without M29 (RECALLED from Haas's mill manual, G84: the spindle and Z are
+// synchronised; docs/milling.md).
+const HAAS_TAPS: &[TapCode] = &[
+    TapCode {
+        code: 840,
+        left: false,
+        rigid: true,
+    },
+    TapCode {
+        code: 740,
+        left: true,
+        rigid: true,
+    },
+];
+
+const LINUXCNC_TAPS: &[TapCode] = &[
+    TapCode {
+        code: 840,
+        left: false,
+        rigid: false,
+    },
+    TapCode {
+        code: 740,
+        left: true,
+        rigid: false,
+    },
+];
+
+fn fanuc_files(w: &Wanted) -> FileNames {
+    super::fanuc_family::program_files(w)
+}
+
+fn ngc_files(w: &Wanted) -> FileNames {
+    match w {
+        Wanted::Name(name) => FileNames {
+            names: vec![format!("{name}.ngc")],
+            any_case: false,
+        },
+        Wanted::Number(_) => FileNames::default(),
+    }
+}
+
+fn no_files(_: &Wanted) -> FileNames {
+    FileNames::default()
+}
+
+/// The language a milling profile names (`language` in its TOML), if threadcut knows it.
+pub fn language(name: &str) -> Option<MillLanguage> {
+    let fanuc = MillLanguage {
+        control: "Fanuc",
+        lexer: Lexer::default(),
+        macros: Some(Syntax::MACRO_B),
+        calculator: false,
+        radius: RadiusCheck::Increments(2.0),
+        radius_alarm: "alarm PS0020 (over tolerance of radius)",
+        arc_turns: false,
+        centre_modes: false,
+        return_all_without_axes: false,
+        g54_1: true,
+        g59_x: false,
+        g33_1: false,
+        cycles: Cycles {
+            repeat: b'K',
+            // Parameters 5114 and 5115 are the machine's; threadcut takes 0.1 mm for both
+            // (docs/milling.md, "Reading milling programs": assumed).
+            g73_retract_mm: 0.1,
+            g83_clearance_mm: 0.1,
+            taps: FANUC_TAPS,
+            m29_rigid: true,
+            initial_level_at_power_on: true,
+            linuxcnc_moves: false,
+        },
+        program_files: fanuc_files,
+    };
+    Some(match name {
+        "fanuc" => fanuc,
+        "haas" => MillLanguage {
+            control: "Haas",
+            macros: Some(Syntax {
+                m97_local_calls: true,
+                m99_p_jumps: true,
+                wide_commons: true,
+                ..Syntax::MACRO_B
+            }),
+            // Haas: a number without a decimal point is a whole unit, as on its lathe.
+            calculator: true,
+            radius_alarm: "alarm 109 (arc radius mismatch)",
+            return_all_without_axes: true,
+            cycles: Cycles {
+                // Setting 22, Can Cycle Delta Z: 0.05 in at the factory.
+                g73_retract_mm: 0.05 * INCH,
+                g83_clearance_mm: 0.05 * INCH,
+                taps: HAAS_TAPS,
+                ..fanuc.cycles
+            },
+            ..fanuc
+        },
+        "linuxcnc" => MillLanguage {
+            control: "LinuxCNC",
+            lexer: Lexer {
+                blanks_anywhere: true,
+                nested_comment_error: true,
+                ..Lexer::default()
+            },
+            macros: Some(Syntax {
+                lang: crate::interp::Lang::Ngc,
+                max_call_depth: 10,
+                max_macro_depth: 0,
+                g65_operations: false,
+                m98_l_word: false,
+                m97_local_calls: false,
+                m99_p_jumps: false,
+                wide_commons: false,
+                plain_names: &[],
+            }),
+            calculator: true,
+            radius: RadiusCheck::LinuxCnc,
+            radius_alarm: "Radius to end of arc differs from radius to start",
+            arc_turns: true,
+            centre_modes: true,
+            return_all_without_axes: true,
+            g54_1: false,
+            g59_x: true,
+            g33_1: true,
+            cycles: Cycles {
+                repeat: b'L',
+                g73_retract_mm: 0.010 * INCH,
+                g83_clearance_mm: 0.010 * INCH,
+                taps: LINUXCNC_TAPS,
+                m29_rigid: false,
+                initial_level_at_power_on: false,
+                linuxcnc_moves: true,
+            },
+            program_files: ngc_files,
+        },
+        "centroid" => MillLanguage {
+            control: "Centroid",
+            // CNC12's macro language is not Custom Macro B: threadcut reads plain blocks only.
+            macros: None,
+            calculator: true,
+            radius_alarm: "arc radius mismatch",
+            return_all_without_axes: true,
+            g54_1: false,
+            program_files: no_files,
+            cycles: Cycles {
+                taps: LINUXCNC_TAPS,
+                m29_rigid: false,
+                ..fanuc.cycles
+            },
+            ..fanuc
+        },
+        _ => return None,
+    })
+}
