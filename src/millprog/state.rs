@@ -84,7 +84,7 @@ pub(crate) fn g10(v: f64) -> Option<u16> {
 
 /// How a G code ×10 is written.
 pub(crate) fn g_name(code: u16) -> String {
-    if code % 10 == 0 {
+    if code.is_multiple_of(10) {
         format!("G{}", code / 10)
     } else {
         format!("G{}.{}", code / 10, code % 10)
@@ -251,7 +251,7 @@ impl Mill {
                 | 640
                 | 730
                 | 800..=890 | 900 | 910 | 920 | 930 | 940 | 950 | 980 | 990
-        ) && c % 10 == 0;
+        ) && c.is_multiple_of(10);
         common
             || (c == 740 || c == 760)
             || self.lang.cycles.taps.iter().any(|t| t.code == c)
