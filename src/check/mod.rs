@@ -50,6 +50,7 @@ pub mod spindle;
 pub mod standard;
 pub mod state;
 mod taper;
+pub mod tapping;
 pub mod whole;
 
 use std::io::BufRead;

@@ -245,7 +245,10 @@ mod tests {
         moves.extend(helix([0.0, 0.0], 10.0, -10.0, 2.5, 4, false, g41));
         let t = threads(&moves, Options::default());
         let svg = svg(&t, 60.0);
-        assert!(svg.contains("line 10: lead 2.5, 1 start(s), 1 passes about (0, 0)"), "{svg}");
+        assert!(
+            svg.contains("line 10: lead 2.5, 1 start(s), 1 passes about (0, 0)"),
+            "{svg}"
+        );
         // One circle, one entry, one helix from the side, one row of teeth.
         assert_eq!(svg.matches("<polyline").count(), 4);
         // The teeth: 10 / 2.5 = 4 pitches, 5 crests and 5 roots.
