@@ -106,6 +106,9 @@ pub struct State {
     /// The tool-length offset register in force (G43 H), if any.
     pub length_offset: Option<u32>,
     pub comp: Comp,
+    /// The units the program is written in at the move (G20/G21): its words' resolution, and the
+    /// units its messages are given in.
+    pub units: crate::units::Units,
 }
 
 /// One move of a milling program.
@@ -206,6 +209,7 @@ mod tests {
                 tool: None,
                 length_offset: None,
                 comp: Comp::Off,
+                units: crate::units::Units::Mm,
             },
             line: 1,
         }

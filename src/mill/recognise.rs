@@ -590,6 +590,7 @@ pub(crate) mod testing {
             tool: Some(1),
             length_offset: Some(1),
             comp,
+            units: crate::units::Units::Mm,
         }
     }
 

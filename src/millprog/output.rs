@@ -118,6 +118,7 @@ impl<'p, W: Write> Flat<'p, W> {
                 tool: None,
                 length_offset: None,
                 comp: Comp::Off,
+                units: crate::units::Units::Mm,
             }),
             tapping: false,
             sync_block: super::language_of(profile)?.g33_1,

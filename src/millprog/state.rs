@@ -159,6 +159,7 @@ impl Mill {
             tool: self.tool,
             length_offset: self.length_offset,
             comp: self.comp,
+            units: self.units,
         }
     }
 
