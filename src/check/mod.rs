@@ -45,6 +45,7 @@ pub mod cut;
 mod decimal;
 mod measure;
 pub mod milled;
+pub mod milling;
 pub mod reading;
 pub mod spindle;
 pub mod standard;

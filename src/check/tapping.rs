@@ -33,7 +33,7 @@ pub struct Judging<'a> {
 /// Every finding about one tapping cycle.
 pub fn judge(t: &TapCycle, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut Vec<Note>) {
     let at = (j.span_of)(t.line);
-    let name = code_name(t.code);
+    let name = t.code_name();
     if t.rotation == Rotation::Stopped {
         out.push(
             Diagnostic::error(
@@ -115,7 +115,7 @@ fn direction(t: &TapCycle, j: &Judging, hand: Hand, at: Span, out: &mut Vec<Diag
                 at,
                 format!(
                     "{} is a {} tapping cycle and the spindle turns {} ({}): the tap screws in backwards",
-                    code_name(t.code),
+                    t.code_name(),
                     hand_name(hand),
                     match t.rotation {
                         Rotation::Cw => "clockwise",
@@ -173,7 +173,7 @@ fn against_pitch(
     let u = j.units;
     let msg = format!(
         "{} feeds {} per spindle turn and {} has a pitch of {}: over the {} tapped the feed {} {} {} the tap ({} on the pitch diameter{})",
-        code_name(t.code),
+        t.code_name(),
         length(u, lead),
         target.name,
         length(u, pitch),
@@ -220,7 +220,7 @@ fn near_a_pitch(t: &TapCycle, j: &Judging, lead: f64, at: Span) -> Option<Diagno
         at,
         format!(
             "{} feeds {} per spindle turn, {:.1} % off the {} pitch {} (assumed: the tap is that pitch; --thread names it)",
-            code_name(t.code),
+            t.code_name(),
             length(u, lead),
             100.0 * off / pitch,
             match family {
@@ -248,14 +248,6 @@ fn nearest_pitch(lead: f64) -> Option<(f64, Family)> {
     metric
         .chain(unified)
         .min_by(|a, b| (a.0 - lead).abs().total_cmp(&(b.0 - lead).abs()))
-}
-
-fn code_name(code: u16) -> String {
-    if code.is_multiple_of(10) {
-        format!("G{}", code / 10)
-    } else {
-        format!("G{}.{}", code / 10, code % 10)
-    }
 }
 
 fn hand_name(h: Hand) -> &'static str {

@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 use crate::check::length;
-use crate::mill::motion::{Comp, Plane};
+use crate::mill::motion::{Comp, Feed, Plane, Rotation, TapCycle};
 use crate::mill::recognise::{Known, MilledThread};
 use crate::mill::{Direction, Hand, Side};
 use crate::units::Units;
@@ -75,7 +75,7 @@ pub fn json(t: &MilledThread, tool_diameter: Option<f64>) -> MilledJson<'_> {
                 n,
                 start: h.start_index,
                 radius: h.radius,
-                diameter: diameter(t, h.radius, &h.comp, tool_diameter),
+                diameter: diameter(t, h.radius, &h.comp, h.cutter.or(tool_diameter)),
                 from: h.from,
                 to: h.to,
                 turns: h.turns,
@@ -154,7 +154,7 @@ pub fn text(t: &MilledThread, tool_diameter: Option<f64>, units: Units) -> Strin
     );
     s += "pass  start      radius    diameter        from          to   turns  lines\n";
     for (h, n) in t.helices.iter().zip(1..) {
-        let d = diameter(t, h.radius, &h.comp, tool_diameter).map_or("-".into(), u);
+        let d = diameter(t, h.radius, &h.comp, h.cutter.or(tool_diameter)).map_or("-".into(), u);
         s += &format!(
             "{n:>4}  {:>5}  {:>10}  {:>10}  {:>10}  {:>10}  {:>6.3}  {}-{}\n",
             h.start_index,
@@ -168,4 +168,31 @@ pub fn text(t: &MilledThread, tool_diameter: Option<f64>, units: Units) -> Strin
         );
     }
     s
+}
+
+/// One tapping cycle as a line of text, in the program's units.
+pub fn tap_text(t: &TapCycle, units: Units) -> String {
+    let u = |mm: f64| length(units, mm);
+    let code = t.code_name();
+    let lead = match t.feed {
+        Feed::PerRev(f) => Some(f),
+        Feed::PerMinute(f) => t.rpm.filter(|&s| s > 0.0).map(|s| f / s),
+        Feed::Unknown => None,
+    };
+    format!(
+        "line {}: {code} tap at X{} Y{} from Z{} to Z{}, {}, lead {} per turn, spindle {}{}",
+        t.line,
+        u(t.position[0]),
+        u(t.position[1]),
+        u(t.r),
+        u(t.bottom),
+        if t.rigid { "rigid" } else { "floating" },
+        lead.map_or("not known (no S)".into(), u),
+        match t.rotation {
+            Rotation::Cw => "M3",
+            Rotation::Ccw => "M4",
+            Rotation::Stopped => "stopped",
+        },
+        t.peck.map_or(String::new(), |q| format!(", peck {}", u(q)))
+    )
 }

@@ -188,6 +188,17 @@ impl MillMotion {
     }
 }
 
+impl TapCycle {
+    /// The cycle's code as written: `G84`, `G84.2`, `G33.1`.
+    pub fn code_name(&self) -> String {
+        if self.code.is_multiple_of(10) {
+            format!("G{}", self.code / 10)
+        } else {
+            format!("G{}.{}", self.code / 10, self.code % 10)
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

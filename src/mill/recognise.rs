@@ -110,6 +110,8 @@ pub struct Helix {
     pub phase: f64,
     /// Which start that is (1-based, in the order first cut).
     pub start_index: u32,
+    /// The cutter's diameter when the run began (mm), if known.
+    pub cutter: Option<f64>,
     pub clockwise: bool,
     pub comp: Comp,
     pub rotation: Rotation,
@@ -251,6 +253,11 @@ impl Recogniser {
         }
     }
 
+    /// The cutter's diameter from the next move on (a tool change, a D register's value).
+    pub fn set_tool_diameter(&mut self, d: Option<f64>) {
+        self.options.tool_diameter = d;
+    }
+
     /// One move; returns a thread that this move showed to be complete.
     pub fn push(&mut self, m: &MillMotion) -> Option<MilledThread> {
         let done = self.take(m);
@@ -358,6 +365,7 @@ impl Recogniser {
             arcs: Vec::new(),
             phase: 0.0,
             start_index: 1,
+            cutter: self.options.tool_diameter,
             clockwise: key.clockwise,
             comp: m.state.comp,
             rotation: m.state.rotation,
@@ -542,7 +550,7 @@ fn root_of(h: &Helix, side: Side, o: &Options) -> Option<f64> {
     match h.comp {
         Comp::Left { .. } | Comp::Right { .. } => Some(2.0 * h.radius),
         Comp::Off => {
-            let d = o.tool_diameter?;
+            let d = h.cutter.or(o.tool_diameter)?;
             Some(match side {
                 Side::Internal => 2.0 * h.radius + d,
                 Side::External => 2.0 * h.radius - d,

@@ -134,9 +134,10 @@ fn from_side(s: &mut String, t: &MilledThread, tool_angle: f64, x0: f64, y0: f64
     let reach = t.helices.iter().map(|h| h.radius).fold(0.0, f64::max) * 1.3 + 1e-9;
     let (lo, hi) = (t.to.min(t.from), t.to.max(t.from));
     let span = (hi - lo).max(1e-9);
-    let scale = (2.0 * PANEL / (2.0 * reach)).min(PANEL / span);
+    let width = WIDTH - x0 - 20.0;
+    let scale = (width / (2.0 * reach)).min(0.9 * PANEL / span);
     let map = Map {
-        ox: x0 + PANEL - scale * t.axis[0],
+        ox: x0 + width / 2.0 - scale * t.axis[0],
         sx: scale,
         oy: y0 + PANEL / 2.0 + scale * (lo + hi) / 2.0,
         sy: -scale,

@@ -69,8 +69,18 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
     if report.threads == 0 && !report.stopped && !report.uncalled {
         super::no_thread(file, &report.thread_codes);
     }
-    output::write(file, args.output, |out| {
-        match args.format {
+    print(file, args.format, args.output, &report)
+}
+
+/// Writes a report as the format asks; exit status 2 when it holds an error.
+pub fn print(
+    file: &Path,
+    format: ReportFormat,
+    to: Option<&Path>,
+    report: &Report,
+) -> Result<ExitCode, Failure> {
+    output::write(file, to, |out| {
+        match format {
             ReportFormat::Json => {
                 let findings = report.findings_in(&|span| render::file_of(file, span));
                 serde_json::to_writer_pretty(&mut *out, &findings)
@@ -85,7 +95,7 @@ pub fn run(file: &Path, machine: &MachineArgs, args: &Args) -> Result<ExitCode, 
                 }
             }
             ReportFormat::Text => {
-                write_text(out, file, &report).map_err(|e| failure(file, e.into()))?
+                write_text(out, file, report).map_err(|e| failure(file, e.into()))?
             }
         }
         Ok(())

@@ -11,6 +11,7 @@ mod behind;
 mod check;
 mod input;
 mod mill;
+mod milling;
 mod output;
 mod passes;
 mod plot;
@@ -351,6 +352,8 @@ struct PassesArgs {
     #[arg(long, value_name = "D")]
     wire: Option<f64>,
     #[command(flatten)]
+    mill: milling::MillArgs,
+    #[command(flatten)]
     run: RunArgs,
 }
 
@@ -373,6 +376,8 @@ struct CheckArgs {
     /// measurement over wires the note states is over them (default: the best wire).
     #[arg(long, value_name = "D", requires = "thread")]
     wire: Option<f64>,
+    #[command(flatten)]
+    mill: milling::MillArgs,
     /// Text (diagnostics, notes, summary), JSON (`[{file, line, column, level, code,
     /// message, hint}]`) or JSON lines (one finding per line).
     #[arg(long, value_enum, default_value = "text")]
@@ -406,6 +411,8 @@ struct PlotArgs {
     tool: ToolArgs,
     #[command(flatten)]
     stock: StockArgs,
+    #[command(flatten)]
+    mill: milling::MillArgs,
     #[command(flatten)]
     run: RunArgs,
 }
@@ -822,6 +829,17 @@ fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
 
 /// `threadcut check`: the program's findings ([`check::run`]).
 fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
+    if let Some(profile) = milling_profile(&args.machine) {
+        let given = milling::Given {
+            mill: &args.mill,
+            thread: args.thread.as_deref(),
+            tip: args.tool.given_tip()?,
+            wire: args.wire,
+            max_blocks: args.run.max_blocks,
+        };
+        let out = args.output.output.as_deref();
+        return milling::check(&args.input.file, &profile, &given, args.format, out);
+    }
     check::run(
         &args.input.file,
         &args.machine,
@@ -840,6 +858,21 @@ fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
 /// `threadcut plot`: the program's threads drawn ([`plot::run`]).
 fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
     let SvgFormat::Svg = args.format;
+    if let Some(profile) = milling_profile(&args.machine) {
+        let given = milling::Given {
+            mill: &args.mill,
+            thread: None,
+            tip: args.tool.given_tip()?,
+            wire: None,
+            max_blocks: args.run.max_blocks,
+        };
+        return milling::plot(
+            &args.input.file,
+            &profile,
+            &given,
+            args.output.output.as_deref(),
+        );
+    }
     plot::run(
         &args.input.file,
         &args.machine,
@@ -857,6 +890,22 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
 /// `threadcut passes`: each cycle's pass table, of a G-code program or an APT/CL file. A G-code
 /// program without a thread is said on standard error.
 fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
+    if let Some(profile) = milling_profile(&args.machine) {
+        let given = milling::Given {
+            mill: &args.mill,
+            thread: args.thread.as_deref(),
+            tip: args.tool.given_tip()?,
+            wire: args.wire,
+            max_blocks: args.run.max_blocks,
+        };
+        let format = if args.json {
+            ReportFormat::Json
+        } else {
+            args.format
+        };
+        let out = args.output.output.as_deref();
+        return milling::passes(&args.input.file, &profile, &given, format, out);
+    }
     let mut options = args.run.options(false, &args.machine)?;
     // A cycle shown without the lines before it still has its pass table, where it does not
     // depend on the start point (docs/cli.md, "A cycle on its own").
