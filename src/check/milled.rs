@@ -526,7 +526,9 @@ mod tests {
             "{all}"
         );
         assert!(
-            all.contains("internal (from the compensation); major diameter cut 20; climb milling"),
+            all.contains(
+                "internal (from where the tool came in); major diameter cut 20; climb milling"
+            ),
             "{all}"
         );
         assert!(

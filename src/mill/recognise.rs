@@ -78,12 +78,14 @@ pub struct Sides {
 }
 
 impl Sides {
-    /// The side, from the first source that tells it: given, compensation, entry, passes.
+    /// The side, from the first source that tells it: given, the entry (where the tool came
+    /// from is where the material is not), the compensation, the passes. Compensation comes after
+    /// the entry because it is what a program gets wrong: `check` then names it.
     pub fn decided(&self) -> Option<(Side, Known)> {
         [
             (self.given, Known::Given),
-            (self.compensation, Known::Compensation),
             (self.entry, Known::Entry),
+            (self.compensation, Known::Compensation),
             (self.passes, Known::Passes),
         ]
         .into_iter()

@@ -51,7 +51,7 @@ fn options(g: &Given) -> Result<milling::Options, Failure> {
     let thread = match g.thread {
         Some(name) => {
             let t = standard::lookup(name).map_err(usage)?;
-            let hand = if name.trim_end().to_ascii_uppercase().ends_with("LH") {
+            let hand = if standard::split_hand(name).1 {
                 Hand::Left
             } else {
                 Hand::Right

@@ -1018,11 +1018,26 @@ fn limits_for(t: &StandardThread, class: Class) -> std::result::Result<Limits, S
 // Names
 // ---------------------------------------------------------------------------------------------
 
-/// Looks a thread up by name: `M10`, `M10x1.5`, `M10x1.25-6g`, `M8-4g6g`, `M10-6H`,
+/// A thread's name without its left-hand designation, and whether it had one: ISO 965-1 writes
+/// `M8x1-LH` and `M20x2.5-6H-LH`, ASME B1.1 `1/2-13 UNC-2A-LH` (also read: a blank for the dash,
+/// lower case).
+pub fn split_hand(name: &str) -> (&str, bool) {
+    let t = name.trim_end();
+    let n = t.len();
+    if n > 2 && t.is_char_boundary(n - 2) && t[n - 2..].eq_ignore_ascii_case("LH") {
+        let rest = t[..n - 2].trim_end();
+        let rest = rest.strip_suffix('-').unwrap_or(rest).trim_end();
+        return (rest, true);
+    }
+    (t, false)
+}
+
+/// Looks a thread up by name (a left-hand designation, `-LH`, is read and set aside: see
+/// [`split_hand`]): `M10`, `M10x1.5`, `M10x1.25-6g`, `M8-4g6g`, `M10-6H`,
 /// `1/2-13 UNC-2A`, `1/2-13`, `#10-32 UNF`, `1-1/8-7 UNC-3B`. Without a class, both sides are
 /// given in the default class (6g/6H, 2A/2B). Errors name the nearest known threads.
 pub fn lookup(name: &str) -> Result<StandardThread> {
-    let text = name.trim();
+    let (text, _) = split_hand(name.trim());
     if text.is_empty() {
         return Err(unknown(name, "an empty thread name", None));
     }
@@ -1406,6 +1421,17 @@ fn simplify(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_left_hand_designation_is_set_aside() {
+        assert_eq!(split_hand("M20x2.5-6H-LH"), ("M20x2.5-6H", true));
+        assert_eq!(split_hand("M8x1-LH"), ("M8x1", true));
+        assert_eq!(split_hand("1/2-13 UNC-2A LH"), ("1/2-13 UNC-2A", true));
+        assert_eq!(split_hand("m10x1.5lh"), ("m10x1.5", true));
+        assert_eq!(split_hand("M20x2.5-6g"), ("M20x2.5-6g", false));
+        let lh = lookup("M20x2.5-6H-LH").unwrap();
+        assert_eq!(lh.name, lookup("M20x2.5-6H").unwrap().name);
+    }
 
     #[test]
     fn r40_rounding_reproduces_iso_965_1_deviations() {
