@@ -52,8 +52,12 @@ pub struct Milled {
     pub threads: Vec<MilledThread>,
     pub taps: Vec<TapCycle>,
     pub summary: millprog::Summary,
-    /// Cutting moves made with the spindle stopped: the first one's line, and how many.
+    /// Cutting moves made with the spindle stopped after it had turned (an M5 or M19 the
+    /// program wrote): the first one's line, and how many.
     pub stopped_cuts: Option<(u32, u32)>,
+    /// The first cutting move made before the program ever started the spindle (it may turn
+    /// from before the program: an assumption).
+    pub never_started: Option<u32>,
     /// The units of the program's last move (none: no move).
     pub units: Option<Units>,
 }
@@ -67,6 +71,7 @@ pub fn read<R: BufRead>(
 ) -> Result<Milled, Diagnostic> {
     let mut sink = Collect {
         o,
+        turned: false,
         recogniser: None,
         milled: Milled::default(),
     };
@@ -85,6 +90,8 @@ pub fn read<R: BufRead>(
 
 struct Collect<'o> {
     o: &'o Options,
+    /// The spindle has turned (M3 or M4) since the program's start.
+    turned: bool,
     recogniser: Option<Recogniser>,
     milled: Milled,
 }
@@ -126,9 +133,14 @@ impl millprog::Sink for Collect<'_> {
     fn motion(&mut self, m: &MillMotion, _work: u16) -> Result<(), Diagnostic> {
         self.milled.units = Some(m.state.units);
         let cuts = !matches!(m.kind, MillKind::Rapid);
+        self.turned |= m.state.rotation != Rotation::Stopped;
         if cuts && m.state.rotation == Rotation::Stopped {
-            let s = self.milled.stopped_cuts.get_or_insert((m.line, 0));
-            s.1 += 1;
+            if self.turned {
+                let s = self.milled.stopped_cuts.get_or_insert((m.line, 0));
+                s.1 += 1;
+            } else if self.milled.never_started.is_none() {
+                self.milled.never_started = Some(m.line);
+            }
         }
         let options = self.recognition(m);
         let r = self
@@ -188,6 +200,13 @@ pub fn judge(milled: &Milled, profile: &MillProfile, o: &Options, report: &mut R
                 if n == 1 { "" } else { "s" }
             ),
         ));
+    }
+    if let Some(line) = milled.never_started {
+        report.diagnostics.push(Diagnostic::warning(
+            Code::MachineStateAssumed,
+            span_of(line),
+            "the cutter feeds and the program has not started the spindle (assumed: it turns from before the program, as for a block inserted in a longer one)",
+        ).with_hint("start it with S… M3 before the first cut"));
     }
     let mut before: Option<&MilledThread> = None;
     for t in &milled.threads {
