@@ -35,6 +35,10 @@
 //! | `--thread`: pitch diameter outside the class with the tool's tip (or a taper thread's face) assumed | warning | W009 |
 //! | the spindle stopped (M5, M19, end of program, a stop the manual says stops it), reversed, or another tool, at or between passes of one thread ([`state`]) | error | E017 |
 //! | the same, on an assumption (a stop the machine builder decides, M1; the same tool selected again) | warning | W010 |
+//! | a milling program ([`milling`]): a milled thread's helix off its lead, out of step, compensated on the wrong side, gouged by its entry ([`milled`]) | error | E019 |
+//! | a milled thread's straight entry onto its finished radius | warning | W011 |
+//! | a tap's lead off its pitch, its spindle against its hand ([`tapping`]) | error | E020 |
+//! | the same on an assumption (a floating holder; a lead just off a standard pitch) | warning | W012 |
 //!
 //! A finding that repeats on every pass is reported once per thread, naming the passes; one that
 //! repeats on several blocks (a dialect's warning on each block of a modal G92) once, naming the
