@@ -32,6 +32,16 @@ impl Span {
         (self.start / FILE_SPACING) as u32
     }
 
+    /// A place known only by its line (column 1, no extent): a finding about a move whose block
+    /// is not at hand.
+    pub fn at_line(line: u32) -> Span {
+        Span {
+            line,
+            column: 1,
+            ..Span::default()
+        }
+    }
+
     pub const fn new(start: u64, len: u32, line: u32, column: u32) -> Span {
         Span {
             start,

@@ -71,7 +71,7 @@ fn even_turns(t: &MilledThread, j: &Judging, out: &mut Vec<Diagnostic>) {
             format!(
                 "this arc advances {} over {} turn{}, {} per turn, and the thread's lead is {}: its flanks leave the helix{others}",
                 length(u, first.advance.abs()),
-                trim(first.turns),
+                super::number(first.turns),
                 if (first.turns - 1.0).abs() < 1e-9 { "" } else { "s" },
                 length(u, first.lead()),
                 length(u, t.lead)
@@ -102,9 +102,9 @@ fn same_lead_as_before(
         format!(
             "this helix advances {} per turn ({}), and the passes before it about the same axis {} per turn ({}, line {}): the thread is cut twice, out of step",
             length(u, t.lead),
-            hand_name(t.hand),
+            t.hand.name(),
             length(u, b.lead),
-            hand_name(b.hand),
+            b.hand.name(),
             b.helices[0].lines.0
         ),
     ));
@@ -274,14 +274,14 @@ fn against_class(
             at,
             format!(
                 "the helix is {} ({} {}), and {} is {}",
-                hand_name(t.hand),
+                t.hand.name(),
                 if t.helices[0].clockwise { "G2" } else { "G3" },
                 match t.direction {
                     Direction::BottomUp => "rising",
                     Direction::TopDown => "falling",
                 },
                 target.name,
-                hand_name(hand)
+                hand.name()
             ),
         ));
     }
@@ -393,7 +393,7 @@ fn summary(t: &MilledThread, j: &Judging) -> String {
         length(u, t.axis[1]),
         length(u, t.lead),
         crate::text::count(t.starts as usize, "start", "starts"),
-        hand_name(t.hand),
+        t.hand.name(),
         match t.direction {
             Direction::BottomUp => "bottom-up",
             Direction::TopDown => "top-down",
@@ -421,13 +421,6 @@ fn summary(t: &MilledThread, j: &Judging) -> String {
     s
 }
 
-fn hand_name(h: Hand) -> &'static str {
-    match h {
-        Hand::Right => "right-hand",
-        Hand::Left => "left-hand",
-    }
-}
-
 fn side_name(s: Side) -> &'static str {
     match s {
         Side::Internal => "internal",
@@ -444,11 +437,6 @@ fn known_name(k: Known) -> &'static str {
     }
 }
 
-fn trim(v: f64) -> String {
-    let s = format!("{v:.3}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -459,11 +447,7 @@ mod tests {
     use crate::thread::standard::lookup;
 
     fn span_of(line: u32) -> Span {
-        Span {
-            line,
-            column: 1,
-            ..Span::default()
-        }
+        Span::at_line(line)
     }
 
     /// Findings (code, line) and notes of the threads in `moves`, judged against `name`.

@@ -180,11 +180,7 @@ pub fn check<R: BufRead>(input: R, profile: &MillProfile, o: &Options) -> Report
 
 /// The findings about what was read.
 pub fn judge(milled: &Milled, profile: &MillProfile, o: &Options, report: &mut Report) {
-    let span_of = |line: u32| Span {
-        line,
-        column: 1,
-        ..Span::default()
-    };
+    let span_of = Span::at_line;
     let units = milled.units.unwrap_or(Units::Mm);
     let eps = units.to_mm(match units {
         Units::Mm => 0.001,
@@ -269,11 +265,7 @@ fn target_on<'t>(
         Ok(tg) => Some(tg),
         Err(why) => {
             report.notes.push(Note::new(
-                Span {
-                    line: t.helices[0].lines.0,
-                    column: 1,
-                    ..Span::default()
-                },
+                Span::at_line(t.helices[0].lines.0),
                 format!("not judged against the class: {why}"),
             ));
             None

@@ -71,7 +71,11 @@ pub fn judge(t: &TapCycle, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut V
         },
         length(u, lead),
         match t.feed {
-            Feed::PerMinute(f) => format!("F{} / S{}", length(u, f), trim(t.rpm.unwrap_or(0.0))),
+            Feed::PerMinute(f) => format!(
+                "F{} / S{}",
+                length(u, f),
+                super::number(t.rpm.unwrap_or(0.0))
+            ),
             _ => "F per revolution".to_string(),
         },
         if t.rigid { "rigid" } else { "floating holder" }
@@ -84,9 +88,9 @@ pub fn judge(t: &TapCycle, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut V
                     at,
                     format!(
                         "{name} cuts a {} thread and {} is {}",
-                        hand_name(hand),
+                        hand.name(),
                         target.name,
-                        hand_name(named)
+                        named.name()
                     ),
                 ));
             }
@@ -116,7 +120,7 @@ fn direction(t: &TapCycle, j: &Judging, hand: Hand, at: Span, out: &mut Vec<Diag
                 format!(
                     "{} is a {} tapping cycle and the spindle turns {} ({}): the tap screws in backwards",
                     t.code_name(),
-                    hand_name(hand),
+                    hand.name(),
                     match t.rotation {
                         Rotation::Cw => "clockwise",
                         _ => "counter-clockwise",
@@ -250,18 +254,6 @@ fn nearest_pitch(lead: f64) -> Option<(f64, Family)> {
         .min_by(|a, b| (a.0 - lead).abs().total_cmp(&(b.0 - lead).abs()))
 }
 
-fn hand_name(h: Hand) -> &'static str {
-    match h {
-        Hand::Right => "right-hand",
-        Hand::Left => "left-hand",
-    }
-}
-
-fn trim(v: f64) -> String {
-    let s = format!("{v:.3}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -269,11 +261,7 @@ mod tests {
     use crate::thread::standard::{lookup, Surface};
 
     fn span_of(line: u32) -> Span {
-        Span {
-            line,
-            column: 1,
-            ..Span::default()
-        }
+        Span::at_line(line)
     }
 
     fn tap(feed: Feed, rpm: Option<f64>, rotation: Rotation, code: u16, rigid: bool) -> TapCycle {

@@ -53,6 +53,16 @@ pub enum Hand {
     Left,
 }
 
+impl Hand {
+    /// `right-hand`, `left-hand`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Hand::Right => "right-hand",
+            Hand::Left => "left-hand",
+        }
+    }
+}
+
 /// Which way the helix runs along Z.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]

@@ -125,12 +125,21 @@ fn tool_size(text: &str) -> Result<ToolSize, Failure> {
     }
 }
 
-/// Reads the program: its milled threads and taps, or the reader's error.
-fn read(file: &Path, profile: &MillProfile, o: &milling::Options) -> Result<Milled, Failure> {
+/// Reads the program: its milled threads and taps (said on standard error when there are
+/// none), or the reader's error.
+fn read(
+    file: &Path,
+    profile: &MillProfile,
+    g: &Given,
+) -> Result<(milling::Options, Milled), Failure> {
+    let o = options(g)?;
     let (reader, content) = input::open(file)?;
-    let milled = milling::read(reader, profile, o).map_err(|d| input_failure(file, d))?;
+    let milled = milling::read(reader, profile, &o).map_err(|d| input_failure(file, d))?;
     not_empty(file, &content)?;
-    Ok(milled)
+    if milled.threads.is_empty() && milled.taps.is_empty() {
+        no_milled_thread(file);
+    }
+    Ok((o, milled))
 }
 
 fn input_failure(file: &Path, d: Diagnostic) -> Failure {
@@ -173,11 +182,7 @@ pub fn passes(
     format: ReportFormat,
     to: Option<&Path>,
 ) -> Result<ExitCode, Failure> {
-    let o = options(g)?;
-    let milled = read(file, profile, &o)?;
-    if milled.threads.is_empty() && milled.taps.is_empty() {
-        no_milled_thread(file);
-    }
+    let (_, milled) = read(file, profile, g)?;
     let units = milled.units.unwrap_or(Units::Mm);
     output::write(file, to, |out| {
         let io = |e: std::io::Error| failure(file, e.into());
@@ -224,11 +229,7 @@ pub fn plot(
     g: &Given,
     to: Option<&Path>,
 ) -> Result<ExitCode, Failure> {
-    let o = options(g)?;
-    let milled = read(file, profile, &o)?;
-    if milled.threads.is_empty() {
-        no_milled_thread(file);
-    }
+    let (o, milled) = read(file, profile, g)?;
     let angle = o.thread.as_ref().map_or(60.0, |(t, _)| t.profile.angle_deg);
     let svg = threadcut::render::milled::svg(&milled.threads, angle);
     output::write(file, to, |out| {
