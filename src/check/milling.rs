@@ -20,8 +20,33 @@ use crate::units::Units;
 /// A cutter's diameter by its tool number (`T5`) or its offset register (`D16`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum ToolSize {
+    /// A tool number and its cutter's diameter.
     Tool(u32, f64),
     Register(u32, f64),
+}
+
+impl ToolSize {
+    /// `D16=17.0` or `T5=12` (`--tool`); `None` for any other text.
+    pub fn parse(text: &str) -> Option<ToolSize> {
+        let (key, value) = text.split_once('=')?;
+        let value: f64 = value.trim().parse().ok()?;
+        Self::of(key, value)
+    }
+
+    /// A register (`D16`) or tool (`T5`) and the cutter's diameter (positive).
+    pub fn of(key: &str, value: f64) -> Option<ToolSize> {
+        if !(value.is_finite() && value > 0.0) {
+            return None;
+        }
+        let key = key.trim();
+        let letter = key.chars().next()?.to_ascii_uppercase();
+        let number: u32 = key.get(1..)?.parse().ok()?;
+        match letter {
+            'D' => Some(ToolSize::Register(number, value)),
+            'T' => Some(ToolSize::Tool(number, value)),
+            _ => None,
+        }
+    }
 }
 
 /// What checking a milling program is told.

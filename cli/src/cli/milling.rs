@@ -106,23 +106,11 @@ fn options(g: &Given) -> Result<milling::Options, Failure> {
 
 /// `D16=17.0` or `T5=12`.
 fn tool_size(text: &str) -> Result<ToolSize, Failure> {
-    let bad = || {
+    ToolSize::parse(text).ok_or_else(|| {
         Failure::Usage(format!(
             "--tool {text}: expected a register or tool number and the cutter's diameter, as D16=17.0 or T5=12 (program units)"
         ))
-    };
-    let (key, value) = text.split_once('=').ok_or_else(bad)?;
-    let value: f64 = value.trim().parse().map_err(|_| bad())?;
-    if !(value.is_finite() && value > 0.0) {
-        return Err(bad());
-    }
-    let key = key.trim();
-    let number = |s: &str| s.parse::<u32>().map_err(|_| bad());
-    match key.chars().next().map(|c| c.to_ascii_uppercase()) {
-        Some('D') => Ok(ToolSize::Register(number(&key[1..])?, value)),
-        Some('T') => Ok(ToolSize::Tool(number(&key[1..])?, value)),
-        _ => Err(bad()),
-    }
+    })
 }
 
 /// Reads the program: its milled threads and taps (said on standard error when there are
