@@ -80,7 +80,11 @@ def passes(
     stock_bore: float | None = None,
     include: list[str | os.PathLike[str]] | None = None,
     start: tuple[float, float] | None = None,
-) -> list[dict[str, Any]]:
+    internal: bool | None = None,
+    tool_diameter: float | None = None,
+    teeth: int | None = None,
+    tools: dict[str, float] | None = None,
+) -> list[dict[str, Any]] | dict[str, Any]:
     """Each thread's pass table: the `cycles` of `threadcut passes --json`.
 
     One dict per thread (a cycle, or passes written as plain synchronised moves): `line`,
@@ -104,6 +108,12 @@ def passes(
     pass table where the table does not depend on the start (Fanuc-family G76 and G92, the
     one-block G76, GSK's G78): its `z` is None and `start_unknown` (`{axes, note}`) says what is
     not known; LinuxCNC's G76, whose passes are placed from the drive line, raises `InputError`.
+
+    A milling controller (`fanuc-mill`, `haas-mill`, `linuxcnc-mill`, `centroid`) gives a dict
+    instead, `threadcut passes --format json`'s: `milled`, one dict per milled thread (its axis,
+    `lead`, `starts`, `pitch`, `hand`, `direction`, `side` and `side_from`, `climb`,
+    `root_diameter`, and `passes`, one dict per helix), and `taps`, one per tapping cycle; with
+    `check`'s milling keywords.
 
     A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
     the controller refuses (at its line and column) or an unknown controller.
@@ -165,6 +175,10 @@ def check(
     stock_bore: float | None = None,
     include: list[str | os.PathLike[str]] | None = None,
     start: tuple[float, float] | None = None,
+    internal: bool | None = None,
+    tool_diameter: float | None = None,
+    teeth: int | None = None,
+    tools: dict[str, float] | None = None,
 ) -> CheckResult:
     """What the program will do wrong before the spindle turns: `threadcut check --format json`.
 
@@ -183,6 +197,12 @@ def check(
     that run into material (`line`, `level` `"error"` or `"warning"`, and `from`, `to`, `at` —
     where it enters the material — each `(x, z)` in mm, X a radius).
 
+    A milling controller (`fanuc-mill`, `haas-mill`, `linuxcnc-mill`, `centroid`) reads a
+    machining centre's program: its milled threads (helices about one axis) and its tapping cycles
+    are judged (docs/milling-check.md); `internal` (True, False: external), `tool_diameter`,
+    `teeth` and `tools` (`{"D16": 17.0, "T5": 12}`: a cutter's diameter by its offset register or
+    tool number), in program units, tell what the program does not show.
+
     A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for an unknown
     controller or thread.
     """
@@ -200,6 +220,10 @@ def plot_svg(
     stock_bore: float | None = None,
     include: list[str | os.PathLike[str]] | None = None,
     start: tuple[float, float] | None = None,
+    internal: bool | None = None,
+    tool_diameter: float | None = None,
+    teeth: int | None = None,
+    tools: dict[str, float] | None = None,
 ) -> str:
     """One SVG of the threads' pass diagrams and XZ toolpaths (`threadcut plot`): at most the first
     50 threads, the picture saying what it left out, or only the `cycle`th thread (1-based).
@@ -207,6 +231,9 @@ def plot_svg(
     Above them, the part the program makes (where it cuts anything, a stock is given or a rapid
     runs into material): the stock, the part, each thread's teeth, the rapids into material in red
     at their line; `part=True` draws it alone (`--part`). The stock keywords are `check`'s.
+
+    A milling controller draws each milled thread along its axis and from the side, with `check`'s
+    milling keywords.
 
     A program with no thread gives an empty drawing and an `InputWarning`; threads left out without
     `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an

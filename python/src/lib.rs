@@ -9,6 +9,8 @@
 
 use std::path::Path;
 
+mod milling;
+
 use pyo3::create_exception;
 use pyo3::exceptions::{PyUserWarning, PyValueError};
 use pyo3::prelude::*;
@@ -350,10 +352,16 @@ fn controllers_py() -> Vec<&'static str> {
 /// one-block G76, GSK's G78): its `z` is None and `start_unknown` (`{axes, note}`) says what is
 /// not known; LinuxCNC's G76, whose passes are placed from the drive line, raises `InputError`.
 ///
+/// A milling controller (`fanuc-mill`, `haas-mill`, `linuxcnc-mill`, `centroid`) gives a dict
+/// instead, `threadcut passes --format json`'s: `milled`, one dict per milled thread (its axis,
+/// `lead`, `starts`, `pitch`, `hand`, `direction`, `side` and `side_from`, `climb`,
+/// `root_diameter`, and `passes`, one dict per helix), and `taps`, one per tapping cycle; with
+/// `check`'s milling keywords.
+///
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for a program
 /// the controller refuses (at its line and column) or an unknown controller.
 #[pyfunction(name = "passes")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None, internal=None, tool_diameter=None, teeth=None, tools=None))]
 #[allow(clippy::too_many_arguments)]
 fn passes_py<'py>(
     py: Python<'py>,
@@ -368,7 +376,28 @@ fn passes_py<'py>(
     stock_bore: Option<f64>,
     include: Option<Vec<std::path::PathBuf>>,
     start: Option<(f64, f64)>,
+    internal: Option<bool>,
+    tool_diameter: Option<f64>,
+    teeth: Option<u32>,
+    tools: Option<std::collections::HashMap<String, f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let kw = milling::Keywords {
+        internal,
+        tool_diameter,
+        teeth,
+        tools,
+    };
+    if let Some(profile) = milling::profile(controller, machine.is_some_and(|m| !m.is_none())) {
+        let o = milling::options(
+            py,
+            thread,
+            wire,
+            &kw,
+            run_options(py, start, Start::Unknown, None)?.max_blocks,
+        )?;
+        return json_loads(py, &milling::passes_json(py, &program, &profile, &o)?);
+    }
+    milling::refuse_on_a_lathe(py, &kw)?;
     let m = resolve(py, controller, machine)?;
     let src = source(&program, &m);
     let options = run_options(py, start, Start::Unstated, include)?;
@@ -513,10 +542,16 @@ fn expand_py(
 /// that run into material (`line`, `level` `"error"` or `"warning"`, and `from`, `to`, `at` —
 /// where it enters the material — each `(x, z)` in mm, X a radius).
 ///
+/// A milling controller (`fanuc-mill`, `haas-mill`, `linuxcnc-mill`, `centroid`) reads a
+/// machining centre's program: its milled threads (helices about one axis) and its tapping cycles
+/// are judged (docs/milling-check.md); `internal` (True, False: external), `tool_diameter`,
+/// `teeth` and `tools` (`{"D16": 17.0, "T5": 12}`: a cutter's diameter by its offset register or
+/// tool number), in program units, tell what the program does not show.
+///
 /// A program with no thread gives `[]` and an `InputWarning`. Raises `InputError` for an unknown
 /// controller or thread.
 #[pyfunction(name = "check")]
-#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None))]
+#[pyo3(signature = (program, controller, *, machine=None, thread=None, wire=None, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None, internal=None, tool_diameter=None, teeth=None, tools=None))]
 #[allow(clippy::too_many_arguments)]
 fn check_py<'py>(
     py: Python<'py>,
@@ -531,7 +566,29 @@ fn check_py<'py>(
     stock_bore: Option<f64>,
     include: Option<Vec<std::path::PathBuf>>,
     start: Option<(f64, f64)>,
+    internal: Option<bool>,
+    tool_diameter: Option<f64>,
+    teeth: Option<u32>,
+    tools: Option<std::collections::HashMap<String, f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let kw = milling::Keywords {
+        internal,
+        tool_diameter,
+        teeth,
+        tools,
+    };
+    if let Some(profile) = milling::profile(controller, machine.is_some_and(|m| !m.is_none())) {
+        let o = milling::options(
+            py,
+            thread,
+            wire,
+            &kw,
+            run_options(py, start, Start::Unknown, None)?.max_blocks,
+        )?;
+        let report = py.detach(|| check::milling::check(program.as_bytes(), &profile, &o));
+        return check_result_class(py)?.call1((findings(py, &report)?,));
+    }
+    milling::refuse_on_a_lathe(py, &kw)?;
     let m = resolve(py, controller, machine)?;
     let run = run_options(py, start, Start::Unknown, include)?;
     let (thread, wire) = thread_keywords(py, thread, wire)?;
@@ -635,11 +692,14 @@ fn findings<'py>(py: Python<'py>, report: &Report) -> PyResult<Bound<'py, PyList
 /// runs into material): the stock, the part, each thread's teeth, the rapids into material in red
 /// at their line; `part=True` draws it alone (`--part`). The stock keywords are `check`'s.
 ///
+/// A milling controller draws each milled thread along its axis and from the side, with `check`'s
+/// milling keywords.
+///
 /// A program with no thread gives an empty drawing and an `InputWarning`; threads left out without
 /// `cycle` are an `InputWarning` too. Raises `InputError` for a program the controller refuses, an
 /// unknown controller, or a `cycle` the program does not have.
 #[pyfunction(name = "plot_svg")]
-#[pyo3(signature = (program, controller, *, machine=None, cycle=None, part=false, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None))]
+#[pyo3(signature = (program, controller, *, machine=None, cycle=None, part=false, stock_diameter=None, stock_start=None, stock_length=None, stock_bore=None, include=None, start=None, internal=None, tool_diameter=None, teeth=None, tools=None))]
 #[allow(clippy::too_many_arguments)]
 fn plot_svg_py(
     py: Python<'_>,
@@ -654,7 +714,28 @@ fn plot_svg_py(
     stock_bore: Option<f64>,
     include: Option<Vec<std::path::PathBuf>>,
     start: Option<(f64, f64)>,
+    internal: Option<bool>,
+    tool_diameter: Option<f64>,
+    teeth: Option<u32>,
+    tools: Option<std::collections::HashMap<String, f64>>,
 ) -> PyResult<String> {
+    let kw = milling::Keywords {
+        internal,
+        tool_diameter,
+        teeth,
+        tools,
+    };
+    if let Some(profile) = milling::profile(controller, machine.is_some_and(|m| !m.is_none())) {
+        let o = milling::options(
+            py,
+            None,
+            None,
+            &kw,
+            run_options(py, start, Start::Unknown, None)?.max_blocks,
+        )?;
+        return milling::svg(py, &program, &profile, &o);
+    }
+    milling::refuse_on_a_lathe(py, &kw)?;
     let m = resolve(py, controller, machine)?;
 
     let src = source(&program, &m);

@@ -65,11 +65,13 @@ def test_controller_names_are_case_insensitive():
     assert threadcut.passes(M30_G76, "FANUC") == threadcut.passes(M30_G76, "fanuc")
 
 
-def test_a_milling_profile_is_not_a_lathe_controller():
+def test_a_lathe_program_on_a_milling_profile_is_read_as_a_milling_program():
+    # A milling profile reads a machining centre's program (issue 24): a lathe program's G97 is
+    # no code it reads, refused at its line.
     with pytest.raises(threadcut.InputError) as e:
         threadcut.passes(M30_G76, "centroid")
-    assert e.value.message == "`centroid` is a milling profile, and this function reads lathe programs"
-    assert 'threadcut.mill(..., controller="centroid")' in e.value.hint
+    assert e.value.message == "G97 is not a code threadcut reads in a Centroid milling program"
+    assert e.value.line == 5
 
 
 def test_an_unknown_thread(cli):
@@ -186,7 +188,7 @@ def test_mill_errors(cli):
     assert str(e.value) == (
         "error: `fanuc` is a lathe controller, and `threadcut.mill` writes thread-milling programs"
     )
-    assert e.value.hint.endswith("milling profiles: centroid, fanuc-mill, linuxcnc-mill")
+    assert e.value.hint.endswith("milling profiles: centroid, fanuc-mill, haas-mill, linuxcnc-mill")
     assert mill(controller="Centroid") == mill(controller="centroid")
     with pytest.raises(threadcut.InputError) as e:
         threadcut.mill(

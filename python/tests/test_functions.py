@@ -564,3 +564,40 @@ def test_start_places_the_tool(cli, tmp_path):
     assert threadcut.expand(G76_ALONE, "fanuc15", start=(22.0, 5.0)) == cli.out(
         "expand", str(path), "-c", "fanuc15", "--start", "22,5"
     )
+
+
+MILL = ROOT / "tests" / "data" / "mill"
+
+
+def test_a_milling_program_is_checked_as_the_command_checks_it(cli):
+    # The bolt's tool-centre path with an 8 mm cutter in tool 2: the minor diameter 2·9.9 − 8 =
+    # 11.8, above M12x1.75-6g's d3 maximum (E016 at the first helix, line 8).
+    path = MILL / "linuxcnc-m12-helix.ngc"
+    args = ["--thread", "M12x1.75-6g", "--tool", "T2=8"]
+    r = cli.run("check", str(path), "-c", "linuxcnc-mill", "--format", "json", *args)
+    assert r.returncode == 2, r.stderr
+    expected = json.loads(r.stdout)
+    got = threadcut.check(path.read_text(), "linuxcnc-mill", thread="M12x1.75-6g", tools={"T2": 8})
+    assert [(f["line"], f["code"], f["message"]) for f in got] == [
+        (f["line"], f["code"], f["message"]) for f in expected
+    ]
+    assert any(f["code"] == "E016" and f["line"] == 8 for f in got)
+
+
+def test_milled_passes_and_plot(cli):
+    path = MILL / "fanuc-m20-internal-g41.nc"
+    expected = cli.json("passes", str(path), "-c", "fanuc-mill", "--json")
+    got = threadcut.passes(path.read_text(), "fanuc-mill")
+    assert got == expected
+    [t] = got["milled"]
+    assert t["lead"] == pytest.approx(2.5) and t["side"] == "internal" and t["hand"] == "right"
+    assert t["passes"][0]["diameter"] == pytest.approx(20.0)
+    svg = threadcut.plot_svg(path.read_text(), "fanuc-mill")
+    assert svg == cli.out("plot", str(path), "-c", "fanuc-mill")
+
+
+def test_milling_keywords_need_a_milling_controller():
+    with pytest.raises(threadcut.InputError, match="name a milling controller"):
+        threadcut.check(M30_G76, "fanuc", tool_diameter=10)
+    with pytest.raises(threadcut.InputError, match="tools="):
+        threadcut.check("G0 X0\n", "fanuc-mill", tools={"X2": 8})
