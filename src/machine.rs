@@ -2,6 +2,8 @@
 //! program text does not: X on diameter or radius, the input resolution and decimal-point
 //! convention, controller parameters, machine limits and the output format.
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 use crate::units::Units;
@@ -418,6 +420,11 @@ pub struct Machine {
     /// directory (the command line resolves them: the library reads no files).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub include: Vec<String>,
+    /// The tools this machine's turret holds by name (`[tools]`, `THREAD_EXT_60 = "T0101"`): a
+    /// program converted for this machine calls a named tool by its number, and a numbered tool
+    /// by its name where this machine calls tools by name (docs/translation.md, "Tools by name").
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub tools: BTreeMap<String, String>,
 }
 
 impl Machine {

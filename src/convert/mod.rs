@@ -18,6 +18,7 @@
 //! results over every bundled example: `docs/translation.md`.
 
 pub mod block;
+pub mod tools;
 mod write;
 
 use std::io::{BufRead, Write};
@@ -54,6 +55,9 @@ pub struct Options {
     /// class's pitch-diameter tolerance for the thread, on the drift's pitch-diameter equivalent
     /// (docs/translation.md, "The lead's rounding").
     pub max_lead_drift: Option<f64>,
+    /// Named tools and their numbers (`--tool NAME=T0101`, in order), over the target profile's
+    /// `[tools]` table ([`tools::ToolMap`]).
+    pub tools: Vec<(String, String)>,
 }
 
 /// Converts the program `input`, written for `from`, into a program for `to`, written to `out`.
@@ -85,6 +89,12 @@ pub fn convert<R: BufRead>(
             format!("maximum lead drift {v}: expected a length of 0 or more, in the converted program's units"),
         )));
     }
+    let names = tools::ToolMap::new(&options.tools, &to.tools).map_err(|e| {
+        Error::Input(
+            Diagnostic::error(Code::OutOfRange, Span::default(), e)
+                .with_hint("a tool is named with --tool NAME=T0101 or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
+        )
+    })?;
     let ending = crate::eol::LineEnding::peek(&mut input)?;
     let out = &mut crate::eol::Writer::new(out, ending);
     let source_dialect = dialect::open(from).map_err(Error::Setup)?;
@@ -114,7 +124,10 @@ pub fn convert<R: BufRead>(
             to,
             target.as_ref(),
             &src.meanings,
-            options.max_lead_drift,
+            write::Choices {
+                max_lead_drift: options.max_lead_drift,
+                names,
+            },
         )?))
     };
     let mut conversion = Conversion {

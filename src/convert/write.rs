@@ -16,6 +16,7 @@ use crate::translate::{self, Written};
 use crate::units::Units;
 
 use super::block::{Axis, Block, ToolTerm};
+use super::tools::ToolMap;
 use super::Report;
 use crate::dialect::lexicon::{
     Code, DwellForm, Function, LimitForm, Meanings, Plane, ReturnForm, ToolForm,
@@ -57,7 +58,20 @@ pub(super) struct Writer<'o, 'm> {
     /// The largest drift of a lead over its thread (output units; `None`: a quarter of the
     /// thread's class tolerance on the pitch diameter).
     max_lead_drift: Option<f64>,
+    /// Named tools and their numbers.
+    names: ToolMap,
+    /// The tool last called by its name, and the offset its first cutting edge applies.
+    named: Option<(u32, u32)>,
     report: Report,
+}
+
+/// What the command chose for a conversion besides the two machines.
+pub(super) struct Choices {
+    /// The largest drift of a lead over its thread (output units; `None`: a quarter of the
+    /// thread's class tolerance on the pitch diameter).
+    pub max_lead_drift: Option<f64>,
+    /// Named tools and their numbers.
+    pub names: ToolMap,
 }
 
 /// The words of one output block, in the groups they are written in.
@@ -77,6 +91,11 @@ struct Out {
     extra: Vec<String>,
 }
 
+/// A refusal with its own hint.
+fn refuse_with(span: Span, message: String, hint: String) -> Error {
+    Error::Input(Diagnostic::error(DiagCode::Unsupported, span, message).with_hint(hint))
+}
+
 /// A refusal: the target has no counterpart of what the source wrote at `span`.
 fn refuse(span: Span, message: String) -> Error {
     Error::Input(
@@ -93,7 +112,7 @@ impl<'o, 'm> Writer<'o, 'm> {
         to: &'m Machine,
         target: &dyn Dialect,
         source: &Meanings,
-        max_lead_drift: Option<f64>,
+        choices: Choices,
     ) -> Result<Writer<'o, 'm>, Error> {
         let tlex = target.meanings();
         let format = target.format();
@@ -151,7 +170,9 @@ impl<'o, 'm> Writer<'o, 'm> {
             pending_limit: None,
             source_tool: source.tool,
             source_returns_all: source.return_all_without_axes,
-            max_lead_drift,
+            max_lead_drift: choices.max_lead_drift,
+            names: choices.names,
+            named: None,
             report: Report::default(),
         })
     }
@@ -887,12 +908,31 @@ impl<'o, 'm> Writer<'o, 'm> {
         let mut current = self.tool;
         let mut selected = None;
         for t in &b.tools {
-            if let ToolTerm::Select { tool, span } = t {
-                if immediate {
-                    selected = Some((*tool, *span));
-                } else {
-                    self.prepared = Some(*tool);
+            let (tool, span) = match t {
+                ToolTerm::Select { tool, span } => {
+                    self.named = None;
+                    (*tool, *span)
                 }
+                ToolTerm::Name { name, span } => {
+                    let n = self.names.by_name(name).ok_or_else(|| {
+                        refuse_with(
+                            *span,
+                            format!(
+                                "the tool is called by its name {name}: {} selects tools by number",
+                                self.to.name
+                            ),
+                            format!("give its number: --tool {name}=T0101 (tool 1, offset 1), or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
+                        )
+                    })?;
+                    self.named = Some((n.tool, n.offset));
+                    (n.tool, *span)
+                }
+                _ => continue,
+            };
+            if immediate {
+                selected = Some((tool, span));
+            } else {
+                self.prepared = Some(tool);
             }
         }
         if let Some((span, _)) = b
@@ -911,12 +951,12 @@ impl<'o, 'm> Writer<'o, 'm> {
         if let Some((tool, span)) = selected {
             current = Some(tool);
             if !has_edge {
-                calls.push((tool, Some(tool), true, span));
+                calls.push((tool, Some(self.own_offset(tool)), true, span));
             }
         }
         for t in &b.tools {
             match t {
-                ToolTerm::Select { .. } => {}
+                ToolTerm::Select { .. } | ToolTerm::Name { .. } => {}
                 ToolTerm::Call { tool, offset, span } => {
                     current = Some(*tool);
                     calls.push((*tool, Some(*offset), true, *span));
@@ -926,7 +966,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                         .ok_or_else(|| refuse(*span, "a cutting edge before any tool".into()))?;
                     let offset = match edge {
                         0 => 0,
-                        1 => tool,
+                        1 => self.own_offset(tool),
                         e => {
                             return Err(refuse(
                                 *span,
@@ -935,15 +975,6 @@ impl<'o, 'm> Writer<'o, 'm> {
                         }
                     };
                     calls.push((tool, Some(offset), selected.is_some(), *span));
-                }
-                ToolTerm::Name { name, span } => {
-                    return Err(refuse(
-                        *span,
-                        format!(
-                            "the tool is called by its name {name}: {} selects tools by number",
-                            self.to.name
-                        ),
-                    ))
                 }
                 ToolTerm::Offset { register, span } => {
                     let tool = current.ok_or_else(|| {
@@ -981,6 +1012,15 @@ impl<'o, 'm> Writer<'o, 'm> {
         Ok(())
     }
 
+    /// The offset a tool's first cutting edge applies: the one its name's number gives where
+    /// it was called by name, else its own.
+    fn own_offset(&self, tool: u32) -> u32 {
+        match self.named {
+            Some((t, offset)) if t == tool => offset,
+            _ => tool,
+        }
+    }
+
     fn write_tool(
         &mut self,
         tool: u32,
@@ -989,6 +1029,25 @@ impl<'o, 'm> Writer<'o, 'm> {
         span: Span,
         tail: &mut Vec<String>,
     ) -> Result<(), Error> {
+        if let (ToolForm::ToolAndEdge, Some(n)) = (self.tlex.tool, self.names.by_tool(tool)) {
+            // The tool by its name: its first cutting edge is the offset its number gives.
+            let edge = if offset == n.offset {
+                "D1"
+            } else if offset == 0 {
+                "D0"
+            } else {
+                return Err(refuse(
+                    span,
+                    format!(
+                        "tool {tool} with offset {offset}: tool {tool} is named {} with offset {} (its first cutting edge, D1), and threadcut writes no other edge for it",
+                        n.name, n.offset
+                    ),
+                ));
+            };
+            tail.push(format!("T=\"{}\"", n.name));
+            tail.push(edge.into());
+            return Ok(());
+        }
         match self.tlex.tool {
             ToolForm::Combined { digits } => {
                 tail.push(format!("T{tool:02}{offset:0width$}", width = digits as usize));
