@@ -27,13 +27,14 @@ fn with_tools(
     convert::convert_text(src, from, to, &options)
 }
 
-/// The converted program's lines that are neither comments nor the header's block of modes.
+/// The converted program's lines that are neither comments nor the header's block of modes,
+/// without their trailing comments.
 fn blocks(text: &str) -> Vec<String> {
     text.lines()
         .skip_while(|l| l.starts_with('%'))
         .skip(2)
         .filter(|l| !l.starts_with('(') && !l.starts_with(';'))
-        .map(str::to_string)
+        .map(|l| l.split(" (").next().unwrap_or(l).to_string())
         .collect()
 }
 
@@ -168,4 +169,81 @@ fn the_target_profiles_tools_table_names_tools() {
         .insert("THREAD_EXT_60".into(), "tool five".into());
     let e = with_tools(NAMED, &from, &fanuc, &[]).unwrap_err();
     assert!(e.message.contains("[tools] THREAD_EXT_60"), "{}", e.message);
+}
+
+fn with_reference(name: &str, x: Option<f64>, z: Option<f64>) -> Machine {
+    let mut m = built_in(name);
+    m.reference = Some(threadcut::machine::ReferencePoints {
+        g28: threadcut::machine::AxisPoint { x, z },
+        ..Default::default()
+    });
+    m
+}
+
+fn conv(src: &str, from: &Machine, to: &Machine) -> Result<String, Diagnostic> {
+    convert::convert_text(src, from, to, &Options::default())
+}
+
+/// Allen-Bradley (its G28 is the 7300-compatible thread cycle) and the OmniTurn (no reference
+/// return documented): a return is a rapid to where the target profile's `[reference] g28`
+/// places the returning axes, in the profile's units and X mode.
+#[test]
+fn a_reference_return_goes_to_the_profiles_reference_point_where_the_target_has_none() {
+    let fanuc = built_in("fanuc");
+    // ab9 profile: inch, X on diameter; g28 at X10" (Ø) Z6". The metric program stays metric
+    // (the 9/Series has G21): X 10 × 25.4 = 254 mm on diameter, Z 6 × 25.4 = 152.4 mm.
+    let ab = with_reference("ab9", Some(10.0), Some(6.0));
+    let out = conv("G21 G99\nG0 X40. Z5.\nG28 U0. W0.\nG28 U0.\n", &fanuc, &ab).unwrap();
+    let b = blocks(&out);
+    assert_eq!(b[2..], ["G0 X254. Z152.4", "G0 X254."], "{out}");
+    // OmniTurn profile: inch only, X on radius (G73): g28 at X5" (radius) Z6"; a Haas bare G28
+    // returns both axes.
+    let omni = with_reference("omniturn", Some(5.0), Some(6.0));
+    let out = conv("G20\nG28\n", &built_in("haas"), &omni).unwrap();
+    assert_eq!(blocks(&out).last().unwrap(), "G0 X5. Z6.", "{out}");
+    // The block says what it stands for.
+    assert!(
+        out.contains(
+            "G0 X5. Z6. (G28: the reference point, where the profile's [reference] g28 places it)"
+        ),
+        "{out}"
+    );
+}
+
+/// Without the position (no `[reference]`, or not the axis that returns): refused as before, at
+/// the code, with the table in the hint; targets with a return code keep writing it.
+#[test]
+fn a_reference_return_without_the_position_is_refused_for_allen_bradley_and_the_omniturn() {
+    let fanuc = built_in("fanuc");
+    for to in [
+        built_in("ab9"),
+        built_in("omniturn"),
+        with_reference("ab9", None, Some(6.0)),
+        with_reference("omniturn", None, Some(6.0)),
+    ] {
+        let e = conv("G20\nG0 X1. Z.2\nG28 U0.\n", &fanuc, &to).unwrap_err();
+        assert_eq!((e.span.line, e.span.column), (3, 1), "{}", e.message);
+        assert!(
+            e.message.contains("no reference return") && e.message.contains("reference point's X"),
+            "{}",
+            e.message
+        );
+        assert!(e.hint.unwrap_or_default().contains("[reference]"));
+    }
+    // Z alone is placed: a return of Z is written.
+    let out = conv(
+        "G20\nG28 W0.\n",
+        &fanuc,
+        &with_reference("ab9", None, Some(6.0)),
+    )
+    .unwrap();
+    assert_eq!(blocks(&out).last().unwrap(), "G0 Z6.", "{out}");
+    // Fanuc and LinuxCNC have a return code: written as before, whatever the profile places.
+    let out = conv(
+        "G20\nG28 U0.\n",
+        &built_in("haas"),
+        &with_reference("fanuc", Some(10.0), None),
+    )
+    .unwrap();
+    assert_eq!(blocks(&out).last().unwrap(), "G28 U0.", "{out}");
 }

@@ -670,7 +670,6 @@ impl<'o, 'm> Writer<'o, 'm> {
         (span, text): (Span, &str),
         o: &mut Out,
     ) -> Result<(), Error> {
-        let (extra, g) = (&mut o.extra, &mut o.g);
         self.in_run = false;
         let named = [
             b.x.is_some() || b.machine_axes[0].is_some(),
@@ -707,17 +706,16 @@ impl<'o, 'm> Writer<'o, 'm> {
         } else {
             return Ok(());
         };
-        let code = self.code(Function::ReferenceReturn).ok_or_else(|| {
-            refuse(
-                span,
-                format!(
-                    "{text} (return to the reference point): {} has no reference return in threadcut's lexicon",
-                    self.to.name
-                ),
-            )
-        })?;
-        match self.tlex.reference {
-            Some(ReturnForm::IncrementalWords { x, z }) => {
+        let Some((form, code)) = self
+            .tlex
+            .reference
+            .zip(self.code(Function::ReferenceReturn))
+        else {
+            return self.reference_position(axes, (span, text), o);
+        };
+        let (extra, g) = (&mut o.extra, &mut o.g);
+        match form {
+            ReturnForm::IncrementalWords { x, z } => {
                 g.push(code);
                 if axes[0] {
                     g.push(format!("{}0.", x as char));
@@ -726,10 +724,11 @@ impl<'o, 'm> Writer<'o, 'm> {
                     g.push(format!("{}0.", z as char));
                 }
             }
-            Some(ReturnForm::IncrementalMode) => {
-                let (Some(inc), Some(abs)) =
-                    (self.code(Function::Incremental), self.code(Function::Absolute))
-                else {
+            ReturnForm::IncrementalMode => {
+                let (Some(inc), Some(abs)) = (
+                    self.code(Function::Incremental),
+                    self.code(Function::Absolute),
+                ) else {
                     return Err(refuse(span, "no incremental mode to return in".into()));
                 };
                 let mut l = vec![inc, code];
@@ -742,7 +741,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                 extra.push(l.join(" "));
                 extra.push(abs);
             }
-            Some(ReturnForm::MachineAxes { x, z }) => {
+            ReturnForm::MachineAxes { x, z } => {
                 g.push(code);
                 if axes[0] {
                     g.push(format!("{x}=0"));
@@ -751,16 +750,53 @@ impl<'o, 'm> Writer<'o, 'm> {
                     g.push(format!("{z}=0"));
                 }
             }
-            None => {
-                return Err(refuse(
+        }
+        Ok(())
+    }
+
+    /// A return to the reference point on a target without one: a rapid to where the target
+    /// profile's `[reference] g28` places the returning axes (program coordinates at power-on,
+    /// the profile's units and X mode), else refused.
+    fn reference_position(
+        &mut self,
+        axes: [bool; 2],
+        (span, text): (Span, &str),
+        o: &mut Out,
+    ) -> Result<(), Error> {
+        let point = self.to.reference.map(|r| r.g28).unwrap_or_default();
+        let mut words = Vec::new();
+        for (i, value) in [point.x, point.z].into_iter().enumerate() {
+            if !axes[i] {
+                continue;
+            }
+            let axis = if i == 0 { 'x' } else { 'z' };
+            let Some(v) = value else {
+                return Err(refuse_with(
                     span,
                     format!(
-                        "{text} (return to the reference point): {} has no reference return in threadcut's lexicon",
-                        self.to.name
+                        "{text} (return to the reference point): {} has no reference return in threadcut's lexicon, and its profile does not place the reference point's {}",
+                        self.to.name,
+                        axis.to_ascii_uppercase()
                     ),
-                ))
-            }
+                    format!(
+                        "state where the return leaves the tool in the target profile's [reference] table (g28 = {{ {axis} = … }}, program coordinates at power-on): threadcut then writes a rapid there (docs/translation.md, \"Reference returns\")"
+                    ),
+                ));
+            };
+            let mm = self.to.units.to_mm(v);
+            words.push(if i == 0 {
+                let radius = if self.to.diameter_x { mm / 2.0 } else { mm };
+                format!("X{}", self.x(radius))
+            } else {
+                format!("Z{}", self.length(mm))
+            });
         }
+        let rapid = self.required(Function::Rapid, span, text)?;
+        o.g.extend(rapid);
+        o.g.extend(words);
+        o.notes.push(format!(
+            "{text}: the reference point, where the profile's [reference] g28 places it"
+        ));
         Ok(())
     }
 
