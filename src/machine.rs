@@ -295,6 +295,12 @@ pub struct HaasSettings {
     pub chamfer_angle_deg: f64,
     /// Setting 99, thread minimum cut (radius).
     pub min_cut_in: f64,
+    /// Whether Settings 86, 95, 96 and 99 above are threadcut's assumed values (the built-in
+    /// profile's) rather than the machine's: a conversion then writes no cycle whose passes
+    /// depend on Settings 86 and 99 (the one-block G76), and states the factory defaults of 95 and
+    /// 96 its G92 relies on. A profile that states its machine's values leaves it out (false).
+    #[serde(default)]
+    pub thread_settings_assumed: bool,
     /// Setting 73, G71/G72 retract: the retract after each roughing cut of the one-block G71 and
     /// G72 (inch, radius). Absent: the profile does not state it, and those cycles are refused.
     #[serde(default)]

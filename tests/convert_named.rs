@@ -247,3 +247,130 @@ fn a_reference_return_without_the_position_is_refused_for_allen_bradley_and_the_
     .unwrap();
     assert_eq!(blocks(&out).last().unwrap(), "G28 U0.", "{out}");
 }
+
+/// The built-in Haas profile with the shop's Settings: 86 = 0.002 in, 95 = 1 lead, 96 = 45°,
+/// 99 = 0.001 in, stated (not threadcut's assumed values).
+fn haas_stated() -> Machine {
+    let mut m = built_in("haas");
+    let s = m.haas.as_mut().unwrap();
+    s.finish_allowance_in = 0.002;
+    s.chamfer_leads = 1.0;
+    s.chamfer_angle_deg = 45.0;
+    s.min_cut_in = 0.001;
+    s.thread_settings_assumed = false;
+    m
+}
+
+/// Fanuc's two-block G76 in inches: one finishing pass (P01…), a one-lead chamfer (…10…) at 60°
+/// (…60), Δdmin Q10 = 0.0010", R0.002 finishing allowance; K = 0.0613", Δd = 0.0150", lead 0.1".
+const FANUC_G76: &str = "G20 G99\nG0 X0.9 Z0.3\nG76 P011060 Q10 R0.002\nG76 X0.6273 Z-1.125 P613 Q150 F0.1\nG0 X4. Z4.\nM30\n";
+
+/// Every threading move of a program's cycles, read on `m`: (start, end) in mm, X radius.
+fn thread_moves(text: &str, m: &Machine) -> Vec<(f64, f64, f64, f64)> {
+    let mut out = Vec::new();
+    for job in
+        threadcut::program::jobs(text.as_bytes(), m).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    {
+        let path = threadcut::toolpath::build(&job).unwrap();
+        for (from, mo) in path.segments() {
+            if matches!(mo.kind, threadcut::toolpath::MotionKind::Thread { .. }) {
+                out.push((from.x, from.z, mo.to.x, mo.to.z));
+            }
+        }
+    }
+    out
+}
+
+/// With the machine's Settings 86, 95, 96 and 99 stated, Fanuc's two-block G76 becomes Haas's
+/// one-block G76 (A60: the 60° infeed; P1: one edge, constant area), which read back on that
+/// profile cuts the same passes; the header lists the four settings it relies on.
+#[test]
+fn fanucs_two_block_g76_is_haass_g76_with_the_settings_stated() {
+    let fanuc = built_in("fanuc");
+    let haas = haas_stated();
+    let out = conv(FANUC_G76, &fanuc, &haas).unwrap();
+    assert!(
+        out.lines()
+            .any(|l| l == "G76 X0.6273 Z-1.125 K0.0613 D0.015 F0.1 A60 P1"),
+        "{out}"
+    );
+    assert!(!out.contains("G32"), "{out}");
+    let header = out.lines().nth(1).unwrap();
+    assert_eq!(
+        header,
+        "(threadcut: this program relies on the machine's settings: Setting 86, thread finish allowance: 0.002 in; Setting 95, thread chamfer size: 1 lead; Setting 96, thread chamfer angle: 45 deg; Setting 99, thread minimum cut: 0.001 in)"
+    );
+    // The same passes, at the output resolution (0.0001 in = 0.00254 mm).
+    let want = thread_moves(FANUC_G76, &fanuc);
+    let got = thread_moves(&out, &haas);
+    assert_eq!(want.len(), got.len(), "{out}");
+    // Passes: rough to K − R = 0.0593" by d√n from Δd 0.015" (n = 1 … 16: 0.015·√16 = 0.06 ≥
+    // 0.0593, so 16 rough passes), then one finishing pass at K: 17 passes, each a thread move
+    // and its synchronised 45° pull-out over one lead: 34.
+    assert_eq!(want.len(), 34);
+    for (a, b) in want.iter().zip(&got) {
+        for (p, q) in [(a.0, b.0), (a.1, b.1), (a.2, b.2), (a.3, b.3)] {
+            assert!((p - q).abs() <= 0.00254, "{a:?} vs {b:?}\n{out}");
+        }
+    }
+}
+
+/// Without the settings stated (the built-in profile's are threadcut's), the same program is plain
+/// moves as before, and a G76 that would match threadcut's values is not written either: its
+/// passes would depend on Settings 86 and 99 nobody stated.
+#[test]
+fn without_the_settings_stated_the_g76_is_plain_moves() {
+    let fanuc = built_in("fanuc");
+    let out = conv(FANUC_G76, &fanuc, &built_in("haas")).unwrap();
+    assert!(!out.lines().any(|l| l.starts_with("G76")), "{out}");
+    assert!(out.contains("G32 X"), "{out}");
+    assert!(!out.contains("relies on the machine's settings"), "{out}");
+    // A job that threadcut's own values would cut is refused its G76 for the settings, and said
+    // why: a Haas G76 read with those values, converted for another Haas profile that states
+    // nothing either (Fanuc's G76 always has a finishing pass; threadcut's Setting 86 is 0, none).
+    let plain = "G20 G99\nG0 X0.9 Z0.3\nG76 X0.6273 Z-1.125 K0.0613 D0.015 F0.1 A60\nM30\n";
+    let mut other = built_in("haas");
+    other.name = "haas-other".into();
+    let out = conv(plain, &built_in("haas"), &other).unwrap();
+    assert!(!out.lines().any(|l| l.starts_with("G76")), "{out}");
+    assert!(
+        out.contains("G76 reads Setting 86 and Setting 99 from the machine, and the target profile does not state them"),
+        "{out}"
+    );
+    // Stated with those values, it is written.
+    let mut stated = haas_stated();
+    stated.haas.as_mut().unwrap().finish_allowance_in = 0.0;
+    let out = conv(plain, &built_in("haas"), &stated).unwrap();
+    assert!(
+        out.lines()
+            .any(|l| l == "G76 X0.6273 Z-1.125 K0.0613 D0.015 F0.1 A60 P1"),
+        "{out}"
+    );
+}
+
+/// G92 reads only the chamfer (Settings 95 and 96): written as before, the header saying the
+/// factory defaults are assumed where the profile does not state them, or the stated values.
+#[test]
+fn a_g92_lists_the_chamfer_settings_it_relies_on() {
+    let fanuc = built_in("fanuc");
+    let src = "G21 G99\nG0 X40. Z5.\nG92 X29.2 Z-30. F2.\nM30\n";
+    let out = conv(src, &fanuc, &built_in("haas")).unwrap();
+    assert!(out.lines().any(|l| l == "G92 X29.2 Z-30. F2."), "{out}");
+    assert_eq!(
+        out.lines().nth(1).unwrap(),
+        "(threadcut: this program relies on the machine's settings: Setting 95, thread chamfer size: 1 lead, the factory default, not stated in the target profile; Setting 96, thread chamfer angle: 45 deg, the factory default, not stated in the target profile)"
+    );
+    let out = conv(src, &fanuc, &haas_stated()).unwrap();
+    assert_eq!(
+        out.lines().nth(1).unwrap(),
+        "(threadcut: this program relies on the machine's settings: Setting 95, thread chamfer size: 1 lead; Setting 96, thread chamfer angle: 45 deg)"
+    );
+    // Plain moves only: no setting relied on, no line.
+    let out = conv(
+        "G21 G99\nG0 X40. Z5.\nG32 Z-30. F2.\nM30\n",
+        &fanuc,
+        &built_in("haas"),
+    )
+    .unwrap();
+    assert!(!out.contains("relies on"), "{out}");
+}

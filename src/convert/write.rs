@@ -32,6 +32,8 @@ pub(super) struct Writer<'o, 'm> {
     format: Format,
     /// Lines written before the first line that is not a `%` delimiter.
     header: Option<Vec<String>>,
+    /// The header's comment naming the conversion.
+    header_comment: Option<String>,
     /// The units the converted program is written in: the source's where the target has them.
     out_units: Units,
     /// What the target's F register holds, as written (`None`: not known).
@@ -139,16 +141,14 @@ impl<'o, 'm> Writer<'o, 'm> {
             .filter_map(|f| tlex.code(*f))
             .map(Code::text)
             .collect();
-        let mut header: Vec<String> = format
-            .comment(&format!(
-                "threadcut convert: {} to {}, {}, {}",
-                from.name,
-                to.name,
-                out_units.name(),
-                source.power_on_feed.describe()
-            ))
-            .into_iter()
-            .collect();
+        let header_comment = format.comment(&format!(
+            "threadcut convert: {} to {}, {}, {}",
+            from.name,
+            to.name,
+            out_units.name(),
+            source.power_on_feed.describe()
+        ));
+        let mut header: Vec<String> = header_comment.iter().cloned().collect();
         if !codes.is_empty() {
             header.push(codes.join(" "));
         }
@@ -158,6 +158,7 @@ impl<'o, 'm> Writer<'o, 'm> {
             tlex,
             format,
             header: Some(header),
+            header_comment,
             out_units,
             target_f: None,
             prev: Position::UNKNOWN,
@@ -179,6 +180,12 @@ impl<'o, 'm> Writer<'o, 'm> {
 
     pub fn finish(self) -> Report {
         self.report
+    }
+
+    /// The header's first line, the comment naming the conversion (`None`: the target has no
+    /// comments).
+    pub fn header_comment(&self) -> Option<String> {
+        self.header_comment.clone()
     }
 
     /// The header, before the first line that is neither a `%` delimiter nor the line that names
@@ -1143,9 +1150,24 @@ impl<'o, 'm> Writer<'o, 'm> {
             max: self.max_lead_drift,
             source_units,
         };
-        let (written, drift) = translate::write_job_with(self.out, self.to, &job, &rule)?;
+        let translate::Outcome {
+            written,
+            drift,
+            settings,
+        } = translate::write_job_for(
+            self.out,
+            self.to,
+            &job,
+            &rule,
+            translate::SettingsRule::NotAssumed,
+        )?;
         if let Some(drift) = drift {
             self.report.warnings.push(drift.warning(&job));
+        }
+        for s in settings {
+            if !self.report.settings.iter().any(|r| r.name == s.name) {
+                self.report.settings.push(s);
+            }
         }
         match written {
             Written::Native => self.report.native += 1,
