@@ -107,7 +107,7 @@ fn number_of(text: &str) -> Result<(u32, u32), String> {
         .strip_prefix(['T', 't'])
         .filter(|d| !d.is_empty() && d.len() <= MAX_DIGITS && d.bytes().all(|b| b.is_ascii_digit()))
         .ok_or_else(|| {
-            format!("expected T and the tool's number with its two-digit offset (T0101), or T and the tool alone (T4)")
+            format!("`{text}`: expected T and the tool's number with its two-digit offset (T0101), or T and the tool alone (T4)")
         })?;
     let v: u32 = digits.parse().map_err(|_| format!("{text}: too long"))?;
     let (tool, offset) = if digits.len() <= 2 {
