@@ -949,35 +949,7 @@ impl<'o, 'm> Writer<'o, 'm> {
         let immediate = self.source_tool == ToolForm::ToolAndEdge;
         let mut calls: Vec<(u32, Option<u32>, bool, Span)> = Vec::new();
         let mut current = self.tool;
-        let mut selected = None;
-        for t in &b.tools {
-            let (tool, span) = match t {
-                ToolTerm::Select { tool, span } => {
-                    self.named = None;
-                    (*tool, *span)
-                }
-                ToolTerm::Name { name, span } => {
-                    let n = self.names.by_name(name).ok_or_else(|| {
-                        refuse_with(
-                            *span,
-                            format!(
-                                "the tool is called by its name {name}: {} selects tools by number",
-                                self.to.name
-                            ),
-                            format!("give its number: --tool {name}=T0101 (tool 1, offset 1), or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
-                        )
-                    })?;
-                    self.named = Some((n.tool, n.offset));
-                    (n.tool, *span)
-                }
-                _ => continue,
-            };
-            if immediate {
-                selected = Some((tool, span));
-            } else {
-                self.prepared = Some(tool);
-            }
-        }
+        let selected = self.selections(b, immediate)?;
         if let Some((span, _)) = b
             .functions
             .iter()
@@ -1053,6 +1025,41 @@ impl<'o, 'm> Writer<'o, 'm> {
             self.offset = offset;
         }
         Ok(())
+    }
+
+    /// The tool a block selects by number or by name: selected at once where `immediate` (the
+    /// last one), else prepared for the next change. A name is its number from the tool map.
+    fn selections(&mut self, b: &Block, immediate: bool) -> Result<Option<(u32, Span)>, Error> {
+        let mut selected = None;
+        for t in &b.tools {
+            let (tool, span) = match t {
+                ToolTerm::Select { tool, span } => {
+                    self.named = None;
+                    (*tool, *span)
+                }
+                ToolTerm::Name { name, span } => {
+                    let n = self.names.by_name(name).ok_or_else(|| {
+                        refuse_with(
+                            *span,
+                            format!(
+                                "the tool is called by its name {name}: {} selects tools by number",
+                                self.to.name
+                            ),
+                            format!("give its number: --tool {name}=T0101 (tool 1, offset 1), or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
+                        )
+                    })?;
+                    self.named = Some((n.tool, n.offset));
+                    (n.tool, *span)
+                }
+                _ => continue,
+            };
+            if immediate {
+                selected = Some((tool, span));
+            } else {
+                self.prepared = Some(tool);
+            }
+        }
+        Ok(selected)
     }
 
     /// The offset a tool's first cutting edge applies: the one its name's number gives where
