@@ -307,6 +307,7 @@ def convert(
     target_machine: _Machine | None = None,
     flatten: bool = False,
     max_lead_drift: float | None = None,
+    tools: dict[str, str] | None = None,
 ) -> str:
     """The program, written for controller `source`, as a program for controller `target`
     (`threadcut convert`): each cycle as the target's native cycle where reading it back gives the
@@ -316,6 +317,10 @@ def convert(
     `max_lead_drift`: the largest drift of a lead the target cannot write exactly, over its thread,
     in the converted program's units (default: a quarter of the thread's medium-class
     pitch-diameter tolerance; the drift is always stated in a comment and an `InputWarning`).
+    `tools`: named tools and the numbers that call them (`{"THREAD_EXT_60": "T0101"}`: tool 1,
+    offset 1; `"T4"`: tool 4 with its own offset), as `--tool NAME=T0101`: a Sinumerik
+    `T="THREAD_EXT_60" D1` written `T0101`, and `T0101` written `T="THREAD_EXT_60" D1` for
+    Sinumerik; each replaces the target profile's `[tools]` entry of the same name.
     `source_machine` and `target_machine` are machine profiles, as `machine` elsewhere.
 
     Raises `InputError` at the first block the target cannot express (its line, column and word),

@@ -2,6 +2,8 @@
 //! program text does not: X on diameter or radius, the input resolution and decimal-point
 //! convention, controller parameters, machine limits and the output format.
 
+use std::collections::BTreeMap;
+
 use serde::{Deserialize, Serialize};
 
 use crate::units::Units;
@@ -294,6 +296,12 @@ pub struct HaasSettings {
     pub chamfer_angle_deg: f64,
     /// Setting 99, thread minimum cut (radius).
     pub min_cut_in: f64,
+    /// Whether Settings 86, 95, 96 and 99 above are threadcut's assumed values (the built-in
+    /// profile's) rather than the machine's: a conversion then writes no cycle whose passes
+    /// depend on Settings 86 and 99 (the one-block G76), and states the factory defaults of 95 and
+    /// 96 its G92 relies on. A profile that states its machine's values leaves it out (false).
+    #[serde(default)]
+    pub thread_settings_assumed: bool,
     /// Setting 73, G71/G72 retract: the retract after each roughing cut of the one-block G71 and
     /// G72 (inch, radius). Absent: the profile does not state it, and those cycles are refused.
     #[serde(default)]
@@ -419,6 +427,11 @@ pub struct Machine {
     /// directory (the command line resolves them: the library reads no files).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub include: Vec<String>,
+    /// The tools this machine's turret holds by name (`[tools]`, `THREAD_EXT_60 = "T0101"`): a
+    /// program converted for this machine calls a named tool by its number, and a numbered tool
+    /// by its name where this machine calls tools by name (docs/translation.md, "Tools by name").
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub tools: BTreeMap<String, String>,
 }
 
 impl Machine {

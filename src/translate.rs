@@ -11,7 +11,7 @@
 use std::io::{self, Write};
 
 use crate::diag::{Code, Diagnostic};
-use crate::dialect::lexicon::Function;
+use crate::dialect::lexicon::{Function, Known, Setting};
 use crate::dialect::{self, Dialect, Read};
 use crate::gcode::{Modal, MotionMode, Reader};
 use crate::machine::Machine;
@@ -40,6 +40,25 @@ pub fn write_job(
     write_job_with(out, target, job, &DriftRule::new(job.units)).map(|(w, _)| w)
 }
 
+/// Which machine settings a native cycle may rely on ([`Dialect::settings_read`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SettingsRule {
+    /// Any value the profile holds (the same machine's program written back, a post).
+    Any,
+    /// None that threadcut assumed ([`Known::Assumed`]): a conversion's native cycle relies only
+    /// on settings the target profile states or on the control's factory defaults.
+    NotAssumed,
+}
+
+/// What [`write_job_for`] did: how the job was written, the lead's drift where it drifts, and the
+/// machine settings the native cycle written relies on.
+#[derive(Debug)]
+pub struct Outcome {
+    pub written: Written,
+    pub drift: Option<LeadDrift>,
+    pub settings: Vec<Setting>,
+}
+
 /// Writes `job` for `target`: its native cycle when a candidate reads back as the job's motion,
 /// else plain moves after a comment with the reason. Where the units change, a comment states
 /// the lead in both. The lead written in the target's words
@@ -54,6 +73,18 @@ pub fn write_job_with(
     job: &Job,
     rule: &DriftRule,
 ) -> Result<(Written, Option<LeadDrift>), crate::program::Error> {
+    write_job_for(out, target, job, rule, SettingsRule::Any).map(|o| (o.written, o.drift))
+}
+
+/// [`write_job_with`], with the settings a native cycle may rely on (`settings`), saying which
+/// ones the cycle written relies on.
+pub fn write_job_for(
+    out: &mut dyn Write,
+    target: &Machine,
+    job: &Job,
+    rule: &DriftRule,
+    settings: SettingsRule,
+) -> Result<Outcome, crate::program::Error> {
     let path = toolpath::build(job)?;
     let d = dialect::open(target).map_err(crate::program::Error::Setup)?;
     let drift = LeadDrift::judge(lead_rounding(target, d.as_ref(), job), job, rule);
@@ -74,28 +105,34 @@ pub fn write_job_with(
     };
     // The motion first, so that nothing is written for a job refused.
     let mut motion = Vec::new();
-    let written = write_motion(&mut motion, target, d.as_ref(), job, &path)?;
+    let (written, relied) = write_motion(&mut motion, target, d.as_ref(), job, &path, settings)?;
     if let Some(c) = note.and_then(|n| d.format().comment(&n)) {
         writeln!(out, "{c}")?;
     }
     out.write_all(&motion)?;
-    Ok((written, drift.drifts().then_some(drift)))
+    Ok(Outcome {
+        written,
+        drift: drift.drifts().then_some(drift),
+        settings: relied,
+    })
 }
 
-/// The job's native cycle, or plain moves after the reason, or a refusal.
+/// The job's native cycle (and the settings it relies on), or plain moves after the reason, or a
+/// refusal.
 fn write_motion(
     out: &mut dyn Write,
     target: &Machine,
     d: &dyn Dialect,
     job: &Job,
     path: &Toolpath,
-) -> Result<Written, crate::program::Error> {
-    let reason = match native(target, d, job, path) {
+    settings: SettingsRule,
+) -> Result<(Written, Vec<Setting>), crate::program::Error> {
+    let reason = match native_with(target, d, job, path, settings) {
         Ok(lines) => {
             for l in &lines {
                 writeln!(out, "{l}")?;
             }
-            return Ok(Written::Native);
+            return Ok((Written::Native, d.settings_read(&lines)));
         }
         Err(why) => why,
     };
@@ -119,7 +156,7 @@ fn write_motion(
         writeln!(out, "{c}")?;
     }
     post::write_moves(out, &format, job.units, path)?;
-    Ok(Written::Plain(reason))
+    Ok((Written::Plain(reason), Vec::new()))
 }
 
 /// The first of the target's native candidates for `job` that reads back as `expected` (the
@@ -131,9 +168,23 @@ pub fn native(
     job: &Job,
     expected: &Toolpath,
 ) -> Result<Vec<String>, String> {
+    native_with(target, d, job, expected, SettingsRule::Any)
+}
+
+/// [`native`], skipping a candidate that relies on a setting `settings` does not allow.
+fn native_with(
+    target: &Machine,
+    d: &dyn Dialect,
+    job: &Job,
+    expected: &Toolpath,
+    settings: SettingsRule,
+) -> Result<Vec<String>, String> {
     let mut reason = None;
     for candidate in d.native_candidates(job) {
         let why = match candidate {
+            Ok(lines) if settings == SettingsRule::NotAssumed && assumed(d, &lines).is_some() => {
+                assumed(d, &lines).unwrap_or_default()
+            }
             Ok(lines) => match verify(target, job, expected, &lines) {
                 Ok(()) => return Ok(lines),
                 Err(why) => why,
@@ -143,6 +194,29 @@ pub fn native(
         reason.get_or_insert(why);
     }
     Err(reason.unwrap_or_else(|| format!("{} has no native threading cycle", d.name())))
+}
+
+/// Why a native text cannot be written when it relies on settings threadcut assumed: `G76 reads
+/// Setting 86 and Setting 99 from the machine, and the target profile does not state them`.
+fn assumed(d: &dyn Dialect, lines: &[String]) -> Option<String> {
+    let names: Vec<&str> = d
+        .settings_read(lines)
+        .into_iter()
+        .filter(|s| s.known == Known::Assumed)
+        .map(|s| s.name)
+        .collect();
+    if names.is_empty() {
+        return None;
+    }
+    let code = lines
+        .first()
+        .and_then(|l| l.split_whitespace().next())
+        .unwrap_or("the cycle");
+    Some(format!(
+        "{code} reads {} from the machine, and the target profile does not state {}: threadcut's values would be assumed",
+        names.join(" and "),
+        if names.len() == 1 { "it" } else { "them" }
+    ))
 }
 
 /// How far a lead written in the target's words drifts from the job's over the thread.

@@ -510,7 +510,7 @@ fn the_filters_output_runs_in_linuxcnc_as_its_source_reads() {
             flatten: true,
             ..program::Options::default()
         },
-        max_lead_drift: None,
+        ..Default::default()
     };
     let (mut same, mut refused, mut failures) = (0, Vec::new(), Vec::new());
     let mut files: Vec<PathBuf> = std::fs::read_dir(root().join("examples"))

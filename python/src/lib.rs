@@ -996,12 +996,16 @@ fn mill_py(
 /// `max_lead_drift`: the largest drift of a lead the target cannot write exactly, over its thread,
 /// in the converted program's units (default: a quarter of the thread's medium-class
 /// pitch-diameter tolerance; the drift is always stated in a comment and an `InputWarning`).
+/// `tools`: named tools and the numbers that call them (`{"THREAD_EXT_60": "T0101"}`: tool 1,
+/// offset 1; `"T4"`: tool 4 with its own offset), as `--tool NAME=T0101`: a Sinumerik
+/// `T="THREAD_EXT_60" D1` written `T0101`, and `T0101` written `T="THREAD_EXT_60" D1` for
+/// Sinumerik; each replaces the target profile's `[tools]` entry of the same name.
 /// `source_machine` and `target_machine` are machine profiles, as `machine` elsewhere.
 ///
 /// Raises `InputError` at the first block the target cannot express (its line, column and word),
 /// for an unknown controller, or for a program the source controller refuses.
 #[pyfunction(name = "convert")]
-#[pyo3(signature = (program, source, target, *, source_machine=None, target_machine=None, flatten=false, max_lead_drift=None))]
+#[pyo3(signature = (program, source, target, *, source_machine=None, target_machine=None, flatten=false, max_lead_drift=None, tools=None))]
 #[allow(clippy::too_many_arguments)]
 fn convert_py(
     py: Python<'_>,
@@ -1012,6 +1016,7 @@ fn convert_py(
     target_machine: Option<&Bound<'_, PyAny>>,
     flatten: bool,
     max_lead_drift: Option<f64>,
+    tools: Option<std::collections::BTreeMap<String, String>>,
 ) -> PyResult<String> {
     let from = resolve(py, source, source_machine)?;
     let to = resolve(py, target, target_machine)?;
@@ -1021,6 +1026,7 @@ fn convert_py(
             ..Options::default()
         },
         max_lead_drift,
+        tools: tools.unwrap_or_default().into_iter().collect(),
     };
     let mut out = Vec::new();
     let report = py

@@ -424,6 +424,18 @@ def test_convert_states_the_lead_drift_and_takes_a_limit():
     assert "the limit given" in e.value.message
 
 
+def test_convert_takes_named_tools():
+    # Sinumerik's T="THREAD_EXT_60" D1 is Fanuc's T0101 when named; unnamed, refused with the flag.
+    named = 'G0 X40 Z5\nT="THREAD_EXT_60" D1\n'
+    out = threadcut.convert(named, "sinumerik", "fanuc", tools={"THREAD_EXT_60": "T0101"})
+    assert "T0101" in out.splitlines()
+    with pytest.raises(threadcut.InputError) as e:
+        threadcut.convert(named, "sinumerik", "fanuc")
+    assert "--tool THREAD_EXT_60=T0101" in (e.value.hint or "")
+    back = threadcut.convert("T0303\n", "fanuc", "sinumerik", tools={"THREAD_EXT_60": "T0303"})
+    assert 'T="THREAD_EXT_60" D1' in back.splitlines()
+
+
 def test_plot_svg_draws_one_cycle_on_request():
     two = "G21 G99\n" + "".join(
         l + "\n" for l in M30_G76.splitlines() if l.startswith(("G0 ", "G76"))

@@ -18,12 +18,14 @@
 //! results over every bundled example: `docs/translation.md`.
 
 pub mod block;
+pub mod tools;
 mod write;
 
 use std::io::{BufRead, Write};
 
 use crate::diag::{Code, Diagnostic, Span};
 use crate::dialect;
+use crate::dialect::lexicon::Setting;
 use crate::gcode::{Line, Modal};
 use crate::interp::Text;
 use crate::machine::Machine;
@@ -42,6 +44,9 @@ pub struct Report {
     /// The conversion's own warnings (a lead that drifts over its thread), before they join
     /// `summary.warnings`.
     pub warnings: Vec<Diagnostic>,
+    /// The machine settings the native cycles written rely on (Haas's Settings 86, 95, 96, 99),
+    /// each once: the header lists them.
+    pub settings: Vec<Setting>,
 }
 
 /// How a program is converted.
@@ -54,6 +59,9 @@ pub struct Options {
     /// class's pitch-diameter tolerance for the thread, on the drift's pitch-diameter equivalent
     /// (docs/translation.md, "The lead's rounding").
     pub max_lead_drift: Option<f64>,
+    /// Named tools and their numbers (`--tool NAME=T0101`, in order), over the target profile's
+    /// `[tools]` table ([`tools::ToolMap`]).
+    pub tools: Vec<(String, String)>,
 }
 
 /// Converts the program `input`, written for `from`, into a program for `to`, written to `out`.
@@ -85,8 +93,88 @@ pub fn convert<R: BufRead>(
             format!("maximum lead drift {v}: expected a length of 0 or more, in the converted program's units"),
         )));
     }
+    let names = tools::ToolMap::new(&options.tools, &to.tools).map_err(|e| {
+        Error::Input(
+            Diagnostic::error(Code::OutOfRange, Span::default(), e)
+                .with_hint("a tool is named with --tool NAME=T0101 or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
+        )
+    })?;
     let ending = crate::eol::LineEnding::peek(&mut input)?;
-    let out = &mut crate::eol::Writer::new(out, ending);
+    let target = dialect::open(to).map_err(Error::Setup)?;
+    if from == to || target.settings().is_empty() {
+        let out = &mut crate::eol::Writer::new(out, ending);
+        return run_conversion(input, out, from, to, options, names).map(|(r, _)| r);
+    }
+    // A target whose cycles read machine settings: the program is held until the settings its
+    // native cycles rely on are known, and the header lists them.
+    let mut held = Vec::new();
+    let result = run_conversion(
+        input,
+        &mut crate::eol::Writer::new(&mut held, ending),
+        from,
+        to,
+        options,
+        names,
+    );
+    match result {
+        Ok((report, header)) => {
+            let line = (!report.settings.is_empty())
+                .then(|| {
+                    let list: Vec<String> = report.settings.iter().map(Setting::describe).collect();
+                    target.format().comment(&format!(
+                        "threadcut: this program relies on the machine's settings: {}",
+                        list.join("; ")
+                    ))
+                })
+                .flatten();
+            out.write_all(&with_line_after(
+                &held,
+                header.as_deref(),
+                line.as_deref(),
+                ending,
+            ))?;
+            Ok(report)
+        }
+        Err(e) => {
+            out.write_all(&held)?;
+            Err(e)
+        }
+    }
+}
+
+/// `text` with `line` inserted after the first line that is `after` (unchanged without both).
+fn with_line_after(
+    text: &[u8],
+    after: Option<&str>,
+    line: Option<&str>,
+    ending: crate::eol::LineEnding,
+) -> Vec<u8> {
+    let (Some(after), Some(line)) = (after, line) else {
+        return text.to_vec();
+    };
+    let end = ending.as_str();
+    let mut out = Vec::with_capacity(text.len() + line.len() + end.len());
+    let mut inserted = false;
+    for l in text.split_inclusive(|&b| b == b'\n') {
+        out.extend_from_slice(l);
+        if !inserted && l.strip_suffix(end.as_bytes()) == Some(after.as_bytes()) {
+            out.extend_from_slice(line.as_bytes());
+            out.extend_from_slice(end.as_bytes());
+            inserted = true;
+        }
+    }
+    out
+}
+
+/// The conversion itself, written to `out`: its report and the header's comment line.
+fn run_conversion<R: BufRead>(
+    input: R,
+    out: &mut dyn Write,
+    from: &Machine,
+    to: &Machine,
+    options: &Options,
+    names: tools::ToolMap,
+) -> Result<(Report, Option<String>), Error> {
     let source_dialect = dialect::open(from).map_err(Error::Setup)?;
     let target = dialect::open(to).map_err(Error::Setup)?;
     let conv = source_dialect.conventions().clone();
@@ -114,7 +202,10 @@ pub fn convert<R: BufRead>(
             to,
             target.as_ref(),
             &src.meanings,
-            options.max_lead_drift,
+            write::Choices {
+                max_lead_drift: options.max_lead_drift,
+                names,
+            },
         )?))
     };
     let mut conversion = Conversion {
@@ -125,14 +216,17 @@ pub fn convert<R: BufRead>(
     };
     let summary = program::run_output(input, from, &options.run, &mut conversion)?;
     conversion.after_end()?;
-    let mut report = match conversion.side {
-        Side::Other(w) => w.finish(),
-        Side::Same { .. } => Report::default(),
+    let (mut report, header) = match conversion.side {
+        Side::Other(w) => {
+            let header = w.header_comment();
+            (w.finish(), header)
+        }
+        Side::Same { .. } => (Report::default(), None),
     };
     report.summary = summary;
     let own = std::mem::take(&mut report.warnings);
     report.summary.warnings.extend(own);
-    Ok(report)
+    Ok((report, header))
 }
 
 /// Where the converted program goes.

@@ -16,6 +16,7 @@ use crate::translate::{self, Written};
 use crate::units::Units;
 
 use super::block::{Axis, Block, ToolTerm};
+use super::tools::ToolMap;
 use super::Report;
 use crate::dialect::lexicon::{
     Code, DwellForm, Function, LimitForm, Meanings, Plane, ReturnForm, ToolForm,
@@ -31,6 +32,8 @@ pub(super) struct Writer<'o, 'm> {
     format: Format,
     /// Lines written before the first line that is not a `%` delimiter.
     header: Option<Vec<String>>,
+    /// The header's comment naming the conversion.
+    header_comment: Option<String>,
     /// The units the converted program is written in: the source's where the target has them.
     out_units: Units,
     /// What the target's F register holds, as written (`None`: not known).
@@ -57,7 +60,20 @@ pub(super) struct Writer<'o, 'm> {
     /// The largest drift of a lead over its thread (output units; `None`: a quarter of the
     /// thread's class tolerance on the pitch diameter).
     max_lead_drift: Option<f64>,
+    /// Named tools and their numbers.
+    names: ToolMap,
+    /// The tool last called by its name, and the offset its first cutting edge applies.
+    named: Option<(u32, u32)>,
     report: Report,
+}
+
+/// What the command chose for a conversion besides the two machines.
+pub(super) struct Choices {
+    /// The largest drift of a lead over its thread (output units; `None`: a quarter of the
+    /// thread's class tolerance on the pitch diameter).
+    pub max_lead_drift: Option<f64>,
+    /// Named tools and their numbers.
+    pub names: ToolMap,
 }
 
 /// The words of one output block, in the groups they are written in.
@@ -77,6 +93,11 @@ struct Out {
     extra: Vec<String>,
 }
 
+/// A refusal with its own hint.
+fn refuse_with(span: Span, message: String, hint: String) -> Error {
+    Error::Input(Diagnostic::error(DiagCode::Unsupported, span, message).with_hint(hint))
+}
+
 /// A refusal: the target has no counterpart of what the source wrote at `span`.
 fn refuse(span: Span, message: String) -> Error {
     Error::Input(
@@ -93,7 +114,7 @@ impl<'o, 'm> Writer<'o, 'm> {
         to: &'m Machine,
         target: &dyn Dialect,
         source: &Meanings,
-        max_lead_drift: Option<f64>,
+        choices: Choices,
     ) -> Result<Writer<'o, 'm>, Error> {
         let tlex = target.meanings();
         let format = target.format();
@@ -120,16 +141,14 @@ impl<'o, 'm> Writer<'o, 'm> {
             .filter_map(|f| tlex.code(*f))
             .map(Code::text)
             .collect();
-        let mut header: Vec<String> = format
-            .comment(&format!(
-                "threadcut convert: {} to {}, {}, {}",
-                from.name,
-                to.name,
-                out_units.name(),
-                source.power_on_feed.describe()
-            ))
-            .into_iter()
-            .collect();
+        let header_comment = format.comment(&format!(
+            "threadcut convert: {} to {}, {}, {}",
+            from.name,
+            to.name,
+            out_units.name(),
+            source.power_on_feed.describe()
+        ));
+        let mut header: Vec<String> = header_comment.iter().cloned().collect();
         if !codes.is_empty() {
             header.push(codes.join(" "));
         }
@@ -139,6 +158,7 @@ impl<'o, 'm> Writer<'o, 'm> {
             tlex,
             format,
             header: Some(header),
+            header_comment,
             out_units,
             target_f: None,
             prev: Position::UNKNOWN,
@@ -151,13 +171,21 @@ impl<'o, 'm> Writer<'o, 'm> {
             pending_limit: None,
             source_tool: source.tool,
             source_returns_all: source.return_all_without_axes,
-            max_lead_drift,
+            max_lead_drift: choices.max_lead_drift,
+            names: choices.names,
+            named: None,
             report: Report::default(),
         })
     }
 
     pub fn finish(self) -> Report {
         self.report
+    }
+
+    /// The header's first line, the comment naming the conversion (`None`: the target has no
+    /// comments).
+    pub fn header_comment(&self) -> Option<String> {
+        self.header_comment.clone()
     }
 
     /// The header, before the first line that is neither a `%` delimiter nor the line that names
@@ -649,7 +677,6 @@ impl<'o, 'm> Writer<'o, 'm> {
         (span, text): (Span, &str),
         o: &mut Out,
     ) -> Result<(), Error> {
-        let (extra, g) = (&mut o.extra, &mut o.g);
         self.in_run = false;
         let named = [
             b.x.is_some() || b.machine_axes[0].is_some(),
@@ -686,17 +713,16 @@ impl<'o, 'm> Writer<'o, 'm> {
         } else {
             return Ok(());
         };
-        let code = self.code(Function::ReferenceReturn).ok_or_else(|| {
-            refuse(
-                span,
-                format!(
-                    "{text} (return to the reference point): {} has no reference return in threadcut's lexicon",
-                    self.to.name
-                ),
-            )
-        })?;
-        match self.tlex.reference {
-            Some(ReturnForm::IncrementalWords { x, z }) => {
+        let Some((form, code)) = self
+            .tlex
+            .reference
+            .zip(self.code(Function::ReferenceReturn))
+        else {
+            return self.reference_position(axes, (span, text), o);
+        };
+        let (extra, g) = (&mut o.extra, &mut o.g);
+        match form {
+            ReturnForm::IncrementalWords { x, z } => {
                 g.push(code);
                 if axes[0] {
                     g.push(format!("{}0.", x as char));
@@ -705,10 +731,11 @@ impl<'o, 'm> Writer<'o, 'm> {
                     g.push(format!("{}0.", z as char));
                 }
             }
-            Some(ReturnForm::IncrementalMode) => {
-                let (Some(inc), Some(abs)) =
-                    (self.code(Function::Incremental), self.code(Function::Absolute))
-                else {
+            ReturnForm::IncrementalMode => {
+                let (Some(inc), Some(abs)) = (
+                    self.code(Function::Incremental),
+                    self.code(Function::Absolute),
+                ) else {
                     return Err(refuse(span, "no incremental mode to return in".into()));
                 };
                 let mut l = vec![inc, code];
@@ -721,7 +748,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                 extra.push(l.join(" "));
                 extra.push(abs);
             }
-            Some(ReturnForm::MachineAxes { x, z }) => {
+            ReturnForm::MachineAxes { x, z } => {
                 g.push(code);
                 if axes[0] {
                     g.push(format!("{x}=0"));
@@ -730,16 +757,53 @@ impl<'o, 'm> Writer<'o, 'm> {
                     g.push(format!("{z}=0"));
                 }
             }
-            None => {
-                return Err(refuse(
+        }
+        Ok(())
+    }
+
+    /// A return to the reference point on a target without one: a rapid to where the target
+    /// profile's `[reference] g28` places the returning axes (program coordinates at power-on,
+    /// the profile's units and X mode), else refused.
+    fn reference_position(
+        &mut self,
+        axes: [bool; 2],
+        (span, text): (Span, &str),
+        o: &mut Out,
+    ) -> Result<(), Error> {
+        let point = self.to.reference.map(|r| r.g28).unwrap_or_default();
+        let mut words = Vec::new();
+        for (i, value) in [point.x, point.z].into_iter().enumerate() {
+            if !axes[i] {
+                continue;
+            }
+            let axis = if i == 0 { 'x' } else { 'z' };
+            let Some(v) = value else {
+                return Err(refuse_with(
                     span,
                     format!(
-                        "{text} (return to the reference point): {} has no reference return in threadcut's lexicon",
-                        self.to.name
+                        "{text} (return to the reference point): {} has no reference return in threadcut's lexicon, and its profile does not place the reference point's {}",
+                        self.to.name,
+                        axis.to_ascii_uppercase()
                     ),
-                ))
-            }
+                    format!(
+                        "state where the return leaves the tool in the target profile's [reference] table (g28 = {{ {axis} = … }}, program coordinates at power-on): threadcut then writes a rapid there (docs/translation.md, \"Reference returns\")"
+                    ),
+                ));
+            };
+            let mm = self.to.units.to_mm(v);
+            words.push(if i == 0 {
+                let radius = if self.to.diameter_x { mm / 2.0 } else { mm };
+                format!("X{}", self.x(radius))
+            } else {
+                format!("Z{}", self.length(mm))
+            });
         }
+        let rapid = self.required(Function::Rapid, span, text)?;
+        o.g.extend(rapid);
+        o.g.extend(words);
+        o.notes.push(format!(
+            "{text}: the reference point, where the profile's [reference] g28 places it"
+        ));
         Ok(())
     }
 
@@ -885,16 +949,7 @@ impl<'o, 'm> Writer<'o, 'm> {
         let immediate = self.source_tool == ToolForm::ToolAndEdge;
         let mut calls: Vec<(u32, Option<u32>, bool, Span)> = Vec::new();
         let mut current = self.tool;
-        let mut selected = None;
-        for t in &b.tools {
-            if let ToolTerm::Select { tool, span } = t {
-                if immediate {
-                    selected = Some((*tool, *span));
-                } else {
-                    self.prepared = Some(*tool);
-                }
-            }
-        }
+        let selected = self.selections(b, immediate)?;
         if let Some((span, _)) = b
             .functions
             .iter()
@@ -911,12 +966,12 @@ impl<'o, 'm> Writer<'o, 'm> {
         if let Some((tool, span)) = selected {
             current = Some(tool);
             if !has_edge {
-                calls.push((tool, Some(tool), true, span));
+                calls.push((tool, Some(self.own_offset(tool)), true, span));
             }
         }
         for t in &b.tools {
             match t {
-                ToolTerm::Select { .. } => {}
+                ToolTerm::Select { .. } | ToolTerm::Name { .. } => {}
                 ToolTerm::Call { tool, offset, span } => {
                     current = Some(*tool);
                     calls.push((*tool, Some(*offset), true, *span));
@@ -926,7 +981,7 @@ impl<'o, 'm> Writer<'o, 'm> {
                         .ok_or_else(|| refuse(*span, "a cutting edge before any tool".into()))?;
                     let offset = match edge {
                         0 => 0,
-                        1 => tool,
+                        1 => self.own_offset(tool),
                         e => {
                             return Err(refuse(
                                 *span,
@@ -935,15 +990,6 @@ impl<'o, 'm> Writer<'o, 'm> {
                         }
                     };
                     calls.push((tool, Some(offset), selected.is_some(), *span));
-                }
-                ToolTerm::Name { name, span } => {
-                    return Err(refuse(
-                        *span,
-                        format!(
-                            "the tool is called by its name {name}: {} selects tools by number",
-                            self.to.name
-                        ),
-                    ))
                 }
                 ToolTerm::Offset { register, span } => {
                     let tool = current.ok_or_else(|| {
@@ -981,6 +1027,50 @@ impl<'o, 'm> Writer<'o, 'm> {
         Ok(())
     }
 
+    /// The tool a block selects by number or by name: selected at once where `immediate` (the
+    /// last one), else prepared for the next change. A name is its number from the tool map.
+    fn selections(&mut self, b: &Block, immediate: bool) -> Result<Option<(u32, Span)>, Error> {
+        let mut selected = None;
+        for t in &b.tools {
+            let (tool, span) = match t {
+                ToolTerm::Select { tool, span } => {
+                    self.named = None;
+                    (*tool, *span)
+                }
+                ToolTerm::Name { name, span } => {
+                    let n = self.names.by_name(name).ok_or_else(|| {
+                        refuse_with(
+                            *span,
+                            format!(
+                                "the tool is called by its name {name}: {} selects tools by number",
+                                self.to.name
+                            ),
+                            format!("give its number: --tool {name}=T0101 (tool 1, offset 1), or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
+                        )
+                    })?;
+                    self.named = Some((n.tool, n.offset));
+                    (n.tool, *span)
+                }
+                _ => continue,
+            };
+            if immediate {
+                selected = Some((tool, span));
+            } else {
+                self.prepared = Some(tool);
+            }
+        }
+        Ok(selected)
+    }
+
+    /// The offset a tool's first cutting edge applies: the one its name's number gives where
+    /// it was called by name, else its own.
+    fn own_offset(&self, tool: u32) -> u32 {
+        match self.named {
+            Some((t, offset)) if t == tool => offset,
+            _ => tool,
+        }
+    }
+
     fn write_tool(
         &mut self,
         tool: u32,
@@ -989,6 +1079,25 @@ impl<'o, 'm> Writer<'o, 'm> {
         span: Span,
         tail: &mut Vec<String>,
     ) -> Result<(), Error> {
+        if let (ToolForm::ToolAndEdge, Some(n)) = (self.tlex.tool, self.names.by_tool(tool)) {
+            // The tool by its name: its first cutting edge is the offset its number gives.
+            let edge = if offset == n.offset {
+                "D1"
+            } else if offset == 0 {
+                "D0"
+            } else {
+                return Err(refuse(
+                    span,
+                    format!(
+                        "tool {tool} with offset {offset}: tool {tool} is named {} with offset {} (its first cutting edge, D1), and threadcut writes no other edge for it",
+                        n.name, n.offset
+                    ),
+                ));
+            };
+            tail.push(format!("T=\"{}\"", n.name));
+            tail.push(edge.into());
+            return Ok(());
+        }
         match self.tlex.tool {
             ToolForm::Combined { digits } => {
                 tail.push(format!("T{tool:02}{offset:0width$}", width = digits as usize));
@@ -1048,9 +1157,24 @@ impl<'o, 'm> Writer<'o, 'm> {
             max: self.max_lead_drift,
             source_units,
         };
-        let (written, drift) = translate::write_job_with(self.out, self.to, &job, &rule)?;
+        let translate::Outcome {
+            written,
+            drift,
+            settings,
+        } = translate::write_job_for(
+            self.out,
+            self.to,
+            &job,
+            &rule,
+            translate::SettingsRule::NotAssumed,
+        )?;
         if let Some(drift) = drift {
             self.report.warnings.push(drift.warning(&job));
+        }
+        for s in settings {
+            if !self.report.settings.iter().any(|r| r.name == s.name) {
+                self.report.settings.push(s);
+            }
         }
         match written {
             Written::Native => self.report.native += 1,

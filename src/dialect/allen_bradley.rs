@@ -30,7 +30,9 @@ const G92: u16 = 920;
 /// (18-4), G41/G42/G40 (21-5), the T-word's format 2 `T` tool + two-digit offset (20-3), G92 setting
 /// the position; G0–G3, G96/G97 and M0–M30 as ISO 6983-1 assigns them (the manual's lists are not
 /// public). No dwell, spindle-limit or reference-return word is known: G28 is the 7300-compatible
-/// thread cycle on this control. Feed per revolution at power-on is assumed (an AMP setting).
+/// thread cycle on this control (`reference: None`; a conversion writes a return as a rapid to the
+/// target profile's `[reference] g28`, `docs/dialects/allen-bradley-g78.md`). Feed per revolution
+/// at power-on is assumed (an AMP setting).
 pub static LEXICON: Lexicon = Lexicon {
     codes: &[
         lexicon::MOTION,

@@ -6,12 +6,12 @@
 //! inference: `docs/dialects/haas.md`.
 
 use crate::diag::{Code, Diagnostic, Result};
-use crate::dialect::lexicon::{self, Code as C, DwellForm, Function as F, Lexicon};
+use crate::dialect::lexicon::{self, Code as C, DwellForm, Function as F, Known, Lexicon, Setting};
 use crate::gcode::modal::{GCode, Vocabulary};
 use crate::gcode::reader::g_code;
 use crate::gcode::{Conventions, Line, Modal, MotionMode, PositionCodes, WordSummary};
 use crate::machine::{GCodeSystem, HaasSettings, Machine};
-use crate::post::Format;
+use crate::post::{self, Format};
 use crate::thread::Job;
 use crate::units::MM_PER_INCH;
 
@@ -183,6 +183,64 @@ pub fn parameters(s: &HaasSettings) -> ThreadParameters {
     }
 }
 
+/// The settings Haas's threading cycles read, with the profile's values: 95 and 96 (the chamfer
+/// of G76 and G92, with M23), 86 and 99 (G76's finishing pass and smallest cut). Where the
+/// profile's values are threadcut's (`thread_settings_assumed`), 95 and 96 are Haas's factory
+/// defaults (1.000 and 45°, the default table docs/dialects/haas.md cites) and 86 and 99 assumed.
+fn thread_settings(s: &HaasSettings) -> [(u16, Setting); 4] {
+    let (chamfer, pass) = if s.thread_settings_assumed {
+        (Known::FactoryDefault, Known::Assumed)
+    } else {
+        (Known::Stated, Known::Stated)
+    };
+    let inch = |v: f64| format!("{} in", post::number(v, 4, false).trim_end_matches('.'));
+    [
+        (
+            86,
+            Setting {
+                name: "Setting 86",
+                what: "thread finish allowance",
+                value: inch(s.finish_allowance_in),
+                known: pass,
+            },
+        ),
+        (
+            95,
+            Setting {
+                name: "Setting 95",
+                what: "thread chamfer size",
+                value: {
+                    let n = post::number(s.chamfer_leads, 3, false);
+                    let n = n.trim_end_matches('.');
+                    format!("{n} {}", if n == "1" { "lead" } else { "leads" })
+                },
+                known: chamfer,
+            },
+        ),
+        (
+            96,
+            Setting {
+                name: "Setting 96",
+                what: "thread chamfer angle",
+                value: format!(
+                    "{} deg",
+                    post::number(s.chamfer_angle_deg, 3, false).trim_end_matches('.')
+                ),
+                known: chamfer,
+            },
+        ),
+        (
+            99,
+            Setting {
+                name: "Setting 99",
+                what: "thread minimum cut",
+                value: inch(s.min_cut_in),
+                known: pass,
+            },
+        ),
+    ]
+}
+
 impl Haas {
     pub fn new(machine: &Machine) -> Haas {
         let settings = machine.haas.clone().unwrap_or_else(default_settings);
@@ -328,6 +386,32 @@ impl Dialect for Haas {
 
     fn emit_native(&self, job: &Job) -> std::result::Result<Vec<String>, String> {
         self.native_candidates(job).remove(0)
+    }
+
+    /// G76 reads Settings 86, 95, 96 and 99; G92 Settings 95 and 96 (its chamfer, on with M23 at
+    /// power-on, as the read-back assumes).
+    fn settings_read(&self, native: &[String]) -> Vec<Setting> {
+        let has = |code: &str| {
+            native
+                .iter()
+                .flat_map(|l| l.split_whitespace())
+                .any(|w| w == code)
+        };
+        let (g76, g92) = (has("G76"), has("G92"));
+        let settings = self.machine.haas.clone().unwrap_or_else(default_settings);
+        thread_settings(&settings)
+            .into_iter()
+            .filter(|(n, _)| g76 || (g92 && matches!(n, 95 | 96)))
+            .map(|(_, s)| s)
+            .collect()
+    }
+
+    fn settings(&self) -> Vec<Setting> {
+        let settings = self.machine.haas.clone().unwrap_or_else(default_settings);
+        thread_settings(&settings)
+            .into_iter()
+            .map(|(_, s)| s)
+            .collect()
     }
 
     /// G92 for a single pass, the one-block G76 with every choice of its open words (read back

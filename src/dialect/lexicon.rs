@@ -521,3 +521,42 @@ mod tests {
         }
     }
 }
+
+/// A machine setting a native cycle reads from the control rather than from its block (Haas's
+/// Setting 86 for G76's finishing pass): the converted program relies on the machine holding the
+/// value threadcut verified its motion with.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Setting {
+    /// `Setting 86`.
+    pub name: &'static str,
+    /// `thread finish allowance`.
+    pub what: &'static str,
+    /// The value, with its unit (`0.002 in`, `45 deg`), in ASCII: it goes into a comment.
+    pub value: String,
+    pub known: Known,
+}
+
+/// Where a setting's value comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Known {
+    /// The target profile states the machine's value.
+    Stated,
+    /// Not stated; the control's factory default, which its manual gives.
+    FactoryDefault,
+    /// Not stated, and no manual sentence gives its default: threadcut's assumed value. A
+    /// conversion writes no native cycle that relies on it.
+    Assumed,
+}
+
+impl Setting {
+    /// `Setting 86, thread finish allowance: 0.002 in`, with where the value comes from when the
+    /// profile does not state it (no parentheses: it goes into a comment).
+    pub fn describe(&self) -> String {
+        let from = match self.known {
+            Known::Stated => "",
+            Known::FactoryDefault => ", the factory default, not stated in the target profile",
+            Known::Assumed => ", assumed, not stated in the target profile",
+        };
+        format!("{}, {}: {}{from}", self.name, self.what, self.value)
+    }
+}

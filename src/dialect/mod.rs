@@ -170,6 +170,17 @@ pub trait Dialect {
     fn native_candidates(&self, job: &Job) -> Vec<std::result::Result<Vec<String>, String>> {
         vec![self.emit_native(job)]
     }
+    /// The machine settings the native text `native` relies on (values its cycles read from the
+    /// control, not from their block), each with its value and whether the profile states it.
+    /// The default: none.
+    fn settings_read(&self, _native: &[String]) -> Vec<lexicon::Setting> {
+        Vec::new()
+    }
+    /// Every machine setting this controller's native cycles may read ([`Self::settings_read`] of
+    /// all of them).
+    fn settings(&self) -> Vec<lexicon::Setting> {
+        Vec::new()
+    }
     /// The step this controller writes positions and leads on where it is coarser than its
     /// profile's resolution and depends on the lead (OmniTurn's feed modes: .00005\" up to a .2\"
     /// lead, .00025\" in G35, .0005\" in G35F2), in `units`. `None`: the profile's resolution,

@@ -30,7 +30,10 @@ use super::{all_but, Dialect, Read};
 /// lead modes, carried by the cycles' jobs) with the G92 that restates the position after them,
 /// `T4` (the tool with its own offset), inch only, feed per minute at power-on (the seed's `T4F300`
 /// is 300 ipm: its largest feed per revolution is 2"), M codes as ISO 6983-1 assigns them (the
-/// seed writes none). G33 is the threading cycle: there is no plain synchronised move.
+/// seed writes none). G33 is the threading cycle: there is no plain synchronised move. No
+/// reference return is documented (`reference: None`): the OmniTurn's posts send the tool home
+/// with a rapid to a position given in program coordinates, as a conversion does with the target
+/// profile's `[reference] g28` (`docs/dialects/omniturn-g33.md`).
 pub static LEXICON: Lexicon = Lexicon {
     codes: &[
         &[

@@ -424,6 +424,10 @@ struct ConvertRequest {
     /// (`threadcut convert --max-lead-drift`); absent: a quarter of the class tolerance.
     #[serde(default)]
     max_lead_drift: Option<f64>,
+    /// Named tools and the numbers that call them (`{"THREAD_EXT_60": "T0101"}`,
+    /// `threadcut convert --tool THREAD_EXT_60=T0101`).
+    #[serde(default)]
+    tools: std::collections::BTreeMap<String, String>,
 }
 
 /// A program converted for another controller, as `threadcut convert` writes it
@@ -454,6 +458,7 @@ pub fn convert(request: &str) -> Value {
             ..Default::default()
         },
         max_lead_drift: r.max_lead_drift,
+        tools: r.tools.into_iter().collect(),
     };
     match threadcut::convert::convert(r.program.as_bytes(), &mut out, &from, &to, &options) {
         Ok(report) => json!({

@@ -453,6 +453,19 @@ fn convert_gives_the_program_its_cycles_and_the_refusal_with_its_place() {
         r["error"].as_str().unwrap().contains("the limit given"),
         "{r}"
     );
+    // A named tool by the number the request gives (`--tool THREAD_EXT_60=T0101`); without it,
+    // refused with the flag in the hint.
+    let named = "G0 X40 Z5\nT=\"THREAD_EXT_60\" D1\n";
+    let r = api::convert(
+        &json!({"from": "sinumerik", "to": "fanuc", "program": named, "tools": {"THREAD_EXT_60": "T0101"}})
+            .to_string(),
+    );
+    assert_eq!(r["ok"], true, "{r}");
+    assert!(r["program"].as_str().unwrap().contains("\nT0101\n"), "{r}");
+    let r =
+        api::convert(&json!({"from": "sinumerik", "to": "fanuc", "program": named}).to_string());
+    assert_eq!(r["ok"], false, "{r}");
+    assert!(r.to_string().contains("--tool THREAD_EXT_60=T0101"), "{r}");
     let r = api::convert(&json!({"from": "fanuc", "to": "nope", "program": ""}).to_string());
     assert!(r["error"]
         .as_str()

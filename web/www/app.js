@@ -220,6 +220,22 @@ function plan() {
 }
 
 /**
+ * The Convert tab's named tools, `THREAD_EXT_60=T0101, GROOVE=T0202`, as the request's `tools`
+ * object (`threadcut convert --tool`); an entry without `=` is passed with an empty number, so
+ * that the library's message names it.
+ */
+function namedTools(text) {
+  const tools = {};
+  for (const entry of text.split(',')) {
+    if (!entry.trim()) continue;
+    const at = entry.indexOf('=');
+    const name = (at < 0 ? entry : entry.slice(0, at)).trim();
+    tools[name] = at < 0 ? '' : entry.slice(at + 1).trim();
+  }
+  return tools;
+}
+
+/**
  * Converts the Convert tab's program for the target with the library's conversion, then analyses
  * the converted program on the target (the right-hand side shows that analysis).
  */
@@ -230,7 +246,7 @@ async function convert() {
   if (running) engine.restart();
   running = 0;
   status('converting…');
-  const r = await engine.call('convert', { from, to, program: $('convert-source').value });
+  const r = await engine.call('convert', { from, to, program: $('convert-source').value, tools: namedTools($('convert-tools').value) });
   if (id !== requested) return;
   showConversion(r);
   if (r.ok) {
@@ -538,6 +554,7 @@ async function main() {
   $('convert').addEventListener('click', () => { editedAt = 0; convert(); });
   $('target').addEventListener('change', () => { editedAt = 0; convert(); });
   $('convert-source').addEventListener('input', () => schedule(convert));
+  $('convert-tools').addEventListener('input', () => schedule(convert));
   $('copy-converted').addEventListener('click', async () => {
     try {
       await navigator.clipboard.writeText(lastConverted);

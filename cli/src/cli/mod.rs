@@ -470,8 +470,20 @@ struct ConvertArgs {
     /// pitch-diameter tolerance, on the drift's pitch-diameter equivalent).
     #[arg(long, value_name = "VALUE")]
     max_lead_drift: Option<f64>,
+    /// A named tool and the number that calls it on the other controller: `--tool
+    /// THREAD_EXT_60=T0101` (tool 1, offset 1; `T4`: tool 4 with its own offset), a Sinumerik
+    /// `T="THREAD_EXT_60" D1` written `T0101`, and `T0101` written `T="THREAD_EXT_60" D1` for
+    /// Sinumerik; repeat it for each tool. It replaces the target profile's `[tools]` entry of
+    /// the same name (docs/translation.md, "Tools by name").
+    #[arg(long = "tool", value_name = "NAME=T0101", value_parser = tool_argument)]
+    tools: Vec<(String, String)>,
     #[command(flatten)]
     run: RunArgs,
+}
+
+/// `NAME=T0101`, for `--tool`.
+fn tool_argument(spec: &str) -> Result<(String, String), String> {
+    threadcut::convert::tools::argument(spec)
 }
 
 /// The arguments of `threadcut controllers`.
@@ -797,6 +809,7 @@ fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
     let options = threadcut::convert::Options {
         run: args.run.options(args.flatten, &source)?,
         max_lead_drift: args.max_lead_drift,
+        tools: args.tools,
     };
     let from = load_machine(&source)?;
     let to = load_machine(&MachineArgs {
