@@ -67,6 +67,15 @@ pub struct MillLanguage {
     pub radius: RadiusCheck,
     /// The alarm an arc's radius check raises, as the control names it.
     pub radius_alarm: &'static str,
+    /// The alarm of a G41/G42/G40 on an arc's block, as the control names it.
+    pub comp_on_arc_alarm: &'static str,
+    /// The alarm of a feed move with no feed rate.
+    pub zero_feed_alarm: &'static str,
+    /// G52 sets the G92 offset to its values (LinuxCNC: "G52 … shares G92's offset"); else a
+    /// local shift of its own (Fanuc family: the local coordinate system).
+    pub g52_is_g92_offset: bool,
+    /// The block that ends a program threadcut writes.
+    pub program_end: &'static str,
     /// G2/G3 take `P`, the number of turns (LinuxCNC).
     pub arc_turns: bool,
     /// G90.1/G91.1 choose absolute or incremental arc centres (LinuxCNC; incremental at
@@ -166,6 +175,11 @@ pub fn language(name: &str) -> Option<MillLanguage> {
         calculator: false,
         radius: RadiusCheck::Increments(2.0),
         radius_alarm: "alarm PS0020 (over tolerance of radius)",
+        comp_on_arc_alarm:
+            "alarm PS0034 (no circular interpolation allowed in the start-up or cancel block)",
+        zero_feed_alarm: "alarm PS0011 (feed zero)",
+        g52_is_g92_offset: false,
+        program_end: "M30",
         arc_turns: false,
         centre_modes: false,
         return_all_without_axes: false,
@@ -197,7 +211,10 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             }),
             // Haas: a number without a decimal point is a whole unit, as on its lathe.
             calculator: true,
-            radius_alarm: "alarm 109 (arc radius mismatch)",
+            // (Haas's alarm numbers for these are not stated here: no page read names them.)
+            radius_alarm: "the arc's end radius differs from its start radius",
+            comp_on_arc_alarm: "compensation is not started or cancelled on an arc",
+            zero_feed_alarm: "no feed rate is programmed",
             return_all_without_axes: true,
             cycles: Cycles {
                 // Setting 22, Can Cycle Delta Z: 0.05 in at the factory.
@@ -229,6 +246,10 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             calculator: true,
             radius: RadiusCheck::LinuxCnc,
             radius_alarm: "Radius to end of arc differs from radius to start",
+            comp_on_arc_alarm: "LinuxCNC turns compensation on or off on a straight move only",
+            zero_feed_alarm: "Cannot make a move with zero feed rate",
+            g52_is_g92_offset: true,
+            program_end: "M2",
             arc_turns: true,
             centre_modes: true,
             return_all_without_axes: true,
@@ -251,7 +272,9 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             // CNC12's macro language is not Custom Macro B: threadcut reads plain blocks only.
             macros: None,
             calculator: true,
-            radius_alarm: "arc radius mismatch",
+            radius_alarm: "the arc's end radius differs from its start radius",
+            comp_on_arc_alarm: "compensation is not started or cancelled on an arc",
+            zero_feed_alarm: "no feed rate is programmed",
             return_all_without_axes: true,
             g54_1: false,
             program_files: no_files,

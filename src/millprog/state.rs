@@ -347,14 +347,12 @@ impl Mill {
                         "{} starts or ends cutter compensation on an arc ({}): {}",
                         g_name(*c),
                         g_name(*m),
-                        if self.lang.control == "LinuxCNC" {
-                            "LinuxCNC turns compensation on or off on a straight move only"
-                        } else {
-                            "alarm PS0034 (no circular interpolation allowed in the start-up or cancel block)"
-                        }
+                        self.lang.comp_on_arc_alarm
                     ),
                 )
-                .with_hint("start and end compensation on a straight move (G1, or G0) before the arc"));
+                .with_hint(
+                    "start and end compensation on a straight move (G1, or G0) before the arc",
+                ));
             }
             let _ = w;
             self.comp = comp;
@@ -467,7 +465,7 @@ impl Mill {
     /// G52: the local shift, absolute in the work system (an axis not written keeps its
     /// shift). LinuxCNC's G52 is its G92 offset set to the values.
     fn local_shift(&mut self, line: &Line) -> Result<()> {
-        let linuxcnc = !self.lang.cycles.initial_level_at_power_on;
+        let linuxcnc = self.lang.g52_is_g92_offset;
         for (axis, letter) in AXES.iter().enumerate() {
             if let Some(w) = line.word(*letter) {
                 if linuxcnc {
@@ -633,11 +631,7 @@ impl Mill {
             span,
             format!(
                 "a feed move without a feed rate: {}",
-                if self.lang.control == "LinuxCNC" {
-                    "Cannot make a move with zero feed rate"
-                } else {
-                    "alarm PS0011 (feed zero)"
-                }
+                self.lang.zero_feed_alarm
             ),
         )
         .with_hint("write F on this block or before it"))
