@@ -81,10 +81,9 @@ fn parse_canon(text: &str) -> Vec<Move> {
         let a = args(rest);
         let point = |a: &[f64]| -> [f64; 3] { std::array::from_fn(|i| (a[i] + offset[i]) * scale) };
         let mut push = |kind: Kind, to: [f64; 3], at: &mut [f64; 3]| {
-            if kind == Kind::Feed || kind == Kind::Rapid || kind == Kind::Sync {
-                if to.iter().zip(*at).all(|(p, q)| (p - q).abs() < 1e-9) {
-                    return;
-                }
+            let straight = matches!(kind, Kind::Feed | Kind::Rapid | Kind::Sync);
+            if straight && to.iter().zip(*at).all(|(p, q)| (p - q).abs() < 1e-9) {
+                return;
             }
             moves.push(Move { kind, to });
             *at = to;

@@ -139,7 +139,7 @@ fn compare(name: &str, thread: &str, milling: &mill::request::Milling, got: &[Mi
                 && (a.y - m.to.y).abs() < 1e-9
                 && (a.z - m.to.z).abs() < 1e-9
         });
-        if !(stays && !matches!(m.kind, MoveKind::Arc { .. })) {
+        if !stays || matches!(m.kind, MoveKind::Arc { .. }) {
             want.push(*m);
         }
         at = Some(m.to);

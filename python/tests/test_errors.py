@@ -186,7 +186,7 @@ def test_mill_errors(cli):
     assert str(e.value) == (
         "error: `fanuc` is a lathe controller, and `threadcut.mill` writes thread-milling programs"
     )
-    assert e.value.hint.endswith("milling profiles: centroid, fanuc-mill, linuxcnc-mill")
+    assert e.value.hint.endswith("milling profiles: centroid, fanuc-mill, haas-mill, linuxcnc-mill")
     assert mill(controller="Centroid") == mill(controller="centroid")
     with pytest.raises(threadcut.InputError) as e:
         threadcut.mill(

@@ -24,7 +24,7 @@ pub(crate) fn arc(
     g: Option<&Word>,
     out: &mut dyn Out,
 ) -> Result<()> {
-    let (a, b, n) = mill.plane.axes();
+    let (a, b, _) = mill.plane.axes();
     let to = mill.end_point(line)?;
     let gspan = span_of(line, g);
     let Some(from) = known(mill.pos) else {
@@ -72,7 +72,6 @@ pub(crate) fn arc(
     let mut c = from;
     c[a] = centre[a];
     c[b] = centre[b];
-    let _ = n;
     let m = MillMotion {
         kind: MillKind::Arc {
             centre: c,

@@ -95,7 +95,7 @@ pub(crate) fn cycle(
         .with_hint("position Z with an absolute move before the cycle")
     })?;
     mill.cycle.level = Some(level);
-    let levels = levels(mill, level)?;
+    let levels = levels(mill, level);
     let mut target = mill.pos;
     for k in 0..repeats {
         for (axis, letter) in [b'X', b'Y'].iter().enumerate() {
@@ -175,7 +175,7 @@ fn read_words(mill: &mut Mill, line: &Line, code: u16, gspan: crate::diag::Span)
 }
 
 /// R, the bottom and the return level of a hole: in G91 R from the initial level and Z from R.
-fn levels(mill: &Mill, level: f64) -> Result<Levels> {
+fn levels(mill: &Mill, level: f64) -> Levels {
     let (r, z) = (mill.cycle.r.unwrap_or(0.0), mill.cycle.z.unwrap_or(0.0));
     let shift = mill.local[2] + mill.g92[2];
     let (r, bottom) = if mill.absolute {
@@ -184,7 +184,7 @@ fn levels(mill: &Mill, level: f64) -> Result<Levels> {
         (level + r, level + r + z)
     };
     let clear = if mill.cycle.initial { level.max(r) } else { r };
-    Ok(Levels { r, bottom, clear })
+    Levels { r, bottom, clear }
 }
 
 fn hole(
@@ -309,7 +309,6 @@ fn tap(
     } else {
         MillKind::Feed
     };
-    let _ = spec.left;
     mill.straight(kind, at(lv.bottom), n, out)?;
     let turning = mill.rotation;
     mill.rotation = reverse(turning);

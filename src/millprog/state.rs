@@ -84,7 +84,7 @@ pub(crate) fn g10(v: f64) -> Option<u16> {
 
 /// How a G code ×10 is written.
 pub(crate) fn g_name(code: u16) -> String {
-    if code % 10 == 0 {
+    if code.is_multiple_of(10) {
         format!("G{}", code / 10)
     } else {
         format!("G{}.{}", code / 10, code % 10)
@@ -187,7 +187,7 @@ impl Mill {
     /// Executes one block.
     pub fn block(&mut self, line: &Line, out: &mut dyn Out) -> Result<()> {
         let codes = self.codes(line)?;
-        self.modes(line, &codes)?;
+        self.modes(&codes);
         self.words(line)?;
         self.compensation(line, &codes)?;
         self.length_offset(line, &codes)?;
@@ -251,7 +251,7 @@ impl Mill {
                 | 640
                 | 730
                 | 800..=890 | 900 | 910 | 920 | 930 | 940 | 950 | 980 | 990
-        ) && c % 10 == 0;
+        ) && c.is_multiple_of(10);
         common
             || (c == 740 || c == 760)
             || self.lang.cycles.taps.iter().any(|t| t.code == c)
@@ -262,7 +262,7 @@ impl Mill {
     }
 
     /// Units, plane, distance, arc-centre and feed modes, the return level.
-    fn modes(&mut self, line: &Line, codes: &[(u16, &Word)]) -> Result<()> {
+    fn modes(&mut self, codes: &[(u16, &Word)]) {
         for (c, _) in codes {
             match c {
                 200 => self.units = Units::Inch,
@@ -282,8 +282,6 @@ impl Mill {
                 _ => {}
             }
         }
-        let _ = line;
-        Ok(())
     }
 
     /// F, S, T and the M codes of the spindle and the tool change.
@@ -294,7 +292,8 @@ impl Mill {
                     if w.value < 0.0 {
                         return Err(bad_word(w, "a feed must not be negative"));
                     }
-                    self.f = Some(self.value_plain(w));
+                    // F is a rate: whole units without a decimal point on every control.
+                    self.f = Some(w.value);
                 }
                 b'S' => {
                     if w.value < 0.0 {
@@ -320,19 +319,13 @@ impl Mill {
         Ok(())
     }
 
-    /// F as written (a feed is a rate: without a decimal point it is whole units per minute on
-    /// every control threadcut reads).
-    fn value_plain(&self, w: &Word) -> f64 {
-        w.value
-    }
-
     /// G40, G41, G42 (with D); compensation is not started or ended on an arc.
     fn compensation(&mut self, line: &Line, codes: &[(u16, &Word)]) -> Result<()> {
         let d = match line.word(b'D') {
             Some(w) => Some(whole(w)?),
             None => None,
         };
-        for (c, w) in codes {
+        for (c, _) in codes {
             let comp = match c {
                 400 => Comp::Off,
                 410 => Comp::Left { d },
@@ -354,7 +347,6 @@ impl Mill {
                     "start and end compensation on a straight move (G1, or G0) before the arc",
                 ));
             }
-            let _ = w;
             self.comp = comp;
         }
         Ok(())
