@@ -19,6 +19,72 @@ pub enum RadiusCheck {
     LinuxCnc,
 }
 
+/// A control's alarms as it words them (LinuxCNC's as rs274 prints them, checked by
+/// `tests/linuxcnc_reference_mill.rs`; the Fanuc family's with the alarm's number where a manual
+/// read names it).
+#[derive(Clone, Copy, Debug)]
+pub struct Alarms {
+    /// The radii to an arc's start and end differ.
+    pub radius: &'static str,
+    /// Compensation started or cancelled on an arc.
+    pub comp_on_arc: &'static str,
+    /// A straight feed move, and an arc, with no feed rate.
+    pub zero_feed: &'static str,
+    pub zero_feed_arc: &'static str,
+    /// An arc with neither its centre nor R.
+    pub no_centre: &'static str,
+    /// R shorter than half the chord.
+    pub r_too_small: &'static str,
+    /// An R arc that ends where it starts.
+    pub r_full_circle: &'static str,
+    /// A canned cycle without R, without Z, a peck cycle without Q (`{code}`, `{g}`: its G code,
+    /// [`Alarms::with_code`]).
+    pub cycle_no_r: &'static str,
+    pub cycle_no_z: &'static str,
+    pub cycle_no_q: &'static str,
+    /// LinuxCNC's arc P below 1.
+    pub turns: &'static str,
+}
+
+const FANUC_ALARMS: Alarms = Alarms {
+    radius: "alarm PS0020 (over tolerance of radius)",
+    comp_on_arc: "alarm PS0034 (no circular interpolation allowed in the start-up or cancel block)",
+    zero_feed: "alarm PS0011 (feed zero)",
+    zero_feed_arc: "alarm PS0011 (feed zero)",
+    no_centre: "an arc without its centre or R",
+    r_too_small: "alarm PS0020 (over tolerance of radius): R is shorter than half the chord",
+    r_full_circle: "an arc by R ends where it starts: a full circle needs I J K",
+    cycle_no_r: "{code} without R: where does the feed start (the R level)?",
+    cycle_no_z: "{code} without Z: how deep is the hole?",
+    cycle_no_q: "{code} without Q: how deep is each peck?",
+    turns: "P on an arc",
+};
+
+// (Haas's and Centroid's alarm numbers are not stated: no page read names them.)
+const PLAIN_ALARMS: Alarms = Alarms {
+    radius: "the arc's end radius differs from its start radius",
+    comp_on_arc: "compensation is not started or cancelled on an arc",
+    zero_feed: "no feed rate is programmed",
+    zero_feed_arc: "no feed rate is programmed",
+    r_too_small: "R is shorter than half the chord",
+    ..FANUC_ALARMS
+};
+
+const LINUXCNC_ALARMS: Alarms = Alarms {
+    radius: "Radius to end of arc differs from radius to start",
+    comp_on_arc:
+        "The move just after exiting cutter compensation mode must be straight, not an arc",
+    zero_feed: "Cannot do {g} with zero feed rate",
+    zero_feed_arc: "Cannot make arc with zero feed rate",
+    no_centre: "R i j k words all missing for arc",
+    r_too_small: "Arc radius too small to reach end point",
+    r_full_circle: "Current point same as end point of arc",
+    cycle_no_r: "R clearance plane unspecified in cycle",
+    cycle_no_z: "Z value unspecified in xy plane canned cycle",
+    cycle_no_q: "Q word missing with {g}",
+    turns: "P value should be 1 or greater with G2 or G3",
+};
+
 /// A tapping cycle's code.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TapCode {
@@ -65,12 +131,11 @@ pub struct MillLanguage {
     /// A number without a decimal point is a whole program unit (else a least increment).
     pub calculator: bool,
     pub radius: RadiusCheck,
-    /// The alarm an arc's radius check raises, as the control names it.
-    pub radius_alarm: &'static str,
-    /// The alarm of a G41/G42/G40 on an arc's block, as the control names it.
-    pub comp_on_arc_alarm: &'static str,
-    /// The alarm of a feed move with no feed rate.
-    pub zero_feed_alarm: &'static str,
+    /// The control's alarms, as it words them.
+    pub alarms: Alarms,
+    /// Cutter compensation may start on an arc (LinuxCNC: an entry arc larger than the tool's
+    /// radius, which threadcut does not know); it never ends on one.
+    pub comp_start_on_arc: bool,
     /// G52 sets the G92 offset to its values (LinuxCNC: "G52 … shares G92's offset"); else a
     /// local shift of its own (Fanuc family: the local coordinate system).
     pub g52_is_g92_offset: bool,
@@ -166,6 +231,15 @@ fn no_files(_: &Wanted) -> FileNames {
     FileNames::default()
 }
 
+impl Alarms {
+    /// An alarm with its code filled in: `{code}` as written (`G83`), `{g}` in lower case
+    /// (`g83`, as rs274 prints it).
+    pub fn with_code(text: &str, code: &str) -> String {
+        text.replace("{code}", code)
+            .replace("{g}", &code.to_lowercase())
+    }
+}
+
 /// The language a milling profile names (`language` in its TOML), if threadcut knows it.
 pub fn language(name: &str) -> Option<MillLanguage> {
     let fanuc = MillLanguage {
@@ -174,10 +248,8 @@ pub fn language(name: &str) -> Option<MillLanguage> {
         macros: Some(Syntax::MACRO_B),
         calculator: false,
         radius: RadiusCheck::Increments(2.0),
-        radius_alarm: "alarm PS0020 (over tolerance of radius)",
-        comp_on_arc_alarm:
-            "alarm PS0034 (no circular interpolation allowed in the start-up or cancel block)",
-        zero_feed_alarm: "alarm PS0011 (feed zero)",
+        alarms: FANUC_ALARMS,
+        comp_start_on_arc: false,
         g52_is_g92_offset: false,
         program_end: "M30",
         arc_turns: false,
@@ -211,10 +283,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             }),
             // Haas: a number without a decimal point is a whole unit, as on its lathe.
             calculator: true,
-            // (Haas's alarm numbers for these are not stated here: no page read names them.)
-            radius_alarm: "the arc's end radius differs from its start radius",
-            comp_on_arc_alarm: "compensation is not started or cancelled on an arc",
-            zero_feed_alarm: "no feed rate is programmed",
+            alarms: PLAIN_ALARMS,
             return_all_without_axes: true,
             cycles: Cycles {
                 // Setting 22, Can Cycle Delta Z: 0.05 in at the factory.
@@ -245,9 +314,8 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             }),
             calculator: true,
             radius: RadiusCheck::LinuxCnc,
-            radius_alarm: "Radius to end of arc differs from radius to start",
-            comp_on_arc_alarm: "LinuxCNC turns compensation on or off on a straight move only",
-            zero_feed_alarm: "Cannot make a move with zero feed rate",
+            alarms: LINUXCNC_ALARMS,
+            comp_start_on_arc: true,
             g52_is_g92_offset: true,
             program_end: "M2",
             arc_turns: true,
@@ -272,9 +340,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             // CNC12's macro language is not Custom Macro B: threadcut reads plain blocks only.
             macros: None,
             calculator: true,
-            radius_alarm: "the arc's end radius differs from its start radius",
-            comp_on_arc_alarm: "compensation is not started or cancelled on an arc",
-            zero_feed_alarm: "no feed rate is programmed",
+            alarms: PLAIN_ALARMS,
             return_all_without_axes: true,
             g54_1: false,
             program_files: no_files,

@@ -5,6 +5,7 @@
 //! the return (G98: the initial level, G99: R). Only in G17 (the drilling axis Z).
 
 use crate::diag::{Code, Diagnostic};
+use crate::dialect::mill::Alarms;
 use crate::gcode::{Line, Word};
 use crate::mill::motion::{Feed, MillKind, Plane, Rotation, TapCycle};
 
@@ -154,22 +155,23 @@ fn read_words(mill: &mut Mill, line: &Line, code: u16, gspan: crate::diag::Span)
         };
         mill.cycle.p = Some(s);
     }
-    let missing = |what: &str, letter: char| {
+    let missing = |alarm: &str, letter: char| {
         Diagnostic::error(
             Code::MissingWord,
             gspan,
-            format!("{} without {letter}: {what}", g_name(code)),
+            Alarms::with_code(alarm, &g_name(code)),
         )
         .with_hint(format!("write {letter} on the cycle's first block"))
     };
+    let alarms = mill.lang.alarms;
     if mill.cycle.r.is_none() {
-        return Err(missing("where does the feed start (the R level)?", 'R'));
+        return Err(missing(alarms.cycle_no_r, 'R'));
     }
     if mill.cycle.z.is_none() {
-        return Err(missing("how deep is the hole?", 'Z'));
+        return Err(missing(alarms.cycle_no_z, 'Z'));
     }
     if matches!(code, 730 | 830) && mill.cycle.q.is_none() {
-        return Err(missing("how deep is each peck?", 'Q'));
+        return Err(missing(alarms.cycle_no_q, 'Q'));
     }
     Ok(())
 }

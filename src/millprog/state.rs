@@ -3,7 +3,7 @@
 //! offset, work system, then the non-modal codes and the motion).
 
 use crate::diag::{Code, Diagnostic, Span};
-use crate::dialect::mill::MillLanguage;
+use crate::dialect::mill::{Alarms, MillLanguage};
 use crate::gcode::{Line, Word};
 use crate::mill::motion::{Comp, Feed, MillKind, MillMotion, Plane, Rotation, State, TapCycle, P3};
 use crate::mill::profile::{Axes, MillReference};
@@ -332,15 +332,17 @@ impl Mill {
                 420 => Comp::Right { d },
                 _ => continue,
             };
-            if let Some((m, mw)) = codes.iter().find(|(m, _)| matches!(m, 20 | 30)) {
+            let arc = codes.iter().find(|(m, _)| matches!(m, 20 | 30));
+            let allowed = *c != 400 && self.lang.comp_start_on_arc;
+            if let (Some((m, mw)), false) = (arc, allowed) {
                 return Err(Diagnostic::error(
                     Code::Conflict,
                     mw.span,
                     format!(
-                        "{} starts or ends cutter compensation on an arc ({}): {}",
+                        "{}: {} on the arc's block ({})",
+                        self.lang.alarms.comp_on_arc,
                         g_name(*c),
-                        g_name(*m),
-                        self.lang.comp_on_arc_alarm
+                        g_name(*m)
                     ),
                 )
                 .with_hint(
@@ -590,14 +592,14 @@ impl Mill {
                 let kind = if self.motion == Motion::Rapid {
                     MillKind::Rapid
                 } else {
-                    self.feed_needed(line, given.map(|g| g.1))?;
+                    self.feed_needed(line, given.map(|g| g.1), false)?;
                     MillKind::Feed
                 };
                 self.straight(kind, to, line.number, out)
             }
             Motion::Arc { clockwise } if moves => {
                 let g = given.map(|g| g.1);
-                self.feed_needed(line, g)?;
+                self.feed_needed(line, g, true)?;
                 arc::arc(self, line, clockwise, g, out)
             }
             Motion::Cycle(code) => {
@@ -613,17 +615,22 @@ impl Mill {
     }
 
     /// A feed move needs a feed (LinuxCNC: "Cannot do G1 with zero feed rate"; Fanuc: PS0011).
-    fn feed_needed(&self, line: &Line, g: Option<&Word>) -> Result<()> {
+    fn feed_needed(&self, line: &Line, g: Option<&Word>, arc: bool) -> Result<()> {
         if self.f.is_some_and(|f| f > 0.0) || self.feed_mode == FeedMode::InverseTime {
             return Ok(());
         }
         let span = g.map_or(line.span(), |w| w.span);
+        let alarm = if arc {
+            self.lang.alarms.zero_feed_arc
+        } else {
+            self.lang.alarms.zero_feed
+        };
         Err(Diagnostic::error(
             Code::MissingWord,
             span,
             format!(
-                "a feed move without a feed rate: {}",
-                self.lang.zero_feed_alarm
+                "{}: a feed move without a feed rate",
+                Alarms::with_code(alarm, "G1")
             ),
         )
         .with_hint("write F on this block or before it"))
