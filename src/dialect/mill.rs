@@ -154,6 +154,20 @@ pub struct MillLanguage {
     pub g59_x: bool,
     /// `G33.1` rigid tapping (LinuxCNC).
     pub g33_1: bool,
+    /// Codes (×10) that change nothing the reader models (exact stop, look-ahead and contour
+    /// control modes, and the cancel codes of polar coordinates, scaling, mirroring and
+    /// rotation, whose active codes are refused): read and passed over.
+    pub neutral: &'static [u16],
+    /// Skip and probe moves (×10): they end where a signal comes, so the named axes are not
+    /// known after them.
+    pub probes: &'static [u16],
+    /// Haas's further work offsets: G110–G129 and `G154 P1`–`P99`.
+    pub haas_work: bool,
+    /// G80 is a motion code (LinuxCNC's modal group 1: "G0 G80" is two codes of one group, and
+    /// axis words after G80 do not move); else it only cancels the canned cycle and the group-01
+    /// code in force before it (G0, G1, G2, G3) moves again (the Fanuc family: "canned cycles
+    /// are cancelled by G80 or a group 01 G code").
+    pub g80_in_motion_group: bool,
     pub cycles: Cycles,
     /// The files a call of a program the text does not hold may read.
     pub program_files: fn(&Wanted) -> FileNames,
@@ -258,6 +272,12 @@ pub fn language(name: &str) -> Option<MillLanguage> {
         g54_1: true,
         g59_x: false,
         g33_1: false,
+        // G5.1 (AI contour control), G8 (look-ahead), G9, G15, G50, G50.1, G61, G61.1, G62,
+        // G63, G64, G69, G13.1.
+        neutral: &[51, 80, 90, 131, 150, 500, 501, 610, 611, 620, 630, 640, 690],
+        probes: &[310],
+        haas_work: false,
+        g80_in_motion_group: false,
         cycles: Cycles {
             repeat: b'K',
             // Parameters 5114 and 5115 are the machine's; threadcut takes 0.1 mm for both
@@ -285,6 +305,9 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             calculator: true,
             alarms: PLAIN_ALARMS,
             return_all_without_axes: true,
+            // G9, G15, G50, G50.1, G61, G64, G69, G103 (look-ahead), G187 (smoothness).
+            neutral: &[90, 150, 500, 501, 610, 640, 690, 1030, 1870],
+            haas_work: true,
             cycles: Cycles {
                 // Setting 22, Can Cycle Delta Z: 0.05 in at the factory.
                 g73_retract_mm: 0.05 * INCH,
@@ -324,6 +347,11 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             g54_1: false,
             g59_x: true,
             g33_1: true,
+            // G15 (polar off), G61, G61.1, G64 (G5.1 is a spline on LinuxCNC: refused).
+            neutral: &[150, 610, 611, 640],
+            probes: &[382, 383, 384, 385],
+            haas_work: false,
+            g80_in_motion_group: true,
             cycles: Cycles {
                 repeat: b'L',
                 g73_retract_mm: 0.010 * INCH,
@@ -343,6 +371,8 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             alarms: PLAIN_ALARMS,
             return_all_without_axes: true,
             g54_1: false,
+            // G15, G50, G61, G64, G69.
+            neutral: &[150, 500, 610, 640, 690],
             program_files: no_files,
             cycles: Cycles {
                 taps: LINUXCNC_TAPS,

@@ -69,6 +69,8 @@ pub(crate) struct Mill {
     /// Where the programmed point is, axis by axis (mm, work coordinates, shifts included).
     pub pos: [Option<f64>; 3],
     pub motion: Motion,
+    /// The last of G0, G1, G2, G3 (the Fanuc family's group 01, in force again after G80).
+    pub group1: Motion,
     pub cycle: CycleModal,
     /// M29 given: the next tapping cycle is rigid.
     pub m29: bool,
@@ -116,6 +118,7 @@ impl Mill {
             g92: [0.0; 3],
             pos: [None; 3],
             motion: Motion::Rapid,
+            group1: Motion::Rapid,
             cycle: CycleModal::new(lang.cycles.initial_level_at_power_on),
             m29: false,
             ended: false,
@@ -247,8 +250,6 @@ impl Mill {
                 | 570
                 | 580
                 | 590
-                | 610
-                | 640
                 | 730
                 | 800..=890 | 900 | 910 | 920 | 930 | 940 | 950 | 980 | 990
         ) && c.is_multiple_of(10);
@@ -259,6 +260,10 @@ impl Mill {
             || (self.lang.g59_x && matches!(c, 591..=593))
             || (self.lang.centre_modes && matches!(c, 901 | 911))
             || (self.lang.g33_1 && c == 331)
+            || self.lang.neutral.contains(&c)
+            || self.lang.probes.contains(&c)
+            || (self.lang.haas_work
+                && (matches!(c, 1100..=1290) && c.is_multiple_of(10) || c == 1540))
     }
 
     /// Units, plane, distance, arc-centre and feed modes, the return level.
@@ -381,19 +386,23 @@ impl Mill {
     /// offsets are the machine's).
     fn work_system(&mut self, line: &Line, codes: &[(u16, &Word)]) -> Result<()> {
         for (c, w) in codes {
-            if !matches!(c, 540 | 550 | 560 | 570 | 580 | 590 | 541 | 591..=593) {
+            let haas = matches!(c, 1100..=1290 | 1540);
+            if !matches!(c, 540 | 550 | 560 | 570 | 580 | 590 | 541 | 591..=593) && !haas {
                 continue;
             }
-            let p = if *c == 541 {
+            let p = if *c == 541 || *c == 1540 {
                 let p = line
                     .word(b'P')
                     .ok_or_else(|| {
                         Diagnostic::error(
                             Code::MissingWord,
                             w.span,
-                            "G54.1 without P: which additional work coordinate system?",
+                            format!(
+                                "{} without P: which additional work coordinate system?",
+                                g_name(*c)
+                            ),
                         )
-                        .with_hint("write its number, e.g. G54.1 P1")
+                        .with_hint(format!("write its number, e.g. {} P1", g_name(*c)))
                     })
                     .and_then(whole)?;
                 if p == 0 || p > 300 {
@@ -438,7 +447,7 @@ impl Mill {
                     self.local_shift(line)?;
                     return Ok(true);
                 }
-                530 => {
+                c if *c == 530 || self.lang.probes.contains(c) => {
                     for (axis, letter) in AXES.iter().enumerate() {
                         if line.word(*letter).is_some() {
                             self.pos[axis] = None;
@@ -502,7 +511,19 @@ impl Mill {
         } else {
             named
         };
-        let mid = self.end_point(line)?;
+        // The intermediate point; in G91 from where the tool is, which need not be known (the
+        // usual `G91 G28 Z0` at a program's start moves no further than the return itself).
+        let mut mid = self.pos;
+        for (axis, letter) in AXES.iter().enumerate() {
+            if let Some(w) = line.word(*letter) {
+                let v = self.mm(w);
+                mid[axis] = if self.absolute {
+                    Some(v + self.shift(axis))
+                } else {
+                    self.pos[axis].map(|p| p + v)
+                };
+            }
+        }
         self.rapid_to(mid, line.number, out)?;
         let reference: Axes = if code == 280 {
             self.reference.g28
@@ -560,10 +581,18 @@ impl Mill {
                 331 => {
                     return super::cycles::g33_1(self, line, w, out);
                 }
+                800 if !self.lang.g80_in_motion_group => {
+                    self.cycle.end();
+                    self.motion = self.group1;
+                    continue;
+                }
                 800 => Motion::None,
                 730 | 740 | 760 | 810..=890 => Motion::Cycle(*c),
                 _ => continue,
             };
+            if matches!(m, Motion::Rapid | Motion::Feed | Motion::Arc { .. }) {
+                self.group1 = m;
+            }
             if let Some((g, _)) = given {
                 return Err(Diagnostic::error(
                     Code::Conflict,
