@@ -100,7 +100,7 @@ pub struct TapCode {
 /// The hole-machining (canned) cycles a control has.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Cycles {
-    /// The letter of the repeat count (Fanuc and Haas `K`, LinuxCNC `L`).
+    /// The letter of the repeat count (Fanuc `K`; Haas, Centroid and LinuxCNC `L`).
     pub repeat: u8,
     /// G73's retract after each peck (mm): Fanuc's parameter 5114, Haas's Setting 22,
     /// LinuxCNC's fixed 0.010 inch.
@@ -310,6 +310,9 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             haas_work: true,
             cycles: Cycles {
                 // Setting 22, Can Cycle Delta Z: 0.05 in at the factory.
+                // RECALLED: Haas's canned cycles count holes in L ("L: number of holes if
+                // G91 is used").
+                repeat: b'L',
                 g73_retract_mm: 0.05 * INCH,
                 g83_clearance_mm: 0.05 * INCH,
                 taps: HAAS_TAPS,
@@ -375,6 +378,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             neutral: &[150, 500, 610, 640, 690],
             program_files: no_files,
             cycles: Cycles {
+                repeat: b'L',
                 taps: LINUXCNC_TAPS,
                 m29_rigid: false,
                 ..fanuc.cycles

@@ -317,6 +317,19 @@ impl Mill {
                 5 | 19 => self.rotation = Rotation::Stopped,
                 6 => self.tool = self.next_tool.or(self.tool),
                 29 if self.lang.cycles.m29_rigid => self.m29 = true,
+                // Calls and returns are the interpreter's; a control without a macro language
+                // threadcut runs cannot have them passed over.
+                97..=99 if self.lang.macros.is_none() => {
+                    return Err(Diagnostic::error(
+                        Code::Unsupported,
+                        w.span,
+                        format!(
+                            "M{} (a subprogram call or return) is not read on {}: threadcut runs no subprograms there",
+                            w.value, self.lang.control
+                        ),
+                    )
+                    .with_hint("expand the program's subprograms into the main program"))
+                }
                 2 | 30 => self.ended = true,
                 _ => {}
             }

@@ -383,9 +383,11 @@ fn the_profile_reference_places_g28_and_centroid_has_no_macros() {
     assert_at(&c.moves[1], [10.0, 10.0, 10.0]);
     assert_at(&c.moves[2], [10.0, 10.0, 100.0]);
     assert_at(&c.moves[3], [20.0, 10.0, 100.0]);
-    // Centroid: `#` is not read.
+    // Centroid: `#` is not read, nor a subprogram call passed over.
     let e = err("centroid", "G21 G0 X0 Y0 Z0\n#100 = 1\n");
     assert_eq!(e.span.line, 2);
+    let e = err("centroid", "G21 G0 X0 Y0 Z0\nM98 P100\n");
+    assert_eq!((e.span.line, e.span.column), (2, 1));
 }
 
 #[test]
