@@ -80,6 +80,14 @@ pub(crate) fn cycle(
     }
     read_words(mill, line, code, gspan)?;
     let repeats = match line.word(mill.lang.cycles.repeat) {
+        // Fanuc's K takes 0 to 9999 ("K: number of repeats"); the others no more in practice.
+        Some(w) if w.value > 9999.0 => {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                w.span,
+                format!("{}{}: at most 9999 repeats", w.letter as char, w.value),
+            ))
+        }
         Some(w) => whole(w)?,
         None => 1,
     };

@@ -405,3 +405,42 @@ fn a_change_of_work_system_and_g53_leave_the_position_unknown() {
         "G21 G90 G54 G0 X0 Y0 Z0\nG54\nG91 G1 X1. F100.\n",
     );
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+    /// Random blocks of the words a milling program holds never panic nor hang: each program is
+    /// read or refused with a diagnostic, on every milling profile.
+    #[test]
+    fn random_milling_blocks_are_read_or_refused(
+        blocks in proptest::collection::vec(
+            proptest::collection::vec(
+                (
+                    proptest::sample::select(vec![
+                        "G0", "G1", "G2", "G3", "G17", "G18", "G19", "G20", "G21", "G28", "G41",
+                        "G40", "G43", "G52", "G53", "G55", "G73", "G80", "G81", "G83", "G84",
+                        "G90", "G91", "G92", "G95", "G98", "G99", "G33.1", "M3", "M29", "M6",
+                        "X", "Y", "Z", "I", "J", "K", "R", "Q", "P", "F", "S", "H", "D", "L", "T",
+                    ]),
+                    -30i32..30,
+                ),
+                0..6,
+            ),
+            0..12,
+        ),
+        profile in proptest::sample::select(vec!["fanuc-mill", "haas-mill", "centroid", "linuxcnc-mill"]),
+    ) {
+        let mut src = String::from("G21 G90 G0 X0 Y0 Z10.\n");
+        for b in &blocks {
+            for (word, v) in b {
+                if word.starts_with(['G', 'M']) {
+                    src.push_str(word);
+                } else {
+                    src.push_str(&format!("{word}{}.", v));
+                }
+                src.push(' ');
+            }
+            src.push('\n');
+        }
+        let _ = read(profile, &src);
+    }
+}
