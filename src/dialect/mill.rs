@@ -44,6 +44,12 @@ pub struct Alarms {
     pub cycle_no_q: &'static str,
     /// LinuxCNC's arc P below 1.
     pub turns: &'static str,
+    /// A dwelling cycle (G82, G86, G89) without P, where the control requires it (LinuxCNC).
+    pub cycle_no_p: Option<&'static str>,
+    /// A tapping cycle with the spindle stopped, or turning against the tap (`{dir}`: the way it
+    /// turns), where the control checks it (LinuxCNC).
+    pub tap_spindle_stopped: Option<&'static str>,
+    pub tap_spindle_reversed: Option<&'static str>,
 }
 
 const FANUC_ALARMS: Alarms = Alarms {
@@ -58,6 +64,9 @@ const FANUC_ALARMS: Alarms = Alarms {
     cycle_no_z: "{code} without Z: how deep is the hole?",
     cycle_no_q: "{code} without Q: how deep is each peck?",
     turns: "P on an arc",
+    cycle_no_p: None,
+    tap_spindle_stopped: None,
+    tap_spindle_reversed: None,
 };
 
 // (Haas's and Centroid's alarm numbers are not stated: no page read names them.)
@@ -83,6 +92,9 @@ const LINUXCNC_ALARMS: Alarms = Alarms {
     cycle_no_z: "Z value unspecified in xy plane canned cycle",
     cycle_no_q: "Q word missing with {g}",
     turns: "P value should be 1 or greater with G2 or G3",
+    cycle_no_p: Some("Dwell time p word missing with {g}"),
+    tap_spindle_stopped: Some("Spindle not turning in {code}"),
+    tap_spindle_reversed: Some("Spindle turning {dir} in {code}"),
 };
 
 /// A tapping cycle's code.

@@ -181,7 +181,44 @@ fn read_words(mill: &mut Mill, line: &Line, code: u16, gspan: crate::diag::Span)
     if matches!(code, 730 | 830) && mill.cycle.q.is_none() {
         return Err(missing(alarms.cycle_no_q, 'Q'));
     }
+    if let (Some(alarm), true) = (alarms.cycle_no_p, matches!(code, 820 | 860 | 890)) {
+        if mill.cycle.p.is_none() {
+            return Err(missing(alarm, 'P'));
+        }
+    }
+    if let Some(spec) = mill.lang.cycles.taps.iter().find(|t| t.code == code) {
+        tap_spindle(mill, spec.left, code, gspan)?;
+    }
     Ok(())
+}
+
+/// A tapping cycle's spindle, where the control checks it: turning, and the tap's way.
+fn tap_spindle(mill: &Mill, left: bool, code: u16, span: crate::diag::Span) -> Result<()> {
+    let alarms = mill.lang.alarms;
+    let against = if left { Rotation::Cw } else { Rotation::Ccw };
+    let alarm = match mill.rotation {
+        Rotation::Stopped => alarms.tap_spindle_stopped,
+        r if r == against => alarms.tap_spindle_reversed,
+        _ => None,
+    };
+    let Some(alarm) = alarm else {
+        return Ok(());
+    };
+    let dir = if left {
+        "clockwise"
+    } else {
+        "counterclockwise"
+    };
+    Err(Diagnostic::error(
+        Code::Spindle,
+        span,
+        Alarms::with_code(alarm, &g_name(code)).replace("{dir}", dir),
+    )
+    .with_hint(if left {
+        "a left-hand tap (G74) runs in with M4"
+    } else {
+        "a right-hand tap (G84) runs in with M3"
+    }))
 }
 
 /// R, the bottom and the return level of a hole: in G91 R from the initial level and Z from R.
