@@ -175,6 +175,8 @@ pub struct MillLanguage {
     pub probes: &'static [u16],
     /// Haas's further work offsets: G110–G129 and `G154 P1`–`P99`.
     pub haas_work: bool,
+    /// G41.1/G42.1 with the tool's diameter in D (LinuxCNC's dynamic compensation).
+    pub dynamic_comp: bool,
     /// G80 is a motion code (LinuxCNC's modal group 1: "G0 G80" is two codes of one group, and
     /// axis words after G80 do not move); else it only cancels the canned cycle and the group-01
     /// code in force before it (G0, G1, G2, G3) moves again (the Fanuc family: "canned cycles
@@ -289,6 +291,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
         neutral: &[51, 80, 90, 131, 150, 500, 501, 610, 611, 620, 630, 640, 690],
         probes: &[310],
         haas_work: false,
+        dynamic_comp: false,
         g80_in_motion_group: false,
         cycles: Cycles {
             repeat: b'K',
@@ -366,6 +369,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
             neutral: &[150, 610, 611, 640],
             probes: &[382, 383, 384, 385],
             haas_work: false,
+            dynamic_comp: true,
             g80_in_motion_group: true,
             cycles: Cycles {
                 repeat: b'L',

@@ -260,6 +260,7 @@ impl Mill {
             || (self.lang.g59_x && matches!(c, 591..=593))
             || (self.lang.centre_modes && matches!(c, 901 | 911))
             || (self.lang.g33_1 && c == 331)
+            || (self.lang.dynamic_comp && matches!(c, 411 | 421))
             || self.lang.neutral.contains(&c)
             || self.lang.probes.contains(&c)
             || (self.lang.haas_work
@@ -339,15 +340,18 @@ impl Mill {
 
     /// G40, G41, G42 (with D); compensation is not started or ended on an arc.
     fn compensation(&mut self, line: &Line, codes: &[(u16, &Word)]) -> Result<()> {
-        let d = match line.word(b'D') {
-            Some(w) => Some(whole(w)?),
-            None => None,
+        let d = || match line.word(b'D') {
+            Some(w) => whole(w).map(Some),
+            None => Ok(None),
         };
         for (c, _) in codes {
+            // (G41.1/G42.1's D is the tool's diameter, not a register.)
             let comp = match c {
                 400 => Comp::Off,
-                410 => Comp::Left { d },
-                420 => Comp::Right { d },
+                410 => Comp::Left { d: d()? },
+                420 => Comp::Right { d: d()? },
+                411 => Comp::Left { d: None },
+                421 => Comp::Right { d: None },
                 _ => continue,
             };
             let arc = codes.iter().find(|(m, _)| matches!(m, 20 | 30));
@@ -584,6 +588,21 @@ impl Mill {
 
     /// The motion of the block: the modal G0/G1/G2/G3, a canned cycle, G33.1.
     fn motion(&mut self, line: &Line, codes: &[(u16, &Word)], out: &mut dyn Out) -> Result<()> {
+        if let Some(w) = line
+            .words
+            .iter()
+            .find(|w| matches!(w.letter, b'A' | b'B' | b'C' | b'U' | b'V' | b'W'))
+        {
+            return Err(Diagnostic::error(
+                Code::Unsupported,
+                w.span,
+                format!(
+                    "{}{}: threadcut reads the X, Y and Z axes of a machining centre, not rotary or parallel axes",
+                    w.letter as char, w.value
+                ),
+            )
+            .with_hint("a move of a rotary axis turns the part under the program's later moves"));
+        }
         let mut given = None;
         for (c, w) in codes {
             let m = match c {

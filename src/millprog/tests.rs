@@ -314,6 +314,9 @@ fn alarms_at_their_line_and_column() {
         "G21 G0 X10 Y0 Z0\nG2 X0 Y-10.5 I-10 J0 F100\n",
     );
     assert!(e.message.starts_with("Radius to end of arc differs"));
+    // A rotary axis is not read.
+    let e = err("haas-mill", "G21 G0 X0 Y0 Z0\nG0 A90.\n");
+    assert_eq!((e.span.line, e.span.column), (2, 4));
     // G28 without a reference leaves the position unknown: an arc then has no start.
     let e = err("haas-mill", "G21 G0 X0 Y0 Z0\nG28\nG2 X1. Y1. R1. F10.\n");
     assert_eq!(e.span.line, 3);
