@@ -81,10 +81,9 @@ fn parse_canon(text: &str) -> Vec<Move> {
         let a = args(rest);
         let point = |a: &[f64]| -> [f64; 3] { std::array::from_fn(|i| (a[i] + offset[i]) * scale) };
         let mut push = |kind: Kind, to: [f64; 3], at: &mut [f64; 3]| {
-            if kind == Kind::Feed || kind == Kind::Rapid || kind == Kind::Sync {
-                if to.iter().zip(*at).all(|(p, q)| (p - q).abs() < 1e-9) {
-                    return;
-                }
+            let straight = matches!(kind, Kind::Feed | Kind::Rapid | Kind::Sync);
+            if straight && to.iter().zip(*at).all(|(p, q)| (p - q).abs() < 1e-9) {
+                return;
             }
             moves.push(Move { kind, to });
             *at = to;
@@ -264,4 +263,68 @@ fn linuxcnc_milling_programs_move_for_move_against_rs274() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+}
+
+/// Programs rs274 refuses (`tests/data/linuxcnc-ref-mill/bad/`): threadcut refuses each too, on the
+/// line rs274 names, with rs274's message (up to its first colon, after which rs274 prints its
+/// numbers).
+#[test]
+fn linuxcnc_milling_refusals_match_rs274() {
+    let Some(rs274) = rs274() else {
+        eprintln!("rs274 not found (set THREADCUT_RS274): skipped");
+        return;
+    };
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/linuxcnc-ref-mill/bad");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ngc"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 10);
+    let tmp = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("linuxcnc-ref-mill-bad");
+    std::fs::create_dir_all(&tmp).unwrap();
+    let profile = MillProfile::built_in("linuxcnc-mill").unwrap();
+    let mut failures = Vec::new();
+    for file in &files {
+        let run = Command::new(&rs274)
+            .current_dir(&tmp)
+            .arg("-g")
+            .arg(file)
+            .arg(tmp.join("out.canon"))
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        assert!(!run.status.success(), "{}: rs274 runs it", file.display());
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        let mut lines = stderr.lines().filter(|l| l.trim() != "executing");
+        let message = lines.next().unwrap_or("").trim().to_string();
+        let block = lines.next().unwrap_or("").trim().to_string();
+        let text = std::fs::read_to_string(file).unwrap();
+        let line = text
+            .lines()
+            .position(|l| l.trim() == block)
+            .map(|i| i as u32 + 1)
+            .unwrap_or_else(|| panic!("{}: rs274's block {block:?}", file.display()));
+        let options = millprog::Options {
+            start: Some([0.0; 3]),
+            ..millprog::Options::default()
+        };
+        let mut c = Collect(Vec::new());
+        match millprog::run(text.as_bytes(), &profile, &options, &mut c) {
+            Ok(_) => failures.push(format!("{}: threadcut runs it", file.display())),
+            Err(e) => {
+                let head = message.split(':').next().unwrap();
+                if !e.message.starts_with(head) || e.span.line != line {
+                    failures.push(format!(
+                        "{}: rs274 line {line} {message:?}; threadcut line {} {:?}",
+                        file.display(),
+                        e.span.line,
+                        e.message
+                    ));
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -821,7 +821,7 @@ fn the_issues_flags_alone_make_a_program_on_every_controller() {
     // The issue's command line, no --d-register: G41/G42 keep the offset register in force, which
     // the program and stderr both say. (--feed is required: the arc-feed compensation the issue
     // asks for compensates a requested feed.)
-    for controller in ["centroid", "fanuc-mill", "linuxcnc-mill"] {
+    for controller in ["centroid", "fanuc-mill", "haas-mill", "linuxcnc-mill"] {
         let (stdout, stderr, code) = run(&[
             "--thread",
             "M10x1.5",

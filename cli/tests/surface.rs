@@ -225,6 +225,34 @@ fn help_describes_file_and_output_everywhere() {
 // ---- controllers -----------------------------------------------------------------------------
 
 #[test]
+fn expand_reads_a_milling_program_on_a_milling_profile() {
+    let dir = temp_dir("mill-expand");
+    // A quarter circle G3 from (10, 0) about the origin (I-10) dropping 0.5, inch: 25.4 mm.
+    let file = write(
+        &dir,
+        "m.nc",
+        "G20 G90 G0 X1. Y0 Z0.1\nG1 Z0 F10.\nG3 X0 Y1. Z-0.02 I-1. J0\nM30\n",
+    );
+    let out = threadcut(&["expand", &file, "-c", "haas-mill", "--format", "jsonl"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    let arc = text.lines().nth(2).unwrap();
+    let v: serde_json::Value = serde_json::from_str(arc).unwrap();
+    assert_eq!(v["kind"], "arc");
+    assert_eq!(v["line"], 3);
+    assert!((v["y"].as_f64().unwrap() - 25.4).abs() < 1e-9);
+    assert!((v["z"].as_f64().unwrap() + 0.508).abs() < 1e-9);
+    assert_eq!(v["clockwise"], false);
+    assert_eq!(v["state"]["feed"]["value"].as_f64().unwrap(), 254.0);
+    // As G-code: the moves in mm, in the profile's format, ended by M30.
+    let out = threadcut(&["expand", &file, "-c", "haas-mill"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = stdout(&out);
+    assert!(text.contains("G3 X0. Y25.4 Z-0.508 I-25.4 J0."), "{text}");
+    assert!(text.trim_end().ends_with("M30"), "{text}");
+}
+
+#[test]
 fn controller_names_ignore_case_and_suggest() {
     let dir = temp_dir("names");
     let file = write(&dir, "p.nc", GSK);
@@ -254,6 +282,10 @@ fn controller_names_ignore_case_and_suggest() {
         err.contains("`threadcut mill --controller centroid …`"),
         "{err}"
     );
+    assert!(
+        err.contains("`threadcut expand --controller centroid --format jsonl`"),
+        "{err}"
+    );
     let out = threadcut(&[
         "mill",
         "--thread",
@@ -275,7 +307,7 @@ fn controller_names_ignore_case_and_suggest() {
         "{err}"
     );
     assert!(
-        err.contains("milling profiles: centroid, fanuc-mill, linuxcnc-mill"),
+        err.contains("milling profiles: centroid, fanuc-mill, haas-mill, linuxcnc-mill"),
         "{err}"
     );
 }

@@ -24,7 +24,7 @@ pub(crate) fn arc(
     g: Option<&Word>,
     out: &mut dyn Out,
 ) -> Result<()> {
-    let (a, b, n) = mill.plane.axes();
+    let (a, b, _) = mill.plane.axes();
     let to = mill.end_point(line)?;
     let gspan = span_of(line, g);
     let Some(from) = known(mill.pos) else {
@@ -62,7 +62,8 @@ pub(crate) fn arc(
                 Code::MissingWord,
                 gspan,
                 format!(
-                    "an arc without its centre: {} or R is needed in this plane",
+                    "{}: {} or R is needed in this plane",
+                    mill.lang.alarms.no_centre,
                     letters.map(|l| (l as char).to_string()).join(" and ")
                 ),
             )
@@ -72,7 +73,6 @@ pub(crate) fn arc(
     let mut c = from;
     c[a] = centre[a];
     c[b] = centre[b];
-    let _ = n;
     let m = MillMotion {
         kind: MillKind::Arc {
             centre: c,
@@ -106,7 +106,7 @@ fn turns(mill: &Mill, line: &Line) -> Result<u32> {
         return Err(Diagnostic::error(
             Code::OutOfRange,
             p.span,
-            "P word (turns) must be a positive integer",
+            format!("{}: P is the number of turns", mill.lang.alarms.turns),
         ));
     }
     Ok(v - 1)
@@ -138,18 +138,15 @@ fn r_centre(mill: &Mill, r: &Word, from: P3, end: P3, clockwise: bool) -> Result
             Code::Geometry,
             r.span,
             format!(
-                "an arc by R ends where it starts: {}",
-                if mill.lang.arc_turns {
-                    "Zero-radius arc"
-                } else {
-                    "a full circle needs I J K"
-                }
+                "{}: an arc by R ends where it starts",
+                mill.lang.alarms.r_full_circle
             ),
         )
         .with_hint("write a full circle with its centre (I J K)"));
     }
     let half = chord / 2.0;
-    let tol = if mill.lang.arc_turns {
+    // LinuxCNC allows no more than its TINY (1e-12 of R); the Fanuc family half an increment.
+    let tol = if mill.lang.radius == RadiusCheck::LinuxCnc {
         radius.abs() * 1e-12
     } else {
         eps
@@ -160,11 +157,7 @@ fn r_centre(mill: &Mill, r: &Word, from: P3, end: P3, clockwise: bool) -> Result
             r.span,
             format!(
                 "{}: R {:.4} mm is shorter than half the distance between the arc's ends ({:.4} mm)",
-                if mill.lang.arc_turns {
-                    "Arc radius too small to reach end point"
-                } else {
-                    mill.lang.radius_alarm
-                },
+                mill.lang.alarms.r_too_small,
                 radius.abs(),
                 half
             ),
@@ -216,7 +209,7 @@ fn check_radius(
         span,
         format!(
             "{}: the arc's end is {p2:.4} {u} from its centre, its start {p1:.4} {u}",
-            mill.lang.radius_alarm,
+            mill.lang.alarms.radius,
             u = units.name()
         ),
     )

@@ -5,6 +5,7 @@
 //! the return (G98: the initial level, G99: R). Only in G17 (the drilling axis Z).
 
 use crate::diag::{Code, Diagnostic};
+use crate::dialect::mill::Alarms;
 use crate::gcode::{Line, Word};
 use crate::mill::motion::{Feed, MillKind, Plane, Rotation, TapCycle};
 
@@ -79,6 +80,14 @@ pub(crate) fn cycle(
     }
     read_words(mill, line, code, gspan)?;
     let repeats = match line.word(mill.lang.cycles.repeat) {
+        // Fanuc's K takes 0 to 9999 ("K: number of repeats"); the others no more in practice.
+        Some(w) if w.value > 9999.0 => {
+            return Err(Diagnostic::error(
+                Code::OutOfRange,
+                w.span,
+                format!("{}{}: at most 9999 repeats", w.letter as char, w.value),
+            ))
+        }
         Some(w) => whole(w)?,
         None => 1,
     };
@@ -95,7 +104,7 @@ pub(crate) fn cycle(
         .with_hint("position Z with an absolute move before the cycle")
     })?;
     mill.cycle.level = Some(level);
-    let levels = levels(mill, level)?;
+    let levels = levels(mill, level);
     let mut target = mill.pos;
     for k in 0..repeats {
         for (axis, letter) in [b'X', b'Y'].iter().enumerate() {
@@ -154,28 +163,66 @@ fn read_words(mill: &mut Mill, line: &Line, code: u16, gspan: crate::diag::Span)
         };
         mill.cycle.p = Some(s);
     }
-    let missing = |what: &str, letter: char| {
+    let missing = |alarm: &str, letter: char| {
         Diagnostic::error(
             Code::MissingWord,
             gspan,
-            format!("{} without {letter}: {what}", g_name(code)),
+            Alarms::with_code(alarm, &g_name(code)),
         )
         .with_hint(format!("write {letter} on the cycle's first block"))
     };
+    let alarms = mill.lang.alarms;
     if mill.cycle.r.is_none() {
-        return Err(missing("where does the feed start (the R level)?", 'R'));
+        return Err(missing(alarms.cycle_no_r, 'R'));
     }
     if mill.cycle.z.is_none() {
-        return Err(missing("how deep is the hole?", 'Z'));
+        return Err(missing(alarms.cycle_no_z, 'Z'));
     }
     if matches!(code, 730 | 830) && mill.cycle.q.is_none() {
-        return Err(missing("how deep is each peck?", 'Q'));
+        return Err(missing(alarms.cycle_no_q, 'Q'));
+    }
+    if let (Some(alarm), true) = (alarms.cycle_no_p, matches!(code, 820 | 860 | 890)) {
+        if mill.cycle.p.is_none() {
+            return Err(missing(alarm, 'P'));
+        }
+    }
+    if let Some(spec) = mill.lang.cycles.taps.iter().find(|t| t.code == code) {
+        tap_spindle(mill, spec.left, code, gspan)?;
     }
     Ok(())
 }
 
+/// A tapping cycle's spindle, where the control checks it: turning, and the tap's way.
+fn tap_spindle(mill: &Mill, left: bool, code: u16, span: crate::diag::Span) -> Result<()> {
+    let alarms = mill.lang.alarms;
+    let against = if left { Rotation::Cw } else { Rotation::Ccw };
+    let alarm = match mill.rotation {
+        Rotation::Stopped => alarms.tap_spindle_stopped,
+        r if r == against => alarms.tap_spindle_reversed,
+        _ => None,
+    };
+    let Some(alarm) = alarm else {
+        return Ok(());
+    };
+    let dir = if left {
+        "clockwise"
+    } else {
+        "counterclockwise"
+    };
+    Err(Diagnostic::error(
+        Code::Spindle,
+        span,
+        Alarms::with_code(alarm, &g_name(code)).replace("{dir}", dir),
+    )
+    .with_hint(if left {
+        "a left-hand tap (G74) runs in with M4"
+    } else {
+        "a right-hand tap (G84) runs in with M3"
+    }))
+}
+
 /// R, the bottom and the return level of a hole: in G91 R from the initial level and Z from R.
-fn levels(mill: &Mill, level: f64) -> Result<Levels> {
+fn levels(mill: &Mill, level: f64) -> Levels {
     let (r, z) = (mill.cycle.r.unwrap_or(0.0), mill.cycle.z.unwrap_or(0.0));
     let shift = mill.local[2] + mill.g92[2];
     let (r, bottom) = if mill.absolute {
@@ -184,7 +231,7 @@ fn levels(mill: &Mill, level: f64) -> Result<Levels> {
         (level + r, level + r + z)
     };
     let clear = if mill.cycle.initial { level.max(r) } else { r };
-    Ok(Levels { r, bottom, clear })
+    Levels { r, bottom, clear }
 }
 
 fn hole(
@@ -309,7 +356,6 @@ fn tap(
     } else {
         MillKind::Feed
     };
-    let _ = spec.left;
     mill.straight(kind, at(lv.bottom), n, out)?;
     let turning = mill.rotation;
     mill.rotation = reverse(turning);

@@ -98,6 +98,10 @@ pub struct Flat<'p, W: Write> {
     tapping: bool,
     /// The control has a plain synchronised tap (G33.1).
     sync_block: bool,
+    /// The plane written last (the preamble's G17).
+    plane: Plane,
+    /// The control's program end.
+    end: &'static str,
 }
 
 impl<'p, W: Write> Flat<'p, W> {
@@ -122,7 +126,14 @@ impl<'p, W: Write> Flat<'p, W> {
             }),
             tapping: false,
             sync_block: super::language_of(profile)?.g33_1,
+            plane: Plane::Xy,
+            end: super::language_of(profile)?.program_end,
         })
+    }
+
+    /// Ends the program (the control's M30 or M2).
+    pub fn finish(mut self) -> Result<(), Diagnostic> {
+        writeln!(self.out, "{}", self.end).map_err(io)
     }
 
     fn num(&self, v: f64) -> String {
@@ -164,20 +175,18 @@ impl<'p, W: Write> Flat<'p, W> {
         w
     }
 
+    /// F when it changes, with G94/G95 when the mode does (G94 is the preamble's).
     fn feed_words(&self, s: &State) -> String {
-        let old = self.state.map(|o| o.feed);
-        match s.feed {
-            f if Some(f) == old => String::new(),
-            Feed::PerMinute(f) => format!(
-                " G94 F{}",
-                number(
-                    f,
-                    self.profile.feed_decimals_mm,
-                    self.profile.trailing_zeros
-                )
-            ),
-            Feed::PerRev(f) => format!(" G95 F{}", number(f, 4, self.profile.trailing_zeros)),
-            Feed::Unknown => String::new(),
+        let old = self.state.map_or(Feed::Unknown, |o| o.feed);
+        let tz = self.profile.trailing_zeros;
+        let per_min = |f: f64| number(f, self.profile.feed_decimals_mm, tz);
+        match (old, s.feed) {
+            (o, f) if o == f => String::new(),
+            (Feed::PerRev(_), Feed::PerMinute(f)) => format!(" G94 F{}", per_min(f)),
+            (_, Feed::PerMinute(f)) => format!(" F{}", per_min(f)),
+            (Feed::PerRev(_), Feed::PerRev(f)) => format!(" F{}", number(f, 4, tz)),
+            (_, Feed::PerRev(f)) => format!(" G95 F{}", number(f, 4, tz)),
+            (_, Feed::Unknown) => String::new(),
         }
     }
 }
@@ -206,12 +215,14 @@ impl<W: Write> Sink for Flat<'_, W> {
                 let (a, b, _) = plane.axes();
                 let l = [b'I', b'J', b'K'];
                 let plane_code = match plane {
-                    Plane::Xy => "G17",
-                    Plane::Zx => "G18",
-                    Plane::Yz => "G19",
+                    _ if plane == self.plane => "",
+                    Plane::Xy => "G17 ",
+                    Plane::Zx => "G18 ",
+                    Plane::Yz => "G19 ",
                 };
+                self.plane = plane;
                 let mut s = format!(
-                    "{plane_code} {} {xyz} {}{} {}{}",
+                    "{plane_code}{} {xyz} {}{} {}{}",
                     if clockwise { "G2" } else { "G3" },
                     l[a] as char,
                     self.num(centre[a] - m.from[a]),
@@ -244,7 +255,12 @@ impl<W: Write> Sink for Flat<'_, W> {
                 format!("G33.1 {xyz} K{}", number(lead, 4, false))
             }
         };
-        self.state = Some(m.state);
+        // A rapid writes no F: the feed the output has set stays what it was.
+        let feed = match (m.kind, self.state) {
+            (MillKind::Rapid, Some(old)) => old.feed,
+            _ => m.state.feed,
+        };
+        self.state = Some(State { feed, ..m.state });
         writeln!(self.out, "{block}").map_err(io)
     }
 

@@ -3,7 +3,7 @@
 //! offset, work system, then the non-modal codes and the motion).
 
 use crate::diag::{Code, Diagnostic, Span};
-use crate::dialect::mill::MillLanguage;
+use crate::dialect::mill::{Alarms, MillLanguage};
 use crate::gcode::{Line, Word};
 use crate::mill::motion::{Comp, Feed, MillKind, MillMotion, Plane, Rotation, State, TapCycle, P3};
 use crate::mill::profile::{Axes, MillReference};
@@ -69,6 +69,8 @@ pub(crate) struct Mill {
     /// Where the programmed point is, axis by axis (mm, work coordinates, shifts included).
     pub pos: [Option<f64>; 3],
     pub motion: Motion,
+    /// The last of G0, G1, G2, G3 (the Fanuc family's group 01, in force again after G80).
+    pub group1: Motion,
     pub cycle: CycleModal,
     /// M29 given: the next tapping cycle is rigid.
     pub m29: bool,
@@ -116,6 +118,7 @@ impl Mill {
             g92: [0.0; 3],
             pos: [None; 3],
             motion: Motion::Rapid,
+            group1: Motion::Rapid,
             cycle: CycleModal::new(lang.cycles.initial_level_at_power_on),
             m29: false,
             ended: false,
@@ -188,7 +191,7 @@ impl Mill {
     /// Executes one block.
     pub fn block(&mut self, line: &Line, out: &mut dyn Out) -> Result<()> {
         let codes = self.codes(line)?;
-        self.modes(line, &codes)?;
+        self.modes(&codes);
         self.words(line)?;
         self.compensation(line, &codes)?;
         self.length_offset(line, &codes)?;
@@ -248,8 +251,6 @@ impl Mill {
                 | 570
                 | 580
                 | 590
-                | 610
-                | 640
                 | 730
                 | 800..=890 | 900 | 910 | 920 | 930 | 940 | 950 | 980 | 990
         ) && c.is_multiple_of(10);
@@ -260,10 +261,15 @@ impl Mill {
             || (self.lang.g59_x && matches!(c, 591..=593))
             || (self.lang.centre_modes && matches!(c, 901 | 911))
             || (self.lang.g33_1 && c == 331)
+            || (self.lang.dynamic_comp && matches!(c, 411 | 421))
+            || self.lang.neutral.contains(&c)
+            || self.lang.probes.contains(&c)
+            || (self.lang.haas_work
+                && (matches!(c, 1100..=1290) && c.is_multiple_of(10) || c == 1540))
     }
 
     /// Units, plane, distance, arc-centre and feed modes, the return level.
-    fn modes(&mut self, line: &Line, codes: &[(u16, &Word)]) -> Result<()> {
+    fn modes(&mut self, codes: &[(u16, &Word)]) {
         for (c, _) in codes {
             match c {
                 200 => self.units = Units::Inch,
@@ -283,8 +289,6 @@ impl Mill {
                 _ => {}
             }
         }
-        let _ = line;
-        Ok(())
     }
 
     /// F, S, T and the M codes of the spindle and the tool change.
@@ -295,7 +299,8 @@ impl Mill {
                     if w.value < 0.0 {
                         return Err(bad_word(w, "a feed must not be negative"));
                     }
-                    self.f = Some(self.value_plain(w));
+                    // F is a rate: whole units without a decimal point on every control.
+                    self.f = Some(w.value);
                 }
                 b'S' => {
                     if w.value < 0.0 {
@@ -314,6 +319,19 @@ impl Mill {
                 5 | 19 => self.rotation = Rotation::Stopped,
                 6 => self.tool = self.next_tool.or(self.tool),
                 29 if self.lang.cycles.m29_rigid => self.m29 = true,
+                // Calls and returns are the interpreter's; a control without a macro language
+                // threadcut runs cannot have them passed over.
+                97..=99 if self.lang.macros.is_none() => {
+                    return Err(Diagnostic::error(
+                        Code::Unsupported,
+                        w.span,
+                        format!(
+                            "M{} (a subprogram call or return) is not read on {}: threadcut runs no subprograms there",
+                            w.value, self.lang.control
+                        ),
+                    )
+                    .with_hint("expand the program's subprograms into the main program"))
+                }
                 2 | 30 => self.ended = true,
                 _ => {}
             }
@@ -321,43 +339,39 @@ impl Mill {
         Ok(())
     }
 
-    /// F as written (a feed is a rate: without a decimal point it is whole units per minute on
-    /// every control threadcut reads).
-    fn value_plain(&self, w: &Word) -> f64 {
-        w.value
-    }
-
     /// G40, G41, G42 (with D); compensation is not started or ended on an arc.
     fn compensation(&mut self, line: &Line, codes: &[(u16, &Word)]) -> Result<()> {
-        let d = match line.word(b'D') {
-            Some(w) => Some(whole(w)?),
-            None => None,
+        let d = || match line.word(b'D') {
+            Some(w) => whole(w).map(Some),
+            None => Ok(None),
         };
-        for (c, w) in codes {
+        for (c, _) in codes {
+            // (G41.1/G42.1's D is the tool's diameter, not a register.)
             let comp = match c {
                 400 => Comp::Off,
-                410 => Comp::Left { d },
-                420 => Comp::Right { d },
+                410 => Comp::Left { d: d()? },
+                420 => Comp::Right { d: d()? },
+                411 => Comp::Left { d: None },
+                421 => Comp::Right { d: None },
                 _ => continue,
             };
-            if let Some((m, mw)) = codes.iter().find(|(m, _)| matches!(m, 20 | 30)) {
+            let arc = codes.iter().find(|(m, _)| matches!(m, 20 | 30));
+            let allowed = *c != 400 && self.lang.comp_start_on_arc;
+            if let (Some((m, mw)), false) = (arc, allowed) {
                 return Err(Diagnostic::error(
                     Code::Conflict,
                     mw.span,
                     format!(
-                        "{} starts or ends cutter compensation on an arc ({}): {}",
+                        "{}: {} on the arc's block ({})",
+                        self.lang.alarms.comp_on_arc,
                         g_name(*c),
-                        g_name(*m),
-                        if self.lang.control == "LinuxCNC" {
-                            "LinuxCNC turns compensation on or off on a straight move only"
-                        } else {
-                            "alarm PS0034 (no circular interpolation allowed in the start-up or cancel block)"
-                        }
+                        g_name(*m)
                     ),
                 )
-                .with_hint("start and end compensation on a straight move (G1, or G0) before the arc"));
+                .with_hint(
+                    "start and end compensation on a straight move (G1, or G0) before the arc",
+                ));
             }
-            let _ = w;
             self.comp = comp;
         }
         Ok(())
@@ -390,19 +404,23 @@ impl Mill {
     /// offsets are the machine's).
     fn work_system(&mut self, line: &Line, codes: &[(u16, &Word)]) -> Result<()> {
         for (c, w) in codes {
-            if !matches!(c, 540 | 550 | 560 | 570 | 580 | 590 | 541 | 591..=593) {
+            let haas = matches!(c, 1100..=1290 | 1540);
+            if !matches!(c, 540 | 550 | 560 | 570 | 580 | 590 | 541 | 591..=593) && !haas {
                 continue;
             }
-            let p = if *c == 541 {
+            let p = if *c == 541 || *c == 1540 {
                 let p = line
                     .word(b'P')
                     .ok_or_else(|| {
                         Diagnostic::error(
                             Code::MissingWord,
                             w.span,
-                            "G54.1 without P: which additional work coordinate system?",
+                            format!(
+                                "{} without P: which additional work coordinate system?",
+                                g_name(*c)
+                            ),
                         )
-                        .with_hint("write its number, e.g. G54.1 P1")
+                        .with_hint(format!("write its number, e.g. {} P1", g_name(*c)))
                     })
                     .and_then(whole)?;
                 if p == 0 || p > 300 {
@@ -447,7 +465,7 @@ impl Mill {
                     self.local_shift(line)?;
                     return Ok(true);
                 }
-                530 => {
+                c if *c == 530 || self.lang.probes.contains(c) => {
                     for (axis, letter) in AXES.iter().enumerate() {
                         if line.word(*letter).is_some() {
                             self.pos[axis] = None;
@@ -468,7 +486,7 @@ impl Mill {
     /// G52: the local shift, absolute in the work system (an axis not written keeps its
     /// shift). LinuxCNC's G52 is its G92 offset set to the values.
     fn local_shift(&mut self, line: &Line) -> Result<()> {
-        let linuxcnc = !self.lang.cycles.initial_level_at_power_on;
+        let linuxcnc = self.lang.g52_is_g92_offset;
         for (axis, letter) in AXES.iter().enumerate() {
             if let Some(w) = line.word(*letter) {
                 if linuxcnc {
@@ -511,7 +529,19 @@ impl Mill {
         } else {
             named
         };
-        let mid = self.end_point(line)?;
+        // The intermediate point; in G91 from where the tool is, which need not be known (the
+        // usual `G91 G28 Z0` at a program's start moves no further than the return itself).
+        let mut mid = self.pos;
+        for (axis, letter) in AXES.iter().enumerate() {
+            if let Some(w) = line.word(*letter) {
+                let v = self.mm(w);
+                mid[axis] = if self.absolute {
+                    Some(v + self.shift(axis))
+                } else {
+                    self.pos[axis].map(|p| p + v)
+                };
+            }
+        }
         self.rapid_to(mid, line.number, out)?;
         let reference: Axes = if code == 280 {
             self.reference.g28
@@ -559,6 +589,21 @@ impl Mill {
 
     /// The motion of the block: the modal G0/G1/G2/G3, a canned cycle, G33.1.
     fn motion(&mut self, line: &Line, codes: &[(u16, &Word)], out: &mut dyn Out) -> Result<()> {
+        if let Some(w) = line
+            .words
+            .iter()
+            .find(|w| matches!(w.letter, b'A' | b'B' | b'C' | b'U' | b'V' | b'W'))
+        {
+            return Err(Diagnostic::error(
+                Code::Unsupported,
+                w.span,
+                format!(
+                    "{}{}: threadcut reads the X, Y and Z axes of a machining centre, not rotary or parallel axes",
+                    w.letter as char, w.value
+                ),
+            )
+            .with_hint("a move of a rotary axis turns the part under the program's later moves"));
+        }
         let mut given = None;
         for (c, w) in codes {
             let m = match c {
@@ -569,10 +614,18 @@ impl Mill {
                 331 => {
                     return super::cycles::g33_1(self, line, w, out);
                 }
+                800 if !self.lang.g80_in_motion_group => {
+                    self.cycle.end();
+                    self.motion = self.group1;
+                    continue;
+                }
                 800 => Motion::None,
                 730 | 740 | 760 | 810..=890 => Motion::Cycle(*c),
                 _ => continue,
             };
+            if matches!(m, Motion::Rapid | Motion::Feed | Motion::Arc { .. }) {
+                self.group1 = m;
+            }
             if let Some((g, _)) = given {
                 return Err(Diagnostic::error(
                     Code::Conflict,
@@ -601,14 +654,14 @@ impl Mill {
                 let kind = if self.motion == Motion::Rapid {
                     MillKind::Rapid
                 } else {
-                    self.feed_needed(line, given.map(|g| g.1))?;
+                    self.feed_needed(line, given.map(|g| g.1), false)?;
                     MillKind::Feed
                 };
                 self.straight(kind, to, line.number, out)
             }
             Motion::Arc { clockwise } if moves => {
                 let g = given.map(|g| g.1);
-                self.feed_needed(line, g)?;
+                self.feed_needed(line, g, true)?;
                 arc::arc(self, line, clockwise, g, out)
             }
             Motion::Cycle(code) => {
@@ -624,21 +677,22 @@ impl Mill {
     }
 
     /// A feed move needs a feed (LinuxCNC: "Cannot do G1 with zero feed rate"; Fanuc: PS0011).
-    fn feed_needed(&self, line: &Line, g: Option<&Word>) -> Result<()> {
+    fn feed_needed(&self, line: &Line, g: Option<&Word>, arc: bool) -> Result<()> {
         if self.f.is_some_and(|f| f > 0.0) || self.feed_mode == FeedMode::InverseTime {
             return Ok(());
         }
         let span = g.map_or(line.span(), |w| w.span);
+        let alarm = if arc {
+            self.lang.alarms.zero_feed_arc
+        } else {
+            self.lang.alarms.zero_feed
+        };
         Err(Diagnostic::error(
             Code::MissingWord,
             span,
             format!(
-                "a feed move without a feed rate: {}",
-                if self.lang.control == "LinuxCNC" {
-                    "Cannot make a move with zero feed rate"
-                } else {
-                    "alarm PS0011 (feed zero)"
-                }
+                "{}: a feed move without a feed rate",
+                Alarms::with_code(alarm, "G1")
             ),
         )
         .with_hint("write F on this block or before it"))

@@ -314,7 +314,136 @@ fn alarms_at_their_line_and_column() {
         "G21 G0 X10 Y0 Z0\nG2 X0 Y-10.5 I-10 J0 F100\n",
     );
     assert!(e.message.starts_with("Radius to end of arc differs"));
+    // A rotary axis is not read.
+    let e = err("haas-mill", "G21 G0 X0 Y0 Z0\nG0 A90.\n");
+    assert_eq!((e.span.line, e.span.column), (2, 4));
     // G28 without a reference leaves the position unknown: an arc then has no start.
     let e = err("haas-mill", "G21 G0 X0 Y0 Z0\nG28\nG2 X1. Y1. R1. F10.\n");
     assert_eq!(e.span.line, 3);
+}
+
+#[test]
+fn a_shop_header_g91_g28_and_k_repeats() {
+    // A CAM post's safety line, the Z home, a work system, a tool and three holes 10 apart by K
+    // in G91: X 10, 20, 30 from X0, each R 2 below the initial level 30 (G91 R−28: 30 − 28),
+    // Z 5 below R (Z−5: −3).
+    let src = "%\nO1000 (PART)\nG00 G17 G40 G49 G80 G90 G15 G69 G05.1 Q1\nG91 G28 Z0.\n\
+        G90 G54 X0 Y0\nT1 M06\nS2000 M03\nG43 H01 Z30.\nG91 G99 G81 X10. R-28. Z-5. K3 F200.\nG80 G90\nM30\n%\n";
+    let c = ok("fanuc-mill", src);
+    let holes: Vec<f64> = c
+        .moves
+        .iter()
+        .filter(|m| matches!(m.kind, MillKind::Feed))
+        .map(|m| {
+            assert!((m.to[2] + 3.0).abs() < 1e-9, "{m:?}");
+            m.to[0]
+        })
+        .collect();
+    assert_eq!(holes, [10.0, 20.0, 30.0]);
+    // The first move known on every axis: G43 H01 Z30. (Z came home unknown).
+    assert_eq!(c.moves[0].line, 8);
+    assert!(c.moves[0].from[2].is_nan());
+    assert_eq!(c.moves[0].state.length_offset, Some(1));
+}
+
+#[test]
+fn haas_work_offsets_smoothing_and_local_subprograms() {
+    // G154 P1 and G187 read; M97 P100 runs N100 as a subprogram: a helix of one turn about
+    // (0, 0) from (8, 0, 0) to (8, 0, −1.25).
+    let src = "G20 G187 P1\nG21 G90 G154 P1 G0 X8. Y0 Z0\nF300.\nM97 P100\nM30\nN100 G3 X8. Y0 Z-1.25 I-8. J0\nM99\n";
+    let c = ok("haas-mill", src);
+    assert_eq!(c.moves.len(), 2);
+    assert!(near(centre(&c.moves[1]), [0.0, 0.0, 0.0]));
+    assert_at(&c.moves[1], [8.0, 0.0, -1.25]);
+    assert_eq!(c.moves[1].line, 6);
+}
+
+#[test]
+fn a_g65_macro_call_mills_its_arguments() {
+    // G65 P9010 A8. B2.: #1 = 8 (radius), #2 = 2 (pitch): one turn down one pitch.
+    let src = "G21 G90 G0 X0 Y0 Z0\nF200.\nG65 P9010 A8. B2.\nM30\nO9010\nG1 X#1\nG2 X#1 Y0 Z-#2 I-#1 J0\nM99\n";
+    let c = ok("fanuc-mill", src);
+    let arc = c.moves.last().unwrap();
+    assert!(near(centre(arc), [0.0, 0.0, 0.0]));
+    assert_at(arc, [8.0, 0.0, -2.0]);
+}
+
+#[test]
+fn the_profile_reference_places_g28_and_centroid_has_no_macros() {
+    let text = format!(
+        "{}\n[reference]\ng28 = {{ x = 0.0, y = 0.0, z = 100.0 }}\n",
+        crate::machine::MILL_BUILT_IN
+            .iter()
+            .find(|(n, _)| *n == "fanuc-mill")
+            .unwrap()
+            .1
+    );
+    let p = MillProfile::from_toml(&text).unwrap();
+    let mut c = Collect::default();
+    let src = "G21 G90 G0 X10. Y10. Z5.\nG28 Z10.\nG1 X20. F100.\n";
+    run(src.as_bytes(), &p, &Options::default(), &mut c).unwrap();
+    // Through Z10 (the intermediate point) to the reference Z100; X and Y stay.
+    assert_at(&c.moves[1], [10.0, 10.0, 10.0]);
+    assert_at(&c.moves[2], [10.0, 10.0, 100.0]);
+    assert_at(&c.moves[3], [20.0, 10.0, 100.0]);
+    // Centroid: `#` is not read, nor a subprogram call passed over.
+    let e = err("centroid", "G21 G0 X0 Y0 Z0\n#100 = 1\n");
+    assert_eq!(e.span.line, 2);
+    let e = err("centroid", "G21 G0 X0 Y0 Z0\nM98 P100\n");
+    assert_eq!((e.span.line, e.span.column), (2, 1));
+}
+
+#[test]
+fn a_change_of_work_system_and_g53_leave_the_position_unknown() {
+    let e = err(
+        "fanuc-mill",
+        "G21 G90 G54 G0 X0 Y0 Z0\nG55\nG91 G1 X1. F100.\n",
+    );
+    assert_eq!((e.span.line, e.span.column), (3, 8));
+    let e = err("fanuc-mill", "G21 G90 G0 X0 Y0 Z0\nG53 Z0\nG91 G0 Z1.\n");
+    assert_eq!(e.span.line, 3);
+    // The same system again keeps it.
+    ok(
+        "fanuc-mill",
+        "G21 G90 G54 G0 X0 Y0 Z0\nG54\nG91 G1 X1. F100.\n",
+    );
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+    /// Random blocks of the words a milling program holds never panic nor hang: each program is
+    /// read or refused with a diagnostic, on every milling profile.
+    #[test]
+    fn random_milling_blocks_are_read_or_refused(
+        blocks in proptest::collection::vec(
+            proptest::collection::vec(
+                (
+                    proptest::sample::select(vec![
+                        "G0", "G1", "G2", "G3", "G17", "G18", "G19", "G20", "G21", "G28", "G41",
+                        "G40", "G43", "G52", "G53", "G55", "G73", "G80", "G81", "G83", "G84",
+                        "G90", "G91", "G92", "G95", "G98", "G99", "G33.1", "M3", "M29", "M6",
+                        "X", "Y", "Z", "I", "J", "K", "R", "Q", "P", "F", "S", "H", "D", "L", "T",
+                    ]),
+                    -30i32..30,
+                ),
+                0..6,
+            ),
+            0..12,
+        ),
+        profile in proptest::sample::select(vec!["fanuc-mill", "haas-mill", "centroid", "linuxcnc-mill"]),
+    ) {
+        let mut src = String::from("G21 G90 G0 X0 Y0 Z10.\n");
+        for b in &blocks {
+            for (word, v) in b {
+                if word.starts_with(['G', 'M']) {
+                    src.push_str(word);
+                } else {
+                    src.push_str(&format!("{word}{}.", v));
+                }
+                src.push(' ');
+            }
+            src.push('\n');
+        }
+        let _ = read(profile, &src);
+    }
 }

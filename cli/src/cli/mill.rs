@@ -656,7 +656,7 @@ pub struct MillArgs {
     /// Offset register for G41/G42 (the D word).
     #[arg(long)]
     d_register: Option<u32>,
-    /// Milling controller profile, any case: centroid, fanuc-mill, linuxcnc-mill.
+    /// Milling controller profile, any case: centroid, fanuc-mill, haas-mill, linuxcnc-mill.
     #[arg(
         long,
         short = 'c',

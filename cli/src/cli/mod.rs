@@ -774,8 +774,13 @@ fn run_expand_mill(
                 let mut sink = millprog::output::Jsonl(out);
                 millprog::run(reader, profile, &options, &mut sink)
             }
-            ProgramFormat::Gcode => millprog::output::Flat::new(out, profile)
-                .and_then(|mut sink| millprog::run(reader, profile, &options, &mut sink)),
+            ProgramFormat::Gcode => {
+                millprog::output::Flat::new(out, profile).and_then(|mut sink| {
+                    let summary = millprog::run(reader, profile, &options, &mut sink)?;
+                    sink.finish()?;
+                    Ok(summary)
+                })
+            }
         }
         .map_err(input_error)?;
         not_empty(file, &content)?;
