@@ -197,6 +197,8 @@ fn a_rigid_tap_fed_at_pitch_times_speed_and_its_faults() {
     let r = run(TAP, "fanuc-mill", &named("M10x1.5-6H"));
     assert_eq!(found(&r), [], "{:?}", r.diagnostics);
     assert_eq!(r.threads, 2, "two holes");
+    // Both holes rigid: M29 lasts while the tapping cycle is modal.
+    assert!(notes(&r).matches("rigid").count() == 2, "{}", notes(&r));
     // F1190 at S800: 1.4875 per turn, behind the tap by 18 + 2 = 20 / 1.4875 × 0.0125 = 0.168.
     let text = TAP.replace("F1200.", "F1190.");
     let r = run(&text, "fanuc-mill", &named("M10x1.5-6H"));

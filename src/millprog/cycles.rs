@@ -11,38 +11,6 @@ use crate::mill::motion::{Feed, MillKind, Plane, Rotation, TapCycle};
 
 use super::state::{g_name, known, span_of, unknown_axis, whole, Mill, Out, Result};
 
-/// The canned cycles' modal values.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct CycleModal {
-    /// G98: return to the initial level (else G99: to R).
-    pub initial: bool,
-    /// R and Z as written (mm), Q (mm), P (seconds), kept while the cycle mode lasts.
-    r: Option<f64>,
-    z: Option<f64>,
-    q: Option<f64>,
-    p: Option<f64>,
-    /// The initial level (mm, work coordinates): Z when the cycle mode began.
-    level: Option<f64>,
-}
-
-impl CycleModal {
-    pub fn new(initial: bool) -> CycleModal {
-        CycleModal {
-            initial,
-            r: None,
-            z: None,
-            q: None,
-            p: None,
-            level: None,
-        }
-    }
-
-    /// The cycle mode ends (G80, a motion code): its words are forgotten.
-    pub fn end(&mut self) {
-        *self = CycleModal::new(self.initial);
-    }
-}
-
 /// One hole's levels (mm, work coordinates along Z).
 struct Levels {
     r: f64,
@@ -130,7 +98,6 @@ pub(crate) fn cycle(
         }
         hole(mill, line, code, [target[0], target[1]], &levels, out)?;
     }
-    mill.m29 = false;
     Ok(())
 }
 

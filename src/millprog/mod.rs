@@ -8,6 +8,7 @@
 
 mod arc;
 mod cycles;
+mod dispatch;
 pub mod output;
 mod state;
 

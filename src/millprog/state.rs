@@ -9,9 +9,6 @@ use crate::mill::motion::{Comp, Feed, MillKind, MillMotion, Plane, Rotation, Sta
 use crate::mill::profile::{Axes, MillReference};
 use crate::units::Units;
 
-use super::arc;
-use super::cycles::CycleModal;
-
 pub(crate) type Result<T> = std::result::Result<T, Diagnostic>;
 
 /// Where a block's moves and tapping events go.
@@ -93,7 +90,7 @@ pub(crate) fn g_name(code: u16) -> String {
     }
 }
 
-const AXES: [u8; 3] = [b'X', b'Y', b'Z'];
+pub(crate) const AXES: [u8; 3] = [b'X', b'Y', b'Z'];
 
 impl Mill {
     pub fn new(lang: MillLanguage, reference: MillReference, units: Units) -> Mill {
@@ -587,97 +584,8 @@ impl Mill {
         out.motion(&m, self.work)
     }
 
-    /// The motion of the block: the modal G0/G1/G2/G3, a canned cycle, G33.1.
-    fn motion(&mut self, line: &Line, codes: &[(u16, &Word)], out: &mut dyn Out) -> Result<()> {
-        if let Some(w) = line
-            .words
-            .iter()
-            .find(|w| matches!(w.letter, b'A' | b'B' | b'C' | b'U' | b'V' | b'W'))
-        {
-            return Err(Diagnostic::error(
-                Code::Unsupported,
-                w.span,
-                format!(
-                    "{}{}: threadcut reads the X, Y and Z axes of a machining centre, not rotary or parallel axes",
-                    w.letter as char, w.value
-                ),
-            )
-            .with_hint("a move of a rotary axis turns the part under the program's later moves"));
-        }
-        let mut given = None;
-        for (c, w) in codes {
-            let m = match c {
-                0 => Motion::Rapid,
-                10 => Motion::Feed,
-                20 => Motion::Arc { clockwise: true },
-                30 => Motion::Arc { clockwise: false },
-                331 => {
-                    return super::cycles::g33_1(self, line, w, out);
-                }
-                800 if !self.lang.g80_in_motion_group => {
-                    self.cycle.end();
-                    self.motion = self.group1;
-                    continue;
-                }
-                800 => Motion::None,
-                730 | 740 | 760 | 810..=890 => Motion::Cycle(*c),
-                _ => continue,
-            };
-            if matches!(m, Motion::Rapid | Motion::Feed | Motion::Arc { .. }) {
-                self.group1 = m;
-            }
-            if let Some((g, _)) = given {
-                return Err(Diagnostic::error(
-                    Code::Conflict,
-                    w.span,
-                    format!(
-                        "{} and {} in one block: two motion codes",
-                        g_name(g),
-                        g_name(*c)
-                    ),
-                ));
-            }
-            given = Some((*c, *w));
-            if !matches!(m, Motion::Cycle(_)) {
-                self.cycle.end();
-            }
-            self.motion = m;
-        }
-        let moves = AXES.iter().any(|l| line.word(*l).is_some())
-            || (matches!(self.motion, Motion::Arc { .. })
-                && [b'I', b'J', b'K', b'R']
-                    .iter()
-                    .any(|l| line.word(*l).is_some()));
-        match self.motion {
-            Motion::Rapid | Motion::Feed if moves => {
-                let to = self.end_point(line)?;
-                let kind = if self.motion == Motion::Rapid {
-                    MillKind::Rapid
-                } else {
-                    self.feed_needed(line, given.map(|g| g.1), false)?;
-                    MillKind::Feed
-                };
-                self.straight(kind, to, line.number, out)
-            }
-            Motion::Arc { clockwise } if moves => {
-                let g = given.map(|g| g.1);
-                self.feed_needed(line, g, true)?;
-                arc::arc(self, line, clockwise, g, out)
-            }
-            Motion::Cycle(code) => {
-                let cycle_words = moves || given.is_some();
-                if cycle_words {
-                    super::cycles::cycle(self, line, code, given.map(|g| g.1), out)
-                } else {
-                    Ok(())
-                }
-            }
-            _ => Ok(()),
-        }
-    }
-
     /// A feed move needs a feed (LinuxCNC: "Cannot do G1 with zero feed rate"; Fanuc: PS0011).
-    fn feed_needed(&self, line: &Line, g: Option<&Word>, arc: bool) -> Result<()> {
+    pub(crate) fn feed_needed(&self, line: &Line, g: Option<&Word>, arc: bool) -> Result<()> {
         if self.f.is_some_and(|f| f > 0.0) || self.feed_mode == FeedMode::InverseTime {
             return Ok(());
         }
@@ -696,6 +604,38 @@ impl Mill {
             ),
         )
         .with_hint("write F on this block or before it"))
+    }
+}
+
+/// The canned cycles' modal values.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct CycleModal {
+    /// G98: return to the initial level (else G99: to R).
+    pub initial: bool,
+    /// R and Z as written (mm), Q (mm), P (seconds), kept while the cycle mode lasts.
+    pub(crate) r: Option<f64>,
+    pub(crate) z: Option<f64>,
+    pub(crate) q: Option<f64>,
+    pub(crate) p: Option<f64>,
+    /// The initial level (mm, work coordinates): Z when the cycle mode began.
+    pub(crate) level: Option<f64>,
+}
+
+impl CycleModal {
+    pub fn new(initial: bool) -> CycleModal {
+        CycleModal {
+            initial,
+            r: None,
+            z: None,
+            q: None,
+            p: None,
+            level: None,
+        }
+    }
+
+    /// The cycle mode ends (G80, a motion code): its words are forgotten.
+    pub fn end(&mut self) {
+        *self = CycleModal::new(self.initial);
     }
 }
 
