@@ -216,7 +216,9 @@ fn rough(cycle: &Removal, profile: &[Piece], start: P, out: &mut Out) -> Result<
         .fold(f64::INFINITY, f64::min);
     let total = top - low;
     let count = if total > TOL.get() {
-        (total / cycle.depth - TOL.get() / cycle.depth).ceil().max(1.0)
+        (total / cycle.depth - TOL.get() / cycle.depth)
+            .ceil()
+            .max(1.0)
     } else {
         0.0
     };
@@ -240,7 +242,10 @@ fn rough(cycle: &Removal, profile: &[Piece], start: P, out: &mut Out) -> Result<
         out.go(end, MotionKind::Feed);
         let (j, up) = first_at_or_above(profile, above, i);
         out.follow(profile, (i, end), (j, up));
-        out.go(P::new(up.t - cycle.lift, up.h + cycle.lift), MotionKind::Rapid);
+        out.go(
+            P::new(up.t - cycle.lift, up.h + cycle.lift),
+            MotionKind::Rapid,
+        );
         out.go(P::new(start.t, out.at.h), MotionKind::Rapid);
     }
     out.go(start, MotionKind::Rapid);

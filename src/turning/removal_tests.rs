@@ -304,8 +304,17 @@ fn an_arc_is_followed_and_cut_where_the_layer_meets_it() {
     // Centre (20, −10), radius 10: at x = 15, z = −10 − √75 = −18.66025.
     let z = -10.0 - 75f64.sqrt();
     assert_eq!(m[2].kind, F);
-    assert!((m[2].to.x - 15.0).abs() < 1e-4 && (m[2].to.z - z).abs() < 1e-4, "{m:?}");
-    assert!(matches!(m[3].kind, K::Arc { clockwise: true, .. }));
+    assert!(
+        (m[2].to.x - 15.0).abs() < 1e-4 && (m[2].to.z - z).abs() < 1e-4,
+        "{m:?}"
+    );
+    assert!(matches!(
+        m[3].kind,
+        K::Arc {
+            clockwise: true,
+            ..
+        }
+    ));
     assert!((m[3].to.x - 20.0).abs() < 1e-4 && (m[3].to.z + 20.0).abs() < 1e-4);
 }
 
