@@ -365,14 +365,14 @@ fn a_rapid_through_a_linuxcnc_g76_thread_is_found() {
 
 #[test]
 fn a_turning_cycle_threadcut_does_not_simulate_is_said() {
-    // Sinumerik CYCLE95 passes through unsimulated: check says so at its call, so that a finding
-    // about the blank after it is read knowing the part lacks what it turned.
-    let prog = "G18 G90 G95 DIAMON\nT1 D1\nG97 S800 M3\nG0 X32 Z2\nCYCLE95(\"CONTOUR_1\",2,0.2,0.1,,0.3,0.2,0.1,9,,,)\nG0 X30 Z8\nCYCLE97(1.5,,0,-35,24,24,4,2,0.92,0.05,29,0,8,2,3,1)\nG0 X100 Z100\nM30\n";
+    // Sinumerik CYCLE93 (grooving) passes through unsimulated: check says so at its call, so
+    // that a finding about the blank after it is read knowing the part lacks what it cut.
+    let prog = "G18 G90 G95 DIAMON\nT1 D1\nG97 S800 M3\nG0 X32 Z2\nCYCLE93(24,-30,3,1.5,0,0,0,0,0,0,0,0.2,0.2,1,0,5,1)\nG0 X30 Z8\nCYCLE97(1.5,,0,-35,24,24,4,2,0.92,0.05,29,0,8,2,3,1)\nG0 X100 Z100\nM30\n";
     let r = run(prog, "sinumerik");
     assert!(
         r.diagnostics.iter().any(|d| d.code == Code::Suspicious
             && d.span.line == 5
-            && d.message.starts_with("CYCLE95 is not simulated")),
+            && d.message.starts_with("CYCLE93 is not simulated")),
         "{:?}",
         r.diagnostics
     );

@@ -506,7 +506,7 @@ impl Sinumerik {
                                 Code::Suspicious,
                                 span,
                                 format!("{n} is not simulated by threadcut: the material it removes is not in the part `check` follows, and where it leaves the tool is not known"),
-                            ).with_hint("the blank at a thread after it is the bar given (--stock-diameter) or the thread's crest; docs/dialects/sinumerik.md, \"CYCLE95\""));
+                            ).with_hint("the blank at a thread after it is the bar given (--stock-diameter) or the thread's crest; docs/dialects/sinumerik.md, \"Turning cycles not simulated\""));
                         }
                     }
                     n if PASSIVE_CALLS.contains(&n) => {}
