@@ -91,6 +91,30 @@ fn check_values(cycle: &Removal, line: u32) -> Result<()> {
             "the contour has no block after its first point",
         ));
     }
+    if cycle.allowance > 0.0 {
+        normal_allowance_on_axis_lines(&cycle.contour)?;
+    }
+    Ok(())
+}
+
+/// The allowance along the contour is a shift by it in both axes only where every piece is a
+/// line along an axis (each edge then moves by it along its normal, and the corners where two
+/// meet move by it in both axes); on a taper or an arc it would be an offset the model does not
+/// make.
+fn normal_allowance_on_axis_lines(contour: &Contour) -> Result<()> {
+    let mut from = contour.start;
+    for s in &contour.segments {
+        let along_axis = TOL.eq(s.to.x, from.x) || TOL.eq(s.to.z, from.z);
+        if matches!(s.shape, Shape::Arc { .. }) || !along_axis {
+            return Err(Diagnostic::error(
+                Code::Unsupported,
+                at_line(s.line),
+                "a finishing allowance along the contour on a taper or an arc: threadcut does not offset a stock removal's contour normal to itself",
+            )
+            .with_hint("give the allowance on each axis instead"));
+        }
+        from = s.to;
+    }
     Ok(())
 }
 

@@ -348,3 +348,20 @@ fn values_no_cycle_runs_with_are_errors() {
     r.depth = 1e-9;
     assert_eq!(moves(&r, 3).unwrap_err().code, Code::TooManyPasses);
 }
+
+#[test]
+fn the_allowance_along_the_contour_is_a_shift_on_axis_lines_and_refused_on_a_taper() {
+    // FAL 0.3 on the stepped shaft: the same moves as FALX 0.3 with FALZ 0.3.
+    let mut a = removal(Along::Z, false, shaft());
+    a.allowance = 0.3;
+    let mut b = removal(Along::Z, false, shaft());
+    b.allowance_x = 0.3;
+    b.allowance_z = 0.3;
+    assert_eq!(moves(&a, 1).unwrap(), moves(&b, 1).unwrap());
+    // A chamfer (X and Z in one block): refused at its block.
+    let c = contour(&[(8.0, 0.0), (10.0, -2.0), (10.0, -20.0), (20.0, -20.0)]);
+    let mut r = removal(Along::Z, false, c);
+    r.allowance = 0.3;
+    let e = moves(&r, 1).unwrap_err();
+    assert_eq!((e.code, e.span.line), (Code::Unsupported, 101));
+}

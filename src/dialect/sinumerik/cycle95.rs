@@ -84,12 +84,16 @@ pub(super) fn read(call: &Call, line: &Line, modal: &Modal) -> Result<Pending> {
         .with_hint("leave DAM empty or 0; docs/dialects/sinumerik.md, \"CYCLE95\""));
     }
     let lift = match unsigned(11)? {
-        v if v == 0.0 => DEFAULT_LIFT_MM,
+        0.0 => DEFAULT_LIFT_MM,
         v => v,
     };
     let from = modal.position.known();
     let removal = Removal {
-        along: if kind % 2 == 0 { Along::Z } else { Along::X },
+        along: if kind.is_multiple_of(2) {
+            Along::Z
+        } else {
+            Along::X
+        },
         internal: kind % 4 >= 2,
         from: from.unwrap_or(Pos::new(0.0, 0.0)),
         depth,
@@ -174,10 +178,16 @@ impl Pending {
                 .iter()
                 .find(|s| s.0 == d.span.line)
                 .map_or(self.span, |s| s.1);
-            Diagnostic { span, ..d }.with_hint(format!(
-                "in the contour of the CYCLE95 at line {}",
-                self.line
-            ))
+            let hint = match &d.hint {
+                // The model's words for FAL's refusal, in the cycle's.
+                Some(h) if d.message.contains("allowance along the contour") => format!(
+                    "{h}: FALZ and FALX, FAL empty (in the contour of the CYCLE95 at line {})",
+                    self.line
+                ),
+                Some(h) => format!("{h} (in the contour of the CYCLE95 at line {})", self.line),
+                None => format!("in the contour of the CYCLE95 at line {}", self.line),
+            };
+            Diagnostic { span, ..d }.with_hint(hint)
         };
         let start = turning::removal::start_point(&self.removal).map_err(at_block)?;
         if !self.from_known {
