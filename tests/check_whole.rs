@@ -527,3 +527,36 @@ fn a_rapid_through_a_modal_g92_thread_is_found_once() {
         "runs through the thread cut at line 5"
     ));
 }
+
+#[test]
+fn a_face_cycle_whose_first_layer_rapids_under_the_groove_is_told() {
+    // tests/data/linuxcnc-ref/g72-1-g72-2-face-groove-g7.ngc (moves equal to rs274's): G72's
+    // first layer rapids from X0 to X40 at Z-6.2, then retracts to Z-6.5. The tool starts at
+    // X44 Z2 and G72.1 leaves its allowance on the +Z side, so the face's material lies on -Z of
+    // the profile; no move before reached Z-6.2 between Ø4.36 and Ø40 (G72.1 stays above Z-5.6
+    // there, G72.2's outline runs down the groove's flank to Ø4, Z-6.2). Both rapids run through
+    // material the program left: a true finding, not a false one (docs/dialects/
+    // linuxcnc-turning.md, "A face profile's side").
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/linuxcnc-ref/g72-1-g72-2-face-groove-g7.ngc"
+    );
+    let r = run(&std::fs::read_to_string(path).unwrap(), "linuxcnc");
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            17,
+            "rapid move to X40 Z-6.2 runs into the profile at Ø4, Z-6.2 (cut at line 16)"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    assert!(has(
+        &r,
+        Code::Collision,
+        17,
+        "rapid move to X0.6 Z-6.5 runs inside the part"
+    ));
+    assert_eq!(errors(&r).len(), 2, "{:?}", errors(&r));
+}
