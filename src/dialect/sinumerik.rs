@@ -563,22 +563,7 @@ impl Sinumerik {
             return self.cycle97(&call, &own, modal, warnings);
         }
         if let Some(call) = stock {
-            if let Some(w) = own.words.iter().find(|w| w.letter != b'N') {
-                return Err(Diagnostic::error(
-                    Code::Conflict,
-                    w.span,
-                    format!(
-                        "{}{} shares a block with CYCLE95",
-                        w.letter as char, w.value
-                    ),
-                )
-                .with_hint("write CYCLE95 in a block of its own"));
-            }
-            self.cycle95 = Some(cycle95::read(&call, &own, modal)?);
-            self.profile_next = true;
-            // The block reads the contour the interpreter runs next (no move of its own); the
-            // cycle is complete at the contour's end.
-            return Ok(Read::Applied(None));
+            return self.cycle95(&call, &own, modal);
         }
         let mv = match self.read_words(&own, modal, leaves)? {
             Read::Plain => modal.apply(&self.conv, &own)?,
@@ -776,6 +761,26 @@ impl Sinumerik {
             }
         }
         Ok(cycle95::Call { name, args: values })
+    }
+
+    /// A CYCLE95 block: alone in its block, its contour read next.
+    fn cycle95(&mut self, call: &cycle95::Call, own: &Line, modal: &Modal) -> Result<Read> {
+        if let Some(w) = own.words.iter().find(|w| w.letter != b'N') {
+            return Err(Diagnostic::error(
+                Code::Conflict,
+                w.span,
+                format!(
+                    "{}{} shares a block with CYCLE95",
+                    w.letter as char, w.value
+                ),
+            )
+            .with_hint("write CYCLE95 in a block of its own"));
+        }
+        self.cycle95 = Some(cycle95::read(call, own, modal)?);
+        self.profile_next = true;
+        // The block reads the contour the interpreter runs next (no move of its own); the cycle
+        // is complete at the contour's end.
+        Ok(Read::Applied(None))
     }
 
     /// A block of CYCLE95's contour: read as any block is, its move added to the contour.
