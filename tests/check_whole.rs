@@ -365,14 +365,14 @@ fn a_rapid_through_a_linuxcnc_g76_thread_is_found() {
 
 #[test]
 fn a_turning_cycle_threadcut_does_not_simulate_is_said() {
-    // Sinumerik CYCLE95 passes through unsimulated: check says so at its call, so that a finding
-    // about the blank after it is read knowing the part lacks what it turned.
-    let prog = "G18 G90 G95 DIAMON\nT1 D1\nG97 S800 M3\nG0 X32 Z2\nCYCLE95(\"CONTOUR_1\",2,0.2,0.1,,0.3,0.2,0.1,9,,,)\nG0 X30 Z8\nCYCLE97(1.5,,0,-35,24,24,4,2,0.92,0.05,29,0,8,2,3,1)\nG0 X100 Z100\nM30\n";
+    // Sinumerik CYCLE93 (grooving) passes through unsimulated: check says so at its call, so
+    // that a finding about the blank after it is read knowing the part lacks what it cut.
+    let prog = "G18 G90 G95 DIAMON\nT1 D1\nG97 S800 M3\nG0 X32 Z2\nCYCLE93(24,-30,3,1.5,0,0,0,0,0,0,0,0.2,0.2,1,0,5,1)\nG0 X30 Z8\nCYCLE97(1.5,,0,-35,24,24,4,2,0.92,0.05,29,0,8,2,3,1)\nG0 X100 Z100\nM30\n";
     let r = run(prog, "sinumerik");
     assert!(
         r.diagnostics.iter().any(|d| d.code == Code::Suspicious
             && d.span.line == 5
-            && d.message.starts_with("CYCLE95 is not simulated")),
+            && d.message.starts_with("CYCLE93 is not simulated")),
         "{:?}",
         r.diagnostics
     );
@@ -526,4 +526,37 @@ fn a_rapid_through_a_modal_g92_thread_is_found_once() {
         10,
         "runs through the thread cut at line 5"
     ));
+}
+
+#[test]
+fn a_face_cycle_whose_first_layer_rapids_under_the_groove_is_told() {
+    // tests/data/linuxcnc-ref/g72-1-g72-2-face-groove-g7.ngc (moves equal to rs274's): G72's
+    // first layer rapids from X0 to X40 at Z-6.2, then retracts to Z-6.5. The tool starts at
+    // X44 Z2 and G72.1 leaves its allowance on the +Z side, so the face's material lies on -Z of
+    // the profile; no move before reached Z-6.2 between Ø4.36 and Ø40 (G72.1 stays above Z-5.6
+    // there, G72.2's outline runs down the groove's flank to Ø4, Z-6.2). Both rapids run through
+    // material the program left: a true finding, not a false one (docs/dialects/
+    // linuxcnc-turning.md, "A face profile's side").
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/linuxcnc-ref/g72-1-g72-2-face-groove-g7.ngc"
+    );
+    let r = run(&std::fs::read_to_string(path).unwrap(), "linuxcnc");
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            17,
+            "rapid move to X40 Z-6.2 runs into the profile at Ø4, Z-6.2 (cut at line 16)"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    assert!(has(
+        &r,
+        Code::Collision,
+        17,
+        "rapid move to X0.6 Z-6.5 runs inside the part"
+    ));
+    assert_eq!(errors(&r).len(), 2, "{:?}", errors(&r));
 }

@@ -557,7 +557,7 @@ fn diamof_and_diam90_read_x_on_radius() {
 }
 
 /// A program written as a Sinumerik shop writes one: the control's file header, a blank for the
-/// simulation, tools by name, constant cutting speed with a speed limit, comments, a roughing
+/// simulation, tools by name, constant cutting speed with a speed limit, comments, a grooving
 /// cycle passed through, R parameters for the thread, and the thread cycle.
 const SHOP: &str = "%_N_SHAFT_M24_MPF
 ;$PATH=/_N_WKS_DIR/_N_SHAFT_WPD
@@ -567,7 +567,7 @@ N20 WORKPIECE(,\"\",,\"CYLINDER\",0,0,-80,-80,30)
 N30 T=\"ROUGHING_80\" D1
 N40 G96 S220 LIMS=3000 M4
 N50 G0 X32 Z2 M8
-N60 CYCLE95(\"CONTOUR_1\",2,0.2,0.1,,0.3,0.2,0.1,9,,,)
+N60 CYCLE93(24,-30,3,1.5,0,0,0,0,0,0,0,0.2,0.2,1,0,5,1)
 N70 G0 X100 Z100
 N80 T=\"THREAD_EXT_1.5\" D1 ; 60 deg insert
 N90 G97 S1000 M3

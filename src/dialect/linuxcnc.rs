@@ -837,6 +837,7 @@ impl Dialect for LinuxCnc {
             m99_p_jumps: false,
             wide_commons: false,
             plain_names: &[],
+            profile_calls: &[],
         })
     }
 

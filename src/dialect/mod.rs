@@ -236,6 +236,13 @@ pub trait Dialect {
     fn profile_call(&mut self) -> Option<f64> {
         None
     }
+    /// After a block: whether it asked for the contour the program's next instruction reads (a
+    /// call the interpreter compiled as a profile read: Sinumerik's CYCLE95 NPP,
+    /// [`crate::interp::Syntax::profile_calls`]); its blocks then come to
+    /// [`profile_block`](Dialect::profile_block) until [`profile_end`](Dialect::profile_end).
+    fn profile_follows(&mut self) -> bool {
+        false
+    }
     /// A block of the profile subroutine: read, not executed (the position may follow it, as
     /// the parameters that report it do in LinuxCNC).
     fn profile_block(&mut self, _line: &Line, _modal: &mut Modal) -> Result<()> {

@@ -8,6 +8,7 @@
 //! ([`block`]). Every decision is a row of `docs/dialects/sinumerik.md`.
 
 mod block;
+mod cycle95;
 mod cycle97;
 
 use std::collections::HashMap;
@@ -64,9 +65,9 @@ const PASSIVE_SETTINGS: &[&str] = &[
 
 /// Calls that change nothing threadcut follows: messages, the simulation's blank, the master
 /// spindle.
-/// Sinumerik's turning cycles that remove material threadcut does not simulate (stock removal,
-/// grooving, undercuts).
-const TURNING_CALLS: &[&str] = &["CYCLE93", "CYCLE94", "CYCLE95", "CYCLE96"];
+/// Sinumerik's turning cycles that remove material threadcut does not simulate (grooving,
+/// undercuts). (CYCLE95, stock removal, is read: `cycle95`.)
+const TURNING_CALLS: &[&str] = &["CYCLE93", "CYCLE94", "CYCLE96"];
 
 const PASSIVE_CALLS: &[&str] = &["MSG", "WORKPIECE", "SETMS", "SETPIECE", "SPOS", "SUPD"];
 
@@ -257,6 +258,10 @@ pub struct Sinumerik {
     r: HashMap<u32, f64>,
     /// Variables declared with DEF in this program.
     vars: HashMap<String, f64>,
+    /// A CYCLE95 whose contour the interpreter is about to run (or runs) as its profile.
+    cycle95: Option<cycle95::Pending>,
+    /// The last block was a CYCLE95: the program's next instruction reads its contour.
+    profile_next: bool,
 }
 
 impl Sinumerik {
@@ -286,6 +291,8 @@ impl Sinumerik {
             offset_active: true,
             r: HashMap::new(),
             vars: HashMap::new(),
+            cycle95: None,
+            profile_next: false,
         }
     }
 
@@ -459,6 +466,7 @@ impl Sinumerik {
         let items = block::parse(line.text, line.number, line.offset)?;
         let mut words: Vec<Word> = Vec::new();
         let mut cycle = None;
+        let mut stock = None;
         let mut leaves = Leaves::Known;
         let mut machine_axis = None;
         for item in items {
@@ -481,6 +489,7 @@ impl Sinumerik {
                     arg_spans,
                 } => match name.as_str() {
                     "CYCLE97" => cycle = Some(self.cycle97_call(span, &args, &arg_spans)?),
+                    "CYCLE95" => stock = Some(self.cycle95_call(span, &args, &arg_spans)?),
                     "CYCLE99" => return Err(Diagnostic::error(
                         Code::Unsupported,
                         span,
@@ -497,7 +506,7 @@ impl Sinumerik {
                                 Code::Suspicious,
                                 span,
                                 format!("{n} is not simulated by threadcut: the material it removes is not in the part `check` follows, and where it leaves the tool is not known"),
-                            ).with_hint("the blank at a thread after it is the bar given (--stock-diameter) or the thread's crest; docs/dialects/sinumerik.md, \"CYCLE95\""));
+                            ).with_hint("the blank at a thread after it is the bar given (--stock-diameter) or the thread's crest; docs/dialects/sinumerik.md, \"Turning cycles not simulated\""));
                         }
                     }
                     n if PASSIVE_CALLS.contains(&n) => {}
@@ -552,6 +561,9 @@ impl Sinumerik {
                 .with_hint("write CYCLE97 in a block of its own"));
             }
             return self.cycle97(&call, &own, modal, warnings);
+        }
+        if let Some(call) = stock {
+            return self.cycle95(&call, &own, modal);
         }
         let mv = match self.read_words(&own, modal, leaves)? {
             Read::Plain => modal.apply(&self.conv, &own)?,
@@ -715,6 +727,84 @@ impl Sinumerik {
         Ok(cycle97::Call { name, args: values })
     }
 
+    /// The values of a CYCLE95 call's numeric parameters (NPP, the contour's name, is the
+    /// interpreter's: it runs the contour as the cycle's profile).
+    fn cycle95_call(
+        &self,
+        name: Span,
+        args: &[Option<Operand>],
+        spans: &[Span],
+    ) -> Result<cycle95::Call> {
+        if args.len() > cycle95::NAMES.len() {
+            return Err(Diagnostic::error(
+                Code::Syntax,
+                spans[cycle95::NAMES.len()],
+                format!(
+                    "CYCLE95 takes {} parameters ({}), and this call has {}",
+                    cycle95::NAMES.len(),
+                    cycle95::NAMES.join(", "),
+                    args.len()
+                ),
+            ));
+        }
+        if !matches!(args.first(), Some(Some(Operand::Text { .. }))) {
+            return Err(Diagnostic::error(
+                Code::MissingWord,
+                spans.first().copied().unwrap_or(name),
+                "CYCLE95: NPP, the contour, is text: the subprogram's name (\"NAME\") or two labels of this program (\"START:END\")",
+            ));
+        }
+        let mut values = [None; 12];
+        for (i, (arg, span)) in args.iter().zip(spans).enumerate().skip(1) {
+            if let Some(op) = arg {
+                values[i] = Some((self.value(op)?, *span));
+            }
+        }
+        Ok(cycle95::Call { name, args: values })
+    }
+
+    /// A CYCLE95 block: alone in its block, its contour read next.
+    fn cycle95(&mut self, call: &cycle95::Call, own: &Line, modal: &Modal) -> Result<Read> {
+        if let Some(w) = own.words.iter().find(|w| w.letter != b'N') {
+            return Err(Diagnostic::error(
+                Code::Conflict,
+                w.span,
+                format!(
+                    "{}{} shares a block with CYCLE95",
+                    w.letter as char, w.value
+                ),
+            )
+            .with_hint("write CYCLE95 in a block of its own"));
+        }
+        self.cycle95 = Some(cycle95::read(call, own, modal)?);
+        self.profile_next = true;
+        // The block reads the contour the interpreter runs next (no move of its own); the cycle
+        // is complete at the contour's end.
+        Ok(Read::Applied(None))
+    }
+
+    /// A block of CYCLE95's contour: read as any block is, its move added to the contour.
+    fn contour_block(&mut self, line: &Line, modal: &mut Modal) -> Result<()> {
+        let mut warnings = Vec::new();
+        let read = self.read(line, modal, &mut warnings)?;
+        let mv = match read {
+            Read::Plain => modal.apply(&self.conv, line)?,
+            Read::Applied(mv) | Read::Own { mv, .. } => mv,
+            Read::Settings => None,
+            _ => {
+                return Err(Diagnostic::error(
+                    Code::Unsupported,
+                    line.span(),
+                    "a cycle inside CYCLE95's contour",
+                ))
+            }
+        };
+        match self.cycle95.as_mut() {
+            Some(p) => p.block(line, mv),
+            None => Ok(()),
+        }
+    }
+
     fn cycle97(
         &mut self,
         call: &cycle97::Call,
@@ -851,6 +941,21 @@ impl Dialect for Sinumerik {
         }
     }
 
+    fn profile_follows(&mut self) -> bool {
+        std::mem::take(&mut self.profile_next)
+    }
+
+    fn profile_block(&mut self, line: &Line, modal: &mut Modal) -> Result<()> {
+        self.contour_block(line, modal)
+    }
+
+    fn profile_end(&mut self, modal: &mut Modal, end: Span) -> Result<Read> {
+        match self.cycle95.take() {
+            Some(p) => Ok(Read::Turning(Some(Box::new(p.finish(modal, end)?)))),
+            None => Ok(Read::Settings),
+        }
+    }
+
     /// CYCLE97 takes a taper as the thread's crest diameters at SPL and FPL (S2, S5: "DM1 thread
     /// diameter at the starting point", "DM2 … at the end point"; inside, the tap hole's), the
     /// run-in APP before SPL on the same cone (docs/dialects/sinumerik.md, "Taper threads").
@@ -891,8 +996,11 @@ impl Dialect for Sinumerik {
                 PASSIVE_CALLS,
                 TURNING_CALLS,
                 FRAMES,
-                &["DIAMON", "DIAMOF", "DIAM90", "SUPA", "CYCLE97", "CYCLE99"],
+                &[
+                    "DIAMON", "DIAMOF", "DIAM90", "SUPA", "CYCLE95", "CYCLE97", "CYCLE99",
+                ],
             ],
+            profile_calls: &["CYCLE95"],
         })
     }
 

@@ -202,6 +202,9 @@ pub struct Code {
     pub line_inst: Vec<u32>,
     pub blocks: Vec<Block>,
     pub calls: Vec<Call>,
+    /// The calls that read a turning cycle's contour (Sinumerik's CYCLE95 NPP): their subprogram
+    /// or section is the cycle's profile, and its end is told to the host.
+    pub profiles: Vec<u32>,
     pub ops: Vec<MacroOp>,
     pub failures: Vec<Diagnostic>,
     /// LinuxCNC subroutines, Sinumerik PROCs: name → first instruction of the body.
@@ -229,6 +232,7 @@ impl Code {
             line_inst: Vec::with_capacity(lines),
             blocks: Vec::new(),
             calls: Vec::new(),
+            profiles: Vec::new(),
             ops: Vec::new(),
             failures: Vec::new(),
             subs: HashMap::new(),

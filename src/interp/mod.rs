@@ -61,6 +61,11 @@ pub struct Syntax {
     /// Names a block may hold that are the dialect's words, not calls of subprograms (Sinumerik's
     /// keywords and the calls of its cycles): a line of them is no reason to interpret.
     pub plain_names: &'static [&'static [&'static str]],
+    /// Cycle calls whose first argument names the contour they turn: a subprogram (`"NAME"`) or
+    /// a section of the same program between two labels (`"START:END"`), which the interpreter
+    /// runs as the cycle's profile (Sinumerik's CYCLE95; [`Host::profile_end`](vm::Host) at its
+    /// end).
+    pub profile_calls: &'static [&'static str],
 }
 
 impl Syntax {
@@ -76,6 +81,7 @@ impl Syntax {
         m99_p_jumps: false,
         wide_commons: false,
         plain_names: &[],
+        profile_calls: &[],
     };
 }
 
@@ -120,7 +126,10 @@ impl Syntax {
         match self.lang {
             Lang::Ngc => ngc::looks_like_macro(text),
             Lang::MacroB => fanuc::looks_like_macro(text),
-            Lang::Sinumerik => sinumerik::looks_like_macro(text, self.plain_names),
+            Lang::Sinumerik => {
+                sinumerik::looks_like_macro(text, self.plain_names)
+                    || sinumerik::profile_call(text, self.profile_calls).is_some()
+            }
         }
     }
 

@@ -452,7 +452,7 @@ impl<'c> Vm<'c> {
         let mut pc = start;
         loop {
             if !self.sections.is_empty() {
-                pc = self.section_end(pc);
+                pc = self.section_end(pc, host)?;
             }
             let Some(inst) = self.code.insts.get(pc as usize) else {
                 self.end_of_text(pc)?;
@@ -576,7 +576,10 @@ impl<'c> Vm<'c> {
                     Next::Go(*exit)
                 }
             }
-            Inst::Call(c) => self.call(pc, &self.code.calls[*c as usize], host)?,
+            Inst::Call(c) => {
+                let profile = self.code.profiles.contains(c);
+                self.call(pc, &self.code.calls[*c as usize], profile, host)?
+            }
             Inst::Return { value, to_label } => self.ret(pc, *value, *to_label, host)?,
             // Sinumerik: a program called as a subprogram (a file without PROC) returns at its
             // end code (M17, M2, M30, RET) as a subprogram does.
@@ -1025,12 +1028,21 @@ impl<'c> Vm<'c> {
         Ok(Some(Next::Go(entry)))
     }
 
-    fn call<H: Host>(&mut self, pc: u32, call: &Call, host: &mut H) -> R<Next, H::Error> {
+    /// A call; `profile`: it reads a turning cycle's contour (its end is told to the host).
+    fn call<H: Host>(
+        &mut self,
+        pc: u32,
+        call: &Call,
+        profile: bool,
+        host: &mut H,
+    ) -> R<Next, H::Error> {
         match call.kind {
             CallKind::OWord => self.call_oword(pc, call, host).map_err(Into::into),
             CallKind::M98 | CallKind::G65 => self.call_program(pc, call, host).map_err(Into::into),
-            CallKind::Proc => self.call_proc(pc, call, host).map_err(Into::into),
-            CallKind::Section => self.repeat_section(pc, call, host).map_err(Into::into),
+            CallKind::Proc => self.call_proc(pc, call, profile, host).map_err(Into::into),
+            CallKind::Section => self
+                .repeat_section(pc, call, profile, host)
+                .map_err(Into::into),
         }
     }
 
@@ -1272,7 +1284,13 @@ impl<'c> Vm<'c> {
     /// A call's count (L; 1 without): a whole number from 0 to 9999.
     /// Sinumerik: `NAME(args) P n`, a PROC of this file called by name; its parameters are
     /// variables of its own, given the arguments' values (by value), 0 when not given.
-    fn call_proc<H: Host>(&mut self, pc: u32, call: &Call, host: &H) -> Result<Next, Diagnostic> {
+    fn call_proc<H: Host>(
+        &mut self,
+        pc: u32,
+        call: &Call,
+        profile: bool,
+        host: &H,
+    ) -> Result<Next, Diagnostic> {
         let CallTarget::Name(id) = call.target else {
             return Err(Diagnostic::error(
                 DiagCode::Syntax,
@@ -1346,6 +1364,7 @@ impl<'c> Vm<'c> {
             frame.named.insert(param, v);
         }
         frame.remaining = count - 1;
+        frame.profile = profile;
         self.enter(frame, pc, unit);
         Ok(Next::Go(entry))
     }
@@ -1379,6 +1398,7 @@ impl<'c> Vm<'c> {
         &mut self,
         pc: u32,
         call: &Call,
+        profile: bool,
         host: &H,
     ) -> Result<Next, Diagnostic> {
         let CallTarget::Section { first, end } = call.target else {
@@ -1402,25 +1422,31 @@ impl<'c> Vm<'c> {
             end,
             remaining: count - 1,
             depth: self.frames.len(),
+            profile,
         });
         Ok(Next::Go(first))
     }
 
     /// Where the run goes at `pc`: on, or, at the end of the section being repeated, back to its
     /// start or after its REPEAT block.
-    fn section_end(&mut self, mut pc: u32) -> u32 {
+    /// A contour's section that ends is told to the host (its call and its last instruction).
+    fn section_end<H: Host>(&mut self, mut pc: u32, host: &mut H) -> R<u32, H::Error> {
         while let Some(s) = self.sections.last_mut() {
             if s.depth != self.frames.len() || s.end != pc {
                 break;
             }
             if s.remaining > 0 {
                 s.remaining -= 1;
-                return s.first;
+                return Ok(s.first);
             }
-            pc = s.call + 1;
+            let (call, last, profile) = (s.call, s.end - 1, s.profile);
+            pc = call + 1;
             self.sections.pop();
+            if profile {
+                host.profile_end(self.line(call), self.line(last))?;
+            }
         }
-        pc
+        Ok(pc)
     }
 
     fn call_count<H: Host>(&mut self, call: &Call, host: &H) -> Result<u64, Diagnostic> {
@@ -1686,6 +1712,8 @@ struct Section {
     remaining: u64,
     /// The call level it runs in.
     depth: usize,
+    /// It is a turning cycle's contour: its end is told to the host.
+    profile: bool,
 }
 
 /// How deeply repeated sections nest (a bound on the run's memory).

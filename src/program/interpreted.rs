@@ -299,6 +299,8 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
         if let Some(q) = self.dialect.profile_call() {
             self.call = Some(q);
             self.profile = Some(words.to_vec());
+        } else if self.dialect.profile_follows() {
+            self.profile = Some(words.to_vec());
         }
         match read {
             Read::Plain => {

@@ -17,6 +17,7 @@ mod contour;
 pub mod finish;
 pub mod pattern;
 pub mod profile_rough;
+pub mod removal;
 pub mod rough;
 
 use crate::diag::{Result, Span};
@@ -178,10 +179,40 @@ pub struct Peck {
     pub relief: f64,
 }
 
+/// Stock removal in even layers with each layer's corner cleaned along the contour, and/or
+/// finishing along the contour, from a start point the cycle works out itself (Sinumerik's
+/// CYCLE95 without relief cuts): [`removal`] has the moves, docs/dialects/sinumerik.md
+/// ("CYCLE95") the sentences and decisions.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Removal {
+    pub along: Along,
+    /// Machining in a bore (the part's material beyond the contour, away from the axis): the
+    /// infeed of a longitudinal removal increases X, a facing one cuts away from the axis.
+    pub internal: bool,
+    /// Where the tool is when the cycle is called (the cycle moves from it to its own start).
+    pub from: Pos,
+    /// The largest depth of cut (mm; X radius along Z, Z along X): the depth is divided into
+    /// equal layers no deeper than it.
+    pub depth: f64,
+    /// The lift-off from the contour after each layer, in both axes (mm).
+    pub lift: f64,
+    /// The finishing allowances left by the roughing: X (radius) and Z, and one on both axes
+    /// (all ≥ 0, away from the part).
+    pub allowance_x: f64,
+    pub allowance_z: f64,
+    pub allowance: f64,
+    /// Which passes the cycle makes: roughing, finishing, or both (roughing first).
+    pub rough: bool,
+    pub finish: bool,
+    /// The finished contour as programmed (its start is its first point).
+    pub contour: Contour,
+}
+
 /// A turning cycle of one of the kinds above.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub enum Cycle {
     Rough(Rough),
+    Removal(Removal),
     Pattern(Pattern),
     Finish(Finish),
     Box(BoxCycle),
@@ -212,6 +243,7 @@ pub fn toolpath(job: &TurningJob) -> Result<Toolpath> {
             return profile_rough::finish(f, job.units, job.span)
         }
         Cycle::Finish(f) => finish::moves(f, job.line)?,
+        Cycle::Removal(r) => removal::moves(r, job.line)?,
         Cycle::Pattern(p) => pattern::moves(p, job.line)?,
         Cycle::Box(b) => simple::box_moves(b, job.line),
         Cycle::Peck(p) => simple::peck_moves(p, job.line, job.span)?,
@@ -229,9 +261,12 @@ impl TurningJob {
     }
 
     /// Where the tool is when the cycle is done: its start point (every cycle of the model
-    /// returns to it).
+    /// returns to it), or the start point a stock removal works out ([`removal::start_point`]).
     pub fn end_point(&self) -> Pos {
-        self.start()
+        match &self.cycle {
+            Cycle::Removal(r) => removal::start_point(r).unwrap_or(r.from),
+            _ => self.start(),
+        }
     }
 
     /// Whether the cycle works in a bore: its contour (or its end) lies on the axis's side of its
@@ -245,6 +280,7 @@ impl TurningJob {
         };
         match &self.cycle {
             Cycle::Rough(r) => Some(below(r.start, &r.contour)),
+            Cycle::Removal(r) => Some(r.internal),
             Cycle::Pattern(p) => Some(below(p.start, &p.contour)),
             Cycle::Finish(f) => Some(below(f.start, &f.contour)),
             Cycle::Box(b) => Some(b.end.x > b.start.x),
@@ -256,6 +292,7 @@ impl TurningJob {
     pub fn start(&self) -> Pos {
         match &self.cycle {
             Cycle::Rough(r) => r.start,
+            Cycle::Removal(r) => r.from,
             Cycle::Pattern(p) => p.start,
             Cycle::Finish(f) => f.start,
             Cycle::Box(b) => b.start,

@@ -150,6 +150,7 @@ impl FanucFamily {
             }
             Cycle::Pattern(p) => p.contour = contour,
             Cycle::Finish(f) => f.contour = contour,
+            Cycle::Removal(r) => r.contour = contour,
             Cycle::Box(_) | Cycle::Peck(_) => {}
         }
         Ok(job)

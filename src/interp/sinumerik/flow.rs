@@ -635,6 +635,8 @@ pub(super) struct SectionFixup {
     line: usize,
     unit: usize,
     span: Span,
+    /// The word that asks for the section (REPEAT, or the cycle reading it as its contour).
+    word: String,
 }
 
 /// The first instruction of text line `line`, or the end of the program after its last.
@@ -691,8 +693,59 @@ impl Compiler {
             line: i,
             unit: self.units.len() - 1,
             span,
+            word: "REPEAT".into(),
         });
         Ok(true)
+    }
+
+    /// After a cycle's block, the call that reads its contour (`value`, the cycle's first
+    /// argument, at `span`): the subprogram `NAME`, or the section `START:END` of this program
+    /// (END's block included), run as the cycle's profile.
+    pub(super) fn profile_call(&mut self, i: usize, cycle: &str, value: &str, span: Span) -> R<()> {
+        let c = self.code.calls.len() as u32;
+        let (kind, target) = match value.split_once(':') {
+            Some((start, end)) => {
+                let (start, end) = (start.trim(), end.trim());
+                if start.is_empty() || end.is_empty() {
+                    return Err(Diagnostic::error(
+                        DiagCode::Syntax,
+                        span,
+                        format!("{cycle}: \"{value}\" names no section: write \"START:END\", two labels of this program"),
+                    ));
+                }
+                self.sections.push(SectionFixup {
+                    call: c,
+                    start: start.to_string(),
+                    end: Some(end.to_string()),
+                    single: false,
+                    line: i,
+                    unit: self.units.len() - 1,
+                    span,
+                    word: cycle.to_string(),
+                });
+                (CallKind::Section, CallTarget::Section { first: 0, end: 0 })
+            }
+            None if value.is_empty() => {
+                return Err(Diagnostic::error(
+                    DiagCode::MissingWord,
+                    span,
+                    format!("{cycle}: the contour's name is empty: name its subprogram, or write \"START:END\""),
+                ))
+            }
+            None => (CallKind::Proc, CallTarget::Name(self.code.exprs.intern(value.to_string()))),
+        };
+        self.code.calls.push(Call {
+            kind,
+            target,
+            args: Vec::new(),
+            arg_letters: Vec::new(),
+            arg_no_point: Vec::new(),
+            count: None,
+            span,
+        });
+        self.code.emit(i, Inst::Call(c));
+        self.code.profiles.push(c);
+        Ok(())
     }
 
     /// Every REPEAT's section, in its own program: the start label looked for backward (then
@@ -715,7 +768,7 @@ impl Compiler {
                 Diagnostic::error(
                     DiagCode::MissingWord,
                     f.span,
-                    format!("REPEAT: there is no label {label} in this program (alarm 14080, jump destination not found)"),
+                    format!("{}: there is no label {label} in this program (alarm 14080, jump destination not found)", f.word),
                 )
             };
             let Some(start) = start else {
@@ -740,7 +793,10 @@ impl Compiler {
                 let d = Diagnostic::error(
                     DiagCode::Syntax,
                     f.span,
-                    "REPEAT: the section holds no block to repeat, or holds the REPEAT itself",
+                    format!(
+                        "{0}: the section holds no block, or holds the {0} itself",
+                        f.word
+                    ),
                 );
                 self.code.fail_at(call_at, d);
                 continue;

@@ -24,7 +24,7 @@ use super::text::{Text, TextLine};
 use super::Syntax;
 use cursor::{r_number, Cursor, ExprReader};
 use flow::label_word;
-pub use scan::looks_like_macro;
+pub use scan::{looks_like_macro, profile_call};
 
 /// A program of the file: the main program (lines before the first PROC) or a PROC.
 struct Unit {
@@ -91,6 +91,8 @@ struct Compiler {
     procs: HashSet<String>,
     /// The dialect's own names that stand alone in a block (`MSG`, `WORKPIECE`): not calls.
     plain: &'static [&'static [&'static str]],
+    /// The cycles whose first argument names their contour ([`Syntax::profile_calls`]).
+    profile: &'static [&'static str],
     units: Vec<Unit>,
     fixups: Vec<Fixup>,
     /// The sections REPEAT runs again, looked up when the whole program is read.
@@ -105,6 +107,7 @@ pub fn compile(text: Text, syntax: &Syntax, lexer: crate::gcode::Syntax) -> Code
         code: Code::new(Lang::Sinumerik, text, lexer),
         procs: HashSet::new(),
         plain: syntax.plain_names,
+        profile: syntax.profile_calls,
         units: vec![Unit::new(false)],
         fixups: Vec::new(),
         sections: Vec::new(),
@@ -157,6 +160,13 @@ impl Compiler {
         self.labels(i, &mut cur);
         if cur.done() {
             return Ok(());
+        }
+        if let Some((value, open, close)) = scan::profile_call(cur.line.text, self.profile) {
+            // The cycle's block for the dialect, then its contour read as its profile.
+            let cycle = cur.peek_name().map(|n| n.0).unwrap_or_default();
+            let span = cur.span(open, close);
+            self.block(i, &mut cur, block_delete)?;
+            return self.profile_call(i, &cycle, &value, span);
         }
         let Some((word, k, e)) = cur.peek_name() else {
             return self.block(i, &mut cur, block_delete);

@@ -61,6 +61,50 @@ pub fn looks_like_macro(text: &[u8], plain: &[&[&str]]) -> bool {
     false
 }
 
+/// A call of one of `names` (a cycle that turns a contour) whose first argument is text: the
+/// text (the contour's subprogram, or `START:END`) and its span in the line (start, end).
+pub fn profile_call(text: &[u8], names: &[&str]) -> Option<(String, usize, usize)> {
+    if names.is_empty() {
+        return None;
+    }
+    let upper = text.to_ascii_uppercase();
+    for name in names {
+        let mut from = 0;
+        while let Some(at) = find(&upper[from..], name.as_bytes()).map(|i| i + from) {
+            from = at + name.len();
+            let starts_word =
+                at == 0 || !(upper[at - 1].is_ascii_alphanumeric() || upper[at - 1] == b'_');
+            let comment = upper[..at].contains(&b';');
+            let rest = &text[from..];
+            let mut k = 0;
+            while k < rest.len() && matches!(rest[k], b' ' | b'\t') {
+                k += 1;
+            }
+            if !starts_word || comment || rest.get(k) != Some(&b'(') {
+                continue;
+            }
+            k += 1;
+            while k < rest.len() && matches!(rest[k], b' ' | b'\t') {
+                k += 1;
+            }
+            if rest.get(k) != Some(&b'"') {
+                return None;
+            }
+            let open = from + k + 1;
+            let close = text[open..].iter().position(|&c| c == b'"')? + open;
+            let value = String::from_utf8_lossy(&text[open..close])
+                .trim()
+                .to_ascii_uppercase();
+            return Some((value, open, close));
+        }
+    }
+    None
+}
+
+fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}
+
 /// Whether the name at `k` is a value (after `=`, `,` or an operator), not a word of its own.
 fn is_value(text: &[u8], k: usize) -> bool {
     let before = text[..k].iter().rev().find(|c| !matches!(c, b' ' | b'\t'));
