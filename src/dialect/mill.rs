@@ -352,6 +352,7 @@ pub fn language(name: &str) -> Option<MillLanguage> {
                 m99_p_jumps: false,
                 wide_commons: false,
                 plain_names: &[],
+                profile_calls: &[],
             }),
             calculator: true,
             radius: RadiusCheck::LinuxCnc,
