@@ -18,9 +18,10 @@
 //! results over every bundled example: `docs/translation.md`.
 
 pub mod block;
+mod macros;
 mod write;
 
-use std::io::{BufRead, Write};
+use std::io::{BufRead, Read, Write};
 
 use crate::diag::{Code, Diagnostic, Span};
 use crate::dialect;
@@ -86,9 +87,158 @@ pub fn convert<R: BufRead>(
         )));
     }
     let ending = crate::eol::LineEnding::peek(&mut input)?;
-    let out = &mut crate::eol::Writer::new(out, ending);
     let source_dialect = dialect::open(from).map_err(Error::Setup)?;
     let target = dialect::open(to).map_err(Error::Setup)?;
+    if from != to && !options.run.flatten {
+        if let Some(langs) = macro_languages(source_dialect.as_ref(), target.as_ref()) {
+            return structured(input, out, (from, to), options, langs, ending);
+        }
+    }
+    let out = &mut crate::eol::Writer::new(out, ending);
+    run_conversion(input, out, (from, to), options, Mode::Plain)
+        .map(|r| r.0)
+        .map_err(|e| e.0)
+}
+
+/// The source's and the target's macro languages, when a program with control flow can keep its
+/// structure (Custom Macro B and LinuxCNC's o-words, either way).
+fn macro_languages(
+    source: &dyn dialect::Dialect,
+    target: &dyn dialect::Dialect,
+) -> Option<(crate::interp::Syntax, crate::interp::Lang)> {
+    use crate::interp::Lang;
+    let (s, t) = (source.macros()?, target.macros()?);
+    let ok = |l: Lang| matches!(l, Lang::Ngc | Lang::MacroB);
+    (ok(s.lang) && ok(t.lang) && s.lang != t.lang).then_some((s, t.lang))
+}
+
+/// How [`run_conversion`] runs.
+enum Mode {
+    /// As a straight-line program; a program with control flow is an error at its first line of
+    /// it (unless `--flatten`).
+    Plain,
+    /// As `Plain`, and the run tells whether it stopped at control flow.
+    Probe,
+    /// The executed program (as `--flatten`), each event's output kept by its line.
+    Trace(Tap),
+}
+
+/// The output of a traced conversion, measured as it is written.
+#[derive(Clone, Default)]
+struct Shared(std::rc::Rc<std::cell::RefCell<Vec<u8>>>);
+
+impl Write for Shared {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// Where each event's output begins: its line, its words' columns and values.
+#[derive(Default)]
+struct Tap {
+    out: Shared,
+    marks: Vec<(u32, Vec<(u32, f64)>, usize)>,
+}
+
+impl Tap {
+    fn mark(&mut self, line: &Line) {
+        let at = self.out.0.borrow().len();
+        let words = line.words.iter().map(|w| (w.span.column, w.value)).collect();
+        self.marks.push((line.number, words, at));
+    }
+
+    /// Each line's runs, the output up to `end` split at the marks.
+    fn runs(self, end: usize) -> std::collections::HashMap<u32, Vec<macros::Run>> {
+        let buf = self.out.0.borrow();
+        let mut runs: std::collections::HashMap<u32, Vec<macros::Run>> = Default::default();
+        for (k, (line, words, at)) in self.marks.iter().enumerate() {
+            let to = self.marks.get(k + 1).map_or(end, |m| m.2).max(*at);
+            let text = String::from_utf8_lossy(&buf[*at..to]).replace("\r\n", "\n");
+            runs.entry(*line).or_default().push(macros::Run {
+                words: words.clone(),
+                text,
+            });
+        }
+        runs
+    }
+}
+
+/// A program with control flow for a target with another macro language: converted as a
+/// straight-line program when it has none; otherwise translated with its structure
+/// ([`macros`]), from the conversion of its executed blocks.
+fn structured<R: BufRead>(
+    mut input: R,
+    out: &mut dyn Write,
+    (from, to): (&Machine, &Machine),
+    options: &Options,
+    (syntax, to_lang): (crate::interp::Syntax, crate::interp::Lang),
+    ending: crate::eol::LineEnding,
+) -> Result<Report, Error> {
+    let mut text = Vec::new();
+    (&mut input)
+        .take(crate::interp::MAX_PROGRAM_BYTES as u64 + 1)
+        .read_to_end(&mut text)?;
+    let mut plain = Vec::new();
+    let probe = run_conversion(
+        &text[..],
+        &mut crate::eol::Writer::new(&mut plain, ending),
+        (from, to),
+        options,
+        Mode::Probe,
+    );
+    match probe {
+        Ok((report, _)) => {
+            out.write_all(&plain)?;
+            return Ok(report);
+        }
+        Err((e, false)) => return Err(e),
+        Err((_, true)) => {}
+    }
+    let tap = Tap::default();
+    let shared = tap.out.clone();
+    let flat = Options {
+        run: program::Options {
+            flatten: true,
+            ..options.run.clone()
+        },
+        ..options.clone()
+    };
+    let (report, runs) = run_conversion(&text[..], &mut shared.clone(), (from, to), &flat, Mode::Trace(tap))
+        .map_err(|e| e.0)?;
+    let target = dialect::open(to).map_err(Error::Setup)?;
+    let format = target.format();
+    let comment = |c: &str| format.comment(c).unwrap_or_default();
+    let converted = macros::translate(&macros::Request {
+        text: &text,
+        from,
+        to,
+        syntax,
+        to_lang,
+        runs: &runs.unwrap_or_default(),
+        comment: &comment,
+        run: &options.run,
+    })?;
+    crate::eol::Writer::new(out, ending).write_all(converted.as_bytes())?;
+    Ok(report)
+}
+
+/// The conversion of `input`; an error says whether the run stopped at control flow (`Probe`).
+/// `Trace` gives each line's runs.
+#[allow(clippy::type_complexity)]
+fn run_conversion<R: BufRead>(
+    input: R,
+    out: &mut dyn Write,
+    (from, to): (&Machine, &Machine),
+    options: &Options,
+    mode: Mode,
+) -> Result<(Report, Option<std::collections::HashMap<u32, Vec<macros::Run>>>), (Error, bool)> {
+    let plain = |e: Error| (e, false);
+    let source_dialect = dialect::open(from).map_err(|e| plain(Error::Setup(e)))?;
+    let target = dialect::open(to).map_err(|e| plain(Error::Setup(e)))?;
     let conv = source_dialect.conventions().clone();
     let src = Source {
         name: &from.name,
@@ -108,23 +258,39 @@ pub fn convert<R: BufRead>(
                 .comment(&format!("threadcut convert: {} to {}", from.name, to.name)),
         }
     } else {
-        Side::Other(Box::new(write::Writer::new(
-            out,
-            from,
-            to,
-            target.as_ref(),
-            &src.meanings,
-            options.max_lead_drift,
-        )?))
+        Side::Other(Box::new(
+            write::Writer::new(
+                out,
+                from,
+                to,
+                target.as_ref(),
+                &src.meanings,
+                options.max_lead_drift,
+            )
+            .map_err(plain)?,
+        ))
+    };
+    let (probe, tap) = match mode {
+        Mode::Plain => (false, None),
+        Mode::Probe => (true, None),
+        Mode::Trace(t) => (false, Some(t)),
     };
     let mut conversion = Conversion {
         side,
         src,
         flatten: options.run.flatten,
         unrun: Vec::new(),
+        probe,
+        stopped_at_flow: false,
+        tap,
     };
-    let summary = program::run_output(input, from, &options.run, &mut conversion)?;
-    conversion.after_end()?;
+    let summary = program::run_output(input, from, &options.run, &mut conversion)
+        .map_err(|e| (e, conversion.stopped_at_flow))?;
+    let runs = conversion.tap.take().map(|t| {
+        let end = t.out.0.borrow().len();
+        t.runs(end)
+    });
+    conversion.after_end().map_err(plain)?;
     let mut report = match conversion.side {
         Side::Other(w) => w.finish(),
         Side::Same { .. } => Report::default(),
@@ -132,7 +298,7 @@ pub fn convert<R: BufRead>(
     report.summary = summary;
     let own = std::mem::take(&mut report.warnings);
     report.summary.warnings.extend(own);
-    Ok(report)
+    Ok((report, runs))
 }
 
 /// Where the converted program goes.
@@ -153,6 +319,12 @@ struct Conversion<'o, 'm, 's> {
     flatten: bool,
     /// The input after the program's end (M2, M30): not run.
     unrun: Vec<u8>,
+    /// A program with control flow may be translated with its structure: the run says so when
+    /// it stops there.
+    probe: bool,
+    stopped_at_flow: bool,
+    /// Each event's output, by its line (the structural translation's runs).
+    tap: Option<Tap>,
 }
 
 impl Conversion<'_, '_, '_> {
@@ -206,6 +378,15 @@ impl program::Output for Conversion<'_, '_, '_> {
                 Ok(())
             }
             Side::Other(w) => match ev {
+                _ if self.tap.is_some() => {
+                    if let Some(t) = &mut self.tap {
+                        t.mark(ev.line());
+                    }
+                    let tap = self.tap.take();
+                    let r = self.event(modal, ev);
+                    self.tap = tap;
+                    r
+                }
                 Event::Plain { line, mv } => {
                     if line.shape.percent {
                         return w.delimiter();
@@ -241,6 +422,7 @@ impl program::Output for Conversion<'_, '_, '_> {
             Side::Other(w) if !self.flatten => w,
             _ => return Ok(()),
         };
+        self.stopped_at_flow = self.probe;
         Err(Error::Input(
             Diagnostic::error(
                 Code::Unsupported,
