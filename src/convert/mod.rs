@@ -105,11 +105,11 @@ pub fn convert<R: BufRead>(
 fn macro_languages(
     source: &dyn dialect::Dialect,
     target: &dyn dialect::Dialect,
-) -> Option<(crate::interp::Syntax, crate::interp::Lang)> {
+) -> Option<(crate::interp::Syntax, crate::interp::Syntax)> {
     use crate::interp::Lang;
     let (s, t) = (source.macros()?, target.macros()?);
     let ok = |l: Lang| matches!(l, Lang::Ngc | Lang::MacroB);
-    (ok(s.lang) && ok(t.lang) && s.lang != t.lang).then_some((s, t.lang))
+    (ok(s.lang) && ok(t.lang)).then_some((s, t))
 }
 
 /// How [`run_conversion`] runs.
@@ -175,7 +175,7 @@ fn structured<R: BufRead>(
     out: &mut dyn Write,
     (from, to): (&Machine, &Machine),
     options: &Options,
-    (syntax, to_lang): (crate::interp::Syntax, crate::interp::Lang),
+    (syntax, to_syntax): (crate::interp::Syntax, crate::interp::Syntax),
     ending: crate::eol::LineEnding,
 ) -> Result<Report, Error> {
     let mut text = Vec::new();
@@ -217,7 +217,7 @@ fn structured<R: BufRead>(
         from,
         to,
         syntax,
-        to_lang,
+        to_syntax,
         runs: &runs.unwrap_or_default(),
         comment: &comment,
         run: &options.run,

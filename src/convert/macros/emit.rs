@@ -7,6 +7,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use crate::diag::{Diagnostic, Span};
 use crate::interp::expr::{BinOp, Func, Lang};
+use crate::interp::Syntax;
 
 use super::fit::Piece;
 use super::read::{unsupported, Ex, Set, St, Stmt, Var};
@@ -17,6 +18,8 @@ pub struct Emit<'a> {
     pub stmts: &'a [Stmt],
     pub from: Lang,
     pub to: Lang,
+    from_syntax: Syntax,
+    to_syntax: Syntax,
     /// Each run line's converted text, as pieces.
     pub blocks: &'a HashMap<usize, Vec<Piece>>,
     /// A comment in the target's style.
@@ -46,8 +49,8 @@ fn commons() -> impl Iterator<Item = i64> {
 impl<'a> Emit<'a> {
     pub fn new(
         stmts: &'a [Stmt],
-        from: Lang,
-        to: Lang,
+        from_syntax: Syntax,
+        to_syntax: Syntax,
         blocks: &'a HashMap<usize, Vec<Piece>>,
         comment: &'a dyn Fn(&str) -> String,
     ) -> Emit<'a> {
@@ -59,8 +62,10 @@ impl<'a> Emit<'a> {
         }
         Emit {
             stmts,
-            from,
-            to,
+            from: from_syntax.lang,
+            to: to_syntax.lang,
+            from_syntax,
+            to_syntax,
             blocks,
             comment,
             vars: BTreeMap::new(),
@@ -125,7 +130,12 @@ impl<'a> Emit<'a> {
     }
 
     fn name_subs(&mut self, shape: &Shape) -> Result<(), Diagnostic> {
-        let numbers: BTreeSet<u32> = shape.subs.iter().filter_map(|s| s.name.parse().ok()).collect();
+        // The numbers taken: the subprograms' and every program number the text holds.
+        let mut numbers: BTreeSet<u32> = shape.subs.iter().filter_map(|s| s.name.parse().ok()).collect();
+        numbers.extend(self.stmts.iter().filter_map(|s| match s.st {
+            St::Header(n) => Some(n),
+            _ => None,
+        }));
         let mut free = (1000..9000).filter(|n| !numbers.contains(n));
         for s in &shape.subs {
             let name = match (self.to, s.name.parse::<u32>()) {
@@ -146,21 +156,30 @@ impl<'a> Emit<'a> {
     }
 
     fn line(&mut self, text: &str, at: Option<usize>) {
-        let indent = if self.to == Lang::Ngc { "  ".repeat(self.depth) } else { String::new() };
-        self.out.push_str(&indent);
-        self.out.push_str(text);
-        if let Some(i) = at {
-            for c in &self.stmts[i].comments {
-                self.out.push(' ');
-                self.out.push_str(&(self.comment)(c));
-            }
+        let mut parts: Vec<String> = Vec::new();
+        if !text.is_empty() {
+            parts.push(text.to_string());
         }
+        if let Some(i) = at {
+            parts.extend(self.stmts[i].comments.iter().map(|c| (self.comment)(c)));
+        }
+        if self.to == Lang::Ngc && !parts.is_empty() {
+            self.out.push_str(&"  ".repeat(self.depth));
+        }
+        self.out.push_str(&parts.join(" "));
         self.out.push('\n');
     }
 
+    /// The nodes in order; an error without a place (an expression's) is put at its node's
+    /// line.
     fn nodes(&mut self, nodes: &[Node]) -> Result<(), Diagnostic> {
         for n in nodes {
-            self.node(n)?;
+            self.node(n).map_err(|mut d| {
+                if d.span.line == 0 {
+                    d.span = self.stmts[n.line()].span;
+                }
+                d
+            })?;
         }
         Ok(())
     }
@@ -209,6 +228,10 @@ impl<'a> Emit<'a> {
             return Ok(());
         }
         match &s.st {
+            // A sequence number's line of its own: the structure took its place.
+            St::Blank if s.comments.is_empty() && s.label.is_some() && self.to == Lang::Ngc => {
+                Ok(())
+            }
             St::Blank | St::Header(_) if s.comments.is_empty() && s.label.is_none() => {
                 self.out.push('\n');
                 Ok(())
@@ -262,7 +285,7 @@ impl<'a> Emit<'a> {
         let e = self.ex(&s.value)?;
         Ok(match self.to {
             Lang::Ngc => {
-                let e = if matches!(s.value, Ex::Bin(..)) { format!("[{e}]") } else { e };
+                let e = if matches!(s.value, Ex::Bin(..) | Ex::Pow2(..)) { format!("[{e}]") } else { e };
                 format!("{v} = {e}")
             }
             _ => format!("{v}={e}"),
@@ -298,12 +321,18 @@ impl<'a> Emit<'a> {
     /// variable, an error when it has none.
     fn twin(&self, n: i64, span: Span) -> Result<Option<String>, Diagnostic> {
         let same = Ok(Some(format!("#{n}")));
-        match (self.from, n) {
-            (_, 1..=30 | 100..=199 | 500..=999) => same,
-            (Lang::MacroB, 31..=33) => Err(unsupported(span, format!("#{n}, a local variable of Custom Macro B: LinuxCNC's subroutine parameters are #1–#30"))),
-            (Lang::MacroB, 10000..=10999) => Ok(None),
-            (Lang::Ngc, 31..=5000) => Ok(None),
-            (Lang::MacroB, 0) => Err(unsupported(span, "#0, the vacant value: LinuxCNC has no vacant value (its unset parameters read 0)".into())),
+        let wide = |s: &Syntax| s.lang == Lang::MacroB && s.wide_commons;
+        match (self.from, self.to, n) {
+            (_, _, 1..=30 | 100..=199 | 500..=999) => same,
+            // Within Custom Macro B every number is the same variable, but for the wide commons
+            // of a control that has them.
+            (Lang::MacroB, Lang::MacroB, 10000..=10999) if wide(&self.to_syntax) => same,
+            (Lang::MacroB, Lang::MacroB, 10000..=10999) => Ok(None),
+            (Lang::MacroB, Lang::MacroB, _) => same,
+            (Lang::MacroB, _, 31..=33) => Err(unsupported(span, format!("#{n}, a local variable of Custom Macro B: LinuxCNC's subroutine parameters are #1–#30"))),
+            (Lang::MacroB, _, 10000..=10999) if wide(&self.from_syntax) => Ok(None),
+            (Lang::Ngc, _, 31..=5000) => Ok(None),
+            (Lang::MacroB, _, 0) => Err(unsupported(span, "#0, the vacant value: LinuxCNC has no vacant value (its unset parameters read 0)".into())),
             _ => Err(unsupported(span, format!("#{n}, a system variable: threadcut translates only the variables a program keeps its values in"))),
         }
     }
@@ -596,6 +625,14 @@ impl<'a> Emit<'a> {
             }
             return Ok(());
         }
+        // M98 where the control has no G65 call, or where the source's call shares the caller's
+        // local variables too (M98, Haas's M97).
+        if self.to_syntax.g65_operations
+            || self.to_syntax.max_macro_depth == 0
+            || (*shares_locals && args.is_empty())
+        {
+            return self.m98(*at, &name, args, times);
+        }
         let mut text = format!("G65 P{name}");
         if let Some(t) = &times {
             text.push_str(&format!(" L{}", bracketed(t)));
@@ -625,6 +662,28 @@ impl<'a> Emit<'a> {
             text.push_str(&format!(" {}{}", letter as char, bracketed(&v)));
         }
         self.line(&text, Some(*at));
+        Ok(())
+    }
+
+    /// A call on a control without G65 calls: the arguments set in the caller's local variables,
+    /// which M98's subprogram shares, then `M98 P…` (the count packed in P where the control
+    /// has no L).
+    fn m98(&mut self, at: usize, name: &str, args: &[(u8, Ex)], times: Option<String>) -> Result<(), Diagnostic> {
+        let span = self.stmts[at].span;
+        for (slot, e) in args {
+            let v = self.ex(e)?;
+            self.line(&format!("#{slot}={v}"), None);
+        }
+        let number: u32 = name.parse().map_err(|_| unsupported(span, "a subprogram without a number".into()))?;
+        let text = match times {
+            None => format!("M98 P{number}"),
+            Some(t) if self.to_syntax.m98_l_word => format!("M98 P{number} L{}", bracketed(&t)),
+            Some(t) => match t.parse::<u32>() {
+                Ok(l) if (1..=9999).contains(&l) && number <= 9999 => format!("M98 P{}", l * 10000 + number),
+                _ => return Err(unsupported(span, "a call count that is not a number from 1 to 9999: this control packs it in M98's P".into())),
+            },
+        };
+        self.line(&text, Some(at));
         Ok(())
     }
 

@@ -154,10 +154,19 @@ fn number_piece(values: &[f64], letter: u8, exprs: &[(u8, &Ex, Vec<f64>)], tol: 
             if constant && !(related && (a == 1.0 || (letter == b'X' && a.abs() == 0.5))) {
                 continue;
             }
+            // The constant: the runs' mean offset (each number rounded to the output's
+            // increment), itself rounded.
             let b = if constant {
                 0.0
             } else {
-                ((values[0] - a * vs[0]) * 1e4).round() / 1e4
+                let mean = values.iter().zip(vs).map(|(t, v)| t - a * v).sum::<f64>()
+                    / values.len() as f64;
+                let b = (mean * 1e4).round() / 1e4;
+                if b.abs() <= tol {
+                    0.0
+                } else {
+                    b
+                }
             };
             if values
                 .iter()

@@ -31,7 +31,7 @@ pub struct Request<'a> {
     pub from: &'a Machine,
     pub to: &'a Machine,
     pub syntax: Syntax,
-    pub to_lang: Lang,
+    pub to_syntax: Syntax,
     /// Each line's runs (by line number), from the conversion of the executed program.
     pub runs: &'a HashMap<u32, Vec<Run>>,
     /// A comment in the target's style.
@@ -41,7 +41,7 @@ pub struct Request<'a> {
 
 /// The program in the target's macro language, verified by its motion.
 pub fn translate(r: &Request) -> Result<String, program::Error> {
-    let stmts = read::program(r.text, r.syntax.lang)?;
+    let stmts = read::program(r.text, &r.syntax)?;
     let shape = match r.syntax.lang {
         Lang::Ngc => shape::ngc(&stmts)?,
         _ => shape::macro_b(&stmts, &r.syntax)?,
@@ -68,7 +68,7 @@ pub fn translate(r: &Request) -> Result<String, program::Error> {
         };
         blocks.insert(i, fit::template(runs, words, s.span, s.number, units_tol)?);
     }
-    let text = emit::Emit::new(&stmts, r.syntax.lang, r.to_lang, &blocks, r.comment).program(&shape)?;
+    let text = emit::Emit::new(&stmts, r.syntax, r.to_syntax, &blocks, r.comment).program(&shape)?;
     check(r, &text, tol)?;
     Ok(text)
 }

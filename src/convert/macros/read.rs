@@ -135,8 +135,9 @@ pub struct Stmt {
     pub span: Span,
 }
 
-/// Reads every line of `text` in the macro language `lang`.
-pub fn program(text: &[u8], lang: Lang) -> Result<Vec<Stmt>, Diagnostic> {
+/// Reads every line of `text` in the macro language `syntax` describes.
+pub fn program(text: &[u8], syntax: &crate::interp::Syntax) -> Result<Vec<Stmt>, Diagnostic> {
+    let lang = syntax.lang;
     let text = Text::new(text.to_vec(), 1, 0);
     let mut exprs = Exprs::default();
     let mut out = Vec::with_capacity(text.len());
@@ -156,7 +157,10 @@ pub fn program(text: &[u8], lang: Lang) -> Result<Vec<Stmt>, Diagnostic> {
             ));
         } else {
             match lang {
-                Lang::MacroB => macro_b(&s, &mut exprs)?,
+                Lang::MacroB => match macro_b(&s, &mut exprs)? {
+                    (label, St::Block(w)) if syntax.g65_operations => (label, operation(w, span)?),
+                    r => r,
+                },
                 Lang::Ngc => ngc(&s, &mut exprs)?,
                 Lang::Sinumerik => {
                     return Err(unsupported(
@@ -448,4 +452,88 @@ fn tree(
         (Some(e), true) => Ok(e),
         _ => Err(bad()),
     }
+}
+
+/// GSK's `G65 Hm P#i Q#j R#k` as the statement it is: a setting (H01–H05, H21, H22, H27,
+/// H31–H33) or a jump (H80–H86); a block without G65 stays a block.
+fn operation(words: Vec<Word>, span: Span) -> Result<St, Diagnostic> {
+    let is_g65 = words
+        .iter()
+        .any(|w| w.letter == b'G' && matches!(w.value, Val::Lit(v) if v == 65.0));
+    if !is_g65 {
+        return Ok(St::Block(words));
+    }
+    let value = |letter: u8| {
+        words.iter().find(|w| w.letter == letter).map(|w| match &w.value {
+            Val::Lit(v) => Ex::Num(*v),
+            Val::Expr(e) => e.clone(),
+        })
+    };
+    let h = match value(b'H') {
+        Some(Ex::Num(h)) => h as u32,
+        _ => return Err(unsupported(span, "G65 without its operation H".into())),
+    };
+    let (j, k) = (
+        value(b'Q').unwrap_or(Ex::Num(0.0)),
+        value(b'R').unwrap_or(Ex::Num(0.0)),
+    );
+    let bin = |op: BinOp, a: Ex, b: Ex| Ex::Bin(op, Box::new(a), Box::new(b));
+    let jump = |op: BinOp| -> Result<St, Diagnostic> {
+        match value(b'P') {
+            Some(Ex::Num(p)) => Ok(St::IfGoto(bin(op, j.clone(), k.clone()), p as u32)),
+            _ => Err(unsupported(span, "a jump's P is its sequence number, written as a number".into())),
+        }
+    };
+    let computed = match h {
+        1 => j.clone(),
+        2 => bin(BinOp::Add, j.clone(), k.clone()),
+        3 => bin(BinOp::Sub, j.clone(), k.clone()),
+        4 => bin(BinOp::Mul, j.clone(), k.clone()),
+        5 => bin(BinOp::Div, j.clone(), k.clone()),
+        21 => Ex::Fun(Func::Sqrt, Box::new(j.clone())),
+        22 => Ex::Fun(Func::Abs, Box::new(j.clone())),
+        27 => Ex::Fun(
+            Func::Sqrt,
+            Box::new(bin(
+                BinOp::Add,
+                bin(BinOp::Mul, j.clone(), j.clone()),
+                bin(BinOp::Mul, k.clone(), k.clone()),
+            )),
+        ),
+        31..=33 => {
+            let f = [Func::Sin, Func::Cos, Func::Tan][(h - 31) as usize];
+            bin(BinOp::Mul, j.clone(), Ex::Fun(f, Box::new(k.clone())))
+        }
+        80 => {
+            return match value(b'P') {
+                Some(Ex::Num(p)) => Ok(St::Goto(p as u32)),
+                _ => Err(unsupported(span, "a jump's P is its sequence number, written as a number".into())),
+            }
+        }
+        81 => return jump(BinOp::Eq),
+        82 => return jump(BinOp::Ne),
+        83 => return jump(BinOp::Gt),
+        84 => return jump(BinOp::Lt),
+        85 => return jump(BinOp::Ge),
+        86 => return jump(BinOp::Le),
+        _ => {
+            return Err(unsupported(
+                span,
+                format!("G65 H{h:02}: threadcut translates GSK's operations H01–H05, H21, H22, H27, H31–H33 and H80–H86"),
+            )
+            .with_hint("--flatten writes the executed program instead"))
+        }
+    };
+    let var = match value(b'P') {
+        Some(Ex::Var(n)) => match *n {
+            Ex::Num(n) => Var::Num(n as i64),
+            _ => return Err(unsupported(span, "P#i names the variable set by its number".into())),
+        },
+        _ => return Err(unsupported(span, "the operation needs P#i, the variable it sets".into())),
+    };
+    Ok(St::Set(vec![Set {
+        var,
+        value: computed,
+        span,
+    }]))
 }

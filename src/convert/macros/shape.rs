@@ -58,6 +58,20 @@ pub enum Node {
     Return(usize),
 }
 
+impl Node {
+    /// The node's first line.
+    pub fn line(&self) -> usize {
+        match self {
+            Node::Line(i) | Node::Set(i, _) | Node::Return(i) => *i,
+            Node::While { at, .. }
+            | Node::DoWhile { at, .. }
+            | Node::If { at, .. }
+            | Node::Repeat { at, .. }
+            | Node::Call { at, .. } => *at,
+        }
+    }
+}
+
 /// A subprogram: its name (`1000` for O1000 or `o1000`, `N100` for a Haas local subprogram,
 /// `thread` for `o<thread>`), its first and last lines and its body.
 #[derive(Clone, Debug)]
