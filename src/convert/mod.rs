@@ -64,11 +64,11 @@ pub struct Options {
 /// written).
 ///
 /// A program with control flow (subroutines, loops, parameters) is copied as it is for the same
-/// profile; for another controller it is an error at its first line of control flow unless
-/// `options.run.flatten`, which converts the executed program (every block the interpreter runs, with
-/// its computed values): threadcut does not translate one macro language into another, and a
-/// block with computed words has no one value to rewrite (docs/translation.md, "Programs with
-/// control flow").
+/// profile; for another controller with a macro language (Custom Macro B, LinuxCNC's o-words) it
+/// is translated with its structure and verified by its motion ([`macros`]); for one without, it
+/// is an error at its first line of control flow unless `options.run.flatten`, which converts the
+/// executed program (every block the interpreter runs, with its computed values), as it does for
+/// any target (docs/translation.md, "Programs with control flow", "Macro programs").
 pub fn convert<R: BufRead>(
     mut input: R,
     out: &mut dyn Write,
@@ -137,24 +137,35 @@ impl Write for Shared {
     }
 }
 
-/// Where each event's output begins: its line, its words' columns and values.
+/// One event's place in a traced output: its line, its words' columns and values, where its
+/// output begins.
+type Mark = (u32, Vec<(u32, f64)>, usize);
+
+/// Lines' runs, by line number.
+type Runs = std::collections::HashMap<u32, Vec<macros::Run>>;
+
+/// Where each event's output begins.
 #[derive(Default)]
 struct Tap {
     out: Shared,
-    marks: Vec<(u32, Vec<(u32, f64)>, usize)>,
+    marks: Vec<Mark>,
 }
 
 impl Tap {
     fn mark(&mut self, line: &Line) {
         let at = self.out.0.borrow().len();
-        let words = line.words.iter().map(|w| (w.span.column, w.value)).collect();
+        let words = line
+            .words
+            .iter()
+            .map(|w| (w.span.column, w.value))
+            .collect();
         self.marks.push((line.number, words, at));
     }
 
     /// Each line's runs, the output up to `end` split at the marks.
-    fn runs(self, end: usize) -> std::collections::HashMap<u32, Vec<macros::Run>> {
+    fn runs(self, end: usize) -> Runs {
         let buf = self.out.0.borrow();
-        let mut runs: std::collections::HashMap<u32, Vec<macros::Run>> = Default::default();
+        let mut runs: Runs = Default::default();
         for (k, (line, words, at)) in self.marks.iter().enumerate() {
             let to = self.marks.get(k + 1).map_or(end, |m| m.2).max(*at);
             let text = String::from_utf8_lossy(&buf[*at..to]).replace("\r\n", "\n");
@@ -207,8 +218,14 @@ fn structured<R: BufRead>(
         },
         ..options.clone()
     };
-    let (report, runs) = run_conversion(&text[..], &mut shared.clone(), (from, to), &flat, Mode::Trace(tap))
-        .map_err(|e| e.0)?;
+    let (report, runs) = run_conversion(
+        &text[..],
+        &mut shared.clone(),
+        (from, to),
+        &flat,
+        Mode::Trace(tap),
+    )
+    .map_err(|e| e.0)?;
     let target = dialect::open(to).map_err(Error::Setup)?;
     let format = target.format();
     let comment = |c: &str| format.comment(c).unwrap_or_default();
@@ -228,14 +245,13 @@ fn structured<R: BufRead>(
 
 /// The conversion of `input`; an error says whether the run stopped at control flow (`Probe`).
 /// `Trace` gives each line's runs.
-#[allow(clippy::type_complexity)]
 fn run_conversion<R: BufRead>(
     input: R,
     out: &mut dyn Write,
     (from, to): (&Machine, &Machine),
     options: &Options,
     mode: Mode,
-) -> Result<(Report, Option<std::collections::HashMap<u32, Vec<macros::Run>>>), (Error, bool)> {
+) -> Result<(Report, Option<Runs>), (Error, bool)> {
     let plain = |e: Error| (e, false);
     let source_dialect = dialect::open(from).map_err(|e| plain(Error::Setup(e)))?;
     let target = dialect::open(to).map_err(|e| plain(Error::Setup(e)))?;

@@ -53,7 +53,9 @@ pub enum MillKind {
     },
     /// A spindle-synchronised straight move: `lead` mm per spindle revolution along the move
     /// (LinuxCNC G33/G33.1, a rigid-tapping cycle's feed in and out).
-    Sync { lead: f64 },
+    Sync {
+        lead: f64,
+    },
 }
 
 /// The feed in force.
@@ -141,7 +143,11 @@ impl MillMotion {
         let mut d = eb.atan2(ea) - sb.atan2(sa);
         let closed = (sa - ea).hypot(sb - eb) <= eps;
         if clockwise {
-            d = if closed { -tau } else { d.rem_euclid(tau) - tau };
+            d = if closed {
+                -tau
+            } else {
+                d.rem_euclid(tau) - tau
+            };
         } else {
             d = if closed { tau } else { d.rem_euclid(tau) };
         }

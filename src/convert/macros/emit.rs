@@ -131,7 +131,11 @@ impl<'a> Emit<'a> {
 
     fn name_subs(&mut self, shape: &Shape) -> Result<(), Diagnostic> {
         // The numbers taken: the subprograms' and every program number the text holds.
-        let mut numbers: BTreeSet<u32> = shape.subs.iter().filter_map(|s| s.name.parse().ok()).collect();
+        let mut numbers: BTreeSet<u32> = shape
+            .subs
+            .iter()
+            .filter_map(|s| s.name.parse().ok())
+            .collect();
         numbers.extend(self.stmts.iter().filter_map(|s| match s.st {
             St::Header(n) => Some(n),
             _ => None,
@@ -157,11 +161,20 @@ impl<'a> Emit<'a> {
 
     fn line(&mut self, text: &str, at: Option<usize>) {
         let mut parts: Vec<String> = Vec::new();
-        if !text.is_empty() {
-            parts.push(text.to_string());
-        }
         if let Some(i) = at {
             parts.extend(self.stmts[i].comments.iter().map(|c| (self.comment)(c)));
+        }
+        // LinuxCNC leaves a comment on an o-word's line undefined (o-code.adoc): it goes on the
+        // line before.
+        let oword = text.starts_with('o') && self.to == Lang::Ngc;
+        if oword && !parts.is_empty() {
+            self.out.push_str(&"  ".repeat(self.depth));
+            self.out.push_str(&parts.join(" "));
+            self.out.push('\n');
+            parts.clear();
+        }
+        if !text.is_empty() {
+            parts.insert(0, text.to_string());
         }
         if self.to == Lang::Ngc && !parts.is_empty() {
             self.out.push_str(&"  ".repeat(self.depth));
@@ -188,13 +201,31 @@ impl<'a> Emit<'a> {
         match n {
             Node::Line(i) => self.block(*i),
             Node::Set(i, sets) => {
-                let texts = sets.iter().map(|s| self.set(s)).collect::<Result<Vec<_>, _>>()?;
+                let texts = sets
+                    .iter()
+                    .map(|s| self.set(s))
+                    .collect::<Result<Vec<_>, _>>()?;
                 self.line(&texts.join(" "), Some(*i));
                 Ok(())
             }
-            Node::While { at, cond, body, end } => self.while_loop(*at, cond, body, *end),
-            Node::DoWhile { at, body, cond, test } => self.do_while(*at, body, cond, *test),
-            Node::If { at, cond, then, els } => self.if_node(*at, cond, then, els),
+            Node::While {
+                at,
+                cond,
+                body,
+                end,
+            } => self.while_loop(*at, cond, body, *end),
+            Node::DoWhile {
+                at,
+                body,
+                cond,
+                test,
+            } => self.do_while(*at, body, cond, *test),
+            Node::If {
+                at,
+                cond,
+                then,
+                els,
+            } => self.if_node(*at, cond, then, els),
             Node::Repeat { at, count, body } => self.repeat(*at, count, body),
             Node::Call { .. } => self.call(n),
             Node::Return(i) => {
@@ -219,7 +250,11 @@ impl<'a> Emit<'a> {
                     Piece::Expr { ex, a, b } => text.push_str(&self.scaled(ex, *a, *b)?),
                 }
             }
-            let indent = if self.to == Lang::Ngc { "  ".repeat(self.depth) } else { String::new() };
+            let indent = if self.to == Lang::Ngc {
+                "  ".repeat(self.depth)
+            } else {
+                String::new()
+            };
             for l in text.lines() {
                 self.out.push_str(&indent);
                 self.out.push_str(l);
@@ -260,6 +295,12 @@ impl<'a> Emit<'a> {
 
     /// `a·expression + b` in the target's syntax, as a word's value.
     fn scaled(&mut self, ex: &Ex, a: f64, b: f64) -> Result<String, Diagnostic> {
+        // A radius doubled back to the diameter it was halved from: `[#1/2]` × 2 is `#1`.
+        if let (2.0, Ex::Bin(BinOp::Div, inner, two)) = (a, ex) {
+            if **two == Ex::Num(2.0) {
+                return self.scaled(inner, 1.0, b);
+            }
+        }
         let e = self.ex(ex)?;
         let simple = matches!(ex, Ex::Var(_) | Ex::Named(_) | Ex::Num(_));
         let mut t = match a {
@@ -269,8 +310,15 @@ impl<'a> Emit<'a> {
             _ => format!("[{}*{}]", self.operand(ex)?, num(a)),
         };
         if b != 0.0 {
-            let inner = t.strip_prefix('[').and_then(|t| t.strip_suffix(']')).map(str::to_string);
-            let base = if a == 1.0 && !simple { self.operand(ex)? } else { inner.unwrap_or(t) };
+            let inner = t
+                .strip_prefix('[')
+                .and_then(|t| t.strip_suffix(']'))
+                .map(str::to_string);
+            let base = if a == 1.0 && !simple {
+                self.operand(ex)?
+            } else {
+                inner.unwrap_or(t)
+            };
             t = if b > 0.0 {
                 format!("[{base}+{}]", num(b))
             } else {
@@ -285,7 +333,11 @@ impl<'a> Emit<'a> {
         let e = self.ex(&s.value)?;
         Ok(match self.to {
             Lang::Ngc => {
-                let e = if matches!(s.value, Ex::Bin(..) | Ex::Pow2(..)) { format!("[{e}]") } else { e };
+                let e = if matches!(s.value, Ex::Bin(..) | Ex::Pow2(..)) {
+                    format!("[{e}]")
+                } else {
+                    e
+                };
                 format!("{v} = {e}")
             }
             _ => format!("{v}={e}"),
@@ -308,7 +360,10 @@ impl<'a> Emit<'a> {
             return Ok(t.clone());
         }
         let Some(n) = commons().find(|n| !self.used.contains(n)) else {
-            return Err(unsupported(span, format!("no free common variable for {shown}")));
+            return Err(unsupported(
+                span,
+                format!("no free common variable for {shown}"),
+            ));
         };
         self.used.insert(n);
         let t = format!("#{n}");
@@ -429,7 +484,10 @@ impl<'a> Emit<'a> {
             Fix => "FIX",
             Fup => "FUP",
             Bin | Bcd => {
-                return Err(unsupported(Span::default(), "BIN/BCD, conversions for the PMC's signals: LinuxCNC has none".into()))
+                return Err(unsupported(
+                    Span::default(),
+                    "BIN/BCD, conversions for the PMC's signals: LinuxCNC has none".into(),
+                ))
             }
         };
         Ok(format!("{name}[{}]", self.ex(x)?))
@@ -465,7 +523,10 @@ impl<'a> Emit<'a> {
             _ if !negated => Ok(format!("{} NE 0", self.operand(e)?)),
             _ if !is_condition(e) => Ok(format!("{} EQ 0", self.operand(e)?)),
             _ if self.to == Lang::Ngc => Ok(format!("[{}] EQ 0", self.ex(e)?)),
-            _ => Err(unsupported(Span::default(), "a condition threadcut cannot turn into its opposite in Custom Macro B".into())),
+            _ => Err(unsupported(
+                Span::default(),
+                "a condition threadcut cannot turn into its opposite in Custom Macro B".into(),
+            )),
         }
     }
 
@@ -476,8 +537,8 @@ impl<'a> Emit<'a> {
                 Lang::Ngc => 100 + self.labels,
                 _ => 9000 + self.labels,
             };
-            let taken = self.used_labels.contains(&n)
-                || self.subs.values().any(|s| s == &n.to_string());
+            let taken =
+                self.used_labels.contains(&n) || self.subs.values().any(|s| s == &n.to_string());
             if !taken {
                 return n;
             }
@@ -494,7 +555,13 @@ impl<'a> Emit<'a> {
         self.line(text, at);
     }
 
-    fn while_loop(&mut self, at: usize, cond: &Cond, body: &[Node], end: usize) -> Result<(), Diagnostic> {
+    fn while_loop(
+        &mut self,
+        at: usize,
+        cond: &Cond,
+        body: &[Node],
+        end: usize,
+    ) -> Result<(), Diagnostic> {
         let c = self.cond(cond)?;
         if self.to == Lang::Ngc {
             let o = self.label();
@@ -504,7 +571,11 @@ impl<'a> Emit<'a> {
             return Ok(());
         }
         if self.loops == 3 {
-            return Err(unsupported(self.stmts[at].span, "a fourth loop inside three: Custom Macro B's WHILE nests three deep (DO1–DO3)".into()));
+            return Err(unsupported(
+                self.stmts[at].span,
+                "a fourth loop inside three: Custom Macro B's WHILE nests three deep (DO1–DO3)"
+                    .into(),
+            ));
         }
         self.loops += 1;
         let m = self.loops;
@@ -515,7 +586,13 @@ impl<'a> Emit<'a> {
         Ok(())
     }
 
-    fn do_while(&mut self, at: usize, body: &[Node], cond: &Cond, test: usize) -> Result<(), Diagnostic> {
+    fn do_while(
+        &mut self,
+        at: usize,
+        body: &[Node],
+        cond: &Cond,
+        test: usize,
+    ) -> Result<(), Diagnostic> {
         let c = self.cond(cond)?;
         let n = self.label();
         if self.to == Lang::Ngc {
@@ -530,7 +607,13 @@ impl<'a> Emit<'a> {
         Ok(())
     }
 
-    fn if_node(&mut self, at: usize, cond: &Cond, then: &[Node], els: &[Node]) -> Result<(), Diagnostic> {
+    fn if_node(
+        &mut self,
+        at: usize,
+        cond: &Cond,
+        then: &[Node],
+        els: &[Node],
+    ) -> Result<(), Diagnostic> {
         if self.to == Lang::Ngc {
             let c = self.cond(cond)?;
             let o = self.label();
@@ -550,7 +633,10 @@ impl<'a> Emit<'a> {
             self.line(&format!("IF {c} THEN {s}"), Some(at));
             return Ok(());
         }
-        let skip = self.cond(&Cond { ex: cond.ex.clone(), negated: !cond.negated })?;
+        let skip = self.cond(&Cond {
+            ex: cond.ex.clone(),
+            negated: !cond.negated,
+        })?;
         let n = self.label();
         self.line(&format!("IF {skip} GOTO{n}"), Some(at));
         self.nodes(then)?;
@@ -567,7 +653,14 @@ impl<'a> Emit<'a> {
     }
 
     fn repeat(&mut self, at: usize, count: &Ex, body: &[Node]) -> Result<(), Diagnostic> {
-        if let [Node::Call { at: c, sub, args, count: None, shares_locals }] = body {
+        if let [Node::Call {
+            at: c,
+            sub,
+            args,
+            count: None,
+            shares_locals,
+        }] = body
+        {
             return self.call(&Node::Call {
                 at: *c,
                 sub: sub.clone(),
@@ -584,14 +677,30 @@ impl<'a> Emit<'a> {
             self.close(&format!("o{o} endrepeat"), None);
             return Ok(());
         }
-        Err(unsupported(self.stmts[at].span, "a repeat around more than one call: threadcut writes repeat as a call's L count only".into()))
+        Err(unsupported(
+            self.stmts[at].span,
+            "a repeat around more than one call: threadcut writes repeat as a call's L count only"
+                .into(),
+        ))
     }
 
     fn call(&mut self, n: &Node) -> Result<(), Diagnostic> {
-        let Node::Call { at, sub, args, count, shares_locals } = n else { return Ok(()) };
+        let Node::Call {
+            at,
+            sub,
+            args,
+            count,
+            shares_locals,
+        } = n
+        else {
+            return Ok(());
+        };
         let span = self.stmts[*at].span;
         let Some(name) = self.subs.get(sub).cloned() else {
-            return Err(unsupported(span, format!("the subprogram {sub} this line calls is not in the program")));
+            return Err(unsupported(
+                span,
+                format!("the subprogram {sub} this line calls is not in the program"),
+            ));
         };
         let times = match count {
             Some(Ex::Num(v)) if *v == 1.0 => None,
@@ -599,31 +708,10 @@ impl<'a> Emit<'a> {
             None => None,
         };
         if self.to == Lang::Ngc {
-            if *shares_locals && self.sub_uses_locals(sub) {
-                return Err(unsupported(span, format!("M98 runs subprogram {sub} with the caller's local variables #1–#33, which it uses; a LinuxCNC subroutine has its own")).with_hint("--flatten writes the executed program instead"));
+            if *shares_locals && self.sub_sets_locals(sub) {
+                return Err(unsupported(span, format!("M98 runs subprogram {sub} with the caller's local variables #1–#33, and it sets some: LinuxCNC restores #1–#30 when its subroutine returns")).with_hint("--flatten writes the executed program instead"));
             }
-            let last = args.iter().map(|a| a.0).max().unwrap_or(0);
-            if last > 30 {
-                return Err(unsupported(span, format!("an argument for #{last}: LinuxCNC passes #1–#30")));
-            }
-            let mut text = format!("o{name} call");
-            for slot in 1..=last {
-                let v = match args.iter().find(|a| a.0 == slot) {
-                    Some((_, e)) => self.ex(e)?,
-                    None => "0".into(),
-                };
-                text.push_str(&format!(" [{v}]"));
-            }
-            match times {
-                None => self.line(&text, Some(*at)),
-                Some(t) => {
-                    let o = self.label();
-                    self.open(&format!("o{o} repeat [{t}]"), *at);
-                    self.line(&text, None);
-                    self.close(&format!("o{o} endrepeat"), None);
-                }
-            }
-            return Ok(());
+            return self.ngc_call(*at, &name, args, times);
         }
         // M98 where the control has no G65 call, or where the source's call shares the caller's
         // local variables too (M98, Haas's M97).
@@ -633,26 +721,73 @@ impl<'a> Emit<'a> {
         {
             return self.m98(*at, &name, args, times);
         }
+        self.g65(*at, &name, args, times)
+    }
+
+    /// `oN call [#1] [#2] …`, in a repeat for a count; an argument left out is passed as 0.
+    fn ngc_call(
+        &mut self,
+        at: usize,
+        name: &str,
+        args: &[(u8, Ex)],
+        times: Option<String>,
+    ) -> Result<(), Diagnostic> {
+        let last = args.iter().map(|a| a.0).max().unwrap_or(0);
+        if last > 30 {
+            return Err(unsupported(
+                self.stmts[at].span,
+                format!("an argument for #{last}: LinuxCNC passes #1–#30"),
+            ));
+        }
+        let mut text = format!("o{name} call");
+        for slot in 1..=last {
+            let v = match args.iter().find(|a| a.0 == slot) {
+                Some((_, e)) => self.ex(e)?,
+                None => "0".into(),
+            };
+            text.push_str(&format!(" [{v}]"));
+        }
+        match times {
+            None => self.line(&text, Some(at)),
+            Some(t) => {
+                let o = self.label();
+                self.open(&format!("o{o} repeat [{t}]"), at);
+                self.line(&text, None);
+                self.close(&format!("o{o} endrepeat"), None);
+            }
+        }
+        Ok(())
+    }
+
+    /// `G65 P… L… A… B…`: each argument by its letter of specification I, or all of them in
+    /// specification II (A B C, then I J K repeated) when one has no letter of its own there.
+    fn g65(
+        &mut self,
+        at: usize,
+        name: &str,
+        args: &[(u8, Ex)],
+        times: Option<String>,
+    ) -> Result<(), Diagnostic> {
+        const SPEC_ONE: &[u8; 27] = b"_ABCIJKDEF_H_M___QRSTUVWXYZ";
         let mut text = format!("G65 P{name}");
         if let Some(t) = &times {
             text.push_str(&format!(" L{}", bracketed(t)));
         }
-        let spec_one = args.len() <= 9;
+        let one = args
+            .iter()
+            .all(|(slot, _)| SPEC_ONE.get(*slot as usize).is_some_and(|l| *l != b'_'));
         for (k, (slot, e)) in args.iter().enumerate() {
-            if *slot as usize != k + 1 {
-                return Err(unsupported(span, "arguments with gaps".into()));
-            }
-            let letter = if spec_one {
-                b"ABCIJKDEF"[k]
-            } else {
-                match k {
-                    0..=2 => b"ABC"[k],
-                    _ => b"IJK"[(k - 3) % 3],
-                }
+            let letter = match (one, *slot as usize) {
+                (true, s) => SPEC_ONE[s],
+                (false, s @ 1..=3) if s == k + 1 => b"ABC"[s - 1],
+                (false, s @ 4..=33) if s == k + 1 => b"IJK"[(s - 4) % 3],
+                _ => return Err(unsupported(
+                    self.stmts[at].span,
+                    format!(
+                        "the argument for #{slot}: G65's letters cannot pass it with the others"
+                    ),
+                )),
             };
-            if k >= 33 {
-                return Err(unsupported(span, "more than 33 arguments".into()));
-            }
             // A number with its decimal point: without, Custom Macro B would read it in least
             // input increments.
             let v = match e {
@@ -661,20 +796,28 @@ impl<'a> Emit<'a> {
             };
             text.push_str(&format!(" {}{}", letter as char, bracketed(&v)));
         }
-        self.line(&text, Some(*at));
+        self.line(&text, Some(at));
         Ok(())
     }
 
     /// A call on a control without G65 calls: the arguments set in the caller's local variables,
     /// which M98's subprogram shares, then `M98 P…` (the count packed in P where the control
     /// has no L).
-    fn m98(&mut self, at: usize, name: &str, args: &[(u8, Ex)], times: Option<String>) -> Result<(), Diagnostic> {
+    fn m98(
+        &mut self,
+        at: usize,
+        name: &str,
+        args: &[(u8, Ex)],
+        times: Option<String>,
+    ) -> Result<(), Diagnostic> {
         let span = self.stmts[at].span;
         for (slot, e) in args {
             let v = self.ex(e)?;
             self.line(&format!("#{slot}={v}"), None);
         }
-        let number: u32 = name.parse().map_err(|_| unsupported(span, "a subprogram without a number".into()))?;
+        let number: u32 = name
+            .parse()
+            .map_err(|_| unsupported(span, "a subprogram without a number".into()))?;
         let text = match times {
             None => format!("M98 P{number}"),
             Some(t) if self.to_syntax.m98_l_word => format!("M98 P{number} L{}", bracketed(&t)),
@@ -687,15 +830,20 @@ impl<'a> Emit<'a> {
         Ok(())
     }
 
-    /// Whether a subprogram's lines name a local variable (#1–#33).
-    fn sub_uses_locals(&self, sub: &str) -> bool {
+    /// Whether a subprogram's lines set a local variable (#1–#33): LinuxCNC's call hands the
+    /// subroutine the caller's #1–#30 but restores them on return ("Parameters from #N+1 to #30
+    /// have the same value as in the calling context. On return from the subroutine, the values
+    /// of parameters #1 through #30 … will be restored"), so a subprogram that only reads them
+    /// runs the same.
+    fn sub_sets_locals(&self, sub: &str) -> bool {
         let Some(&(at, end)) = self.ranges.get(sub) else {
             return false;
         };
-        self.stmts[at..=end].iter().any(|s| {
-            let mut used = BTreeSet::new();
-            collect_numbers(&s.st, &mut used);
-            used.range(1..=33).next().is_some()
+        let local = |s: &Set| matches!(s.var, Var::Num(1..=33));
+        self.stmts[at..=end].iter().any(|s| match &s.st {
+            St::Set(sets) => sets.iter().any(local),
+            St::IfThen(_, set) => local(set),
+            _ => false,
         })
     }
 
@@ -734,7 +882,9 @@ fn sets_of(nodes: &[Node]) -> &[Set] {
 
 /// A value as a word's or argument's: bracketed unless it is a number or one variable.
 fn bracketed(t: &str) -> String {
-    if t.starts_with('#') && !t[1..].contains(|c: char| !c.is_ascii_alphanumeric() && c != '<' && c != '>' && c != '_')
+    if t.starts_with('#')
+        && !t[1..]
+            .contains(|c: char| !c.is_ascii_alphanumeric() && c != '<' && c != '>' && c != '_')
         || t.parse::<f64>().is_ok()
     {
         t.to_string()

@@ -26,7 +26,11 @@ pub struct Run {
 pub enum Piece {
     Text(String),
     /// `a·expression + b`.
-    Expr { ex: Ex, a: f64, b: f64 },
+    Expr {
+        ex: Ex,
+        a: f64,
+        b: f64,
+    },
 }
 
 /// The factors a value may take on its way to the target's word.
@@ -47,11 +51,7 @@ fn tokens(text: &str) -> Vec<Tok> {
     while i < b.len() {
         let c = b[i];
         match (comment, c) {
-            (Some(close), _) => {
-                if c == close {
-                    comment = None;
-                }
-            }
+            (Some(close), _) if c == close => comment = None,
             (None, b'(') => comment = Some(b')'),
             (None, b';') => comment = Some(b'\n'),
             _ => {}
@@ -61,7 +61,8 @@ fn tokens(text: &str) -> Vec<Tok> {
         let starts_number = |k: usize| {
             b.get(k).is_some_and(|d| d.is_ascii_digit() || *d == b'.')
                 || (matches!(b.get(k), Some(b'+' | b'-'))
-                    && b.get(k + 1).is_some_and(|d| d.is_ascii_digit() || *d == b'.'))
+                    && b.get(k + 1)
+                        .is_some_and(|d| d.is_ascii_digit() || *d == b'.'))
         };
         if comment.is_none() && c.is_ascii_uppercase() && starts_number(i) {
             let from = i;
@@ -144,7 +145,12 @@ pub fn template(
 }
 
 /// The expression a number follows: on every run `a·value + b` within `tol`.
-fn number_piece(values: &[f64], letter: u8, exprs: &[(u8, &Ex, Vec<f64>)], tol: f64) -> Option<Piece> {
+fn number_piece(
+    values: &[f64],
+    letter: u8,
+    exprs: &[(u8, &Ex, Vec<f64>)],
+    tol: f64,
+) -> Option<Piece> {
     let constant = values.iter().all(|v| (v - values[0]).abs() <= tol);
     for (l, ex, vs) in exprs {
         let related = *l == letter || (is_lead(*l) && is_lead(letter));
@@ -197,7 +203,10 @@ fn differs(span: Span, number: u32, runs: &[Run]) -> Diagnostic {
         .find_map(|r| {
             let other: Vec<&str> = r.text.lines().collect();
             (0..first.len().max(other.len())).find_map(|k| {
-                let (x, y) = (first.get(k).copied().unwrap_or(""), other.get(k).copied().unwrap_or(""));
+                let (x, y) = (
+                    first.get(k).copied().unwrap_or(""),
+                    other.get(k).copied().unwrap_or(""),
+                );
                 (x != y).then_some((x, y))
             })
         })

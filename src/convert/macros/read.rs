@@ -197,7 +197,11 @@ fn comments_of(text: &[u8]) -> Vec<String> {
                     .iter()
                     .position(|&c| c == b')')
                     .map_or(text.len(), |c| i + 1 + c);
-                out.push(String::from_utf8_lossy(&text[i + 1..close]).trim().to_string());
+                out.push(
+                    String::from_utf8_lossy(&text[i + 1..close])
+                        .trim()
+                        .to_string(),
+                );
                 i = close + 1;
             }
             b';' => {
@@ -292,17 +296,16 @@ fn ngc(s: &Squeezed, exprs: &mut Exprs) -> Result<(Option<u32>, St), Diagnostic>
 fn oword(s: &Squeezed, mut k: usize, exprs: &mut Exprs) -> Result<St, Diagnostic> {
     let at = k;
     k += 1;
-    let name = match s.at(k) {
-        b'<' => read_name(s, &mut k)?,
-        b'0'..=b'9' => whole_number(s, &mut k)?.to_string(),
-        _ => {
-            return Err(unsupported(
+    let name =
+        match s.at(k) {
+            b'<' => read_name(s, &mut k)?,
+            b'0'..=b'9' => whole_number(s, &mut k)?.to_string(),
+            _ => return Err(unsupported(
                 s.span(at, k + 1),
                 "a computed o-word name: threadcut translates o-words named by a number or <name>"
                     .into(),
-            ))
-        }
-    };
+            )),
+        };
     let Some(&(word, kw)) = KEYWORDS.iter().find(|(w, _)| s.starts_with(k, w)) else {
         return Err(s.error(k, k + 1, "Unknown word starting with o"));
     };
@@ -344,11 +347,7 @@ fn words(
             continue;
         }
         if !c.is_ascii_uppercase() {
-            return Err(s.error(
-                *k,
-                *k + 1,
-                format!("`{}` cannot begin a word", c as char),
-            ));
+            return Err(s.error(*k, *k + 1, format!("`{}` cannot begin a word", c as char)));
         }
         let from = *k;
         *k += 1;
@@ -464,10 +463,13 @@ fn operation(words: Vec<Word>, span: Span) -> Result<St, Diagnostic> {
         return Ok(St::Block(words));
     }
     let value = |letter: u8| {
-        words.iter().find(|w| w.letter == letter).map(|w| match &w.value {
-            Val::Lit(v) => Ex::Num(*v),
-            Val::Expr(e) => e.clone(),
-        })
+        words
+            .iter()
+            .find(|w| w.letter == letter)
+            .map(|w| match &w.value {
+                Val::Lit(v) => Ex::Num(*v),
+                Val::Expr(e) => e.clone(),
+            })
     };
     let h = match value(b'H') {
         Some(Ex::Num(h)) => h as u32,
@@ -481,7 +483,10 @@ fn operation(words: Vec<Word>, span: Span) -> Result<St, Diagnostic> {
     let jump = |op: BinOp| -> Result<St, Diagnostic> {
         match value(b'P') {
             Some(Ex::Num(p)) => Ok(St::IfGoto(bin(op, j.clone(), k.clone()), p as u32)),
-            _ => Err(unsupported(span, "a jump's P is its sequence number, written as a number".into())),
+            _ => Err(unsupported(
+                span,
+                "a jump's P is its sequence number, written as a number".into(),
+            )),
         }
     };
     let computed = match h {
@@ -527,9 +532,19 @@ fn operation(words: Vec<Word>, span: Span) -> Result<St, Diagnostic> {
     let var = match value(b'P') {
         Some(Ex::Var(n)) => match *n {
             Ex::Num(n) => Var::Num(n as i64),
-            _ => return Err(unsupported(span, "P#i names the variable set by its number".into())),
+            _ => {
+                return Err(unsupported(
+                    span,
+                    "P#i names the variable set by its number".into(),
+                ))
+            }
         },
-        _ => return Err(unsupported(span, "the operation needs P#i, the variable it sets".into())),
+        _ => {
+            return Err(unsupported(
+                span,
+                "the operation needs P#i, the variable it sets".into(),
+            ))
+        }
     };
     Ok(St::Set(vec![Set {
         var,

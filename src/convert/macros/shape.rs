@@ -159,7 +159,11 @@ pub fn macro_b(stmts: &[Stmt], syntax: &Syntax) -> Result<Shape, Diagnostic> {
         };
         // A local subprogram begins at its sequence number's line, which may hold a block.
         let label_only = matches!(stmts[*at].st, St::Blank);
-        let first = if name.starts_with('N') && !label_only { *at } else { at + 1 };
+        let first = if name.starts_with('N') && !label_only {
+            *at
+        } else {
+            at + 1
+        };
         let body = f.seq(first, last, None)?;
         subs.push(Sub {
             name: name.clone(),
@@ -242,7 +246,8 @@ impl Fanuc<'_> {
                 els: Vec::new(),
             }),
             St::While(c, m) => {
-                let Some(end) = (i + 1..b).find(|&k| matches!(self.stmts[k].st, St::End(e) if e == *m))
+                let Some(end) =
+                    (i + 1..b).find(|&k| matches!(self.stmts[k].st, St::End(e) if e == *m))
                 else {
                     return Err(unsupported(
                         s.span,
@@ -261,7 +266,10 @@ impl Fanuc<'_> {
                 return Ok(end + 1);
             }
             St::End(m) => {
-                return Err(unsupported(s.span, format!("END{m} without its WHILE … DO{m}")))
+                return Err(unsupported(
+                    s.span,
+                    format!("END{m} without its WHILE … DO{m}"),
+                ))
             }
             St::IfGoto(c, n) => {
                 let Some(j) = (i + 1..b).find(|&k| self.stmts[k].label == Some(*n)) else {
@@ -316,21 +324,30 @@ impl Fanuc<'_> {
                 Some((v, _)) if v >= 0.0 && v.fract() == 0.0 => Ok(v as u32),
                 _ => Err(unsupported(
                     span,
-                    format!("the call needs {} as a number written in it", letter as char),
+                    format!(
+                        "the call needs {} as a number written in it",
+                        letter as char
+                    ),
                 )),
             }
         };
         let count = || {
-            words.iter().find(|w| w.letter == b'L').map(|w| match &w.value {
-                Val::Lit(v) => Ex::Num(*v),
-                Val::Expr(e) => e.clone(),
-            })
+            words
+                .iter()
+                .find(|w| w.letter == b'L')
+                .map(|w| match &w.value {
+                    Val::Lit(v) => Ex::Num(*v),
+                    Val::Expr(e) => e.clone(),
+                })
         };
         if has_code(words, b'M', 98.0) {
             call_words(words, b"MPL")?;
             let p = number(b'P')?;
             let (sub, packed) = if p > 9999 || !self.syntax.m98_l_word {
-                (p % 10000, (p / 10000 > 0).then(|| Ex::Num((p / 10000) as f64)))
+                (
+                    p % 10000,
+                    (p / 10000 > 0).then_some(Ex::Num((p / 10000) as f64)),
+                )
             } else {
                 (p, None)
             };
@@ -353,56 +370,61 @@ impl Fanuc<'_> {
             });
         }
         if has_code(words, b'G', 65.0) {
-            if self.syntax.g65_operations {
-                return Err(unsupported(
-                    span,
-                    "G65 Hm P#i Q#j R#k, a macro operation: threadcut does not translate this control's operations into another macro language".into(),
-                )
-                .with_hint("--flatten writes the executed program instead"));
-            }
-            let p = number(b'P')?;
-            let letters: Vec<(u8, Span)> = words
-                .iter()
-                .filter(|w| !matches!(w.letter, b'G' | b'P' | b'L' | b'N'))
-                .map(|w| (w.letter, w.span))
-                .collect();
-            let slots = argument_slots(&letters);
-            let mut args = Vec::new();
-            for (w, slot) in words
-                .iter()
-                .filter(|w| !matches!(w.letter, b'G' | b'P' | b'L' | b'N'))
-                .zip(slots)
-            {
-                if slot == 0 {
-                    return Err(unsupported(w.span, format!("{} is not an argument of G65", w.letter as char)));
-                }
-                let e = match &w.value {
-                    Val::Lit(_) if !w.dot => {
-                        return Err(unsupported(w.span, format!(
-                            "G65's argument {} without a decimal point: Custom Macro B reads it in the machine's least input increments, which the other language does not",
-                            w.letter as char
-                        )).with_hint("write the argument with its decimal point (`A1.`)"))
-                    }
-                    Val::Lit(v) => Ex::Num(*v),
-                    Val::Expr(e) => e.clone(),
-                };
-                args.retain(|(s, _): &(u8, Ex)| *s != slot);
-                args.push((slot, e));
-            }
-            args.sort_by_key(|a| a.0);
-            return Ok(Node::Call {
-                at: i,
-                sub: p.to_string(),
-                args,
-                count: count(),
-                shares_locals: false,
-            });
+            return self.g65(i, words, number(b'P')?, count());
         }
         if has_code(words, b'M', 99.0) {
             call_words(words, b"M")?;
             return Ok(Node::Return(i));
         }
         Ok(Node::Line(i))
+    }
+}
+
+impl Fanuc<'_> {
+    /// `G65 P… L… arguments`: each argument to its local variable (specifications I and II).
+    fn g65(&self, i: usize, words: &[Word], p: u32, count: Option<Ex>) -> Result<Node, Diagnostic> {
+        if self.syntax.g65_operations {
+            return Err(unsupported(
+                self.stmts[i].span,
+                "G65 Hm P#i Q#j R#k, a macro operation threadcut does not translate".into(),
+            )
+            .with_hint("--flatten writes the executed program instead"));
+        }
+        let arguments: Vec<&Word> = words
+            .iter()
+            .filter(|w| !matches!(w.letter, b'G' | b'P' | b'L' | b'N'))
+            .collect();
+        let letters: Vec<(u8, Span)> = arguments.iter().map(|w| (w.letter, w.span)).collect();
+        let mut args = Vec::new();
+        for (w, slot) in arguments.iter().zip(argument_slots(&letters)) {
+            if slot == 0 {
+                return Err(unsupported(
+                    w.span,
+                    format!("{} is not an argument of G65", w.letter as char),
+                ));
+            }
+            let e = match &w.value {
+                // M S T H D are read as whole numbers; the others in least increments.
+                Val::Lit(_) if !w.dot && !b"MSTHD".contains(&w.letter) => {
+                    return Err(unsupported(w.span, format!(
+                        "G65's argument {} without a decimal point: Custom Macro B reads it in the machine's least input increments",
+                        w.letter as char
+                    )).with_hint("write the argument with its decimal point (`A1.`)"))
+                }
+                Val::Lit(v) => Ex::Num(*v),
+                Val::Expr(e) => e.clone(),
+            };
+            args.retain(|(s, _): &(u8, Ex)| *s != slot);
+            args.push((slot, e));
+        }
+        args.sort_by_key(|a| a.0);
+        Ok(Node::Call {
+            at: i,
+            sub: p.to_string(),
+            args,
+            count,
+            shares_locals: false,
+        })
     }
 }
 
@@ -414,10 +436,7 @@ pub fn ngc(stmts: &[Stmt]) -> Result<Shape, Diagnostic> {
         subs: Vec::new(),
     };
     let (main, _) = r.seq(None, true)?;
-    Ok(Shape {
-        main,
-        subs: r.subs,
-    })
+    Ok(Shape { main, subs: r.subs })
 }
 
 struct Ngc<'a> {
@@ -461,7 +480,10 @@ impl Ngc<'_> {
             ) || (kw == Kw::While && open == Some(name) && self.closing_do(name));
             if closes {
                 if open != Some(name) {
-                    return Err(unsupported(s.span, format!("o{name} closes a construct that is not open")));
+                    return Err(unsupported(
+                        s.span,
+                        format!("o{name} closes a construct that is not open"),
+                    ));
                 }
                 return Ok((out, i));
             }
@@ -481,11 +503,14 @@ impl Ngc<'_> {
     /// Whether the `while` of `name` ends a `do` (rather than opening a loop): the `do` of that
     /// name is what is open.
     fn closing_do(&self, name: &str) -> bool {
-        (0..self.i).rev().find_map(|k| match oline(&self.stmts[k].st) {
-            Some((n, Kw::Do, ..)) if n == name => Some(true),
-            Some((n, Kw::While, ..)) if n == name => Some(false),
-            _ => None,
-        }) == Some(true)
+        (0..self.i)
+            .rev()
+            .find_map(|k| match oline(&self.stmts[k].st) {
+                Some((n, Kw::Do, ..)) if n == name => Some(true),
+                Some((n, Kw::While, ..)) if n == name => Some(false),
+                _ => None,
+            })
+            == Some(true)
     }
 
     fn cond(&self, i: usize, arg: Option<&Ex>) -> Result<Cond, Diagnostic> {
@@ -494,7 +519,10 @@ impl Ngc<'_> {
                 ex: e.clone(),
                 negated: false,
             }),
-            None => Err(unsupported(self.stmts[i].span, "a condition `[…]` expected".into())),
+            None => Err(unsupported(
+                self.stmts[i].span,
+                "a condition `[…]` expected".into(),
+            )),
         }
     }
 
@@ -512,32 +540,35 @@ impl Ngc<'_> {
         Ok(Some(match kw {
             Kw::Sub => {
                 if !top {
-                    return Err(unsupported(span, "a subroutine defined inside another construct".into()));
+                    return Err(unsupported(
+                        span,
+                        "a subroutine defined inside another construct".into(),
+                    ));
                 }
-                let (body, end) = self.seq(Some(name), false)?;
-                self.close(end, Kw::Endsub)?;
-                if self.stmts[end].st_arg().is_some() {
-                    return Err(unsupported(self.stmts[end].span, "endsub with a value: a subroutine's return value has no twin in Custom Macro B".into()));
-                }
-                self.subs.push(Sub {
-                    name: name.to_string(),
-                    at: i,
-                    body,
-                    end,
-                });
+                self.sub(i, name)?;
                 return Ok(None);
             }
             Kw::While => {
                 let cond = self.cond(i, arg)?;
                 let (body, end) = self.seq(Some(name), false)?;
                 self.close(end, Kw::Endwhile)?;
-                Node::While { at: i, cond, body, end }
+                Node::While {
+                    at: i,
+                    cond,
+                    body,
+                    end,
+                }
             }
             Kw::Do => {
                 let (body, test) = self.seq(Some(name), false)?;
                 self.close(test, Kw::While)?;
                 let cond = self.cond(test, self.stmts[test].st_arg())?;
-                Node::DoWhile { at: i, body, cond, test }
+                Node::DoWhile {
+                    at: i,
+                    body,
+                    cond,
+                    test,
+                }
             }
             Kw::If => self.if_chain(i, name, arg)?,
             Kw::Repeat => {
@@ -558,14 +589,48 @@ impl Ngc<'_> {
                 shares_locals: false,
             },
             Kw::Return if arg.is_none() => Node::Return(i),
-            Kw::Return => {
-                return Err(unsupported(span, "return with a value: a subroutine's return value has no twin in Custom Macro B".into()))
-            }
+            Kw::Return => return Err(unsupported(
+                span,
+                "return with a value: a subroutine's return value has no twin in Custom Macro B"
+                    .into(),
+            )),
             Kw::Break | Kw::Continue => {
-                return Err(unsupported(span, format!("o{name} {}: threadcut does not translate break and continue yet", if kw == Kw::Break { "break" } else { "continue" })).with_hint("--flatten writes the executed program instead"))
+                return Err(unsupported(
+                    span,
+                    format!(
+                        "o{name} {}: threadcut does not translate break and continue yet",
+                        if kw == Kw::Break { "break" } else { "continue" }
+                    ),
+                )
+                .with_hint("--flatten writes the executed program instead"))
             }
-            _ => return Err(unsupported(span, format!("o{name} closes a construct that is not open"))),
+            _ => {
+                return Err(unsupported(
+                    span,
+                    format!("o{name} closes a construct that is not open"),
+                ))
+            }
         }))
+    }
+
+    /// A subroutine's definition, to its `endsub`.
+    fn sub(&mut self, i: usize, name: &str) -> Result<(), Diagnostic> {
+        let (body, end) = self.seq(Some(name), false)?;
+        self.close(end, Kw::Endsub)?;
+        if self.stmts[end].st_arg().is_some() {
+            return Err(unsupported(
+                self.stmts[end].span,
+                "endsub with a value: a subroutine's return value has no twin in Custom Macro B"
+                    .into(),
+            ));
+        }
+        self.subs.push(Sub {
+            name: name.to_string(),
+            at: i,
+            body,
+            end,
+        });
+        Ok(())
     }
 
     /// `if`, its `elseif`s and `else`, to `endif`.
@@ -584,9 +649,19 @@ impl Ngc<'_> {
                 let arg = self.stmts[at].st_arg();
                 vec![self.if_chain(at, name, arg)?]
             }
-            _ => return Err(unsupported(self.stmts[at].span, format!("o{name} if is closed by another o-word"))),
+            _ => {
+                return Err(unsupported(
+                    self.stmts[at].span,
+                    format!("o{name} if is closed by another o-word"),
+                ))
+            }
         };
-        Ok(Node::If { at: i, cond, then, els })
+        Ok(Node::If {
+            at: i,
+            cond,
+            then,
+            els,
+        })
     }
 
     /// The line `end` must be `kw`; reading goes on after it.
@@ -596,7 +671,10 @@ impl Ngc<'_> {
                 self.i = end + 1;
                 Ok(())
             }
-            _ => Err(unsupported(self.stmts[end].span, "this o-word closes another construct".into())),
+            _ => Err(unsupported(
+                self.stmts[end].span,
+                "this o-word closes another construct".into(),
+            )),
         }
     }
 }

@@ -18,7 +18,11 @@ pub struct Move {
 }
 
 /// Every move `text` makes on `machine`, moves of no length left out.
-pub fn motion(text: &[u8], machine: &Machine, options: &program::Options) -> Result<Vec<Move>, Error> {
+pub fn motion(
+    text: &[u8],
+    machine: &Machine,
+    options: &program::Options,
+) -> Result<Vec<Move>, Error> {
     let mut moves = Vec::new();
     program::run_with(text, machine, options, |_, ev| {
         match ev {
