@@ -188,6 +188,23 @@ fn named_parameters_take_free_common_variables() {
     );
 }
 
+/// The tool's position: Custom Macro B's #5001 (X as the program writes it, a diameter here) and
+/// #5002, LinuxCNC's #5420 (the radius) and #5422.
+#[test]
+fn position_variables_are_each_others() {
+    let fanuc = "G21 G99\nG0 X30. Z5.\n#1=#5001-4.\n#2=#5002\nG0 X#1 Z#2\nG32 Z-20. F1.5\nM30\n";
+    let ngc = translated(fanuc, "fanuc", "linuxcnc");
+    assert!(
+        ngc.contains("#1 = [[#5420*2]-4]\n#2 = #5422\nG0 X[#1/2] Z#2"),
+        "{ngc}"
+    );
+    let back = translated(&ngc, "linuxcnc", "fanuc");
+    assert!(
+        back.contains("#1=[#5001/2]*2-4\n#2=#5002\nG0 X#1 Z#2"),
+        "{back}"
+    );
+}
+
 #[test]
 fn expressions_and_functions_in_each_syntax() {
     // Fanuc's one-argument ATAN is LinuxCNC's ATAN[x]/[1]; POW is **; the rest as written.

@@ -20,6 +20,9 @@ pub struct Emit<'a> {
     pub to: Lang,
     from_syntax: Syntax,
     to_syntax: Syntax,
+    /// Whether each side's position variable reads X as a diameter (Custom Macro B's #5001 on a
+    /// diameter machine; LinuxCNC's #5420 is the radius).
+    diameters: (bool, bool),
     /// Each run line's converted text, as pieces.
     pub blocks: &'a HashMap<usize, Vec<Piece>>,
     /// A comment in the target's style.
@@ -53,6 +56,7 @@ impl<'a> Emit<'a> {
         to_syntax: Syntax,
         blocks: &'a HashMap<usize, Vec<Piece>>,
         comment: &'a dyn Fn(&str) -> String,
+        diameters: (bool, bool),
     ) -> Emit<'a> {
         let mut used = BTreeSet::new();
         let mut used_labels = BTreeSet::new();
@@ -66,6 +70,10 @@ impl<'a> Emit<'a> {
             to: to_syntax.lang,
             from_syntax,
             to_syntax,
+            diameters: (
+                diameters.0 && from_syntax.lang == Lang::MacroB,
+                diameters.1 && to_syntax.lang == Lang::MacroB,
+            ),
             blocks,
             comment,
             vars: BTreeMap::new(),
@@ -377,6 +385,9 @@ impl<'a> Emit<'a> {
     fn twin(&self, n: i64, span: Span) -> Result<Option<String>, Diagnostic> {
         let same = Ok(Some(format!("#{n}")));
         let wide = |s: &Syntax| s.lang == Lang::MacroB && s.wide_commons;
+        if let Some(axis) = position_axis(self.from, n) {
+            return Ok(Some(self.position(axis)));
+        }
         match (self.from, self.to, n) {
             (_, _, 1..=30 | 100..=199 | 500..=999) => same,
             // Within Custom Macro B every number is the same variable, but for the wide commons
@@ -389,6 +400,23 @@ impl<'a> Emit<'a> {
             (Lang::Ngc, _, 31..=5000) => Ok(None),
             (Lang::MacroB, _, 0) => Err(unsupported(span, "#0, the vacant value: LinuxCNC has no vacant value (its unset parameters read 0)".into())),
             _ => Err(unsupported(span, format!("#{n}, a system variable: threadcut translates only the variables a program keeps its values in"))),
+        }
+    }
+
+    /// The target's variable of the tool's position on an axis (0: X, 1: Z), scaled where the
+    /// two read X differently: Custom Macro B's #5001/#5002 (X as the program writes it, Z) and
+    /// LinuxCNC's #5420/#5422 (X as a radius, Z).
+    fn position(&self, axis: usize) -> String {
+        let var = match (self.to, axis) {
+            (Lang::Ngc, 0) => "#5420",
+            (Lang::Ngc, _) => "#5422",
+            (_, 0) => "#5001",
+            _ => "#5002",
+        };
+        match (axis, self.diameters) {
+            (0, (true, false)) => format!("[{var}*2]"),
+            (0, (false, true)) => format!("[{var}/2]"),
+            _ => var.to_string(),
         }
     }
 
@@ -781,12 +809,14 @@ impl<'a> Emit<'a> {
                 (true, s) => SPEC_ONE[s],
                 (false, s @ 1..=3) if s == k + 1 => b"ABC"[s - 1],
                 (false, s @ 4..=33) if s == k + 1 => b"IJK"[(s - 4) % 3],
-                _ => return Err(unsupported(
-                    self.stmts[at].span,
-                    format!(
+                _ => {
+                    return Err(unsupported(
+                        self.stmts[at].span,
+                        format!(
                         "the argument for #{slot}: G65's letters cannot pass it with the others"
                     ),
-                )),
+                    ))
+                }
             };
             // A number with its decimal point: without, Custom Macro B would read it in least
             // input increments.
@@ -890,6 +920,16 @@ fn bracketed(t: &str) -> String {
         t.to_string()
     } else {
         format!("[{t}]")
+    }
+}
+
+/// The axis a position variable reads (0: X, 1: Z): Custom Macro B's #5001/#5002 (#5041/#5042),
+/// LinuxCNC's #5420/#5422.
+fn position_axis(lang: Lang, n: i64) -> Option<usize> {
+    match (lang, n) {
+        (Lang::MacroB, 5001 | 5041) | (Lang::Ngc, 5420) => Some(0),
+        (Lang::MacroB, 5002 | 5042) | (Lang::Ngc, 5422) => Some(1),
+        _ => None,
     }
 }
 

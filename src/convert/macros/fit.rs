@@ -157,7 +157,7 @@ fn number_piece(
         for a in FACTORS {
             // A number the same on every run is written as an expression only when it is the
             // expression's own value (scaled), in the word of its letter.
-            if constant && !(related && (a == 1.0 || (letter == b'X' && a.abs() == 0.5))) {
+            if constant && !(related && (a == 1.0 || (letter == b'X' && (a == 0.5 || a == 2.0)))) {
                 continue;
             }
             // The constant: the runs' mean offset (each number rounded to the output's

@@ -68,8 +68,15 @@ pub fn translate(r: &Request) -> Result<String, program::Error> {
         };
         blocks.insert(i, fit::template(runs, words, s.span, s.number, units_tol)?);
     }
-    let text =
-        emit::Emit::new(&stmts, r.syntax, r.to_syntax, &blocks, r.comment).program(&shape)?;
+    let text = emit::Emit::new(
+        &stmts,
+        r.syntax,
+        r.to_syntax,
+        &blocks,
+        r.comment,
+        (r.from.diameter_x, r.to.diameter_x),
+    )
+    .program(&shape)?;
     check(r, &text, tol)?;
     Ok(text)
 }
