@@ -178,6 +178,36 @@ fn subprograms_and_calls_both_ways() {
     assert!(gsk.contains("#1=24\nM98 P1000\nM2"), "{gsk}");
 }
 
+/// A subroutine whose cycle has no one text for its two calls (LinuxCNC's G76 becomes Fanuc's
+/// plain passes, computed from several arguments at once) is written once for each call.
+#[test]
+fn a_subroutine_whose_blocks_differ_by_call_is_written_for_each_call() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/linuxcnc-sub-two-threads.ngc"),
+    )
+    .unwrap();
+    let fanuc = translated(&text, "linuxcnc", "fanuc");
+    assert!(
+        fanuc.contains(
+            "G65 P1000 A24. B5. C-20. I1.5 J0.92\nG65 P1001 A20. B-25. C-40. I1. J0.61\n"
+        ),
+        "{fanuc}"
+    );
+    assert!(
+        fanuc.contains("O1000 (o<thread> for the call on line 9)\n"),
+        "{fanuc}"
+    );
+    assert!(
+        fanuc.contains("O1001 (o<thread> for the call on line 10)\n"),
+        "{fanuc}"
+    );
+    // The first call's passes: its first at X22.8 (24 − 2·(0.92 − …) as LinuxCNC's G76 cuts).
+    assert!(
+        fanuc.contains("G0 X22.8 Z5.\nG32 X22.8 Z#3 F1.5"),
+        "{fanuc}"
+    );
+}
+
 #[test]
 fn named_parameters_take_free_common_variables() {
     let ngc = "G7 G21 G18\n#<major> = 24\n#<pitch> = 1.5\nG0 X[#<major> + 2] Z5\nG33 Z-20 K#<pitch>\nG0 X30\nM2\n";

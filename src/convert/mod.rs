@@ -139,7 +139,7 @@ impl Write for Shared {
 
 /// One event's place in a traced output: its line, its words' columns and values, where its
 /// output begins.
-type Mark = (u32, Vec<(u32, f64)>, usize);
+type Mark = (u32, Vec<(u32, f64)>, usize, Option<u32>);
 
 /// Lines' runs, by line number.
 type Runs = std::collections::HashMap<u32, Vec<macros::Run>>;
@@ -149,6 +149,8 @@ type Runs = std::collections::HashMap<u32, Vec<macros::Run>>;
 struct Tap {
     out: Shared,
     marks: Vec<Mark>,
+    /// The line of the call the running block is inside (the innermost).
+    caller: Option<u32>,
 }
 
 impl Tap {
@@ -159,19 +161,20 @@ impl Tap {
             .iter()
             .map(|w| (w.span.column, w.value))
             .collect();
-        self.marks.push((line.number, words, at));
+        self.marks.push((line.number, words, at, self.caller));
     }
 
     /// Each line's runs, the output up to `end` split at the marks.
     fn runs(self, end: usize) -> Runs {
         let buf = self.out.0.borrow();
         let mut runs: Runs = Default::default();
-        for (k, (line, words, at)) in self.marks.iter().enumerate() {
+        for (k, (line, words, at, caller)) in self.marks.iter().enumerate() {
             let to = self.marks.get(k + 1).map_or(end, |m| m.2).max(*at);
             let text = String::from_utf8_lossy(&buf[*at..to]).replace("\r\n", "\n");
             runs.entry(*line).or_default().push(macros::Run {
                 words: words.clone(),
                 text,
+                caller: *caller,
             });
         }
         runs
@@ -465,7 +468,16 @@ impl program::Output for Conversion<'_, '_, '_> {
                 program::write_executed_block(*out, line, at.verbatim, modal)?;
                 Ok(())
             }
-            Side::Other(_) => self.event(modal, ev),
+            Side::Other(_) => {
+                if let Some(t) = &mut self.tap {
+                    t.caller = at.callers.last().copied();
+                }
+                let r = self.event(modal, ev);
+                if let Some(t) = &mut self.tap {
+                    t.caller = None;
+                }
+                r
+            }
         }
     }
 

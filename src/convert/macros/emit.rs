@@ -24,7 +24,7 @@ pub struct Emit<'a> {
     /// diameter machine; LinuxCNC's #5420 is the radius).
     diameters: (bool, bool),
     /// Each run line's converted text, as pieces.
-    pub blocks: &'a HashMap<usize, Vec<Piece>>,
+    pub blocks: &'a super::Blocks,
     /// A comment in the target's style.
     pub comment: &'a dyn Fn(&str) -> String,
     vars: BTreeMap<String, String>,
@@ -33,7 +33,11 @@ pub struct Emit<'a> {
     labels: u32,
     used_labels: BTreeSet<u32>,
     /// Subprogram names in the target.
-    subs: BTreeMap<String, String>,
+    subs: BTreeMap<(String, Option<u32>), String>,
+    /// The subprograms written once for each call: the calls' lines.
+    copies: HashMap<String, Vec<u32>>,
+    /// The call whose copy of a subprogram is being written.
+    copy: Option<u32>,
     /// Each subprogram's first and last lines.
     ranges: BTreeMap<String, (usize, usize)>,
     out: String,
@@ -54,7 +58,7 @@ impl<'a> Emit<'a> {
         stmts: &'a [Stmt],
         from_syntax: Syntax,
         to_syntax: Syntax,
-        blocks: &'a HashMap<usize, Vec<Piece>>,
+        blocks: &'a super::Blocks,
         comment: &'a dyn Fn(&str) -> String,
         diameters: (bool, bool),
     ) -> Emit<'a> {
@@ -82,6 +86,8 @@ impl<'a> Emit<'a> {
             labels: 0,
             used_labels,
             subs: BTreeMap::new(),
+            copies: HashMap::new(),
+            copy: None,
             ranges: BTreeMap::new(),
             out: String::new(),
             depth: 0,
@@ -91,7 +97,12 @@ impl<'a> Emit<'a> {
     }
 
     /// The whole program.
-    pub fn program(mut self, shape: &Shape) -> Result<String, Diagnostic> {
+    pub fn program(
+        mut self,
+        shape: &Shape,
+        copies: &HashMap<String, Vec<u32>>,
+    ) -> Result<String, Diagnostic> {
+        self.copies = copies.clone();
         self.name_subs(shape)?;
         // The lines that begin the main program (`%`, its number, comments) stay first.
         let lead = shape
@@ -127,7 +138,7 @@ impl<'a> Emit<'a> {
                 .iter()
                 .find_map(|n| match n {
                     Node::Line(i) if matches!(self.stmts[*i].st, St::Percent) => {
-                        self.blocks.get(i).map(|p| pieces_plain(p))
+                        self.blocks.get(&(*i, None)).map(|p| pieces_plain(p))
                     }
                     _ => None,
                 })
@@ -150,18 +161,28 @@ impl<'a> Emit<'a> {
         }));
         let mut free = (1000..9000).filter(|n| !numbers.contains(n));
         for s in &shape.subs {
-            let name = match (self.to, s.name.parse::<u32>()) {
-                (Lang::Ngc, Ok(n)) => n.to_string(),
-                (Lang::Ngc, Err(_)) => match s.name.strip_prefix('N') {
+            let first = match (self.to, s.name.parse::<u32>()) {
+                (Lang::Ngc, Ok(n)) => Some(n.to_string()),
+                (Lang::Ngc, Err(_)) => Some(match s.name.strip_prefix('N') {
                     Some(n) if !numbers.contains(&n.parse().unwrap_or(0)) => n.to_string(),
                     _ => format!("<{}>", s.name.to_ascii_lowercase()),
-                },
-                (_, Ok(n)) if n <= 9999 => n.to_string(),
-                _ => free.next().map(|n| n.to_string()).ok_or_else(|| {
-                    unsupported(self.stmts[s.at].span, "no free program number".into())
-                })?,
+                }),
+                (_, Ok(n)) if n <= 9999 => Some(n.to_string()),
+                _ => None,
             };
-            self.subs.insert(s.name.clone(), name);
+            let copies: Vec<Option<u32>> = match self.copies.get(&s.name) {
+                Some(callers) => callers.iter().map(|c| Some(*c)).collect(),
+                None => vec![None],
+            };
+            for (k, copy) in copies.into_iter().enumerate() {
+                let name = match (&first, k) {
+                    (Some(n), 0) => n.clone(),
+                    _ => free.next().map(|n| n.to_string()).ok_or_else(|| {
+                        unsupported(self.stmts[s.at].span, "no free program number".into())
+                    })?,
+                };
+                self.subs.insert((s.name.clone(), copy), name);
+            }
             self.ranges.insert(s.name.clone(), (s.at, s.end));
         }
         Ok(())
@@ -250,7 +271,11 @@ impl<'a> Emit<'a> {
     /// A line's converted text (or its comments, for a line with nothing to run).
     fn block(&mut self, i: usize) -> Result<(), Diagnostic> {
         let s = &self.stmts[i];
-        if let Some(pieces) = self.blocks.get(&i) {
+        if let Some(pieces) = self
+            .blocks
+            .get(&(i, self.copy))
+            .or_else(|| self.blocks.get(&(i, None)))
+        {
             let mut text = String::new();
             for p in pieces {
                 match p {
@@ -724,7 +749,13 @@ impl<'a> Emit<'a> {
             return Ok(());
         };
         let span = self.stmts[*at].span;
-        let Some(name) = self.subs.get(sub).cloned() else {
+        let caller = Some(self.stmts[*at].number);
+        let Some(name) = self
+            .subs
+            .get(&(sub.clone(), caller))
+            .or_else(|| self.subs.get(&(sub.clone(), None)))
+            .cloned()
+        else {
             return Err(unsupported(
                 span,
                 format!("the subprogram {sub} this line calls is not in the program"),
@@ -877,17 +908,47 @@ impl<'a> Emit<'a> {
         })
     }
 
+    /// A subprogram: once, or once for each line that calls it.
     fn sub(&mut self, s: &Sub) -> Result<(), Diagnostic> {
-        let name = self.subs[&s.name].clone();
+        let copies: Vec<Option<u32>> = match self.copies.get(&s.name) {
+            Some(callers) => callers.iter().map(|c| Some(*c)).collect(),
+            None => vec![None],
+        };
+        for copy in copies {
+            self.copy = copy;
+            let name = self.subs[&(s.name.clone(), copy)].clone();
+            let note = copy.map(|c| format!("{} for the call on line {c}", self.source_name(s)));
+            self.sub_copy(s, name, note)?;
+        }
+        self.copy = None;
+        Ok(())
+    }
+
+    /// The subprogram's name in the source's words.
+    fn source_name(&self, s: &Sub) -> String {
+        match (self.from, s.name.parse::<u32>()) {
+            (Lang::Ngc, Ok(n)) => format!("o{n}"),
+            (Lang::Ngc, Err(_)) => format!("o<{}>", s.name),
+            (_, Ok(n)) => format!("O{n}"),
+            _ => s.name.clone(),
+        }
+    }
+
+    /// One copy of a subprogram, `note` saying which call it is for.
+    fn sub_copy(&mut self, s: &Sub, name: String, note: Option<String>) -> Result<(), Diagnostic> {
         self.current = Some(name.clone());
         if self.to == Lang::Ngc {
+            if let Some(n) = &note {
+                self.line(&(self.comment)(n), None);
+            }
             self.open(&format!("o{name} sub"), s.at);
             self.nodes(&s.body)?;
             self.close(&format!("o{name} endsub"), Some(s.end));
         } else {
-            let note = match s.name.parse::<u32>() {
-                Ok(_) => String::new(),
-                Err(_) => format!(" {}", (self.comment)(&format!("o<{}>", s.name))),
+            let note = match (note, s.name.parse::<u32>()) {
+                (Some(n), _) => format!(" {}", (self.comment)(&n)),
+                (None, Ok(_)) => String::new(),
+                (None, Err(_)) => format!(" {}", (self.comment)(&format!("o<{}>", s.name))),
             };
             self.out.push_str(&format!("O{name}{note}"));
             for c in &self.stmts[s.at].comments {

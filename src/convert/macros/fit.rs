@@ -19,6 +19,8 @@ pub struct Run {
     /// Each executed word's column and value.
     pub words: Vec<(u32, f64)>,
     pub text: String,
+    /// The line of the call it ran inside (the innermost), if any.
+    pub caller: Option<u32>,
 }
 
 /// A piece of a block's converted text.

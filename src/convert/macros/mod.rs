@@ -54,19 +54,17 @@ pub fn translate(r: &Request) -> Result<String, program::Error> {
         .fold(0.0, f64::max)
         * 0.5
         + 1e-9;
-    let mut lines = Vec::new();
-    shape::lines(&shape, &mut lines);
-    let mut blocks = HashMap::new();
-    for i in lines {
-        let s = &stmts[i];
-        let Some(runs) = r.runs.get(&s.number) else {
-            continue;
-        };
-        let words = match &s.st {
-            read::St::Block(w) => w.as_slice(),
-            _ => &[],
-        };
-        blocks.insert(i, fit::template(runs, words, s.span, s.number, units_tol)?);
+    let mut main = Vec::new();
+    shape::walk(&shape.main, &mut main);
+    let mut blocks = Blocks::new();
+    templates(&stmts, &main, r.runs, None, units_tol, &mut blocks)?;
+    let mut copies = HashMap::new();
+    for sub in &shape.subs {
+        let mut lines = Vec::new();
+        shape::walk(&sub.body, &mut lines);
+        if let Some(callers) = sub_templates(&stmts, &lines, r.runs, units_tol, &mut blocks)? {
+            copies.insert(sub.name.clone(), callers);
+        }
     }
     let text = emit::Emit::new(
         &stmts,
@@ -76,9 +74,78 @@ pub fn translate(r: &Request) -> Result<String, program::Error> {
         r.comment,
         (r.from.diameter_x, r.to.diameter_x),
     )
-    .program(&shape)?;
+    .program(&shape, &copies)?;
     check(r, &text, tol)?;
     Ok(text)
+}
+
+/// Each line's text, by its index and, in a subprogram written once for each call, the line of the
+/// call.
+pub type Blocks = HashMap<(usize, Option<u32>), Vec<fit::Piece>>;
+
+/// The texts of `lines` from their runs (those of `caller`'s call only, when given).
+fn templates(
+    stmts: &[read::Stmt],
+    lines: &[usize],
+    runs: &HashMap<u32, Vec<Run>>,
+    caller: Option<u32>,
+    tol: f64,
+    blocks: &mut Blocks,
+) -> Result<(), Diagnostic> {
+    for &i in lines {
+        let s = &stmts[i];
+        let Some(runs) = runs.get(&s.number) else {
+            continue;
+        };
+        let runs: Vec<Run> = runs
+            .iter()
+            .filter(|r| caller.is_none() || r.caller == caller)
+            .cloned()
+            .collect();
+        if runs.is_empty() {
+            continue;
+        }
+        let words = match &s.st {
+            read::St::Block(w) => w.as_slice(),
+            _ => &[],
+        };
+        blocks.insert(
+            (i, caller),
+            fit::template(&runs, words, s.span, s.number, tol)?,
+        );
+    }
+    Ok(())
+}
+
+/// A subprogram's texts: one for all its calls, or, where a block has no one text (a cycle whose
+/// passes are computed from the call's arguments), one copy of the subprogram for each line that
+/// calls it, the calls' lines returned.
+fn sub_templates(
+    stmts: &[read::Stmt],
+    lines: &[usize],
+    runs: &HashMap<u32, Vec<Run>>,
+    tol: f64,
+    blocks: &mut Blocks,
+) -> Result<Option<Vec<u32>>, Diagnostic> {
+    let Err(one) = templates(stmts, lines, runs, None, tol, blocks) else {
+        return Ok(None);
+    };
+    let mut callers: Vec<u32> = lines
+        .iter()
+        .flat_map(|i| runs.get(&stmts[*i].number).into_iter().flatten())
+        .filter_map(|r| r.caller)
+        .collect();
+    callers.sort_unstable();
+    callers.dedup();
+    if callers.len() < 2 {
+        return Err(one);
+    }
+    for c in &callers {
+        if templates(stmts, lines, runs, Some(*c), tol, blocks).is_err() {
+            return Err(one);
+        }
+    }
+    Ok(Some(callers))
 }
 
 /// The converted program moves as the source does.

@@ -686,15 +686,8 @@ impl Stmt {
     }
 }
 
-/// Every line written as a block's conversion, in the main program and the subprograms.
-pub fn lines(shape: &Shape, out: &mut Vec<usize>) {
-    walk(&shape.main, out);
-    for s in &shape.subs {
-        walk(&s.body, out);
-    }
-}
-
-fn walk(nodes: &[Node], out: &mut Vec<usize>) {
+/// Every line of `nodes` written as a block's conversion.
+pub fn walk(nodes: &[Node], out: &mut Vec<usize>) {
     for n in nodes {
         match n {
             Node::Line(i) => out.push(*i),
