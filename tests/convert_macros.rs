@@ -176,6 +176,12 @@ fn subprograms_and_calls_both_ways() {
     assert!(ngc.contains("o100 sub\n"), "{ngc}");
     let gsk = translated(named, "linuxcnc", "gsk980");
     assert!(gsk.contains("#1=24\nM98 P1000\nM2"), "{gsk}");
+    // Haas: a local subprogram at its sequence number after M30, called by M97.
+    let haas = translated(named, "linuxcnc", "haas");
+    assert!(
+        haas.contains("#1=24\nM97 P1000\nM2\nN1000 (o<pass>)\nG0 X#1 Z5."),
+        "{haas}"
+    );
 }
 
 /// A subroutine whose cycle has no one text for its two calls (LinuxCNC's G76 becomes Fanuc's

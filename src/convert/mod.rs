@@ -209,7 +209,11 @@ fn structured<R: BufRead>(
             out.write_all(&plain)?;
             return Ok(report);
         }
-        Err((e, false)) => return Err(e),
+        Err((e, false)) => {
+            // As a straight-line conversion: the output up to the error.
+            out.write_all(&plain)?;
+            return Err(e);
+        }
         Err((_, true)) => {}
     }
     let tap = Tap::default();

@@ -776,6 +776,7 @@ impl<'a> Emit<'a> {
         // local variables too (M98, Haas's M97).
         if self.to_syntax.g65_operations
             || self.to_syntax.max_macro_depth == 0
+            || self.to_syntax.m97_local_calls
             || (*shares_locals && args.is_empty())
         {
             return self.m98(*at, &name, args, times);
@@ -861,9 +862,9 @@ impl<'a> Emit<'a> {
         Ok(())
     }
 
-    /// A call on a control without G65 calls: the arguments set in the caller's local variables,
-    /// which M98's subprogram shares, then `M98 P…` (the count packed in P where the control
-    /// has no L).
+    /// A call on a control without G65 calls, or to a subprogram of the same file on Haas: the
+    /// arguments set in the caller's local variables, which M98's and M97's subprogram shares,
+    /// then `M98 P…` (the count packed in P where the control has no L) or Haas's `M97 P…`.
     fn m98(
         &mut self,
         at: usize,
@@ -879,7 +880,10 @@ impl<'a> Emit<'a> {
         let number: u32 = name
             .parse()
             .map_err(|_| unsupported(span, "a subprogram without a number".into()))?;
+        let m97 = self.to_syntax.m97_local_calls;
         let text = match times {
+            None if m97 => format!("M97 P{number}"),
+            Some(t) if m97 => format!("M97 P{number} L{}", bracketed(&t)),
             None => format!("M98 P{number}"),
             Some(t) if self.to_syntax.m98_l_word => format!("M98 P{number} L{}", bracketed(&t)),
             Some(t) => match t.parse::<u32>() {
@@ -950,7 +954,15 @@ impl<'a> Emit<'a> {
                 (None, Ok(_)) => String::new(),
                 (None, Err(_)) => format!(" {}", (self.comment)(&format!("o<{}>", s.name))),
             };
-            self.out.push_str(&format!("O{name}{note}"));
+            // Haas: a local subprogram, at its sequence number after M30 ("M97 … call a
+            // subroutine referenced by a line number (N) within the same program"); M98 and G65
+            // call a program of the control's list.
+            let head = if self.to_syntax.m97_local_calls {
+                "N"
+            } else {
+                "O"
+            };
+            self.out.push_str(&format!("{head}{name}{note}"));
             for c in &self.stmts[s.at].comments {
                 self.out.push(' ');
                 self.out.push_str(&(self.comment)(c));
