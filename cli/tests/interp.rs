@@ -212,8 +212,15 @@ fn convert_keeps_or_flattens() {
         "G21 G99\nG0 X26. Z5.\n#5=1\nWHILE[#5LE3]DO1\nG92 X[24.-#5*0.3] Z-20. F1.5\n#5=#5+1\nEND1\nM30\n",
     );
     let program = program.to_str().unwrap();
-    // Another controller's language: the control flow cannot be kept.
-    let out = threadcut(&["convert", program, "--from", "fanuc", "--to", "linuxcnc"]);
+    // LinuxCNC's o-words: the loop is kept, its G92 passes as LinuxCNC's moves with the
+    // diameter's expression halved (LinuxCNC's X is the radius).
+    let kept = stdout(&threadcut(&[
+        "convert", program, "--from", "fanuc", "--to", "linuxcnc",
+    ]));
+    assert!(kept.contains("o101 while [#5 LE 3]"), "{kept}");
+    assert!(kept.contains("G0 X[[24-#5*0.3]/2] Z5."), "{kept}");
+    // A controller without macros: the control flow cannot be kept.
+    let out = threadcut(&["convert", program, "--from", "fanuc", "--to", "ab9"]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("control flow from line 3"), "{err}");

@@ -18,10 +18,11 @@
 //! results over every bundled example: `docs/translation.md`.
 
 pub mod block;
+mod macros;
 pub mod tools;
 mod write;
 
-use std::io::{BufRead, Write};
+use std::io::{BufRead, Read, Write};
 
 use crate::diag::{Code, Diagnostic, Span};
 use crate::dialect;
@@ -71,11 +72,11 @@ pub struct Options {
 /// written).
 ///
 /// A program with control flow (subroutines, loops, parameters) is copied as it is for the same
-/// profile; for another controller it is an error at its first line of control flow unless
-/// `options.run.flatten`, which converts the executed program (every block the interpreter runs, with
-/// its computed values): threadcut does not translate one macro language into another, and a
-/// block with computed words has no one value to rewrite (docs/translation.md, "Programs with
-/// control flow").
+/// profile; for another controller with a macro language (Custom Macro B, LinuxCNC's o-words) it
+/// is translated with its structure and verified by its motion ([`macros`]); for one without, it
+/// is an error at its first line of control flow unless `options.run.flatten`, which converts the
+/// executed program (every block the interpreter runs, with its computed values), as it does for
+/// any target (docs/translation.md, "Programs with control flow", "Macro programs").
 pub fn convert<R: BufRead>(
     mut input: R,
     out: &mut dyn Write,
@@ -93,17 +94,20 @@ pub fn convert<R: BufRead>(
             format!("maximum lead drift {v}: expected a length of 0 or more, in the converted program's units"),
         )));
     }
-    let names = tools::ToolMap::new(&options.tools, &to.tools).map_err(|e| {
-        Error::Input(
-            Diagnostic::error(Code::OutOfRange, Span::default(), e)
-                .with_hint("a tool is named with --tool NAME=T0101 or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
-        )
-    })?;
+    tool_names(options, to)?;
     let ending = crate::eol::LineEnding::peek(&mut input)?;
+    let source_dialect = dialect::open(from).map_err(Error::Setup)?;
     let target = dialect::open(to).map_err(Error::Setup)?;
+    if from != to && !options.run.flatten {
+        if let Some(langs) = macro_languages(source_dialect.as_ref(), target.as_ref()) {
+            return structured(input, out, (from, to), options, langs, ending);
+        }
+    }
     if from == to || target.settings().is_empty() {
         let out = &mut crate::eol::Writer::new(out, ending);
-        return run_conversion(input, out, from, to, options, names).map(|(r, _)| r);
+        return run_conversion(input, out, (from, to), options, Mode::Plain)
+            .map(|r| r.0)
+            .map_err(|e| e.0);
     }
     // A target whose cycles read machine settings: the program is held until the settings its
     // native cycles rely on are known, and the header lists them.
@@ -111,35 +115,50 @@ pub fn convert<R: BufRead>(
     let result = run_conversion(
         input,
         &mut crate::eol::Writer::new(&mut held, ending),
-        from,
-        to,
+        (from, to),
         options,
-        names,
+        Mode::Plain,
     );
     match result {
-        Ok((report, header)) => {
-            let line = (!report.settings.is_empty())
-                .then(|| {
-                    let list: Vec<String> = report.settings.iter().map(Setting::describe).collect();
-                    target.format().comment(&format!(
-                        "threadcut: this program relies on the machine's settings: {}",
-                        list.join("; ")
-                    ))
-                })
-                .flatten();
-            out.write_all(&with_line_after(
-                &held,
-                header.as_deref(),
-                line.as_deref(),
-                ending,
-            ))?;
-            Ok(report)
+        Ok(done) => {
+            out.write_all(&with_settings(&held, &done, target.as_ref(), ending))?;
+            Ok(done.0)
         }
-        Err(e) => {
+        Err((e, _)) => {
             out.write_all(&held)?;
             Err(e)
         }
     }
+}
+
+/// The named tools of the options and the target profile, checked before anything is written.
+fn tool_names(options: &Options, to: &Machine) -> Result<tools::ToolMap, Error> {
+    tools::ToolMap::new(&options.tools, &to.tools).map_err(|e| {
+        Error::Input(
+            Diagnostic::error(Code::OutOfRange, Span::default(), e)
+                .with_hint("a tool is named with --tool NAME=T0101 or the target profile's [tools] table (docs/translation.md, \"Tools by name\")"),
+        )
+    })
+}
+
+/// The converted text with the line listing the machine settings its native cycles rely on,
+/// after the header's comment.
+fn with_settings(
+    text: &[u8],
+    (report, _, header): &Converted,
+    target: &dyn dialect::Dialect,
+    ending: crate::eol::LineEnding,
+) -> Vec<u8> {
+    let line = (!report.settings.is_empty())
+        .then(|| {
+            let list: Vec<String> = report.settings.iter().map(Setting::describe).collect();
+            target.format().comment(&format!(
+                "threadcut: this program relies on the machine's settings: {}",
+                list.join("; ")
+            ))
+        })
+        .flatten();
+    with_line_after(text, header.as_deref(), line.as_deref(), ending)
 }
 
 /// `text` with `line` inserted after the first line that is `after` (unchanged without both).
@@ -166,17 +185,172 @@ fn with_line_after(
     out
 }
 
-/// The conversion itself, written to `out`: its report and the header's comment line.
+/// The source's and the target's macro languages, when a program with control flow can keep its
+/// structure (Custom Macro B and LinuxCNC's o-words, either way).
+fn macro_languages(
+    source: &dyn dialect::Dialect,
+    target: &dyn dialect::Dialect,
+) -> Option<(crate::interp::Syntax, crate::interp::Syntax)> {
+    use crate::interp::Lang;
+    let (s, t) = (source.macros()?, target.macros()?);
+    let ok = |l: Lang| matches!(l, Lang::Ngc | Lang::MacroB);
+    (ok(s.lang) && ok(t.lang)).then_some((s, t))
+}
+
+/// How [`run_conversion`] runs.
+enum Mode {
+    /// As a straight-line program; a program with control flow is an error at its first line of
+    /// it (unless `--flatten`).
+    Plain,
+    /// As `Plain`, and the run tells whether it stopped at control flow.
+    Probe,
+    /// The executed program (as `--flatten`), each event's output kept by its line.
+    Trace(Tap),
+}
+
+/// The output of a traced conversion, measured as it is written.
+#[derive(Clone, Default)]
+struct Shared(std::rc::Rc<std::cell::RefCell<Vec<u8>>>);
+
+impl Write for Shared {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.borrow_mut().extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+/// One event's place in a traced output: its line, its words' columns and values, where its
+/// output begins.
+type Mark = (u32, Vec<(u32, f64)>, usize, Option<u32>);
+
+/// A conversion's report, each line's runs (`Trace`), and the header's comment line.
+type Converted = (Report, Option<Runs>, Option<String>);
+
+/// Lines' runs, by line number.
+type Runs = std::collections::HashMap<u32, Vec<macros::Run>>;
+
+/// Where each event's output begins.
+#[derive(Default)]
+struct Tap {
+    out: Shared,
+    marks: Vec<Mark>,
+    /// The line of the call the running block is inside (the innermost).
+    caller: Option<u32>,
+}
+
+impl Tap {
+    fn mark(&mut self, line: &Line) {
+        let at = self.out.0.borrow().len();
+        let words = line
+            .words
+            .iter()
+            .map(|w| (w.span.column, w.value))
+            .collect();
+        self.marks.push((line.number, words, at, self.caller));
+    }
+
+    /// Each line's runs, the output up to `end` split at the marks.
+    fn runs(self, end: usize) -> Runs {
+        let buf = self.out.0.borrow();
+        let mut runs: Runs = Default::default();
+        for (k, (line, words, at, caller)) in self.marks.iter().enumerate() {
+            let to = self.marks.get(k + 1).map_or(end, |m| m.2).max(*at);
+            let text = String::from_utf8_lossy(&buf[*at..to]).replace("\r\n", "\n");
+            runs.entry(*line).or_default().push(macros::Run {
+                words: words.clone(),
+                text,
+                caller: *caller,
+            });
+        }
+        runs
+    }
+}
+
+/// A program with control flow for a target with another macro language: converted as a
+/// straight-line program when it has none; otherwise translated with its structure
+/// ([`macros`]), from the conversion of its executed blocks.
+fn structured<R: BufRead>(
+    mut input: R,
+    out: &mut dyn Write,
+    (from, to): (&Machine, &Machine),
+    options: &Options,
+    (syntax, to_syntax): (crate::interp::Syntax, crate::interp::Syntax),
+    ending: crate::eol::LineEnding,
+) -> Result<Report, Error> {
+    let mut text = Vec::new();
+    (&mut input)
+        .take(crate::interp::MAX_PROGRAM_BYTES as u64 + 1)
+        .read_to_end(&mut text)?;
+    let mut plain = Vec::new();
+    let probe = run_conversion(
+        &text[..],
+        &mut crate::eol::Writer::new(&mut plain, ending),
+        (from, to),
+        options,
+        Mode::Probe,
+    );
+    let target = dialect::open(to).map_err(Error::Setup)?;
+    match probe {
+        Ok(done) => {
+            out.write_all(&with_settings(&plain, &done, target.as_ref(), ending))?;
+            return Ok(done.0);
+        }
+        Err((e, false)) => {
+            // As a straight-line conversion: the output up to the error.
+            out.write_all(&plain)?;
+            return Err(e);
+        }
+        Err((_, true)) => {}
+    }
+    let tap = Tap::default();
+    let shared = tap.out.clone();
+    let flat = Options {
+        run: program::Options {
+            flatten: true,
+            ..options.run.clone()
+        },
+        ..options.clone()
+    };
+    let (report, runs, _) = run_conversion(
+        &text[..],
+        &mut shared.clone(),
+        (from, to),
+        &flat,
+        Mode::Trace(tap),
+    )
+    .map_err(|e| e.0)?;
+    let format = target.format();
+    let comment = |c: &str| format.comment(c).unwrap_or_default();
+    let converted = macros::translate(&macros::Request {
+        text: &text,
+        from,
+        to,
+        syntax,
+        to_syntax,
+        runs: &runs.unwrap_or_default(),
+        comment: &comment,
+        run: &options.run,
+    })?;
+    crate::eol::Writer::new(out, ending).write_all(converted.as_bytes())?;
+    Ok(report)
+}
+
+/// The conversion of `input`; an error says whether the run stopped at control flow (`Probe`).
+/// `Trace` gives each line's runs.
 fn run_conversion<R: BufRead>(
     input: R,
     out: &mut dyn Write,
-    from: &Machine,
-    to: &Machine,
+    (from, to): (&Machine, &Machine),
     options: &Options,
-    names: tools::ToolMap,
-) -> Result<(Report, Option<String>), Error> {
-    let source_dialect = dialect::open(from).map_err(Error::Setup)?;
-    let target = dialect::open(to).map_err(Error::Setup)?;
+    mode: Mode,
+) -> Result<Converted, (Error, bool)> {
+    let plain = |e: Error| (e, false);
+    let names = tool_names(options, to).map_err(plain)?;
+    let source_dialect = dialect::open(from).map_err(|e| plain(Error::Setup(e)))?;
+    let target = dialect::open(to).map_err(|e| plain(Error::Setup(e)))?;
     let conv = source_dialect.conventions().clone();
     let src = Source {
         name: &from.name,
@@ -196,26 +370,42 @@ fn run_conversion<R: BufRead>(
                 .comment(&format!("threadcut convert: {} to {}", from.name, to.name)),
         }
     } else {
-        Side::Other(Box::new(write::Writer::new(
-            out,
-            from,
-            to,
-            target.as_ref(),
-            &src.meanings,
-            write::Choices {
-                max_lead_drift: options.max_lead_drift,
-                names,
-            },
-        )?))
+        Side::Other(Box::new(
+            write::Writer::new(
+                out,
+                from,
+                to,
+                target.as_ref(),
+                &src.meanings,
+                write::Choices {
+                    max_lead_drift: options.max_lead_drift,
+                    names,
+                },
+            )
+            .map_err(plain)?,
+        ))
+    };
+    let (probe, tap) = match mode {
+        Mode::Plain => (false, None),
+        Mode::Probe => (true, None),
+        Mode::Trace(t) => (false, Some(t)),
     };
     let mut conversion = Conversion {
         side,
         src,
         flatten: options.run.flatten,
         unrun: Vec::new(),
+        probe,
+        stopped_at_flow: false,
+        tap,
     };
-    let summary = program::run_output(input, from, &options.run, &mut conversion)?;
-    conversion.after_end()?;
+    let summary = program::run_output(input, from, &options.run, &mut conversion)
+        .map_err(|e| (e, conversion.stopped_at_flow))?;
+    let runs = conversion.tap.take().map(|t| {
+        let end = t.out.0.borrow().len();
+        t.runs(end)
+    });
+    conversion.after_end().map_err(plain)?;
     let (mut report, header) = match conversion.side {
         Side::Other(w) => {
             let header = w.header_comment();
@@ -226,7 +416,7 @@ fn run_conversion<R: BufRead>(
     report.summary = summary;
     let own = std::mem::take(&mut report.warnings);
     report.summary.warnings.extend(own);
-    Ok((report, header))
+    Ok((report, runs, header))
 }
 
 /// Where the converted program goes.
@@ -247,6 +437,12 @@ struct Conversion<'o, 'm, 's> {
     flatten: bool,
     /// The input after the program's end (M2, M30): not run.
     unrun: Vec<u8>,
+    /// A program with control flow may be translated with its structure: the run says so when
+    /// it stops there.
+    probe: bool,
+    stopped_at_flow: bool,
+    /// Each event's output, by its line (the structural translation's runs).
+    tap: Option<Tap>,
 }
 
 impl Conversion<'_, '_, '_> {
@@ -300,6 +496,15 @@ impl program::Output for Conversion<'_, '_, '_> {
                 Ok(())
             }
             Side::Other(w) => match ev {
+                _ if self.tap.is_some() => {
+                    if let Some(t) = &mut self.tap {
+                        t.mark(ev.line());
+                    }
+                    let tap = self.tap.take();
+                    let r = self.event(modal, ev);
+                    self.tap = tap;
+                    r
+                }
                 Event::Plain { line, mv } => {
                     if line.shape.percent {
                         return w.delimiter();
@@ -335,6 +540,7 @@ impl program::Output for Conversion<'_, '_, '_> {
             Side::Other(w) if !self.flatten => w,
             _ => return Ok(()),
         };
+        self.stopped_at_flow = self.probe;
         Err(Error::Input(
             Diagnostic::error(
                 Code::Unsupported,
@@ -361,7 +567,16 @@ impl program::Output for Conversion<'_, '_, '_> {
                 program::write_executed_block(*out, line, at.verbatim, modal)?;
                 Ok(())
             }
-            Side::Other(_) => self.event(modal, ev),
+            Side::Other(_) => {
+                if let Some(t) = &mut self.tap {
+                    t.caller = at.callers.last().copied();
+                }
+                let r = self.event(modal, ev);
+                if let Some(t) = &mut self.tap {
+                    t.caller = None;
+                }
+                r
+            }
         }
     }
 

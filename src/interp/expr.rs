@@ -120,6 +120,12 @@ impl Exprs {
         i
     }
 
+    /// The postfix steps of an expression, with where each was written (a conversion rebuilds
+    /// the expression's tree from them).
+    pub fn steps(&self, e: Expr) -> &[(Op, Span)] {
+        &self.ops[e.start as usize..e.end as usize]
+    }
+
     /// The expression's value when it is a number as written (a call's `P9010`).
     pub fn constant(&self, e: Expr) -> Option<f64> {
         match self.ops[e.start as usize..e.end as usize] {

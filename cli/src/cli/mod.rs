@@ -455,7 +455,8 @@ struct ConvertArgs {
     #[arg(long, value_enum, default_value = "gcode")]
     format: GcodeFormat,
     /// A program with control flow: write the executed program as straight-line code (needed
-    /// to convert such a program to another controller's language).
+    /// for a controller without a macro language; for one with, the program keeps its
+    /// structure without it).
     #[arg(long)]
     flatten: bool,
     /// Run as a LinuxCNC program filter (the INI's `[FILTER]` section: `nc = threadcut convert
