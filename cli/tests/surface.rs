@@ -268,22 +268,19 @@ fn controller_names_ignore_case_and_suggest() {
         "{}",
         stderr(&out)
     );
-    // A milling profile on a lathe command, and the reverse: said, with the right command.
+    // A lathe program on a milling profile (which reads a machining centre's program: issue 24),
+    // and a lathe controller for mill: said, with the right command.
     let out = threadcut(&["passes", &file, "-c", "centroid"]);
     assert_eq!(out.status.code(), Some(2));
     let err = stderr(&out);
     assert!(
         err.starts_with(
-            "error: `centroid` is a milling profile, and `threadcut passes` reads lathe programs"
+            "error[E015]: G78 is not a code threadcut reads in a Centroid milling program"
         ),
         "{err}"
     );
     assert!(
-        err.contains("`threadcut mill --controller centroid …`"),
-        "{err}"
-    );
-    assert!(
-        err.contains("`threadcut expand --controller centroid --format jsonl`"),
+        err.contains("a lathe program is read with a lathe controller (gsk980, "),
         "{err}"
     );
     let out = threadcut(&[

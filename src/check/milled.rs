@@ -28,6 +28,8 @@ pub struct Judging<'a> {
     pub wire: Option<f64>,
     /// Where a line is written.
     pub span_of: &'a dyn Fn(u32) -> Span,
+    /// What F drives under cutter compensation (the profile's `comp_feed`).
+    pub feed_reference: crate::mill::profile::FeedReference,
 }
 
 /// Every finding about one milled thread; `before` is the thread milled just before it.
@@ -47,6 +49,53 @@ pub fn judge(
         against_class(t, target, hand, j, at, out, notes);
     }
     notes.push(Note::new(at, summary(t, j)));
+    if let Some(n) = edge_feed(t, j) {
+        notes.push(Note::new(
+            (j.span_of)(t.helices.last().map_or(0, |h| h.lines.0)),
+            n,
+        ));
+    }
+}
+
+/// The feed at the cutting edge of the last pass against the F programmed, where F drives the
+/// tool centre (without compensation, or a control whose F is the centre's under it): the edge
+/// runs on the thread's root, at F·R_root / R_centre — faster inside a bore, slower round a
+/// cylinder (the arc-feed compensation `threadcut mill` applies, docs/milling.md).
+fn edge_feed(t: &MilledThread, j: &Judging) -> Option<String> {
+    use crate::mill::motion::Feed;
+    use crate::mill::profile::FeedReference;
+    let h = t.helices.last()?;
+    let Feed::PerMinute(f) = h.feed else {
+        return None;
+    };
+    let root = t.root_diameter? / 2.0;
+    let (side, _) = t.side?;
+    let centre = match h.comp {
+        crate::mill::motion::Comp::Off => h.radius,
+        _ if j.feed_reference == FeedReference::Contour => return None,
+        // The path is the contour: the centre is a cutter's radius inside (a bore) or outside.
+        _ => {
+            let r = h.cutter? / 2.0;
+            match side {
+                Side::Internal => h.radius - r,
+                Side::External => h.radius + r,
+            }
+        }
+    };
+    if centre <= 0.0 {
+        return None;
+    }
+    let u = j.units;
+    let per_min = |mm: f64| format!("{} {}/min", length(u, mm), u.name());
+    Some(format!(
+        "the helix's F{} at line {} drives the tool centre (radius {}); the cutting edge on the root Ø{} runs at {} (×{})",
+        length(u, f),
+        h.lines.0,
+        length(u, centre),
+        length(u, 2.0 * root),
+        per_min(f * root / centre),
+        super::number(root / centre)
+    ))
 }
 
 /// A turn whose advance differs from the thread's lead by more than the program can write.
@@ -475,6 +524,7 @@ mod tests {
                 units: Units::Mm,
                 wire: None,
                 span_of: &span_of,
+                feed_reference: crate::mill::profile::FeedReference::Centre,
             };
             judge(t, before, &j, &mut out, &mut notes);
             before = Some(t);

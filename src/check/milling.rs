@@ -243,6 +243,7 @@ pub fn judge(milled: &Milled, profile: &MillProfile, o: &Options, report: &mut R
             units,
             wire: o.wire,
             span_of: &span_of,
+            feed_reference: profile.comp_feed,
         };
         super::milled::judge(t, before, &j, &mut report.diagnostics, &mut report.notes);
         before = Some(t);

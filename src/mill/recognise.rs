@@ -116,6 +116,8 @@ pub struct Helix {
     pub cutter: Option<f64>,
     pub clockwise: bool,
     pub comp: Comp,
+    /// The feed programmed on the run's first arc.
+    pub feed: crate::mill::motion::Feed,
     pub rotation: Rotation,
     pub tool: Option<u32>,
     /// Source lines of the first and last arc.
@@ -370,6 +372,7 @@ impl Recogniser {
             cutter: self.options.tool_diameter,
             clockwise: key.clockwise,
             comp: m.state.comp,
+            feed: m.state.feed,
             rotation: m.state.rotation,
             tool: m.state.tool,
             lines: (m.line, m.line),

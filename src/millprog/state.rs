@@ -212,7 +212,7 @@ impl Mill {
                         w.value, self.lang.control
                     ),
                 )
-                .with_hint("threadcut reads G0–G3, G4, G10, G17–G21, G28, G30, G40–G44, G49, G52–G59, G61, G64, G73, G74, G80–G86, G89, G90–G95, G98, G99 and the control's own tapping, work system and arc-centre codes"));
+                .with_hint(format!("threadcut reads G0–G3, G4, G10, G17–G21, G28, G30, G40–G44, G49, G52–G59, G61, G64, G73, G74, G80–G86, G89, G90–G95, G98, G99 and the control's own tapping, work system and arc-centre codes; a lathe program is read with a lathe controller ({})", crate::machine::ProfileKind::Lathe.names().join(", "))));
             };
             codes.push((c, w));
         }
