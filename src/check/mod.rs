@@ -619,6 +619,10 @@ impl<'a> Sink<'a> {
                     Some(mf) => mf,
                     None => (self.whole.measured(&t), self.whole.measured_face(&t)),
                 };
+                if self.centre_line_tap(&t, &states) {
+                    state::judge(&t, &states, &mut self.last, &self.restart, &mut self.found);
+                    return;
+                }
                 let opts = self.blank_options(&t, measured, face);
                 check_thread(
                     &t,
@@ -640,6 +644,57 @@ impl<'a> Sink<'a> {
                 self.found.push(error);
             }
         }
+    }
+}
+
+impl Sink<'_> {
+    /// A thread on the centre line is a tap (issue 24): judged as one (its lead against the named
+    /// tap's pitch), not as a turned thread. On a lathe M3 is taken as a right-hand tap's
+    /// direction, as Fanuc's lathe tapping cycle turns it (an assumption the note states).
+    fn centre_line_tap(&mut self, t: &crate::threads::Thread, states: &[State]) -> bool {
+        let res = self
+            .machine
+            .program_resolution(t.job.units, t.diameter_x)
+            .x()
+            .get();
+        let first = states.first();
+        let rpm = first
+            .and_then(|s| s.spindle.s)
+            .filter(|_| !first.is_some_and(|s| s.spindle.css));
+        let rotation = match first.map(|s| s.turning) {
+            Some(state::Turning::On {
+                dir: state::Direction::Ccw,
+                ..
+            }) => crate::mill::motion::Rotation::Ccw,
+            Some(state::Turning::Off { .. }) => crate::mill::motion::Rotation::Stopped,
+            _ => crate::mill::motion::Rotation::Cw,
+        };
+        let Some(tap) = tapping::centre_line_tap(t, rpm, rotation, res) else {
+            return false;
+        };
+        let target =
+            self.opts.thread.as_ref().and_then(|th| {
+                measure::target(th, crate::thread::standard::Surface::Internal).ok()
+            });
+        let units = t.job.units;
+        let span = t.job.span;
+        let span_of = move |_: u32| span;
+        let j = tapping::Judging {
+            target: target.as_ref().map(|tg| (tg, crate::mill::Hand::Right)),
+            left: None,
+            units,
+            feed_resolution: units.to_mm(match units {
+                Units::Mm => 0.001,
+                Units::Inch => 0.0001,
+            }),
+            span_of: &span_of,
+        };
+        tapping::judge(&tap, &j, &mut self.found, &mut self.notes);
+        self.notes.push(Note::new(
+            span,
+            "a thread on the centre line is taken as a tap held in the turret; M3 taken as a right-hand tap's direction, as the Fanuc family's lathe tapping cycle turns it",
+        ));
+        true
     }
 }
 

@@ -61,10 +61,17 @@ pub fn judge(t: &TapCycle, j: &Judging, out: &mut Vec<Diagnostic>, notes: &mut V
         return;
     };
     let u = j.units;
+    let place = if t.code == 0 {
+        String::new()
+    } else {
+        format!(
+            " at X{} Y{}",
+            length(u, t.position[0]),
+            length(u, t.position[1])
+        )
+    };
     let mut said = format!(
-        "{name} at X{} Y{}: {} tap, lead {} per turn ({}), {}",
-        length(u, t.position[0]),
-        length(u, t.position[1]),
+        "{name}{place}: {} tap, lead {} per turn ({}), {}",
         match hand {
             Hand::Right => "right-hand",
             Hand::Left => "left-hand",
@@ -252,6 +259,41 @@ fn nearest_pitch(lead: f64) -> Option<(f64, Family)> {
     metric
         .chain(unified)
         .min_by(|a, b| (a.0 - lead).abs().total_cmp(&(b.0 - lead).abs()))
+}
+
+/// A lathe's tap on the centre line: a thread whose synchronised moves all lie on X0 (a tap
+/// held in the turret, fed with G32/G33 and backed out with the spindle reversed), as the
+/// milling reader's cycles give it: its first synchronised move's depth, lead per turn (G32's F
+/// is the lead), speed and the spindle's direction going in. `None` for any other thread.
+pub fn centre_line_tap(
+    t: &crate::threads::Thread,
+    rpm: Option<f64>,
+    rotation: Rotation,
+    resolution_mm: f64,
+) -> Option<TapCycle> {
+    use crate::toolpath::MotionKind;
+    let mut syncs = t.path.segments().filter_map(|(from, m)| match m.kind {
+        MotionKind::Thread { lead, .. } => Some((from, m, lead)),
+        _ => None,
+    });
+    let (from, first, lead) = syncs.next()?;
+    let on_axis = |x: f64| x.abs() <= resolution_mm;
+    let all_on_axis = on_axis(from.x)
+        && on_axis(first.to.x)
+        && syncs.all(|(f, m, _)| on_axis(f.x) && on_axis(m.to.x));
+    (all_on_axis && (first.to.z - from.z).abs() > resolution_mm).then_some(TapCycle {
+        position: [0.0, 0.0, from.z],
+        r: from.z,
+        bottom: first.to.z,
+        feed: Feed::PerRev(lead),
+        rpm,
+        rotation,
+        rigid: true,
+        peck: None,
+        dwell: None,
+        code: 0,
+        line: first.line,
+    })
 }
 
 #[cfg(test)]

@@ -147,7 +147,8 @@ pub struct TapCycle {
     pub peck: Option<f64>,
     /// The dwell P at the bottom and at R, if any (seconds).
     pub dwell: Option<f64>,
-    /// The cycle's G code ×10 (G84 = 840, G84.2 = 842, G33.1 = 331).
+    /// The cycle's G code ×10 (G84 = 840, G84.2 = 842, G33.1 = 331); 0 for a lathe's tap written
+    /// as synchronised moves (G32, G33) on the centre line.
     pub code: u16,
     /// Source line (1-based).
     pub line: u32,
@@ -189,9 +190,12 @@ impl MillMotion {
 }
 
 impl TapCycle {
-    /// The cycle's code as written: `G84`, `G84.2`, `G33.1`.
+    /// The cycle's code as written: `G84`, `G84.2`, `G33.1`; a lathe's tap written as
+    /// synchronised moves on the centre line (code 0) is named as such.
     pub fn code_name(&self) -> String {
-        if self.code.is_multiple_of(10) {
+        if self.code == 0 {
+            "the tap on the centre line".to_string()
+        } else if self.code.is_multiple_of(10) {
             format!("G{}", self.code / 10)
         } else {
             format!("G{}.{}", self.code / 10, self.code % 10)
