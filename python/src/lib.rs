@@ -387,14 +387,7 @@ fn passes_py<'py>(
         teeth,
         tools,
     };
-    if let Some(profile) = milling::profile(controller, machine.is_some_and(|m| !m.is_none())) {
-        let o = milling::options(
-            py,
-            thread,
-            wire,
-            &kw,
-            run_options(py, start, Start::Unknown, None)?.max_blocks,
-        )?;
+    if let Some((profile, o)) = milling::call(py, controller, machine, (thread, wire), &kw)? {
         return json_loads(py, &milling::passes_json(py, &program, &profile, &o)?);
     }
     milling::refuse_on_a_lathe(py, &kw)?;
@@ -577,14 +570,7 @@ fn check_py<'py>(
         teeth,
         tools,
     };
-    if let Some(profile) = milling::profile(controller, machine.is_some_and(|m| !m.is_none())) {
-        let o = milling::options(
-            py,
-            thread,
-            wire,
-            &kw,
-            run_options(py, start, Start::Unknown, None)?.max_blocks,
-        )?;
+    if let Some((profile, o)) = milling::call(py, controller, machine, (thread, wire), &kw)? {
         let report = py.detach(|| check::milling::check(program.as_bytes(), &profile, &o));
         return check_result_class(py)?.call1((findings(py, &report)?,));
     }
@@ -725,14 +711,7 @@ fn plot_svg_py(
         teeth,
         tools,
     };
-    if let Some(profile) = milling::profile(controller, machine.is_some_and(|m| !m.is_none())) {
-        let o = milling::options(
-            py,
-            None,
-            None,
-            &kw,
-            run_options(py, start, Start::Unknown, None)?.max_blocks,
-        )?;
+    if let Some((profile, o)) = milling::call(py, controller, machine, (None, None), &kw)? {
         return milling::svg(py, &program, &profile, &o);
     }
     milling::refuse_on_a_lathe(py, &kw)?;

@@ -10,8 +10,7 @@ use threadcut::check::milling::{self, ToolSize};
 use threadcut::commands::milled;
 use threadcut::machine::{built_in_name, ProfileKind};
 use threadcut::mill::profile::MillProfile;
-use threadcut::mill::{Hand, Side};
-use threadcut::thread::standard;
+use threadcut::mill::Side;
 
 use super::Problem;
 
@@ -43,6 +42,22 @@ pub fn profile(controller: &str, machine_given: bool) -> Option<MillProfile> {
     MillProfile::built_in(name)
 }
 
+/// The milling profile and the check's options, when `controller` names a milling profile (no
+/// `machine=`); the thread and the wire are `check`'s keywords.
+pub fn call(
+    py: Python<'_>,
+    controller: &str,
+    machine: Option<&Bound<'_, PyAny>>,
+    (thread, wire): (Option<&str>, Option<f64>),
+    k: &Keywords,
+) -> PyResult<Option<(MillProfile, milling::Options)>> {
+    let Some(profile) = profile(controller, machine.is_some_and(|m| !m.is_none())) else {
+        return Ok(None);
+    };
+    let max_blocks = threadcut::program::Options::default().max_blocks;
+    Ok(Some((profile, options(py, thread, wire, k, max_blocks)?)))
+}
+
 /// A lathe controller given milling keywords.
 pub fn refuse_on_a_lathe(py: Python<'_>, k: &Keywords) -> PyResult<()> {
     if k.any() {
@@ -62,18 +77,10 @@ pub fn options(
     k: &Keywords,
     max_blocks: u64,
 ) -> PyResult<milling::Options> {
-    let thread = match thread {
-        Some(name) => {
-            let t = standard::lookup(name).map_err(|d| Problem::diagnostic(&d, None).error(py))?;
-            let hand = if standard::split_hand(name).1 {
-                Hand::Left
-            } else {
-                Hand::Right
-            };
-            Some((t, hand))
-        }
-        None => None,
-    };
+    let thread = thread
+        .map(milling::named_thread)
+        .transpose()
+        .map_err(|d| Problem::diagnostic(&d, None).error(py))?;
     let wire = match (super::wire_keyword(py, wire, thread.is_some())?, &thread) {
         (Some(w), Some((t, _))) => Some(t.units.to_mm(w)),
         (w, _) => w,

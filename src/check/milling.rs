@@ -49,6 +49,17 @@ impl ToolSize {
     }
 }
 
+/// A standard thread by its name, with the hand the name states (`…-LH`: left).
+pub fn named_thread(name: &str) -> Result<(StandardThread, Hand), Diagnostic> {
+    let t = crate::thread::standard::lookup(name)?;
+    let hand = if crate::thread::standard::split_hand(name).1 {
+        Hand::Left
+    } else {
+        Hand::Right
+    };
+    Ok((t, hand))
+}
+
 /// What checking a milling program is told.
 #[derive(Clone, Debug, Default)]
 pub struct Options {

@@ -9,9 +9,8 @@ use threadcut::check::milling::{self, Milled, ToolSize};
 use threadcut::commands::milled;
 use threadcut::diag::Diagnostic;
 use threadcut::mill::profile::MillProfile;
-use threadcut::mill::{Hand, Side};
+use threadcut::mill::Side;
 use threadcut::sim::Tip;
-use threadcut::thread::standard;
 use threadcut::units::Units;
 
 use super::{check, failure, input, mill::usage, not_empty, output, Failure, ReportFormat};
@@ -48,18 +47,11 @@ pub struct Given<'a> {
 }
 
 fn options(g: &Given) -> Result<milling::Options, Failure> {
-    let thread = match g.thread {
-        Some(name) => {
-            let t = standard::lookup(name).map_err(usage)?;
-            let hand = if standard::split_hand(name).1 {
-                Hand::Left
-            } else {
-                Hand::Right
-            };
-            Some((t, hand))
-        }
-        None => None,
-    };
+    let thread = g
+        .thread
+        .map(milling::named_thread)
+        .transpose()
+        .map_err(usage)?;
     let wire = match (g.wire, &thread) {
         (Some(w), _) if !(w.is_finite() && w > 0.0) => {
             return Err(Failure::Usage(format!(

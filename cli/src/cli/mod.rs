@@ -746,6 +746,23 @@ fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
     Ok(ExitCode::SUCCESS)
 }
 
+/// What a milling program's reading is told on the command line.
+fn milling_given<'a>(
+    mill: &'a milling::MillArgs,
+    thread: Option<&'a str>,
+    tool: &ToolArgs,
+    wire: Option<f64>,
+    run: &RunArgs,
+) -> Result<milling::Given<'a>, Failure> {
+    Ok(milling::Given {
+        mill,
+        thread,
+        tip: tool.given_tip()?,
+        wire,
+        max_blocks: run.max_blocks,
+    })
+}
+
 /// The milling profile `--controller` names, if it names one.
 fn milling_profile(m: &MachineArgs) -> Option<threadcut::mill::profile::MillProfile> {
     if m.machine.is_some() {
@@ -849,13 +866,13 @@ fn run_convert(args: ConvertArgs) -> Result<ExitCode, Failure> {
 /// `threadcut check`: the program's findings ([`check::run`]).
 fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
     if let Some(profile) = milling_profile(&args.machine) {
-        let given = milling::Given {
-            mill: &args.mill,
-            thread: args.thread.as_deref(),
-            tip: args.tool.given_tip()?,
-            wire: args.wire,
-            max_blocks: args.run.max_blocks,
-        };
+        let given = milling_given(
+            &args.mill,
+            args.thread.as_deref(),
+            &args.tool,
+            args.wire,
+            &args.run,
+        )?;
         let out = args.output.output.as_deref();
         return milling::check(&args.input.file, &profile, &given, args.format, out);
     }
@@ -878,13 +895,7 @@ fn run_check(args: CheckArgs) -> Result<ExitCode, Failure> {
 fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
     let SvgFormat::Svg = args.format;
     if let Some(profile) = milling_profile(&args.machine) {
-        let given = milling::Given {
-            mill: &args.mill,
-            thread: None,
-            tip: args.tool.given_tip()?,
-            wire: None,
-            max_blocks: args.run.max_blocks,
-        };
+        let given = milling_given(&args.mill, None, &args.tool, None, &args.run)?;
         return milling::plot(
             &args.input.file,
             &profile,
@@ -910,13 +921,13 @@ fn run_plot(args: PlotArgs) -> Result<ExitCode, Failure> {
 /// program without a thread is said on standard error.
 fn run_passes(args: PassesArgs) -> Result<ExitCode, Failure> {
     if let Some(profile) = milling_profile(&args.machine) {
-        let given = milling::Given {
-            mill: &args.mill,
-            thread: args.thread.as_deref(),
-            tip: args.tool.given_tip()?,
-            wire: args.wire,
-            max_blocks: args.run.max_blocks,
-        };
+        let given = milling_given(
+            &args.mill,
+            args.thread.as_deref(),
+            &args.tool,
+            args.wire,
+            &args.run,
+        )?;
         let format = if args.json {
             ReportFormat::Json
         } else {
