@@ -32,8 +32,35 @@ pub(crate) use vm::{Context, Host, Outcome};
 use std::collections::HashMap;
 
 use crate::diag::FILE_SPACING;
-use crate::gcode::Line;
+use crate::gcode::lexer::WordIndex;
+use crate::gcode::{Line, LineShape, Word, WordSummary};
 use library::{FileNames, Library, Missing, Wanted};
+
+/// The line a host executes for a block the interpreter ran: its words evaluated, `index` filled
+/// from them ([`crate::gcode::lexer::index_words`]), its shape from the run's context.
+pub fn executed_line<'l>(
+    text: TextLine<'l>,
+    words: &'l [Word],
+    block_delete: bool,
+    ctx: &Context,
+    index: &'l WordIndex,
+) -> Line<'l> {
+    Line {
+        number: text.number,
+        offset: text.offset,
+        text: text.text,
+        raw: text.raw,
+        words,
+        shape: LineShape {
+            block_delete,
+            percent: false,
+            unread: ctx.unread,
+        },
+        before: &[],
+        summary: WordSummary::of(words),
+        index,
+    }
+}
 
 /// A control's macro language, as its dialect describes it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

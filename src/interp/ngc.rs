@@ -23,8 +23,9 @@ enum OName {
     Computed(Expr),
 }
 
+/// LinuxCNC's o-word keywords (`convert::macros` reads them too).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Keyword {
+pub(crate) enum Keyword {
     Sub,
     Endsub,
     Call,
@@ -43,7 +44,7 @@ enum Keyword {
 }
 
 /// In LinuxCNC's order of trial (read_o): a longer keyword before its prefix.
-const KEYWORDS: [(&[u8], Keyword); 15] = [
+pub(crate) const KEYWORDS: [(&[u8], Keyword); 15] = [
     (b"SUB", Keyword::Sub),
     (b"ENDSUB", Keyword::Endsub),
     (b"CALL", Keyword::Call),

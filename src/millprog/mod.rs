@@ -17,7 +17,7 @@ use std::io::BufRead;
 use crate::diag::{Code, Diagnostic, Span};
 use crate::dialect::mill::{language, MillLanguage};
 use crate::gcode::lexer::{index_words, WordIndex};
-use crate::gcode::{Conventions, Line, LineShape, Modal, Reader, Word, WordSummary};
+use crate::gcode::{Conventions, Modal, Reader, Word};
 use crate::interp::{self, Control, Text};
 use crate::mill::motion::{MillMotion, TapCycle};
 use crate::mill::profile::MillProfile;
@@ -257,21 +257,7 @@ impl interp::Host for Host<'_, '_> {
     ) -> Result<(), Diagnostic> {
         let mut index: WordIndex = [0; 32];
         index_words(words, &mut index);
-        let line = Line {
-            number: text.number,
-            offset: text.offset,
-            text: text.text,
-            raw: text.raw,
-            words,
-            shape: LineShape {
-                block_delete,
-                percent: false,
-                unread: ctx.unread,
-            },
-            before: &[],
-            summary: WordSummary::of(words),
-            index: &index,
-        };
+        let line = interp::executed_line(text, words, block_delete, ctx, &index);
         self.out.summary.lines = self.out.summary.lines.max(line.number);
         self.mill.block(&line, self.out)?;
         self.sync();

@@ -253,21 +253,7 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
                 .entry(text.offset)
                 .or_insert_with(|| ctx.calls.to_vec());
         }
-        let line = Line {
-            number: text.number,
-            offset: text.offset,
-            text: text.text,
-            raw: text.raw,
-            words,
-            shape: LineShape {
-                block_delete,
-                percent: false,
-                unread: ctx.unread,
-            },
-            before: &[],
-            summary: WordSummary::of(words),
-            index: &index,
-        };
+        let line = interp::executed_line(text, words, block_delete, ctx, &index);
         let at = Where {
             callers: ctx.callers,
             verbatim: ctx.verbatim,

@@ -57,44 +57,9 @@ pub struct Set {
     pub span: Span,
 }
 
-/// LinuxCNC's o-word keywords.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kw {
-    Sub,
-    Endsub,
-    Call,
-    Do,
-    While,
-    Repeat,
-    If,
-    Elseif,
-    Else,
-    Endif,
-    Break,
-    Continue,
-    Endwhile,
-    Endrepeat,
-    Return,
-}
-
-/// In LinuxCNC's order of trial: a longer keyword before its prefix.
-const KEYWORDS: [(&[u8], Kw); 15] = [
-    (b"SUB", Kw::Sub),
-    (b"ENDSUB", Kw::Endsub),
-    (b"CALL", Kw::Call),
-    (b"DO", Kw::Do),
-    (b"WHILE", Kw::While),
-    (b"REPEAT", Kw::Repeat),
-    (b"IF", Kw::If),
-    (b"ELSEIF", Kw::Elseif),
-    (b"ELSE", Kw::Else),
-    (b"ENDIF", Kw::Endif),
-    (b"BREAK", Kw::Break),
-    (b"CONTINUE", Kw::Continue),
-    (b"ENDWHILE", Kw::Endwhile),
-    (b"ENDREPEAT", Kw::Endrepeat),
-    (b"RETURN", Kw::Return),
-];
+/// LinuxCNC's o-word keywords, in LinuxCNC's order of trial: the interpreter's own table.
+pub(crate) use crate::interp::ngc::Keyword as Kw;
+use crate::interp::ngc::KEYWORDS;
 
 /// What a line is.
 #[derive(Clone, Debug)]
