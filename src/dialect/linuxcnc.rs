@@ -825,20 +825,7 @@ impl Dialect for LinuxCnc {
     }
 
     fn macros(&self) -> Option<crate::interp::Syntax> {
-        // o-word subroutines and control flow, parameters, expressions (o-code.adoc). Calls nest
-        // ten levels, the main program counted (INTERP_SUB_ROUTINE_LEVELS).
-        Some(crate::interp::Syntax {
-            lang: crate::interp::Lang::Ngc,
-            max_call_depth: 10,
-            max_macro_depth: 0,
-            g65_operations: false,
-            m98_l_word: false,
-            m97_local_calls: false,
-            m99_p_jumps: false,
-            wide_commons: false,
-            plain_names: &[],
-            profile_calls: &[],
-        })
+        Some(crate::interp::Syntax::O_WORDS)
     }
 
     fn format(&self) -> Format {

@@ -96,6 +96,22 @@ pub struct Syntax {
 }
 
 impl Syntax {
+    /// LinuxCNC's o-words: subroutines and control flow, parameters, expressions (o-code.adoc);
+    /// calls nest ten levels, the main program counted (INTERP_SUB_ROUTINE_LEVELS). The lathe's
+    /// and the mill's LinuxCNC share it.
+    pub const O_WORDS: Syntax = Syntax {
+        lang: Lang::Ngc,
+        max_call_depth: 10,
+        max_macro_depth: 0,
+        g65_operations: false,
+        m98_l_word: false,
+        m97_local_calls: false,
+        m99_p_jumps: false,
+        wide_commons: false,
+        plain_names: &[],
+        profile_calls: &[],
+    };
+
     /// Fanuc's Custom Macro B with Fanuc's nesting (four levels of M98, four of G65), G65 a
     /// call, M98's count in L: the base the Fanuc-style controls state their differences from.
     pub const MACRO_B: Syntax = Syntax {
