@@ -670,8 +670,19 @@ pub fn expand_gcode<R: BufRead>(
 /// is replaced in place when every run of it expands to the same moves, and is an error
 /// otherwise; with [`Options::flatten`] the executed program is written as straight-line code.
 pub fn expand_gcode_with<R: BufRead>(
-    mut input: R,
+    input: R,
     out: &mut dyn Write,
+    machine: &Machine,
+    options: &Options,
+) -> Result<Summary, Error> {
+    expand_gcode_to(input, &mut post::Now(out), machine, options)
+}
+
+/// [`expand_gcode_with`] into a writer that may write each cycle's moves later, in their place
+/// ([`post::MovesOut`]): the command formats them on a second thread.
+pub fn expand_gcode_to<R: BufRead>(
+    mut input: R,
+    out: &mut dyn post::MovesOut,
     machine: &Machine,
     options: &Options,
 ) -> Result<Summary, Error> {
@@ -698,7 +709,7 @@ pub fn expand_gcode_with<R: BufRead>(
 
 /// `expand_gcode`'s output: plain lines are copied in runs, cycles expanded.
 struct ExpandSink<'o> {
-    out: &'o mut dyn Write,
+    out: &'o mut dyn post::MovesOut,
     format: post::Format,
     distance_words: bool,
     ending: LineEnding,
@@ -758,7 +769,7 @@ impl Sink for ExpandSink<'_> {
 
 /// [`expand_event`] with the generated lines ending as the program's lines do.
 fn expand_ending(
-    out: &mut dyn Write,
+    out: &mut dyn post::MovesOut,
     format: &post::Format,
     distance_words: bool,
     ending: LineEnding,
@@ -780,7 +791,7 @@ fn expand_ending(
 /// `expand_gcode` for the lines that are part of a cycle.
 #[inline(never)]
 fn expand_event(
-    out: &mut dyn Write,
+    out: &mut dyn post::MovesOut,
     base_format: &post::Format,
     distance_words: bool,
     modal: &Modal,
@@ -830,11 +841,16 @@ fn expand_event(
                     if incremental {
                         writeln!(out, "G90")?;
                     }
-                    post::write_moves(out, &format, job.units, &path)?;
+                    let last_lead = last_lead(&path);
+                    out.moves(post::Moves {
+                        format: format.clone(),
+                        units: job.units,
+                        path,
+                    })?;
                     if incremental {
                         writeln!(out, "G91")?;
                     }
-                    restore_modal_state(out, &format, modal, &path)?;
+                    restore_modal_state(out, &format, modal, last_lead)?;
                 }
             }
         }
@@ -912,7 +928,7 @@ fn restore_modal_state(
     out: &mut dyn Write,
     format: &post::Format,
     modal: &Modal,
-    path: &toolpath::Toolpath,
+    last_lead: Option<f64>,
 ) -> io::Result<()> {
     let mut block = String::new();
     match modal.motion {
@@ -922,10 +938,6 @@ fn restore_modal_state(
         MotionMode::Thread => block.push_str(format.thread),
         MotionMode::Rapid | MotionMode::Cycle => {}
     }
-    let last_lead = path.motions.iter().rev().find_map(|m| match m.kind {
-        MotionKind::Thread { lead, .. } => Some(lead),
-        _ => None,
-    });
     // Only where the lead word is F does a thread move change the F register.
     let last_lead = last_lead.filter(|_| format.lead_letter == 'F');
     if let (Some(f), Some(lead)) = (modal.f_word, last_lead) {
@@ -943,6 +955,14 @@ fn restore_modal_state(
         writeln!(out, "{block}")?;
     }
     Ok(())
+}
+
+/// The lead of a path's last thread move.
+fn last_lead(path: &toolpath::Toolpath) -> Option<f64> {
+    path.motions.iter().rev().find_map(|m| match m.kind {
+        MotionKind::Thread { lead, .. } => Some(lead),
+        _ => None,
+    })
 }
 
 /// `threadcut expand --format jsonl`: one JSON object per motion, program units, X as a radius.

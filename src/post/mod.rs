@@ -473,6 +473,65 @@ const POW10: [u64; 16] = {
     t
 };
 
+/// A cycle's moves as [`write_moves`] writes them, owned: they can be written later and on another
+/// thread ([`MovesOut`]).
+#[derive(Clone, Debug)]
+pub struct Moves {
+    pub format: Format,
+    pub units: Units,
+    pub path: Toolpath,
+}
+
+impl Moves {
+    /// The moves' text, as [`write_moves`] writes it.
+    pub fn write(&self, out: &mut dyn Write) -> io::Result<()> {
+        write_moves(out, &self.format, self.units, &self.path)
+    }
+}
+
+/// Where `expand` writes: bytes, and each cycle's moves in their place among them. A writer may
+/// write the moves at once ([`Now`], a `Vec`, a line-ending converter) or hand them on to be
+/// written later in the same place: the command formats them on its second core while the library
+/// reads on (the library itself stays single-threaded, for wasm32; docs/performance.md, issue 28).
+pub trait MovesOut: Write {
+    fn moves(&mut self, moves: Moves) -> io::Result<()>;
+}
+
+/// Any writer as a [`MovesOut`] that writes moves at once.
+pub struct Now<W: Write>(pub W);
+
+impl<W: Write> Write for Now<W> {
+    #[inline]
+    fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+        self.0.write(buf)
+    }
+    #[inline]
+    fn write_all(&mut self, buf: &[u8]) -> io::Result<()> {
+        self.0.write_all(buf)
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        self.0.flush()
+    }
+}
+
+impl<W: Write> MovesOut for Now<W> {
+    fn moves(&mut self, moves: Moves) -> io::Result<()> {
+        moves.write(&mut self.0)
+    }
+}
+
+impl MovesOut for Vec<u8> {
+    fn moves(&mut self, moves: Moves) -> io::Result<()> {
+        moves.write(self)
+    }
+}
+
+impl<W: Write> MovesOut for crate::eol::Writer<W> {
+    fn moves(&mut self, moves: Moves) -> io::Result<()> {
+        moves.write(self)
+    }
+}
+
 /// Writes the moves of a toolpath as plain blocks, one per motion.
 pub fn write_moves(
     out: &mut dyn Write,

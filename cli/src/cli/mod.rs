@@ -733,9 +733,9 @@ fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
         return Ok(ExitCode::SUCCESS);
     }
     let machine = load_machine(&args.machine)?;
-    let summary = output::write(file, out, |out| {
+    let summary = output::write_moves(file, out, |out| {
         let summary = match args.format {
-            ProgramFormat::Gcode => program::expand_gcode_with(reader, out, &machine, &options),
+            ProgramFormat::Gcode => program::expand_gcode_to(reader, out, &machine, &options),
             ProgramFormat::Jsonl => program::expand_jsonl_with(reader, out, &machine, &options),
         }
         .map_err(lib(file))?;

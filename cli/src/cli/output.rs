@@ -2,11 +2,13 @@
 //! and renamed over it only when everything succeeded. Errors name the file asked for and the
 //! system's reason, never the temporary file.
 
-use std::io::{self, BufWriter, Write};
+use std::io::{self, Write};
 use std::os::unix::fs::FileTypeExt;
 use std::path::Path;
 
-use super::behind::{self, WriteBehind};
+use threadcut::post::MovesOut;
+
+use super::behind::{self, Lazy, WriteBehind};
 use super::{reason, Failure};
 
 /// Runs `produce` into standard output (`output` absent or `-`) or into the file `output`.
@@ -16,13 +18,24 @@ pub fn write<T>(
     output: Option<&Path>,
     produce: impl FnOnce(&mut dyn Write) -> Result<T, Failure>,
 ) -> Result<T, Failure> {
+    write_moves(input, output, |out| produce(out))
+}
+
+/// [`write`] for `expand`, whose cycles' moves may be formatted on the writer thread
+/// ([`MovesOut`]): a device, which [`write`] writes on this thread, is written behind from the
+/// first cycle on (`behind::Lazy`).
+pub fn write_moves<T>(
+    input: &Path,
+    output: Option<&Path>,
+    produce: impl FnOnce(&mut dyn MovesOut) -> Result<T, Failure>,
+) -> Result<T, Failure> {
     let target = output.filter(|p| p.as_os_str() != "-");
     let Some(target) = target else {
         let stdout = io::stdout();
         if stdout_is_device() {
-            let mut out = BufWriter::with_capacity(1 << 16, stdout.lock());
+            let mut out = Lazy::new(behind::Stdout(stdout));
             let summary = produce(&mut out).map_err(|f| named(f, None))?;
-            out.flush().map_err(|e| cannot_write(None, &e))?;
+            out.finish().map_err(|e| cannot_write(None, &e))?;
             return Ok(summary);
         }
         // The output is written by a second thread (`behind`); an error return drops it, which
@@ -53,9 +66,9 @@ pub fn write<T>(
             if meta.file_type().is_char_device() {
                 // A device written in place costs nothing worth a second thread (the null
                 // device; a terminal is paced by the reader).
-                let mut out = BufWriter::with_capacity(1 << 16, file);
+                let mut out = Lazy::new(file);
                 let summary = produce(&mut out).map_err(|f| named(f, Some(target)))?;
-                out.flush().map_err(|e| cannot(&e))?;
+                out.finish().map_err(|e| cannot(&e))?;
                 return Ok(summary);
             }
             // A FIFO or a socket: written behind, as a file is.
