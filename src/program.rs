@@ -522,7 +522,13 @@ fn plain_line<S: Sink>(
     sink: &mut S,
     pending: &mut usize,
 ) -> Result<(), Error> {
-    match modal.apply(conv, line) {
+    // A batching sink copies the line and needs only the state after it.
+    let applied = if S::BATCH {
+        modal.advance(conv, line)
+    } else {
+        modal.apply(conv, line)
+    };
+    match applied {
         Ok(mv) => {
             if S::BATCH {
                 *pending += line.raw.len();

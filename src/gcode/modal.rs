@@ -637,6 +637,23 @@ impl Modal {
     /// Applies a block that is not a threading cycle: modal codes, then any motion.
     #[inline(always)]
     pub fn apply(&mut self, conv: &Conventions, line: &Line) -> Result<Option<PlainMove>> {
+        self.apply_block::<true>(conv, line)
+    }
+
+    /// [`apply`](Self::apply) for a caller that only needs the state after the block (`expand`
+    /// copying plain lines): the same state and the same errors; a plain arc's centre, which has
+    /// neither, is not computed (`None` in the move).
+    #[inline(always)]
+    pub fn advance(&mut self, conv: &Conventions, line: &Line) -> Result<Option<PlainMove>> {
+        self.apply_block::<false>(conv, line)
+    }
+
+    #[inline(always)]
+    fn apply_block<const CENTRE: bool>(
+        &mut self,
+        conv: &Conventions,
+        line: &Line,
+    ) -> Result<Option<PlainMove>> {
         // Most blocks are a plain move: no G code but G0–G3, no letter written twice, from a known
         // position. Their words are found through the lexer's index, without a look at each word
         // (measured: a quarter of the pass-through time went to that look, docs/performance.md).
@@ -684,7 +701,11 @@ impl Modal {
             to,
             lead: None,
             phase_deg: 0.0,
-            centre: self.arc_centre(line, from, to),
+            centre: if CENTRE {
+                self.arc_centre(line, from, to)
+            } else {
+                None
+            },
         }))
     }
 
