@@ -3,7 +3,7 @@
 
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::machine::Machine;
-use crate::sim::{section, tip_in_mm, GrooveReport, Tool};
+use crate::sim::{groove, tip_in_mm, GrooveReport, Tool};
 use crate::thread::{Exit, Side};
 use crate::threads::{Origin, Thread};
 use crate::toolpath::MotionKind;
@@ -156,8 +156,8 @@ fn section_checks(
         tool_angle_deg: angle,
         ..job.clone()
     };
-    match section(&with_angle, &t.passes, &tool, blank.stock_above) {
-        Ok(sec) => form_checks(t, blank.z_tol, blank.x_tol, &sec.groove, out),
+    match groove(&with_angle, &t.passes, &tool, blank.stock_above) {
+        Ok(groove) => form_checks(t, blank.z_tol, blank.x_tol, &groove, out),
         // The machine can still run the cycle; only the depth and form checks are lost.
         Err(e) => out.push(Diagnostic {
             code: Code::Form,

@@ -58,6 +58,7 @@ mod taper;
 pub mod tapping;
 pub mod whole;
 
+use std::collections::{HashMap, HashSet};
 use std::io::BufRead;
 
 use serde::Serialize;
@@ -918,15 +919,23 @@ fn finish(mut report: Report, mut sink: Sink) -> Report {
 /// One note for a message said of several threads (the same assumption for every thread of a
 /// long program), naming the other lines.
 fn merge_notes(notes: Vec<Note>) -> Vec<Note> {
+    // Found by message and line in hash sets: a long program has a note for each of thousands
+    // of threads, and looking through the list for each was quadratic.
     let mut out: Vec<(Note, Vec<u32>)> = Vec::with_capacity(notes.len());
+    let mut index: HashMap<String, usize> = HashMap::new();
+    let mut named: HashSet<(usize, u32)> = HashSet::new();
     for n in notes {
-        match out.iter_mut().find(|(o, _)| o.message == n.message) {
-            Some((o, lines)) => {
-                if o.span.line != n.span.line && !lines.contains(&n.span.line) {
+        match index.get(&n.message) {
+            Some(&i) => {
+                let (o, lines) = &mut out[i];
+                if o.span.line != n.span.line && named.insert((i, n.span.line)) {
                     lines.push(n.span.line);
                 }
             }
-            None => out.push((n, Vec::new())),
+            None => {
+                index.insert(n.message.clone(), out.len());
+                out.push((n, Vec::new()));
+            }
         }
     }
     out.into_iter()
@@ -950,13 +959,15 @@ fn merge_notes(notes: Vec<Note>) -> Vec<Note> {
 /// modal G92), naming the other lines.
 fn merge_repeats(diags: Vec<Diagnostic>) -> Vec<Diagnostic> {
     let mut out: Vec<(Diagnostic, Vec<u32>)> = Vec::with_capacity(diags.len());
+    let mut index: HashMap<(Code, Severity, String), usize> = HashMap::new();
     for d in diags {
-        match out
-            .iter_mut()
-            .find(|(o, _)| o.code == d.code && o.severity == d.severity && o.message == d.message)
-        {
-            Some((_, lines)) => lines.push(d.span.line),
-            None => out.push((d, Vec::new())),
+        let key = (d.code, d.severity, d.message.clone());
+        match index.get(&key) {
+            Some(&i) => out[i].1.push(d.span.line),
+            None => {
+                index.insert(key, out.len());
+                out.push((d, Vec::new()));
+            }
         }
     }
     out.into_iter()

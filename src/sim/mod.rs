@@ -166,6 +166,24 @@ type Shapes = Vec<Vec<Contour>>;
 /// Simulates the passes of `job` with `tool`; `stock_above` is the blank's surface above the
 /// crest line (mm; 0: the blank is the crest line).
 pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<Section> {
+    simulate(job, passes, tool, stock_above, true)
+}
+
+/// The groove [`section`] reports, without what it says of each pass (the chips' shares, flanks
+/// and thickness) or the material's contours: the same cuts, so the same groove, for `check`,
+/// which judges only the groove.
+pub fn groove(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<GrooveReport> {
+    simulate(job, passes, tool, stock_above, false).map(|s| s.groove)
+}
+
+/// [`section`]; with `per_pass` false, the passes and the material are left empty.
+fn simulate(
+    job: &Job,
+    passes: &[Pass],
+    tool: &Tool,
+    stock_above: f64,
+    per_pass: bool,
+) -> Result<Section> {
     tool.validate(job.span)?;
     let too_big = |what: &str| {
         Diagnostic::error(
@@ -210,7 +228,9 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
     ]);
     let mut material: Shapes = vec![vec![blank.clone()]];
     let mut engine = Engine::new();
-    let mut sims = Vec::with_capacity(passes.len());
+    let mut sims = Vec::with_capacity(if per_pass { passes.len() } else { 0 });
+    // The chips' areas, summed in pass order (as the passes' areas are when they are kept).
+    let mut total_area = 0.0;
     let template = tool.template();
     let mut outline = Vec::new();
     for p in passes {
@@ -218,6 +238,14 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
         let cutter = vec![vec![contour(&outline)]];
         let (chip, rest) = engine.cut(&material, &cutter);
         let area = shapes_area(&chip);
+        if !per_pass {
+            total_area += area;
+            material = rest;
+            for c in material.iter_mut().flatten() {
+                straighten(c);
+            }
+            continue;
+        }
         let (left_share, flank, max_thickness) = if area > AREA_EPSILON {
             let left = chip
                 .iter()
@@ -257,7 +285,9 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
             straighten(c);
         }
     }
-    let total_area: f64 = sims.iter().map(|s| s.area).sum();
+    if per_pass {
+        total_area = sims.iter().map(|s| s.area).sum();
+    }
     for s in &mut sims {
         s.share = if total_area > AREA_EPSILON {
             s.area / total_area
@@ -278,11 +308,15 @@ pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Res
         passes: sims,
         total_area,
         groove,
-        material: material
-            .iter()
-            .flatten()
-            .map(|c| c.iter().map(|&p| to_float(p)).collect())
-            .collect(),
+        material: if per_pass {
+            material
+                .iter()
+                .flatten()
+                .map(|c| c.iter().map(|&p| to_float(p)).collect())
+                .collect()
+        } else {
+            Vec::new()
+        },
     })
 }
 
