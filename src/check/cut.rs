@@ -3,7 +3,7 @@
 
 use crate::diag::{Code, Diagnostic, Severity};
 use crate::machine::Machine;
-use crate::sim::{groove, tip_in_mm, GrooveReport, Tool};
+use crate::sim::{groove, tip_in_mm, GrooveForm, Tool};
 use crate::thread::{Exit, Side};
 use crate::threads::{Origin, Thread};
 use crate::toolpath::MotionKind;
@@ -225,7 +225,7 @@ fn form_checks(
     t: &Thread,
     length_tol: Tolerance,
     x_tol: Tolerance,
-    g: &GrooveReport,
+    g: &GrooveForm,
     out: &mut Vec<Diagnostic>,
 ) {
     let job = &t.job;

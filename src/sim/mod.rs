@@ -146,6 +146,22 @@ pub struct GrooveReport {
     pub left_in_form: f64,
 }
 
+/// The part of a [`GrooveReport`] that follows from the passes and the tool alone, without the
+/// material's simulation ([`groove`]): the same values, computed the same way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GrooveForm {
+    pub axis: f64,
+    pub centre: f64,
+    pub depth_target: f64,
+    pub depth_reached: f64,
+    pub depth_at_axis: f64,
+    pub flank_angle_left_deg: f64,
+    pub flank_angle_right_deg: f64,
+    pub pitch_line_depth: Option<f64>,
+    pub pitch_diameter_error: Option<f64>,
+    pub ridge: f64,
+}
+
 /// The simulated section of one cycle.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Section {
@@ -163,27 +179,25 @@ pub struct Section {
 type Contour = Vec<IntPoint<i32>>;
 type Shapes = Vec<Vec<Contour>>;
 
-/// Simulates the passes of `job` with `tool`; `stock_above` is the blank's surface above the
-/// crest line (mm; 0: the blank is the crest line).
-pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<Section> {
-    simulate(job, passes, tool, stock_above, true)
+/// What [`section`] reports of the groove's form that follows from the passes and the tool alone
+/// ([`GrooveForm`]), with the same refusals, and without simulating the material: `check` judges
+/// only these.
+pub fn groove(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<GrooveForm> {
+    extent(job, passes, tool, stock_above)?;
+    Ok(groove_form(job, passes, tool))
 }
 
-/// The groove [`section`] reports, without what it says of each pass (the chips' shares, flanks
-/// and thickness) or the material's contours: the same cuts, so the same groove, for `check`,
-/// which judges only the groove.
-pub fn groove(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<GrooveReport> {
-    simulate(job, passes, tool, stock_above, false).map(|s| s.groove)
+/// Where a section is simulated: the blank's top, the tool's top, the bottom and the lateral
+/// limits (mm, section coordinates), or the refusal of a section too large for the grid.
+struct Extent {
+    blank_top: f64,
+    tool_top: f64,
+    bottom: f64,
+    u_lo: f64,
+    u_hi: f64,
 }
 
-/// [`section`]; with `per_pass` false, the passes and the material are left empty.
-fn simulate(
-    job: &Job,
-    passes: &[Pass],
-    tool: &Tool,
-    stock_above: f64,
-    per_pass: bool,
-) -> Result<Section> {
+fn extent(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<Extent> {
     tool.validate(job.span)?;
     let too_big = |what: &str| {
         Diagnostic::error(
@@ -196,7 +210,6 @@ fn simulate(
         return Err(too_big("stock"));
     }
     let t = tool.slope();
-    let form = tool.form();
     let total = job.geometry.depth;
     let deepest = passes.iter().map(|p| p.depth).fold(total, f64::max);
     let apex = tool.apex_below_lowest().max(0.0);
@@ -220,6 +233,26 @@ fn simulate(
     if ![u_lo, u_hi, bottom, tool_top].into_iter().all(fits) {
         return Err(too_big("a coordinate"));
     }
+    Ok(Extent {
+        blank_top,
+        tool_top,
+        bottom,
+        u_lo,
+        u_hi,
+    })
+}
+
+/// Simulates the passes of `job` with `tool`; `stock_above` is the blank's surface above the
+/// crest line (mm; 0: the blank is the crest line).
+pub fn section(job: &Job, passes: &[Pass], tool: &Tool, stock_above: f64) -> Result<Section> {
+    let Extent {
+        blank_top,
+        tool_top,
+        bottom,
+        u_lo,
+        u_hi,
+    } = extent(job, passes, tool, stock_above)?;
+    let form = tool.form();
     let blank = contour(&[
         (u_lo, blank_top),
         (u_hi, blank_top),
@@ -228,9 +261,7 @@ fn simulate(
     ]);
     let mut material: Shapes = vec![vec![blank.clone()]];
     let mut engine = Engine::new();
-    let mut sims = Vec::with_capacity(if per_pass { passes.len() } else { 0 });
-    // The chips' areas, summed in pass order (as the passes' areas are when they are kept).
-    let mut total_area = 0.0;
+    let mut sims = Vec::with_capacity(passes.len());
     let template = tool.template();
     let mut outline = Vec::new();
     for p in passes {
@@ -238,14 +269,6 @@ fn simulate(
         let cutter = vec![vec![contour(&outline)]];
         let (chip, rest) = engine.cut(&material, &cutter);
         let area = shapes_area(&chip);
-        if !per_pass {
-            total_area += area;
-            material = rest;
-            for c in material.iter_mut().flatten() {
-                straighten(c);
-            }
-            continue;
-        }
         let (left_share, flank, max_thickness) = if area > AREA_EPSILON {
             let left = chip
                 .iter()
@@ -285,9 +308,7 @@ fn simulate(
             straighten(c);
         }
     }
-    if per_pass {
-        total_area = sims.iter().map(|s| s.area).sum();
-    }
+    let total_area: f64 = sims.iter().map(|s| s.area).sum();
     for s in &mut sims {
         s.share = if total_area > AREA_EPSILON {
             s.area / total_area
@@ -308,15 +329,11 @@ fn simulate(
         passes: sims,
         total_area,
         groove,
-        material: if per_pass {
-            material
-                .iter()
-                .flatten()
-                .map(|c| c.iter().map(|&p| to_float(p)).collect())
-                .collect()
-        } else {
-            Vec::new()
-        },
+        material: material
+            .iter()
+            .flatten()
+            .map(|c| c.iter().map(|&p| to_float(p)).collect())
+            .collect(),
     })
 }
 
@@ -607,14 +624,8 @@ struct Final<'a> {
     tool_top: f64,
 }
 
-/// The groove the passes leave, against the target form.
-fn groove_report(
-    job: &Job,
-    passes: &[Pass],
-    tool: &Tool,
-    engine: &mut Engine,
-    cut: &Final,
-) -> GrooveReport {
+/// The groove's form as the passes and the tool give it, without the material ([`groove`]).
+fn groove_form(job: &Job, passes: &[Pass], tool: &Tool) -> GrooveForm {
     let total = job.geometry.depth;
     let axis = job.infeed.axis(total);
     let form = tool.form();
@@ -670,19 +681,7 @@ fn groove_report(
     let centre =
         edges(pitch_line_depth.unwrap_or(0.5 * depth_reached)).map_or(axis, |(l, r)| (l + r) / 2.0);
     let depth_at_axis = envelope(centre).max(0.0);
-    // Overcut = removed − (removed ∩ target) = total − (target ∩ blank − target ∩ material).
-    // The target is convex and the blank a rectangle: target ∩ blank is the target clipped to it.
-    let target = contour(&tool.outline(centre, total, cut.tool_top));
-    let (lo, hi) = (to_float(cut.blank[0]), to_float(cut.blank[2]));
-    let mut in_blank: Vec<(f64, f64)> = target.iter().map(|&p| to_float(p)).collect();
-    in_blank = clip_half(&in_blank, |p| p.0 - lo.0);
-    in_blank = clip_half(&in_blank, |p| hi.0 - p.0);
-    in_blank = clip_half(&in_blank, |p| p.1 - lo.1);
-    in_blank = clip_half(&in_blank, |p| hi.1 - p.1);
-    let in_blank = signed_area(&in_blank).abs();
-    let left_in_form = shapes_area(&engine.intersect(cut.material, &vec![vec![target]]));
-    let overcut_area = (cut.total_area - (in_blank - left_in_form)).max(0.0);
-    GrooveReport {
+    GrooveForm {
         axis,
         centre,
         depth_target: total,
@@ -693,6 +692,42 @@ fn groove_report(
         pitch_line_depth,
         pitch_diameter_error,
         ridge,
+    }
+}
+
+/// The groove the passes leave, against the target form.
+fn groove_report(
+    job: &Job,
+    passes: &[Pass],
+    tool: &Tool,
+    engine: &mut Engine,
+    cut: &Final,
+) -> GrooveReport {
+    let f = groove_form(job, passes, tool);
+    let total = job.geometry.depth;
+    // Overcut = removed − (removed ∩ target) = total − (target ∩ blank − target ∩ material).
+    // The target is convex and the blank a rectangle: target ∩ blank is the target clipped to it.
+    let target = contour(&tool.outline(f.centre, total, cut.tool_top));
+    let (lo, hi) = (to_float(cut.blank[0]), to_float(cut.blank[2]));
+    let mut in_blank: Vec<(f64, f64)> = target.iter().map(|&p| to_float(p)).collect();
+    in_blank = clip_half(&in_blank, |p| p.0 - lo.0);
+    in_blank = clip_half(&in_blank, |p| hi.0 - p.0);
+    in_blank = clip_half(&in_blank, |p| p.1 - lo.1);
+    in_blank = clip_half(&in_blank, |p| hi.1 - p.1);
+    let in_blank = signed_area(&in_blank).abs();
+    let left_in_form = shapes_area(&engine.intersect(cut.material, &vec![vec![target]]));
+    let overcut_area = (cut.total_area - (in_blank - left_in_form)).max(0.0);
+    GrooveReport {
+        axis: f.axis,
+        centre: f.centre,
+        depth_target: f.depth_target,
+        depth_reached: f.depth_reached,
+        depth_at_axis: f.depth_at_axis,
+        flank_angle_left_deg: f.flank_angle_left_deg,
+        flank_angle_right_deg: f.flank_angle_right_deg,
+        pitch_line_depth: f.pitch_line_depth,
+        pitch_diameter_error: f.pitch_diameter_error,
+        ridge: f.ridge,
         overcut_area,
         left_in_form,
     }
