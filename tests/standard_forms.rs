@@ -635,7 +635,7 @@ fn turned_form(src: &str, controller: &str, thread: &str) -> f64 {
     let passes = job.passes().unwrap();
     let s = sim::section(&job, &passes, &tool, 0.0).unwrap();
     assert!(passes.len() > 5, "{} passes", passes.len());
-    let target = g.outline(s.groove.centre, 1e-5);
+    let target = g.outline(s.groove.form.centre, 1e-5);
     sim::profile_deviation(&s, &target, 0.5 * t.pitch)
 }
 
@@ -674,7 +674,7 @@ fn a_wrong_tool_misses_the_form() {
         tip: Tip::Flat { width: 1.0 },
     };
     let s = sim::section(&job, &job.passes().unwrap(), &tool, 0.0).unwrap();
-    let dev = sim::profile_deviation(&s, &g.outline(s.groove.centre, 1e-5), 2.0);
+    let dev = sim::profile_deviation(&s, &g.outline(s.groove.form.centre, 1e-5), 2.0);
     assert!(dev > 0.1, "{dev}");
 }
 

@@ -148,16 +148,20 @@ fn the_gsk_example_program_simulates_like_the_pass_table() {
         .iter()
         .all(|p| p.flank == CuttingFlank::Both));
     let g = s.groove;
-    assert!(close(g.depth_reached, 1.2, 1e-12));
-    assert!(close(g.depth_at_axis, 1.2, 1e-12));
-    assert!(close(g.flank_angle_left_deg, 30.0, 1e-9));
-    assert!(close(g.flank_angle_right_deg, 30.0, 1e-9));
+    assert!(close(g.form.depth_reached, 1.2, 1e-12));
+    assert!(close(g.form.depth_at_axis, 1.2, 1e-12));
+    assert!(close(g.form.flank_angle_left_deg, 30.0, 1e-9));
+    assert!(close(g.form.flank_angle_right_deg, 30.0, 1e-9));
     assert!(g.overcut_area < 1e-5 && g.left_in_form < 1e-5, "{g:?}");
-    assert!(g.ridge.abs() < 1e-12);
+    assert!(g.form.ridge.abs() < 1e-12);
     // Pitch line: the 60° target groove 1.2 deep is 1.0 wide (half the 2 mm pitch) at
     // 1.2 − 0.5/tan 30° = 0.33397 deep.
-    assert!(close(g.pitch_line_depth.unwrap(), 1.2 - 0.5 / T30, 1e-9));
-    assert!(close(g.pitch_diameter_error.unwrap(), 0.0, 1e-9));
+    assert!(close(
+        g.form.pitch_line_depth.unwrap(),
+        1.2 - 0.5 / T30,
+        1e-9
+    ));
+    assert!(close(g.form.pitch_diameter_error.unwrap(), 0.0, 1e-9));
 }
 
 #[test]
@@ -256,7 +260,7 @@ fn flank_infeed_cuts_with_one_edge_twice_as_thick() {
     let passes = j.passes().unwrap();
     let s = sim::section(&j, &passes, &Tool::sharp(60.0), 0.0).unwrap();
     assert_eq!(s.passes[1].flank, CuttingFlank::Left);
-    assert!(close(s.groove.flank_angle_left_deg, 30.0, 1e-9));
+    assert!(close(s.groove.form.flank_angle_left_deg, 30.0, 1e-9));
 }
 
 #[test]
@@ -341,21 +345,21 @@ fn alternating_infeed_leaves_ridges_and_overcut_when_it_finishes_off_axis() {
     assert_eq!(passes[2].offset, passes[1].offset);
     let tan25 = 25f64.to_radians().tan();
     let (u1, u2) = (0.6 * tan25, 2.0 * tan25 - 0.9 * tan25);
-    assert!(close(g.axis, tan25, 1e-12));
+    assert!(close(g.form.axis, tan25, 1e-12));
     // Pass 1's tent (u1, 0.6) pokes out of the finish tent (u2, 1.0): they meet at
     // (0.6 + 1.0 − (u2 − u1)/t)/2, which leaves a ridge below pass 1's tip.
     let valley = (1.6 - (u2 - u1) / T30) / 2.0;
-    assert!(close(g.ridge, 0.6 - valley, 1e-9), "{g:?}");
+    assert!(close(g.form.ridge, 0.6 - valley, 1e-9), "{g:?}");
     // Pitch line: the 1.0-deep target is 1.0 wide (half the 2 mm pitch) at 1 − 0.5/t. There the
     // groove runs from pass 1's left flank to the finish pass's right flank.
     let v = 1.0 - 0.5 / T30;
-    assert!(close(g.pitch_line_depth.unwrap(), v, 1e-9));
+    assert!(close(g.form.pitch_line_depth.unwrap(), v, 1e-9));
     let (left, right) = (u1 - (0.6 - v) * T30, u2 + (1.0 - v) * T30);
-    assert!(close(g.centre, (left + right) / 2.0, 1e-9));
+    assert!(close(g.form.centre, (left + right) / 2.0, 1e-9));
     // 2.2 µm too wide: an external pitch diameter 2.2/tan 30° = 3.8 µm undersize.
     let excess = (right - left) - 1.0;
     assert!(
-        close(g.pitch_diameter_error.unwrap(), -excess / T30, 1e-9),
+        close(g.form.pitch_diameter_error.unwrap(), -excess / T30, 1e-9),
         "{g:?}"
     );
     assert!(g.overcut_area > 1e-4 && g.left_in_form > 1e-4, "{g:?}");
@@ -375,8 +379,12 @@ fn ridge_between_left_and_right_passes_hand_computed() {
     second.n = 2;
     passes.push(second);
     let s = sim::section(&j, &passes, &Tool::sharp(60.0), 0.0).unwrap();
-    assert!(close(s.groove.ridge, 0.2 / T30, 1e-9), "{}", s.groove.ridge);
-    assert!(close(s.groove.depth_at_axis, 1.0 - 0.2 / T30, 1e-9));
+    assert!(
+        close(s.groove.form.ridge, 0.2 / T30, 1e-9),
+        "{}",
+        s.groove.form.ridge
+    );
+    assert!(close(s.groove.form.depth_at_axis, 1.0 - 0.2 / T30, 1e-9));
 }
 
 #[test]

@@ -268,7 +268,7 @@ fn section_panel(s: &mut String, c: &CyclePlot, y: f64) {
         );
     }
     // The target form, dashed, where the groove was judged.
-    let target = tool.outline(sec.groove.centre, sec.groove.depth_target, top);
+    let target = tool.outline(sec.groove.form.centre, sec.groove.form.depth_target, top);
     let _ = writeln!(
         s,
         r#"<polyline points="{}" fill="none" stroke="black" stroke-width="1.2" stroke-dasharray="5 3"/>"#,
@@ -295,10 +295,10 @@ fn section_panel(s: &mut String, c: &CyclePlot, y: f64) {
     let u = c.job.units;
     let caption = format!(
         "dashed: target form; depth {}, flanks {:.2}°/{:.2}°, ridge {} {}",
-        num(u.from_mm(g.depth_reached), 5),
-        g.flank_angle_left_deg,
-        g.flank_angle_right_deg,
-        num(u.from_mm(g.ridge), 5),
+        num(u.from_mm(g.form.depth_reached), 5),
+        g.form.flank_angle_left_deg,
+        g.form.flank_angle_right_deg,
+        num(u.from_mm(g.form.ridge), 5),
         u.name()
     );
     let _ = writeln!(

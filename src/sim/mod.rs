@@ -117,6 +117,20 @@ pub struct PassSim {
 /// full depth on the groove's axis would cut (the cycle's depth and angle).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct GrooveReport {
+    /// What follows from the passes and the tool alone (its fields stand beside the others in
+    /// JSON).
+    #[serde(flatten)]
+    pub form: GrooveForm,
+    /// Material removed outside the target form (mm²).
+    pub overcut_area: f64,
+    /// Material left inside the target form (mm²).
+    pub left_in_form: f64,
+}
+
+/// The part of a [`GrooveReport`] that follows from the passes and the tool alone, without the
+/// material's simulation ([`groove`], what `check` judges).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct GrooveForm {
     /// Lateral position of the groove's axis as the infeed law places it.
     pub axis: f64,
     /// Where the groove's centre ended up (at the pitch line, else half way down); the target
@@ -139,26 +153,6 @@ pub struct GrooveReport {
     /// at the pitch line: negative means an external thread's pitch diameter is undersize.
     pub pitch_diameter_error: Option<f64>,
     /// Height of the highest ridge left standing between neighbouring passes' tips (mm).
-    pub ridge: f64,
-    /// Material removed outside the target form (mm²).
-    pub overcut_area: f64,
-    /// Material left inside the target form (mm²).
-    pub left_in_form: f64,
-}
-
-/// The part of a [`GrooveReport`] that follows from the passes and the tool alone, without the
-/// material's simulation ([`groove`]): the same values, computed the same way.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GrooveForm {
-    pub axis: f64,
-    pub centre: f64,
-    pub depth_target: f64,
-    pub depth_reached: f64,
-    pub depth_at_axis: f64,
-    pub flank_angle_left_deg: f64,
-    pub flank_angle_right_deg: f64,
-    pub pitch_line_depth: Option<f64>,
-    pub pitch_diameter_error: Option<f64>,
     pub ridge: f64,
 }
 
@@ -718,16 +712,7 @@ fn groove_report(
     let left_in_form = shapes_area(&engine.intersect(cut.material, &vec![vec![target]]));
     let overcut_area = (cut.total_area - (in_blank - left_in_form)).max(0.0);
     GrooveReport {
-        axis: f.axis,
-        centre: f.centre,
-        depth_target: f.depth_target,
-        depth_reached: f.depth_reached,
-        depth_at_axis: f.depth_at_axis,
-        flank_angle_left_deg: f.flank_angle_left_deg,
-        flank_angle_right_deg: f.flank_angle_right_deg,
-        pitch_line_depth: f.pitch_line_depth,
-        pitch_diameter_error: f.pitch_diameter_error,
-        ridge: f.ridge,
+        form: f,
         overcut_area,
         left_in_form,
     }
