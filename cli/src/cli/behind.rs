@@ -114,7 +114,11 @@ impl<W: Sink> Writer<W> {
                 let offset = *offset;
                 self.text.extend_from_slice(&chunk.bytes[at..offset]);
                 at = offset;
-                moves.write(&mut self.text)?;
+                if let Err(e) = moves.write(&mut self.text) {
+                    // What came before the cycle is written, as one thread writes it.
+                    self.flush_text()?;
+                    return Err(e);
+                }
                 if self.text.len() >= CAPACITY {
                     self.flush_text()?;
                 }
