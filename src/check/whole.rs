@@ -137,7 +137,7 @@ pub(super) struct Whole {
     failed: bool,
     chain: Vec<(Pos, Motion)>,
     chain_at: Option<At>,
-    teeth: Vec<Teeth>,
+    teeth: std::collections::VecDeque<Teeth>,
     hits: Vec<RapidHit>,
     /// Rapids made while the thread reader reads a thread written as moves: judged once it hands
     /// the thread over (its teeth are then in the part), at most [`PENDING_MAX`].
@@ -162,7 +162,7 @@ impl Whole {
             failed: false,
             chain: Vec::new(),
             chain_at: None,
-            teeth: Vec::new(),
+            teeth: std::collections::VecDeque::new(),
             hits: Vec::new(),
             pending: std::collections::VecDeque::new(),
             found: Vec::new(),
@@ -356,7 +356,7 @@ impl Whole {
         }
         let units = at.units;
         let show_x = |x: f64| length(units, if at.diameter_x { 2.0 * x } else { x });
-        let target = format!("X{} Z{}", show_x(to.x), length(units, to.z));
+        let target = || format!("X{} Z{}", show_x(to.x), length(units, to.z));
         if let Some((t, p)) = self.teeth_hit(from, to, at.tolerance) {
             let root = if t.side == Side::Internal {
                 t.root.0.x.max(t.root.1.x)
@@ -364,7 +364,8 @@ impl Whole {
                 t.root.0.x.min(t.root.1.x)
             };
             let message = format!(
-                "a rapid move to {target} runs through the thread cut at line {} (its teeth and root Ø{}, Z{} to Z{}), at X{} Z{}",
+                "a rapid move to {} runs through the thread cut at line {} (its teeth and root Ø{}, Z{} to Z{}), at X{} Z{}",
+                target(),
                 t.line,
                 length(units, 2.0 * root),
                 length(units, t.z.0),
@@ -418,7 +419,8 @@ impl Whole {
             _ => "",
         };
         let message = format!(
-            "a rapid move to {target} runs into {}{assumed}",
+            "a rapid move to {} runs into {}{assumed}",
+            target(),
             hit.describe(units)
         );
         self.report(span, message, error, (from, to, hit.at));
@@ -491,8 +493,21 @@ impl Whole {
     /// The thread's teeth the rapid from `from` to `to` runs into deeper than half the
     /// tolerance, and where.
     fn teeth_hit(&self, from: Pos, to: Pos, tolerance: f64) -> Option<(&Teeth, Pos)> {
+        let (lo, hi) = (
+            Pos::new(from.x.min(to.x), from.z.min(to.z)),
+            Pos::new(from.x.max(to.x), from.z.max(to.z)),
+        );
         self.teeth.iter().rev().find_map(|t| {
-            let (t0, t1) = clip_convex(&t.corners, from, to)?;
+            // Clear of the teeth's box, clear of the teeth (most rapids are).
+            let c = &t.corners;
+            if c.iter().all(|p| p.x < lo.x)
+                || c.iter().all(|p| p.x > hi.x)
+                || c.iter().all(|p| p.z < lo.z)
+                || c.iter().all(|p| p.z > hi.z)
+            {
+                return None;
+            }
+            let (t0, t1) = clip_convex(c, from, to)?;
             // A rapid from inside the teeth (after one that ran into them) is not judged again.
             if t0 <= 0.0 {
                 return None;
@@ -654,9 +669,9 @@ impl Whole {
             self.open_bore(blank, tolerance);
         }
         if self.teeth.len() >= ZONES_MAX {
-            self.teeth.remove(0);
+            self.teeth.pop_front();
         }
-        self.teeth.push(teeth);
+        self.teeth.push_back(teeth);
     }
 
     /// An internal thread's bore is a fact, whatever the model knew of the hole (a drill's
@@ -695,6 +710,23 @@ impl Whole {
         let surface = |z: f64| blank_surface(blank, z);
         let root = last.start.x;
         let (z_lo, z_hi, toward_minus) = (run.z_lo, run.z_hi, run.toward_minus);
+        // Nothing stands a tolerance beyond the blank along the run (the difference is linear
+        // along each edge, so its greatest is at an edge's end): no shoulder. Half the tolerance,
+        // so that rounding in the crossings below cannot make one appear.
+        // Only a surface whose material is known is reported, so only those are looked at.
+        let stock_given = part.stock().diameter.known == Known::Given;
+        if part
+            .greatest_in_band(z_lo, z_hi, |p, o| {
+                if surface_known(o, stock_given) {
+                    (p.x - surface(p.z)) * out
+                } else {
+                    f64::NEG_INFINITY
+                }
+            })
+            .is_none_or(|h| h <= tolerance / 2.0)
+        {
+            return;
+        }
         let z_at = |k: f64| run.z_at(k);
         let k_of = |z: f64| {
             let len = (z_hi - z_lo).max(f64::MIN_POSITIVE);
@@ -741,21 +773,20 @@ impl Whole {
         let z_face = z_at(hi);
         // What the passes meet beyond it: the highest material up to the thread's end whose
         // surface is known (the program cut it, or the stock was given).
-        let stock_given = part.stock().diameter.known == Known::Given;
-        let known = |o: Origin| known_surface(o, stock_given);
         let Some((r, what)) = ks[first..]
             .iter()
             .map(|&k| z_at(k))
             .chain(std::iter::once(z_face))
             .filter_map(beyond)
-            .filter_map(|(r, o)| known(o).map(|w| (r, w)))
-            .fold(None, |m: Option<(f64, String)>, (r, w)| match m {
+            .filter(|&(_, o)| surface_known(o, stock_given))
+            .fold(None, |m: Option<(f64, Origin)>, (r, o)| match m {
                 Some((b, _)) if (b - r) * out >= 0.0 => m,
-                _ => Some((r, w)),
+                _ => Some((r, o)),
             })
         else {
             return;
         };
+        let what = known_surface(what, stock_given).unwrap_or_default();
         let units = t.job.units;
         // At the program's resolution (the outline lies on a finer grid).
         let round = |mm: f64| (mm / tolerance).round() * tolerance;
@@ -811,7 +842,7 @@ impl Whole {
         View {
             stock: self.part.as_ref().map(|p| *p.stock()),
             outline: self.part.as_ref().map(Part::outline).unwrap_or_default(),
-            teeth: self.teeth.clone(),
+            teeth: self.teeth.iter().cloned().collect(),
             hits: self.hits.clone(),
         }
     }
@@ -873,16 +904,22 @@ fn blank_surface(blank: &Blank, z: f64) -> f64 {
 /// A surface whose material is known, in words: one the program cut, or the stock's as given
 /// (`stock_given`: a cleared surface's material is the stock's).
 fn known_surface(o: Origin, stock_given: bool) -> Option<String> {
+    surface_known(o, stock_given).then(|| match o {
+        Origin::Cut(c) => format!("as the program cut it at line {}", c.line),
+        _ => "the stock as given".to_string(),
+    })
+}
+
+/// Whether [`known_surface`] says something of `o`.
+fn surface_known(o: Origin, stock_given: bool) -> bool {
     match o {
-        Origin::Cut(c) if c.kind != CutKind::Thread => {
-            Some(format!("as the program cut it at line {}", c.line))
-        }
-        Origin::Cleared(_) if stock_given => Some("the stock as given".to_string()),
+        Origin::Cut(c) => c.kind != CutKind::Thread,
+        Origin::Cleared(_) => stock_given,
         Origin::Stock {
             known: Known::Given,
             edge,
-        } if edge != StockEdge::Axis => Some("the stock as given".to_string()),
-        _ => None,
+        } => edge != StockEdge::Axis,
+        _ => false,
     }
 }
 

@@ -821,6 +821,37 @@ impl Part {
         outline::surface_beyond(&self.rings, self.slabs(), z, from, inward)
     }
 
+    /// The greatest value of `f` on the outline between `z_lo` and `z_hi` (mm), for an `f`
+    /// linear in x and z along each edge (given the edge's origin): it is reached at an end of an
+    /// edge cut to the band, so only those are looked at. `None`: no material in the band.
+    pub fn greatest_in_band(
+        &self,
+        z_lo: f64,
+        z_hi: f64,
+        f: impl Fn(Pos, Origin) -> f64,
+    ) -> Option<f64> {
+        let (lo, hi) = (z_lo / GRID, z_hi / GRID);
+        let at = |a: (f64, f64), b: (f64, f64), y: f64| {
+            let k = (y - a.1) / (b.1 - a.1);
+            to_pos((a.0 + (b.0 - a.0) * k, y))
+        };
+        let mut best: Option<f64> = None;
+        for ring in &self.rings {
+            for (a, b, o) in ring.edges() {
+                let (a, b) = (outline::float(a), outline::float(b));
+                let (a, b) = if a.1 <= b.1 { (a, b) } else { (b, a) };
+                if b.1 < lo || a.1 > hi {
+                    continue;
+                }
+                let start = if a.1 < lo { at(a, b, lo) } else { to_pos(a) };
+                let end = if b.1 > hi { at(a, b, hi) } else { to_pos(b) };
+                let v = f(start, o).max(f(end, o));
+                best = Some(best.map_or(v, |m| m.max(v)));
+            }
+        }
+        best
+    }
+
     /// The outline's edges by band, built when first asked for after a change.
     fn slabs(&self) -> Option<&outline::Slabs> {
         self.slabs

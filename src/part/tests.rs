@@ -634,3 +634,37 @@ mod surface_beyond_as_sorted {
         );
     }
 }
+
+/// The greatest of a linear function over the outline in a band of Z: on the faced and turned
+/// bar, the radius alone is R15 over Z-5..-15 (the turned diameter), R20 once the band takes in
+/// the shoulder at Z-20; measured from a taper rising 0.1 per mm toward -Z (R = 14 + 0.1·(−z)),
+/// the turned diameter stands highest at the band's +Z end: 15 − (14 + 0.5) = 0.5 at Z-5.
+#[test]
+fn the_greatest_in_a_band_is_at_an_edges_end() {
+    let part = faced_and_turned();
+    let radius = |p: Pos, _: Origin| p.x;
+    assert!(near(
+        part.greatest_in_band(-15.0, -5.0, radius).unwrap(),
+        15.0
+    ));
+    assert!(near(
+        part.greatest_in_band(-25.0, -5.0, radius).unwrap(),
+        20.0
+    ));
+    let over_taper = |p: Pos, _: Origin| p.x - (14.0 - 0.1 * p.z);
+    assert!(near(
+        part.greatest_in_band(-15.0, -5.0, over_taper).unwrap(),
+        0.5
+    ));
+    // Only the edges the function takes: the turned surface's (line 4) — the same 0.5.
+    let turned = |p: Pos, o: Origin| match o {
+        Origin::Cut(c) if c.line == 4 => p.x - (14.0 - 0.1 * p.z),
+        _ => f64::NEG_INFINITY,
+    };
+    assert!(near(
+        part.greatest_in_band(-15.0, -5.0, turned).unwrap(),
+        0.5
+    ));
+    // Beyond the bar's end (Z-59): no material.
+    assert!(part.greatest_in_band(-80.0, -70.0, radius).is_none());
+}

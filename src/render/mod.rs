@@ -124,6 +124,19 @@ pub fn program_plot_part<R: BufRead>(
     plot(found, total, summary, tip, part)
 }
 
+/// What [`program_plot_part`] draws with the default [`Selection`], from threads read elsewhere:
+/// `first`, the program's first threads (at most [`MAX_PLOTTED`]), of `total`.
+pub fn first_threads_svg(
+    first: &[Thread],
+    total: usize,
+    tip: Tip,
+    part: Option<&PartPicture>,
+) -> Result<String, Error> {
+    let first = &first[..first.len().min(MAX_PLOTTED)];
+    let numbers: Vec<usize> = (1..=first.len()).collect();
+    Ok(threads_picture(first, &numbers, total, tip, part)?.0)
+}
+
 /// `threadcut plot` on an APT/CL program.
 pub fn apt_svg<R: BufRead>(input: R, tip: Tip) -> Result<(String, Summary, usize), Error> {
     let p = apt_plot(input, tip, Selection::default())?;

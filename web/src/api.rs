@@ -278,10 +278,19 @@ fn analyse_with(
     // A cycle on its own (the check stopped where a cycle's start is not known): its pass table
     // is still shown where it does not depend on the start, as `passes` gives it.
     let mut start_unknown = false;
+    // The number of threads, when the check read the whole program without an error: the pass
+    // tables then stop at the last one shown (the threads after it read as the check read them).
+    let mut threads_read = None;
     match check::check(text.as_bytes(), Source::Gcode(&machine), &opts) {
         Ok(report) => {
             lines = report.lines;
             failed = report.stopped;
+            threads_read = (!report.stopped
+                && !report
+                    .diagnostics
+                    .iter()
+                    .any(|d| d.severity == Severity::Error))
+            .then_some(report.threads as usize);
             start_unknown = report.stopped
                 && report
                     .diagnostics
@@ -309,13 +318,16 @@ fn analyse_with(
         Err(e) => fail(e, &mut diagnostics, &mut failed),
     }
 
-    // The pass tables, thread by thread.
+    // The pass tables, thread by thread, and the threads the plot draws: read once when the
+    // plot reads the program as the tables do (no start given).
     let mut cycles = Vec::new();
     let mut cycles_total = 0usize;
     let options = program::Options {
         start: listing.start,
         ..program::Options::default()
     };
+    let mut drawn = Vec::new();
+    let mut shared = false;
     if !failed || start_unknown {
         let tables = program::Options {
             start: if start_unknown {
@@ -325,22 +337,34 @@ fn analyse_with(
             },
             ..options.clone()
         };
+        shared = tables == program::Options::default();
+        let mut enough = false;
         let run = threads::each_gcode_with(text.as_bytes(), &machine, None, &tables, |t| {
             cycles_total += 1;
-            if cycles.len() >= listing.max_cycles {
-                return Ok(());
+            if cycles.len() < listing.max_cycles {
+                // As `threadcut passes --json` with its default (sharp) tool: the simulated
+                // columns null where the section cannot be simulated.
+                let tool = Tool {
+                    angle_deg: t.job.tool_angle_deg,
+                    tip: Tip::Sharp,
+                };
+                let section = sim::section(&t.job, &t.passes, &tool, 0.0).ok();
+                cycles.push(threads::passes_json(&t, section.as_ref()));
             }
-            // As `threadcut passes --json` with its default (sharp) tool: the simulated columns
-            // null where the section cannot be simulated.
-            let tool = Tool {
-                angle_deg: t.job.tool_angle_deg,
-                tip: Tip::Sharp,
-            };
-            let section = sim::section(&t.job, &t.passes, &tool, 0.0).ok();
-            cycles.push(threads::passes_json(&t, section.as_ref()));
+            if shared && drawn.len() < render::MAX_PLOTTED {
+                drawn.push(t);
+            }
+            let done = cycles.len() >= listing.max_cycles
+                && (!shared || drawn.len() >= render::MAX_PLOTTED);
+            if done && threads_read.is_some() {
+                // Not an error: what is shown is all there, and the check counted the rest.
+                enough = true;
+                return Err(Error::Setup(String::new()));
+            }
             Ok(())
         });
         match run {
+            Err(_) if enough => cycles_total = threads_read.unwrap_or(cycles_total),
             // The check said it already (a LinuxCNC G76, whose passes depend on its start).
             Err(_) if start_unknown => {}
             Err(e) => fail(e, &mut diagnostics, &mut failed),
@@ -378,7 +402,12 @@ fn analyse_with(
     // The plots, as `threadcut plot` draws them: the part the program makes, then the threads.
     let mut plot_error = None;
     let mut svg = None;
-    if !failed {
+    if !failed && shared {
+        match render::first_threads_svg(&drawn, cycles_total, Tip::Sharp, part.as_ref()) {
+            Ok(p) => svg = Some(p),
+            Err(e) => plot_error = Some(e.to_string()),
+        }
+    } else if !failed {
         match render::program_plot_part(
             text.as_bytes(),
             &machine,

@@ -578,3 +578,136 @@ fn a_cycle_on_its_own_shows_its_pass_table() {
     assert!(out["cycles"][0].get("start_unknown").is_none());
     assert!(out["gcode"].as_str().unwrap().contains("X19.028"));
 }
+
+/// The pass tables stop at the last one shown when the check read the whole program without an
+/// error, and take the number of threads from it: every example, real program and bad program
+/// analysed with one table, and with every table, says the same of the program.
+#[test]
+fn the_tables_shown_early_say_what_every_table_says() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
+    let lathe = [
+        "gsk980",
+        "omniturn",
+        "ab9",
+        "fanuc",
+        "fanuc15",
+        "fanuc-b",
+        "haas",
+        "linuxcnc",
+        "sinumerik",
+    ];
+    let mut files = Vec::new();
+    for dir in ["examples", "tests/data/real", "tests/bad"] {
+        let mut stack = vec![std::path::PathBuf::from(root).join(dir)];
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(&d).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if matches!(
+                    p.extension().and_then(|e| e.to_str()),
+                    Some("nc" | "ngc" | "mpf" | "MPF")
+                ) {
+                    files.push(p);
+                }
+            }
+        }
+    }
+    files.sort();
+    let mut early = 0;
+    for file in &files {
+        let path = file.to_string_lossy();
+        // The controller the file is written for, by its directory or its name's first word.
+        let named: Vec<&str> = lathe
+            .iter()
+            .copied()
+            .filter(|c| {
+                let name = file.file_name().unwrap().to_string_lossy();
+                path.contains(&format!("/{c}/")) || name.starts_with(&format!("{c}-"))
+            })
+            .collect();
+        let controller = match named.as_slice() {
+            [] if path.ends_with(".mpf") || path.ends_with(".MPF") => "sinumerik",
+            [] if path.ends_with(".ngc") => "linuxcnc",
+            [] => continue,
+            // `fanuc15-…` names fanuc too: the longest name is meant.
+            names => names.iter().max_by_key(|n| n.len()).unwrap(),
+        };
+        let program = String::from_utf8_lossy(&std::fs::read(file).unwrap()).into_owned();
+        let analyse = |max: Option<usize>| {
+            let mut request =
+                json!({"controller": controller, "program": program, "motions": false});
+            if let Some(m) = max {
+                request["max_cycles"] = m.into();
+            }
+            api::analyse(&request.to_string())
+        };
+        let all = analyse(None);
+        let total = all["cycles_total"].as_u64().unwrap() as usize;
+        for max in [0, 1] {
+            let mut some = analyse(Some(max));
+            let shown = some["cycles"].as_array().unwrap().clone();
+            assert_eq!(
+                shown[..],
+                all["cycles"].as_array().unwrap()[..shown.len()],
+                "{path}"
+            );
+            assert_eq!(shown.len(), total.min(max), "{path}");
+            early += usize::from(total > max);
+            some["cycles"] = all["cycles"].clone();
+            assert_eq!(some, all, "{path} ({controller}), {max} table(s)");
+        }
+    }
+    assert!(
+        files.len() > 200 && early > 40,
+        "{} files, {early} stopped early",
+        files.len()
+    );
+}
+
+/// The page draws a long program's plot from the threads its tables read, stopping there: the
+/// same picture as `threadcut plot` draws reading the whole program (here 60 threads, of which
+/// the first 50 are drawn and the picture says so), with the part from the same check.
+#[test]
+fn the_page_draws_what_plot_draws_from_one_reading() {
+    use threadcut::check::{self, Source};
+    use threadcut::{commands, machine::Machine, program, render, sim::Tip};
+    let program: String = (0..60)
+        .map(|i| {
+            format!(
+                "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-{} P3 Q1.8 F3 J1.5 K2\n",
+                40 + i % 7
+            )
+        })
+        .collect();
+    let page = api::analyse(
+        &json!({"controller": "gsk980", "program": program, "motions": false, "max_cycles": 20})
+            .to_string(),
+    );
+    assert_eq!(page["cycles_total"], 60);
+    assert_eq!(page["cycles"].as_array().unwrap().len(), 20);
+    let machine = Machine::built_in("gsk980").unwrap();
+    let report = check::check(
+        program.as_bytes(),
+        Source::Gcode(&machine),
+        &commands::with_stock(
+            check::Options::default(),
+            Default::default(),
+            Some(&machine),
+        ),
+    )
+    .unwrap();
+    let part =
+        Some(commands::part_picture(&report.part, machine.units)).filter(|p| p.worth_drawing());
+    let plot = render::program_plot_part(
+        program.as_bytes(),
+        &machine,
+        Tip::Sharp,
+        render::Selection::default(),
+        &program::Options::default(),
+        part.as_ref(),
+    )
+    .unwrap();
+    assert_eq!((plot.threads, plot.drawn.len()), (60, 50));
+    assert_eq!(page["svg"].as_str().unwrap(), plot.svg);
+}
