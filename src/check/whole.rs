@@ -96,6 +96,17 @@ pub struct Teeth {
     corners: [Pos; 4],
 }
 
+impl Teeth {
+    /// Everything but the line is the same.
+    fn same_place(&self, o: &Teeth) -> bool {
+        self.corners == o.corners
+            && self.crest == o.crest
+            && self.root == o.root
+            && self.z == o.z
+            && self.side == o.side
+    }
+}
+
 /// The part as the program made it, for `plot` and the page: its outline, the threads' teeth and
 /// the rapids that run into material.
 #[derive(Clone, Debug, Default)]
@@ -138,6 +149,8 @@ pub(super) struct Whole {
     chain: Vec<(Pos, Motion)>,
     chain_at: Option<At>,
     teeth: std::collections::VecDeque<Teeth>,
+    /// For each of `teeth`, whether a newer one is the same ([`Teeth::same_place`]).
+    shadowed: std::collections::VecDeque<bool>,
     hits: Vec<RapidHit>,
     /// Rapids made while the thread reader reads a thread written as moves: judged once it hands
     /// the thread over (its teeth are then in the part), at most [`PENDING_MAX`].
@@ -163,6 +176,7 @@ impl Whole {
             chain: Vec::new(),
             chain_at: None,
             teeth: std::collections::VecDeque::new(),
+            shadowed: std::collections::VecDeque::new(),
             hits: Vec::new(),
             pending: std::collections::VecDeque::new(),
             found: Vec::new(),
@@ -497,7 +511,8 @@ impl Whole {
             Pos::new(from.x.min(to.x), from.z.min(to.z)),
             Pos::new(from.x.max(to.x), from.z.max(to.z)),
         );
-        self.teeth.iter().rev().find_map(|t| {
+        let newest = self.teeth.iter().zip(&self.shadowed).rev();
+        newest.filter(|(_, &s)| !s).find_map(|(t, _)| {
             // Clear of the teeth's box, clear of the teeth (most rapids are).
             let c = &t.corners;
             if c.iter().all(|p| p.x < lo.x)
@@ -670,8 +685,21 @@ impl Whole {
         }
         if self.teeth.len() >= ZONES_MAX {
             self.teeth.pop_front();
+            self.shadowed.pop_front();
+        }
+        // The same teeth again (a program that cuts one thread many times): a rapid finds the
+        // newest first, so the older ones need no looking at.
+        // At most one of those not yet shadowed is the same.
+        let same = self
+            .teeth
+            .iter()
+            .zip(&self.shadowed)
+            .rposition(|(old, &shadowed)| !shadowed && old.same_place(&teeth));
+        if let Some(i) = same {
+            self.shadowed[i] = true;
         }
         self.teeth.push_back(teeth);
+        self.shadowed.push_back(false);
     }
 
     /// An internal thread's bore is a fact, whatever the model knew of the hole (a drill's
@@ -819,6 +847,7 @@ impl Whole {
         self.part = None;
         self.failed = false;
         self.teeth.clear();
+        self.shadowed.clear();
     }
 
     /// What was assumed about the stock, where the program cuts: without its diameter the bar

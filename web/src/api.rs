@@ -379,7 +379,13 @@ fn analyse_with(
     if !failed {
         let mut buf = Vec::new();
         match program::expand_gcode_with(text.as_bytes(), &mut buf, &machine, &options) {
-            Ok(_) => gcode = Some(String::from_utf8_lossy(&buf).into_owned()),
+            // Valid UTF-8 (the program's own text and the moves): kept without a copy.
+            Ok(_) => {
+                gcode = Some(
+                    String::from_utf8(buf)
+                        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()),
+                )
+            }
             Err(e) => fail(e, &mut diagnostics, &mut failed),
         }
     }
