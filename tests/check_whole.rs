@@ -560,3 +560,54 @@ fn a_face_cycle_whose_first_layer_rapids_under_the_groove_is_told() {
     ));
     assert_eq!(errors(&r).len(), 2, "{:?}", errors(&r));
 }
+
+/// The same thread cut again (a spring pass run as a second cycle, or a program repeated): a
+/// rapid through its teeth names the latest cut, and a different thread cut between two of them
+/// is still looked at — the repeats are looked at once, not the threads between.
+#[test]
+fn a_thread_cut_again_is_named_by_its_latest_cut() {
+    let again = "G0 X22. Z5.\nG76 P020060 Q100 R0.05\nG76 X16.933 Z-30. P1534 Q400 F2.5\n";
+    // Lines 8–10 the same cycle again; the rapid at line 11.
+    let r = run(&m20(&format!("{again}G0 X15. Z-10.\n")), "fanuc");
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            11,
+            "runs through the thread cut at line 10"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+    // Between them an M16x2 to Z-60 (root Ø13.546), approached and left clear of the M20's
+    // teeth, then the M20 again, then a rapid into the M16's teeth alone (from radius 11 at Z-40
+    // to radius 6, below its root 6.773): it is found behind the repeated M20.
+    let m16 = "G0 X22. Z-35.\nG0 X18.\nG76 P020060 Q100 R0.05\nG76 X13.546 Z-60. P1227 Q400 F2.\n";
+    let r = run_with(
+        &m20(&format!(
+            "{m16}G0 X22.\nG0 Z5.\n{again}G0 X22. Z-40.\nG0 X12. Z-50.\n"
+        )),
+        "fanuc",
+        // The face at Z0 given: the M16's teeth are known from the face to its end.
+        &Options {
+            stock_start: Some(0.0),
+            ..Options::default()
+        },
+    );
+    assert_eq!(
+        errors(&r).iter().map(|e| e.1).collect::<Vec<_>>(),
+        vec![18],
+        "{:?}",
+        r.diagnostics
+    );
+    assert!(
+        has(
+            &r,
+            Code::Collision,
+            18,
+            "runs through the thread cut at line 11"
+        ),
+        "{:?}",
+        r.diagnostics
+    );
+}
