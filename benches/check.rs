@@ -1,7 +1,8 @@
 //! `check` on whole programs (issues 23 and 28): the page's 30,000-line paste (turning moves and a
 //! GSK G78: every move cuts the part `check` follows), the heavier paste of 10,000 GSK G78 cycles
-//! (30,000 lines), and one thread of 8,000 and of 32,000
-//! hand-written G33 passes (the time should grow in proportion: ratio near 4). In-process through
+//! (30,000 lines), one thread of 8,000 and of 32,000 hand-written G33 passes, and one Haas G76
+//! run 4,000 and 16,000 times (spring passes appended to its thread); in each pair the time should
+//! grow in proportion: ratio near 4. In-process through
 //! the library, and as the command (`target/release/threadcut`) paired with another revision's
 //! (`THREADCUT_BASE_BIN`). Figures and the commands: docs/performance.md.
 
@@ -41,6 +42,13 @@ fn g33_passes(n: usize) -> String {
     out + "M2\n"
 }
 
+/// One Haas G76 that cuts the whole depth in one pass (D above K), run `n` times from its start:
+/// one thread, each run after the first a spring pass appended to it.
+fn haas_spring_passes(n: usize) -> String {
+    String::from("G21\nG97 S500 M3\n")
+        + &"G0 X22. Z5.\nG76 X16.933 Z-30. K1.534 D2. F2.5 A60\n".repeat(n)
+}
+
 fn bench(c: &mut Criterion) {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let mut g = c.benchmark_group("check");
@@ -69,6 +77,18 @@ fn bench(c: &mut Criterion) {
             "32000 G33 passes",
             g33_passes(32_000),
             "bench-check-32000.ngc",
+        ),
+        (
+            "haas",
+            "G76 run 4000 times",
+            haas_spring_passes(4_000),
+            "bench-check-haas4000.nc",
+        ),
+        (
+            "haas",
+            "G76 run 16000 times",
+            haas_spring_passes(16_000),
+            "bench-check-haas16000.nc",
         ),
     ];
     let release = root.join("target").join("release").join("threadcut");

@@ -563,6 +563,7 @@ impl<C: Clone> Collector<C> {
             let start = o.thread.path.start;
             let n = o.thread.passes.len() as u32;
             if o.thread.extra_passes > 0 {
+                settle_appended(&mut o.thread);
                 let inward = o.thread.job.geometry.side.infeed();
                 for m in &after[..trailing(&after, start, inward)] {
                     o.thread.path.motions.push(Motion {
@@ -889,7 +890,9 @@ fn chain_of(path: &Toolpath, n: u32) -> Option<Vec<Move>> {
 }
 
 /// Adds a pass written after a cycle to the cycle's thread: its depth below the cycle's crest
-/// line and its offset from the crest's start, its moves to the toolpath, the chip areas again.
+/// line and its offset from the crest's start, its moves to the toolpath. The passes' kinds and
+/// chip areas are settled once the thread is complete ([`settle_appended`]): a cycle repeated
+/// thousands of times costs no more than a table of as many passes.
 fn append(t: &mut Thread, before: Vec<Move>, chain: Vec<Move>) {
     let g = t.job.geometry;
     let face = g.side.is_face();
@@ -923,7 +926,21 @@ fn append(t: &mut Thread, before: Vec<Move>, chain: Vec<Move>) {
         area: 0.0,
         share: 0.0,
     });
-    // The passes at the final depth finish the thread, as in a table of passes written as moves.
+    t.pass_spans.push(chain[0].span);
+    t.extra_passes += 1;
+    for m in before.iter().chain(&chain) {
+        t.path.motions.push(Motion {
+            kind: m.kind,
+            to: m.to,
+            pass: n,
+            line: m.line,
+        });
+    }
+}
+
+/// The kinds and chip areas of a thread's passes once passes were appended to it: the passes at
+/// the final depth finish the thread, as in a table of passes written as moves.
+fn settle_appended(t: &mut Thread) {
     let deepest = t
         .passes
         .iter()
@@ -935,16 +952,6 @@ fn append(t: &mut Thread, before: Vec<Move>, chain: Vec<Move>) {
         } else {
             PassKind::Rough
         };
-    }
-    t.pass_spans.push(chain[0].span);
-    t.extra_passes += 1;
-    for m in before.iter().chain(&chain) {
-        t.path.motions.push(Motion {
-            kind: m.kind,
-            to: m.to,
-            pass: n,
-            line: m.line,
-        });
     }
     let angle = if t.job.tool_angle_deg > 0.0 {
         t.job.tool_angle_deg

@@ -36,6 +36,18 @@ impl Units {
         }
     }
 
+    /// A length for a message: in these units, up to 4 decimals, no trailing zeros (a
+    /// difference of programmed values shows as written: 0.035, not 0.034999999999999996).
+    pub fn show(self, mm: f64) -> String {
+        let s = format!("{:.4}", self.from_mm(mm));
+        let s = s.trim_end_matches('0').trim_end_matches('.');
+        if s == "-0" {
+            "0".into()
+        } else {
+            s.to_string()
+        }
+    }
+
     pub const fn name(self) -> &'static str {
         match self {
             Units::Mm => "mm",

@@ -450,3 +450,14 @@ fn g_code_systems_a_b_and_c() {
     let (text, _) = threadcut::translate::job_to_string(&system_c, &ja[0]).unwrap();
     assert_eq!(text, "G21 X29.2 Z-30. F2.\n");
 }
+
+/// A thread shorter than its chamfer: the error gives the thread's length as the program's
+/// coordinates make it (Z0.005 to Z-0.03: 0.035, not the difference's binary 0.034999999999999996).
+#[test]
+fn a_thread_shorter_than_its_chamfer_says_its_length_as_written() {
+    let d = error("G0 X22. Z0.005\nG92 X19.5 Z-0.03 F2.5\n", &fanuc());
+    assert_eq!(
+        d.message,
+        "the chamfer (parameter 5130) 2.5 is not shorter than the thread (0.035 along Z)"
+    );
+}

@@ -289,3 +289,23 @@ fn special_files_are_written_in_place_never_replaced() {
         .is_symlink());
     assert!(std::fs::read_to_string(&real).unwrap().contains("G32"));
 }
+
+/// Each finding shows its own line, read where its span says the line begins: after CRLF line
+/// ends and a comment in UTF-8 (bytes, not characters, count), and for a repeated cycle with a
+/// warning on each of its lines.
+#[test]
+fn each_finding_shows_its_own_line() {
+    let dir = temp_dir("own-line");
+    let mut text = String::from("(GEWINDE ÜBER M20 – PRÜFEN)\r\nG21\r\nG97 S500 M3\r\n");
+    for i in 0..3 {
+        // A one-pass G76 (D above K) run again, a different X each time to tell the lines apart.
+        text += &format!("G0 X22. Z5.\r\nG76 X16.9{i}3 Z-30. K1.534 D2. F2.5 A60\r\n");
+    }
+    let file = write(&dir, "again.nc", &text);
+    let out = threadcut(&["passes", file.to_str().unwrap(), "-c", "haas"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    for (i, line) in [5, 7, 9].iter().enumerate() {
+        let shown = format!("{line} | G76 X16.9{i}3 Z-30. K1.534 D2. F2.5 A60\n");
+        assert!(err.contains(&shown), "{shown:?} not in\n{err}");
+    }
+}

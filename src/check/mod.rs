@@ -1036,13 +1036,7 @@ pub fn number(v: f64) -> String {
 
 /// A length for a message: program units, up to 4 decimals, no trailing zeros.
 pub fn length(units: Units, mm: f64) -> String {
-    let s = format!("{:.4}", units.from_mm(mm));
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".into()
-    } else {
-        s.to_string()
-    }
+    units.show(mm)
 }
 
 #[cfg(test)]

@@ -603,7 +603,7 @@ fn g78_exit<F: Fn(f64) -> f64>(i: &LoweringInput<F>, travel_z: f64) -> Result<Ex
                     format!(
                         "the tail-out K {} is not shorter than the thread ({} along Z)",
                         i.units.from_mm(k),
-                        i.units.from_mm(travel_z.abs())
+                        i.units.show(travel_z.abs())
                     ),
                 ));
             }

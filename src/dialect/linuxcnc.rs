@@ -643,7 +643,7 @@ impl G76Drive {
                 &format!(
                     "E{} is longer than half the drive line ({} along Z)",
                     e.value,
-                    units.from_mm((z_end - a.z).abs())
+                    units.show((z_end - a.z).abs())
                 ),
             )
             .with_hint(

@@ -590,7 +590,7 @@ pub(crate) fn lead_warning(
                 format!(
                     "the lead {} is longer than the thread ({} along Z): each pass turns the spindle less than once",
                     units.from_mm(lead),
-                    units.from_mm(travel_z.abs())
+                    units.show(travel_z.abs())
                 ),
             )
             .with_hint(hint),

@@ -622,8 +622,8 @@ impl G33Path {
         if !length.lt(taper.abs(), travel_z.abs()) {
             return Err(geometry_error(format!(
                 "the taper A moves X {} over {} of Z: G33 threads along Z",
-                units.from_mm(taper.abs()),
-                units.from_mm(travel_z.abs())
+                units.show(taper.abs()),
+                units.show(travel_z.abs())
             )));
         }
         let side = Side::of_cut(start.x, end.x, x_tol).ok_or_else(|| {

@@ -194,8 +194,8 @@ pub fn lower(c: &Cycle, s: &Setup, modal: &Modal, warnings: &mut Vec<Diagnostic>
     if !length.lt(c.taper.abs(), travel_z.abs()) {
         return Err(geometry_error(format!(
             "the taper I changes the radius by {} over {} of Z: the cycle threads along Z",
-            units.from_mm(c.taper.abs()),
-            units.from_mm(travel_z.abs())
+            units.show(c.taper.abs()),
+            units.show(travel_z.abs())
         )));
     }
     // I is "added to the X parameter to determine the start-point of the threading pass".
@@ -342,7 +342,7 @@ fn pull_out(
             s.pull_out_name,
             p.leads,
             units.from_mm(length),
-            units.from_mm(travel_z.abs())
+            units.show(travel_z.abs())
         )));
     }
     Ok(Exit::PullOut {

@@ -286,14 +286,15 @@ try {
 
   // 8b. The heavier paste of issue 28: 10,000 GSK G78 cycles (30,004 lines), each from its own
   // start point: 10,000 threads checked against the part, their passes listed and drawn. Issue 28
-  // asks for 1 s; this machine shows it in about 1.2 s (docs/performance.md), so the bound here
-  // only guards against a return of the earlier costs (several seconds), on slower machines too.
+  // asks for 1 s, and this machine kind shows it in 0.77–0.81 s (docs/performance.md); the bound
+  // here leaves room for a CI machine twice as slow, and still fails if the quadratic costs found
+  // earlier in issue 28 came back (several seconds).
   let cycles = '';
   for (let i = 0; i < 10000; i++) cycles += 'G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\n';
   const many = await pasteAndTime(cycles);
   console.log(`10,000 cycles: ${many.status}; shown ${Math.round(many.lastEditToShown)} ms after the last keystroke ` +
     `(engine ${many.engine} ms in the worker, drawing ${many.show} ms); longest main-thread task after the paste ${Math.round(many.longestTask)} ms`);
-  assert.ok(many.lastEditToShown < 4000, JSON.stringify(many));
+  assert.ok(many.lastEditToShown < 2000, JSON.stringify(many));
   // (Step 8 holds the page's main thread to 400 ms; here 170–370 ms was measured, with the same
   // 660 KB in the text area, so the guard is looser on the slower CI machine.)
   assert.ok(many.longestTask < 1000, JSON.stringify(many));

@@ -1,7 +1,7 @@
 //! Diagnostics printed like a compiler's: `file:line:column`, the source line, a caret, a hint.
 
 use std::fs::File;
-use std::io::{BufRead, BufReader, Read};
+use std::io::{BufRead, BufReader, Read, Seek, SeekFrom};
 use std::path::Path;
 
 use annotate_snippets::{AnnotationKind, Level, Renderer, Snippet};
@@ -88,7 +88,7 @@ pub fn diagnostic(main: &Path, d: &Diagnostic) -> String {
     let title = level.primary_title(d.message.as_str()).id(d.code.as_str());
     let source = match &called {
         Some((_, text)) => line_of(text, d.span.line),
-        None => source_line(file, d.span.line),
+        None => source_line(file, &d.span),
     };
     // The calls it ran inside, innermost first.
     let chain: Vec<String> = d
@@ -139,27 +139,49 @@ fn level_name(d: &Diagnostic) -> &'static str {
     }
 }
 
-/// The line's text (lossy UTF-8), read again from the file; `None` for standard input.
-fn source_line(file: &Path, line: u32) -> Option<Vec<u8>> {
-    if file.as_os_str() == "-" || line == 0 {
+/// The span's line, read again from the file; `None` for standard input. Read where the span says
+/// it begins (its offset less its column), so that a program with a finding on each of thousands
+/// of lines is not read from its start for each; from the start when the span's offset does not
+/// fall at a line's start.
+fn source_line(file: &Path, span: &Span) -> Option<Vec<u8>> {
+    if file.as_os_str() == "-" || span.line == 0 {
         return None;
     }
     let mut reader = BufReader::new(File::open(file).ok()?);
     let mut buf = Vec::new();
-    for _ in 0..line {
-        buf.clear();
-        let n = (&mut reader)
-            .take(1 << 21)
-            .read_until(b'\n', &mut buf)
-            .ok()?;
-        if n == 0 {
-            return None;
+    let at = span.start.checked_sub(u64::from(span.column.max(1) - 1));
+    let seeked = match at {
+        Some(0) => span.line == 1,
+        // The byte before the line is the end of the line before it.
+        Some(at) => {
+            reader.seek(SeekFrom::Start(at - 1)).ok()?;
+            let mut before = [0u8];
+            reader.read_exact(&mut before).is_ok() && before[0] == b'\n'
         }
+        None => false,
+    };
+    if !seeked {
+        reader.rewind().ok()?;
+        for _ in 1..span.line {
+            buf.clear();
+            if read_line(&mut reader, &mut buf)? == 0 {
+                return None;
+            }
+        }
+    }
+    buf.clear();
+    if read_line(&mut reader, &mut buf)? == 0 {
+        return None;
     }
     while matches!(buf.last(), Some(b'\n' | b'\r')) {
         buf.pop();
     }
     Some(buf)
+}
+
+/// One line into `buf` (at most 2 MiB of it): the bytes read, `None` on a read error.
+fn read_line(reader: &mut BufReader<File>, buf: &mut Vec<u8>) -> Option<usize> {
+    reader.take(1 << 21).read_until(b'\n', buf).ok()
 }
 
 /// Cuts a long line down to a window around the span and converts it to printable text, returning

@@ -419,7 +419,7 @@ impl FanucFamily {
                         "{} {} is not shorter than the thread ({} along Z)",
                         self.flavour.chamfer_name,
                         units.from_mm(length),
-                        units.from_mm(travel_z.abs())
+                        units.show(travel_z.abs())
                     ),
                 )
                 .with_hint(format!("lower {}", self.flavour.chamfer_name)));

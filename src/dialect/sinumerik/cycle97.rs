@@ -252,7 +252,7 @@ impl Outline {
                         "DM1 {} and DM2 {} over {} along Z make a taper steeper than 45°: CYCLE97 then cuts a face thread, which threadcut does not read",
                         call.value(DM1),
                         call.value(DM2),
-                        units.from_mm(length.abs())
+                        units.show(length.abs())
                     ),
                 )
                 .with_hint("threadcut reads CYCLE97's longitudinal threads (a taper angle of 45° or less)"));
