@@ -299,6 +299,17 @@ try {
   // 660 KB in the text area, so the guard is looser on the slower CI machine.)
   assert.ok(many.longestTask < 1000, JSON.stringify(many));
   assert.match(many.status, /analysed 30,00\d lines/, JSON.stringify(many));
+  // The analysis gave the expanded program's first 1,000 lines and counted the rest; Download
+  // asks the engine for the whole program: those lines first, as many lines as were counted.
+  const shownGcode = await page.textContent('#gcode');
+  const more = shownGcode.match(/… ([\d,]+) more lines \(Copy and Download give the whole program\)\n$/);
+  assert.ok(more, shownGcode.slice(-200));
+  const [whole] = await Promise.all([page.waitForEvent('download'), page.click('#download')]);
+  const wholeText = readFileSync(await whole.path(), 'utf8');
+  const wholeLines = wholeText.split('\n').length - (wholeText.endsWith('\n') ? 1 : 0);
+  assert.equal(wholeLines, 1000 + Number(more[1].replace(/,/g, '')));
+  assert.ok(wholeText.startsWith(shownGcode.slice(0, more.index)), 'the shown lines begin the download');
+  console.log(`10,000 cycles: the download holds the whole expansion, ${wholeLines.toLocaleString('en')} lines`);
 
   assert.deepEqual(problems, []);
   console.log(`e2e: ok (${url}; screenshots in web/e2e/)`);

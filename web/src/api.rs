@@ -8,6 +8,7 @@ use threadcut::check::{self, Source};
 use threadcut::commands;
 use threadcut::diag::{Code, Diagnostic, Severity};
 use threadcut::machine::{Machine, Stock, BUILT_IN};
+use threadcut::post;
 use threadcut::program::{self, Error};
 use threadcut::render;
 use threadcut::sim::{self, Tip, Tool};
@@ -161,6 +162,10 @@ struct AnalyseRequest {
     /// power-on (`--start X,Z`); absent: not known.
     #[serde(default)]
     start: Option<[f64; 2]>,
+    /// At most this many lines of the expanded program (`gcode`); `gcode_total` counts them all,
+    /// and [`expand`] gives the whole program. Default: the whole program.
+    #[serde(default)]
+    gcode_lines: Option<usize>,
 }
 
 /// What an analysis lists besides its findings, and the stock it checks with.
@@ -168,6 +173,8 @@ struct AnalyseRequest {
 struct Listing {
     motions: bool,
     max_cycles: usize,
+    /// The lines of the expanded program given (the rest counted).
+    gcode_lines: usize,
     stock: Stock,
     /// `--start X,Z`, or not known.
     start: program::Start,
@@ -187,6 +194,7 @@ pub fn analyse(request: &str) -> Value {
             Listing {
                 motions: r.motions,
                 max_cycles: r.max_cycles.unwrap_or(usize::MAX),
+                gcode_lines: r.gcode_lines.unwrap_or(usize::MAX),
                 stock: Stock {
                     diameter: r.stock_diameter,
                     face: r.stock_start,
@@ -231,6 +239,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         Listing {
             motions: true,
             max_cycles: usize::MAX,
+            gcode_lines: usize::MAX,
             stock: Stock::default(),
             start: program::Start::Unknown,
         },
@@ -374,17 +383,15 @@ fn analyse_with(
 
     // The expanded program and the motions, exactly as `threadcut expand` writes them.
     let mut gcode = None;
+    let mut gcode_total = 0usize;
     let mut motions = Vec::new();
     let mut motions_total = 0usize;
     if !failed {
-        let mut buf = Vec::new();
-        match program::expand_gcode_with(text.as_bytes(), &mut buf, &machine, &options) {
-            // Valid UTF-8 (the program's own text and the moves): kept without a copy.
+        let mut head = Head::new(listing.gcode_lines);
+        match program::expand_gcode_to(text.as_bytes(), &mut head, &machine, &options) {
             Ok(_) => {
-                gcode = Some(
-                    String::from_utf8(buf)
-                        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()),
-                )
+                gcode_total = head.total();
+                gcode = Some(utf8(head.text));
             }
             Err(e) => fail(e, &mut diagnostics, &mut failed),
         }
@@ -435,6 +442,7 @@ fn analyse_with(
         "cycles": cycles,
         "cycles_total": cycles_total,
         "gcode": gcode,
+        "gcode_total": gcode_total,
         "motions": motions,
         "motions_total": motions_total,
         "svg": svg,
@@ -443,6 +451,122 @@ fn analyse_with(
         "notes": notes,
         "blanks": blanks,
     })
+}
+
+/// Text the library wrote: valid UTF-8 (the program's own text and the moves), kept without a
+/// copy.
+fn utf8(bytes: Vec<u8>) -> String {
+    String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
+}
+
+/// The first lines of an expanded program, and the number of all its lines. A cycle's moves past
+/// those lines are counted, not formatted: one line a move, as [`post::write_moves`] writes
+/// them, so that a long paste's analysis does not write megabytes the page does not show.
+struct Head {
+    text: Vec<u8>,
+    /// Lines kept at most.
+    max: usize,
+    /// Line ends seen, and whether text follows the last.
+    ends: usize,
+    open: bool,
+}
+
+impl Head {
+    fn new(max: usize) -> Head {
+        Head {
+            text: Vec::new(),
+            max,
+            ends: 0,
+            open: false,
+        }
+    }
+
+    fn total(&self) -> usize {
+        self.ends + usize::from(self.open)
+    }
+}
+
+impl std::io::Write for Head {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        if buf.is_empty() {
+            return Ok(0);
+        }
+        if self.ends < self.max {
+            // Up to the end of the last line kept.
+            let wanted = self.max - self.ends;
+            let cut = buf
+                .iter()
+                .enumerate()
+                .filter(|(_, &b)| b == b'\n')
+                .nth(wanted - 1)
+                .map_or(buf.len(), |(i, _)| i + 1);
+            self.text.extend_from_slice(&buf[..cut]);
+        }
+        self.ends += buf.iter().filter(|&&b| b == b'\n').count();
+        self.open = buf.last() != Some(&b'\n');
+        Ok(buf.len())
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+impl post::MovesOut for Head {
+    fn moves(&mut self, moves: post::Moves) -> std::io::Result<()> {
+        if self.ends < self.max {
+            let mut text = Vec::new();
+            moves.write(&mut text)?;
+            return std::io::Write::write_all(self, &text);
+        }
+        let n = moves.path.motions.len();
+        self.ends += n;
+        self.open &= n == 0;
+        Ok(())
+    }
+}
+
+#[derive(Deserialize)]
+struct ExpandRequest {
+    controller: String,
+    program: String,
+    /// As [`AnalyseRequest`]'s.
+    #[serde(default)]
+    start: Option<[f64; 2]>,
+}
+
+/// The whole expanded program, as `threadcut expand` writes it: `{ok, gcode}`, or `{ok: false,
+/// error, diagnostics}`. The page asks for it when Copy or Download needs more than the lines its
+/// analysis showed.
+pub fn expand(request: &str) -> Value {
+    let r: ExpandRequest = match serde_json::from_str(request) {
+        Ok(r) => r,
+        Err(e) => return error(format!("bad request: {e}")),
+    };
+    let Some(machine) = Machine::built_in(&r.controller) else {
+        return error(format!("unknown controller `{}`", r.controller));
+    };
+    let options = program::Options {
+        start: match r.start {
+            Some([x, z]) if x.is_finite() && z.is_finite() => program::Start::At { x, z },
+            _ => program::Start::Unknown,
+        },
+        ..program::Options::default()
+    };
+    let mut out = Vec::new();
+    match program::expand_gcode_with(r.program.as_bytes(), &mut out, &machine, &options) {
+        Ok(_) => json!({"ok": true, "gcode": utf8(out)}),
+        Err(e) => {
+            let d = match e {
+                Error::Input(d) => diagnostic(&d, None),
+                other => json!({
+                    "severity": "error", "code": null, "message": other.to_string(),
+                    "hint": null, "line": 0, "column": 0, "len": 0, "start": 0, "field": null,
+                }),
+            };
+            json!({"ok": false, "error": d["message"], "diagnostics": [d]})
+        }
+    }
 }
 
 #[derive(Deserialize)]

@@ -37,6 +37,12 @@ pub fn convert(request: &str) -> String {
     api::convert(request).to_string()
 }
 
+/// `{"controller", "program"}` → the whole expanded program (`{ok, gcode}`).
+#[wasm_bindgen]
+pub fn expand(request: &str) -> String {
+    api::expand(request).to_string()
+}
+
 /// `{"controller", "program"}` → the program analysed: passes, G-code, motions, plots, diagnostics.
 #[wasm_bindgen]
 pub fn analyse(request: &str) -> String {

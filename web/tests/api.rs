@@ -711,3 +711,73 @@ fn the_page_draws_what_plot_draws_from_one_reading() {
     assert_eq!((plot.threads, plot.drawn.len()), (60, 50));
     assert_eq!(page["svg"].as_str().unwrap(), plot.svg);
 }
+
+/// The lines of the expanded program an analysis gives (`gcode_lines`) are the first lines of the
+/// whole program, `gcode_total` counts its lines, and `expand` gives it whole: for every example
+/// (each with its controller), for a CRLF program, and for cycles whose moves lie past the lines
+/// given (counted, not written).
+#[test]
+fn the_expanded_programs_head_and_count_are_the_whole_programs() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../examples");
+    let mut cases: Vec<(String, String)> = Vec::new();
+    for e in std::fs::read_dir(root).unwrap() {
+        let p = e.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        let controller = [
+            "fanuc15",
+            "fanuc-b",
+            "fanuc",
+            "gsk",
+            "haas",
+            "linuxcnc",
+            "omniturn",
+            "ab9",
+            "sinumerik",
+        ]
+        .into_iter()
+        .find(|c| name.starts_with(c));
+        if let (Some(c), false) = (controller, name.ends_with(".apt") || name.ends_with(".sh")) {
+            let c = if c == "gsk" { "gsk980" } else { c };
+            cases.push((c.into(), std::fs::read_to_string(&p).unwrap()));
+        }
+    }
+    let cycle = "G0 X80 Z10\nG78 P020045 Q0.15 R0.5\nG78 X60 Z-60 P3 Q1.8 F3 J1.5 K2\n";
+    cases.push(("gsk980".into(), cycle.repeat(40)));
+    cases.push((
+        "gsk980".into(),
+        cycle.repeat(3).replace('\n', "\r\n") + "M30",
+    ));
+    assert!(cases.len() > 20);
+    for (controller, program) in &cases {
+        let whole = api::expand(&json!({"controller": controller, "program": program}).to_string());
+        if whole["ok"] != true {
+            // A program `expand` refuses (a cycle that runs differently each time round a loop):
+            // the analysis says the same.
+            let a =
+                api::analyse(&json!({"controller": controller, "program": program}).to_string());
+            assert_eq!(a["ok"], false);
+            let found = a["diagnostics"].as_array().unwrap();
+            assert!(found.contains(&whole["diagnostics"][0]), "{a}");
+            continue;
+        }
+        let whole = whole["gcode"].as_str().unwrap();
+        let lines: Vec<&str> = whole.split_inclusive('\n').collect();
+        for n in [0, 1, 7, 100, 100_000] {
+            let a = api::analyse(
+                &json!({"controller": controller, "program": program, "motions": false,
+                        "gcode_lines": n})
+                .to_string(),
+            );
+            assert_eq!(a["gcode_total"], lines.len(), "{controller} {n}\n{program}");
+            assert_eq!(
+                a["gcode"].as_str().unwrap(),
+                lines[..n.min(lines.len())].concat(),
+                "{controller} {n}"
+            );
+        }
+        let all = api::analyse(
+            &json!({"controller": controller, "program": program, "motions": false}).to_string(),
+        );
+        assert_eq!(all["gcode"].as_str().unwrap(), whole);
+    }
+}

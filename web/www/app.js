@@ -60,6 +60,10 @@ let controllers = [];
 let mode = 'plan';
 let values = {};
 let lastGcode = '';
+// The expanded program's lines in all, and the request that gives it whole when the analysis
+// gave only its first lines (a long paste: `expand` on demand, for Copy and Download).
+let lastGcodeTotal = 0;
+let lastExpand = null;
 let lastPlanned = '';
 let lastConverted = '';
 // The analysis being run (a number; 0: none) and the time of the edit it answers.
@@ -250,7 +254,7 @@ async function convert() {
   if (id !== requested) return;
   showConversion(r);
   if (r.ok) {
-    run('analyse', { controller: to, program: r.program, motions: false, max_cycles: SHOWN_CYCLES });
+    run('analyse', { controller: to, program: r.program, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES });
   } else {
     show({ ok: false, program: $('convert-source').value, cycles: [], diagnostics: r.diagnostics || [], error: r.diagnostics ? undefined : r.error });
     status('');
@@ -294,7 +298,7 @@ function stock() {
 
 function analyse() {
   // The page shows no motion list: the engine need not write one.
-  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES, ...stock() });
+  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES, ...stock() });
 }
 
 /** Runs an analysis in the worker and shows it, unless a newer one has been asked for since. */
@@ -309,6 +313,7 @@ async function run(fn, request, then) {
   running = 0;
   if (then) then(r);
   const shown = performance.now();
+  lastExpand = fn === 'analyse' ? { controller: request.controller, program: request.program, start: request.start } : null;
   show(r);
   performance.mark('threadcut:shown');
   const ms = performance.now() - asked;
@@ -317,6 +322,15 @@ async function run(fn, request, then) {
   const lines = r.lines ? `${r.lines.toLocaleString('en')} lines ` : '';
   status(`analysed ${lines}in ${Math.round(ms)} ms`);
   document.body.dataset.analysedMs = String(Math.round(ms));
+}
+
+/** The whole expanded program: the analysis's, or from the engine when it gave only the first lines. */
+async function wholeGcode() {
+  const given = lastGcode.split('\n').length - (lastGcode.endsWith('\n') ? 1 : 0);
+  if (lastGcodeTotal <= given || !lastExpand) return lastGcode;
+  const r = await engine.call('expand', lastExpand);
+  if (!r || !r.ok) throw new Error(r ? r.error : 'the expansion was replaced');
+  return r.gcode;
 }
 
 function status(text) {
@@ -416,7 +430,12 @@ function show(r) {
 
   // Expanded G-code.
   lastGcode = r.gcode || '';
-  $('gcode').textContent = lastGcode ? head(lastGcode, SHOWN_LINES, 'Copy and Download give the whole program') : '(no output: the program has errors)';
+  const given = lastGcode ? lastGcode.split('\n').length - (lastGcode.endsWith('\n') ? 1 : 0) : 0;
+  lastGcodeTotal = r.gcode_total ?? given;
+  const rest = 'Copy and Download give the whole program';
+  $('gcode').textContent = !lastGcode ? '(no output: the program has errors)'
+    : lastGcodeTotal > given ? `${lastGcode}… ${(lastGcodeTotal - given).toLocaleString('en')} more lines (${rest})\n`
+      : head(lastGcode, SHOWN_LINES, rest);
   $('copy').disabled = $('download').disabled = !lastGcode;
 }
 
@@ -578,7 +597,7 @@ async function main() {
   for (const input of document.querySelectorAll('input.stock')) input.addEventListener('input', () => schedule(analyse));
   $('copy').addEventListener('click', async () => {
     try {
-      await navigator.clipboard.writeText(lastGcode);
+      await navigator.clipboard.writeText(await wholeGcode());
       $('copied').textContent = 'copied';
     } catch {
       // Clipboard refused (no permission): select the text for a manual copy.
@@ -588,8 +607,8 @@ async function main() {
     }
     setTimeout(() => { $('copied').textContent = ''; }, 2000);
   });
-  $('download').addEventListener('click', () => {
-    const blob = new Blob([lastGcode], { type: 'text/plain' });
+  $('download').addEventListener('click', async () => {
+    const blob = new Blob([await wholeGcode()], { type: 'text/plain' });
     const a = document.createElement('a');
     a.href = URL.createObjectURL(blob);
     a.download = `threadcut-${current().name}.nc`;

@@ -5,7 +5,7 @@
 import init, * as tc from './pkg/threadcut_web.js';
 
 const ready = init();
-const functions = { controllers: tc.controllers, thread: tc.thread, fill: tc.fill, plan: tc.plan, analyse: tc.analyse, convert: tc.convert };
+const functions = { controllers: tc.controllers, thread: tc.thread, fill: tc.fill, plan: tc.plan, analyse: tc.analyse, expand: tc.expand, convert: tc.convert };
 
 self.onmessage = async (e) => {
   const { id, fn, arg } = e.data;
