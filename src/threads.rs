@@ -829,9 +829,23 @@ impl Thread {
 /// [`program::passes_json`] with `source` (`cycle` or `moves`) and `depth_from` (`crest` or
 /// `first_pass`).
 pub fn passes_json(t: &Thread, section: Option<&crate::sim::Section>) -> serde_json::Value {
+    passes_json_first(t, section, usize::MAX)
+}
+
+/// [`passes_json`] with the rows of the first `first` passes only (the simulated columns from the
+/// section of every pass), and `passes_total` counting them all: a thread of thousands of passes
+/// written out as moves, shown in part.
+pub fn passes_json_first(
+    t: &Thread,
+    section: Option<&crate::sim::Section>,
+    first: usize,
+) -> serde_json::Value {
     let rows = program::pass_rows(&t.job, &t.passes, t.diameter_x);
-    let mut v = program::passes_json(&t.job, &rows, section);
+    let mut v = program::passes_json(&t.job, &rows[..first.min(rows.len())], section);
     if let Some(o) = v.as_object_mut() {
+        if first < rows.len() {
+            o.insert("passes_total".into(), rows.len().into());
+        }
         let source = match t.origin {
             Origin::Cycle => "cycle",
             Origin::Moves { .. } => "moves",

@@ -166,6 +166,10 @@ struct AnalyseRequest {
     /// and [`expand`] gives the whole program. Default: the whole program.
     #[serde(default)]
     gcode_lines: Option<usize>,
+    /// At most this many rows in each pass table (`passes`), the table's `passes_total` counting
+    /// them all when there are more. Default: every pass.
+    #[serde(default)]
+    max_passes: Option<usize>,
 }
 
 /// What an analysis lists besides its findings, and the stock it checks with.
@@ -175,6 +179,8 @@ struct Listing {
     max_cycles: usize,
     /// The lines of the expanded program given (the rest counted).
     gcode_lines: usize,
+    /// The rows of each pass table given (the rest counted).
+    max_passes: usize,
     stock: Stock,
     /// `--start X,Z`, or not known.
     start: program::Start,
@@ -195,6 +201,7 @@ pub fn analyse(request: &str) -> Value {
                 motions: r.motions,
                 max_cycles: r.max_cycles.unwrap_or(usize::MAX),
                 gcode_lines: r.gcode_lines.unwrap_or(usize::MAX),
+                max_passes: r.max_passes.unwrap_or(usize::MAX),
                 stock: Stock {
                     diameter: r.stock_diameter,
                     face: r.stock_start,
@@ -240,6 +247,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
             motions: true,
             max_cycles: usize::MAX,
             gcode_lines: usize::MAX,
+            max_passes: usize::MAX,
             stock: Stock::default(),
             start: program::Start::Unknown,
         },
@@ -358,7 +366,11 @@ fn analyse_with(
                     tip: Tip::Sharp,
                 };
                 let section = sim::section(&t.job, &t.passes, &tool, 0.0).ok();
-                cycles.push(threads::passes_json(&t, section.as_ref()));
+                cycles.push(threads::passes_json_first(
+                    &t,
+                    section.as_ref(),
+                    listing.max_passes,
+                ));
             }
             if shared && drawn.len() < render::MAX_PLOTTED {
                 drawn.push(t);

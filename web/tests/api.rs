@@ -781,3 +781,39 @@ fn the_expanded_programs_head_and_count_are_the_whole_programs() {
         assert_eq!(all["gcode"].as_str().unwrap(), whole);
     }
 }
+
+/// A thread of many passes written as moves: its table lists the first `max_passes` rows, each
+/// as the whole table has it (the simulated shares from the section of every pass), and
+/// `passes_total` counts them all; without the limit there is no `passes_total`.
+#[test]
+fn a_long_pass_table_lists_its_first_rows() {
+    let mut program = String::from("G21 G99\nG97 S500 M3\nG0 X22. Z5.\nG92 X19.9 Z-30. F2.5\n");
+    for i in 1..40 {
+        program += &format!("X{:.3}\n", 19.9 - 0.05 * f64::from(i));
+    }
+    let analyse = |max: Option<usize>| {
+        let mut request = json!({"controller": "fanuc", "program": program, "motions": false});
+        if let Some(m) = max {
+            request["max_passes"] = m.into();
+        }
+        api::analyse(&request.to_string())
+    };
+    let all = analyse(None);
+    let some = analyse(Some(10));
+    let (all, some) = (&all["cycles"][0], &some["cycles"][0]);
+    assert_eq!(all["passes"].as_array().unwrap().len(), 40, "{all}");
+    assert!(all.get("passes_total").is_none());
+    assert_eq!(some["passes_total"], 40);
+    assert_eq!(
+        some["passes"].as_array().unwrap()[..],
+        all["passes"].as_array().unwrap()[..10]
+    );
+    // The shares are of the whole thread: the ten listed do not add up to one.
+    let shares: f64 = some["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["sim_share"].as_f64().unwrap())
+        .sum();
+    assert!(shares < 0.9, "{shares}");
+}

@@ -254,7 +254,7 @@ async function convert() {
   if (id !== requested) return;
   showConversion(r);
   if (r.ok) {
-    run('analyse', { controller: to, program: r.program, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES });
+    run('analyse', { controller: to, program: r.program, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES, max_passes: SHOWN_PASSES });
   } else {
     show({ ok: false, program: $('convert-source').value, cycles: [], diagnostics: r.diagnostics || [], error: r.diagnostics ? undefined : r.error });
     status('');
@@ -298,7 +298,7 @@ function stock() {
 
 function analyse() {
   // The page shows no motion list: the engine need not write one.
-  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES, ...stock() });
+  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES, max_passes: SHOWN_PASSES, ...stock() });
 }
 
 /** Runs an analysis in the worker and shows it, unless a newer one has been asked for since. */
@@ -322,6 +322,8 @@ async function run(fn, request, then) {
   const lines = r.lines ? `${r.lines.toLocaleString('en')} lines ` : '';
   status(`analysed ${lines}in ${Math.round(ms)} ms`);
   document.body.dataset.analysedMs = String(Math.round(ms));
+  // The length of the program this analysis read (a test waits for the one it typed).
+  document.body.dataset.analysedLength = String((request.program || '').length);
 }
 
 /** The whole expanded program: the analysis's, or from the engine when it gave only the first lines. */
@@ -410,15 +412,18 @@ function show(r) {
       `<td>${n(p.x)}</td><td>${p.z === null ? '?' : n(p.z)}</td><td>${p.area.toFixed(d + 2)}</td><td>${(p.share * 100).toFixed(1)}%</td>` +
       (p.sim_area !== undefined ? `<td>${p.cutting_flank}</td>` : '') + '</tr>').join('');
     const flank = cycle.passes.length && cycle.passes[0].sim_area !== undefined ? '<th>cutting flank</th>' : '';
+    const total = cycle.passes_total ?? cycle.passes.length;
     const what = cycle.source === 'moves'
-      ? `${cycle.passes.length} synchronised passes as one thread`
-      : `${esc(cycle.controller)} cycle, ${cycle.passes.length} passes`;
+      ? `${total.toLocaleString('en')} synchronised passes as one thread`
+      : `${esc(cycle.controller)} cycle, ${total.toLocaleString('en')} passes`;
+    const rest = total > cycle.passes.length
+      ? `<p class="muted">… ${(total - cycle.passes.length).toLocaleString('en')} more passes: the first ${cycle.passes.length.toLocaleString('en')} are listed.</p>` : '';
     const from = cycle.depth_from === 'first_pass' ? '; depths from the first pass: the crest is not known' : '';
     passes.insertAdjacentHTML('beforeend',
       `<p>Line ${cycle.line}: ${what} (${units}; depth radial, X as programmed${from})</p>` +
       (cycle.start_unknown ? `<p class="muted">Note: ${esc(cycle.start_unknown.note)}</p>` : '') +
       `<table><thead><tr><th>pass</th><th>kind</th><th>depth</th><th>increment</th><th>x</th><th>z</th><th>area (${units}²)</th><th>share</th>${flank}</tr></thead>` +
-      `<tbody>${rows}</tbody></table>`);
+      `<tbody>${rows}</tbody></table>${rest}`);
   }
   if (!(r.cycles || []).length) passes.innerHTML = '<p class="muted">No thread: no threading cycle and no synchronised move.</p>';
   else if (r.cycles_total > r.cycles.length) {
@@ -445,6 +450,8 @@ const SHOWN_LINES = 1000;
 // At most this many findings are listed and marked, and this many threads get a pass table.
 const SHOWN_FINDINGS = 200;
 const SHOWN_CYCLES = 20;
+// And each pass table lists at most this many passes (a thread written as thousands of moves).
+const SHOWN_PASSES = 500;
 
 /** The first `n` lines of `text`, and a line saying how many more there are. */
 function head(text, n, rest) {
