@@ -611,3 +611,24 @@ fn a_thread_cut_again_is_named_by_its_latest_cut() {
         r.diagnostics
     );
 }
+
+/// A finding on a line a loop runs again is one finding on that line: the merged message lists
+/// the other lines it was found on, never its own line again (GSK's G65 loop runs the G78 at
+/// line 5 three times, each without a spindle speed).
+#[test]
+fn a_line_a_loop_runs_again_is_not_listed_again() {
+    let src = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/gsk-g65-loop.nc"
+    ))
+    .unwrap();
+    let r = run(&src, "gsk980");
+    let w005: Vec<_> = r
+        .diagnostics
+        .iter()
+        .filter(|d| d.code == Code::Spindle)
+        .collect();
+    assert_eq!(w005.len(), 1, "{:?}", r.diagnostics);
+    assert_eq!(w005[0].span.line, 5);
+    assert!(!w005[0].message.contains("also on"), "{}", w005[0].message);
+}

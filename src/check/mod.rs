@@ -960,10 +960,16 @@ fn merge_notes(notes: Vec<Note>) -> Vec<Note> {
 fn merge_repeats(diags: Vec<Diagnostic>) -> Vec<Diagnostic> {
     let mut out: Vec<(Diagnostic, Vec<u32>)> = Vec::with_capacity(diags.len());
     let mut index: HashMap<(Code, Severity, String), usize> = HashMap::new();
+    // A line a loop runs again is listed once (and the first finding's own line not at all).
+    let mut listed: std::collections::HashSet<(usize, u32)> = std::collections::HashSet::new();
     for d in diags {
         let key = (d.code, d.severity, d.message.clone());
         match index.get(&key) {
-            Some(&i) => out[i].1.push(d.span.line),
+            Some(&i) => {
+                if d.span.line != out[i].0.span.line && listed.insert((i, d.span.line)) {
+                    out[i].1.push(d.span.line);
+                }
+            }
             None => {
                 index.insert(key, out.len());
                 out.push((d, Vec::new()));
