@@ -641,7 +641,9 @@ fn plot_of_many_cycles_is_bounded_and_says_what_it_left_out() {
 #[test]
 fn progress_shows_on_a_terminal_only() {
     let dir = temp_dir("progress");
-    let file = write(&dir, "big.nc", &cycles(6000));
+    // Long enough to outlast the bar's quiet time in a debug build on a fast machine (6,000
+    // cycles took 0.47 s once `check` got faster: too close).
+    let file = write(&dir, "big.nc", &cycles(24_000));
     // Standard error a pipe: not a byte of progress.
     let out = threadcut(&["check", &file, "-c", "gsk980", "-o", "/dev/null"]);
     assert!(out.status.success());
