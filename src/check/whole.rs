@@ -688,8 +688,7 @@ impl Whole {
             self.shadowed.pop_front();
         }
         // The same teeth again (a program that cuts one thread many times): a rapid finds the
-        // newest first, so the older ones need no looking at.
-        // At most one of those not yet shadowed is the same.
+        // newest first, so the older need no look. At most one not yet shadowed is the same.
         let same = self
             .teeth
             .iter()
@@ -738,10 +737,10 @@ impl Whole {
         let surface = |z: f64| blank_surface(blank, z);
         let root = last.start.x;
         let (z_lo, z_hi, toward_minus) = (run.z_lo, run.z_hi, run.toward_minus);
-        // Nothing stands a tolerance beyond the blank along the run (the difference is linear
-        // along each edge, so its greatest is at an edge's end): no shoulder. Half the tolerance,
-        // so that rounding in the crossings below cannot make one appear.
-        // Only a surface whose material is known is reported, so only those are looked at.
+        // No material whose surface is known (the only kind reported) stands a tolerance beyond
+        // the blank along the run: no shoulder. The difference is linear along each edge, so its
+        // greatest is at an edge's end; half the tolerance, so that rounding in the crossings
+        // below cannot make one appear.
         let stock_given = part.stock().diameter.known == Known::Given;
         if part
             .greatest_in_band(z_lo, z_hi, |p, o| {
