@@ -208,10 +208,7 @@ pub fn analyse(request: &str) -> Value {
                     length: r.stock_length,
                     bore: r.stock_bore,
                 },
-                start: match r.start {
-                    Some([x, z]) if x.is_finite() && z.is_finite() => program::Start::At { x, z },
-                    _ => program::Start::Unknown,
-                },
+                start: start_of(r.start),
             },
         ),
         Err(e) => error(format!("bad request: {e}")),
@@ -232,6 +229,26 @@ fn diagnostic(d: &Diagnostic, placed: Option<&[Placed]>) -> Value {
         "start": s.start,
         "field": field,
     })
+}
+
+/// A library error as a diagnostic: the program's, with its place (and `placed`'s field), or a
+/// message with no place.
+fn error_diagnostic(e: Error, placed: Option<&[Placed]>) -> Value {
+    match e {
+        Error::Input(d) => diagnostic(&d, placed),
+        other => json!({
+            "severity": "error", "code": null, "message": other.to_string(),
+            "hint": null, "line": 0, "column": 0, "len": 0, "start": 0, "field": null,
+        }),
+    }
+}
+
+/// `--start X,Z` from a request, or not known.
+fn start_of(start: Option<[f64; 2]>) -> program::Start {
+    match start {
+        Some([x, z]) if x.is_finite() && z.is_finite() => program::Start::At { x, z },
+        _ => program::Start::Unknown,
+    }
 }
 
 /// Everything the page shows for one program: the findings of `threadcut check` (the same library
@@ -273,13 +290,7 @@ fn analyse_with(
     let mut failed = false;
     let fail = |e: Error, diagnostics: &mut Vec<Value>, failed: &mut bool| {
         *failed = true;
-        match e {
-            Error::Input(d) => diagnostics.push(diagnostic(&d, placed)),
-            other => diagnostics.push(json!({
-                "severity": "error", "code": null, "message": other.to_string(),
-                "hint": null, "line": 0, "column": 0, "len": 0, "start": 0, "field": null,
-            })),
-        }
+        diagnostics.push(error_diagnostic(e, placed));
     };
 
     // The check: every finding of `threadcut check` (with the stock given), the controller's
@@ -559,23 +570,14 @@ pub fn expand(request: &str) -> Value {
         return error(format!("unknown controller `{}`", r.controller));
     };
     let options = program::Options {
-        start: match r.start {
-            Some([x, z]) if x.is_finite() && z.is_finite() => program::Start::At { x, z },
-            _ => program::Start::Unknown,
-        },
+        start: start_of(r.start),
         ..program::Options::default()
     };
     let mut out = Vec::new();
     match program::expand_gcode_with(r.program.as_bytes(), &mut out, &machine, &options) {
         Ok(_) => json!({"ok": true, "gcode": utf8(out)}),
         Err(e) => {
-            let d = match e {
-                Error::Input(d) => diagnostic(&d, None),
-                other => json!({
-                    "severity": "error", "code": null, "message": other.to_string(),
-                    "hint": null, "line": 0, "column": 0, "len": 0, "start": 0, "field": null,
-                }),
-            };
+            let d = error_diagnostic(e, None);
             json!({"ok": false, "error": d["message"], "diagnostics": [d]})
         }
     }
@@ -651,13 +653,7 @@ pub fn convert(request: &str) -> Value {
                 .collect::<Vec<_>>(),
         }),
         Err(e) => {
-            let d = match e {
-                Error::Input(d) => diagnostic(&d, None),
-                other => json!({
-                    "severity": "error", "code": null, "message": other.to_string(),
-                    "hint": null, "line": 0, "column": 0, "len": 0, "start": 0, "field": null,
-                }),
-            };
+            let d = error_diagnostic(e, None);
             json!({
                 "ok": false,
                 "from": r.from,
