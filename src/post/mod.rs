@@ -487,6 +487,11 @@ impl Moves {
     pub fn write(&self, out: &mut dyn Write) -> io::Result<()> {
         write_moves(out, &self.format, self.units, &self.path)
     }
+
+    /// The lines [`write`](Moves::write) writes, without writing them: one a motion, each ended.
+    pub fn lines(&self) -> usize {
+        self.path.motions.len()
+    }
 }
 
 /// Where `expand` writes: bytes, and each cycle's moves in their place among them. A writer may

@@ -483,8 +483,8 @@ fn utf8(bytes: Vec<u8>) -> String {
 }
 
 /// The first lines of an expanded program, and the number of all its lines. A cycle's moves past
-/// those lines are counted, not formatted: one line a move, as [`post::write_moves`] writes
-/// them, so that a long paste's analysis does not write megabytes the page does not show.
+/// those lines are counted ([`post::Moves::lines`]), not formatted, so that a long paste's
+/// analysis does not write megabytes the page does not show.
 struct Head {
     text: Vec<u8>,
     /// Lines kept at most.
@@ -542,7 +542,7 @@ impl post::MovesOut for Head {
             moves.write(&mut text)?;
             return std::io::Write::write_all(self, &text);
         }
-        let n = moves.path.motions.len();
+        let n = moves.lines();
         self.ends += n;
         self.open &= n == 0;
         Ok(())
