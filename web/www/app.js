@@ -603,19 +603,40 @@ async function main() {
   $('source').addEventListener('input', () => schedule(analyse));
   for (const input of document.querySelectorAll('input.stock')) input.addEventListener('input', () => schedule(analyse));
   $('copy').addEventListener('click', async () => {
+    const partial = lastGcodeTotal > lastGcode.split('\n').length - (lastGcode.endsWith('\n') ? 1 : 0);
     try {
-      await navigator.clipboard.writeText(await wholeGcode());
+      if (partial && typeof ClipboardItem !== 'undefined') {
+        // The whole program comes from the engine: the clipboard takes the promise within the
+        // click, so a browser that allows a write only there still takes it.
+        const text = wholeGcode().then((t) => new Blob([t], { type: 'text/plain' }));
+        await navigator.clipboard.write([new ClipboardItem({ 'text/plain': text })]);
+      } else {
+        await navigator.clipboard.writeText(await wholeGcode());
+      }
       $('copied').textContent = 'copied';
-    } catch {
-      // Clipboard refused (no permission): select the text for a manual copy.
-      const sel = window.getSelection();
-      sel.selectAllChildren($('gcode'));
-      $('copied').textContent = 'selected: press Ctrl+C';
+    } catch (e) {
+      if (partial) {
+        // Never offer the lines shown as the whole program.
+        $('copied').textContent = `not copied (${e.message || e}): Download gives the whole program`;
+      } else {
+        // Clipboard refused (no permission): select the text for a manual copy.
+        const sel = window.getSelection();
+        sel.selectAllChildren($('gcode'));
+        $('copied').textContent = 'selected: press Ctrl+C';
+      }
     }
-    setTimeout(() => { $('copied').textContent = ''; }, 2000);
+    setTimeout(() => { $('copied').textContent = ''; }, 4000);
   });
   $('download').addEventListener('click', async () => {
-    const blob = new Blob([await wholeGcode()], { type: 'text/plain' });
+    let text;
+    try {
+      text = await wholeGcode();
+    } catch (e) {
+      $('copied').textContent = `not downloaded: ${e.message || e}`;
+      setTimeout(() => { $('copied').textContent = ''; }, 4000);
+      return;
+    }
+    const blob = new Blob([text], { type: 'text/plain' });
     const a = document.createElement('a');
     a.href = URL.createObjectURL(blob);
     a.download = `threadcut-${current().name}.nc`;
