@@ -326,10 +326,19 @@ async function run(fn, request, then) {
   document.body.dataset.analysedLength = String((request.program || '').length);
 }
 
+/** The number of lines of `text` (a last line without its end counts). */
+function lineCount(text) {
+  return text ? text.split('\n').length - (text.endsWith('\n') ? 1 : 0) : 0;
+}
+
+/** Whether the analysis gave only the expanded program's first lines. */
+function gcodePartial() {
+  return lastGcodeTotal > lineCount(lastGcode);
+}
+
 /** The whole expanded program: the analysis's, or from the engine when it gave only the first lines. */
 async function wholeGcode() {
-  const given = lastGcode.split('\n').length - (lastGcode.endsWith('\n') ? 1 : 0);
-  if (lastGcodeTotal <= given || !lastExpand) return lastGcode;
+  if (!gcodePartial() || !lastExpand) return lastGcode;
   const r = await engine.call('expand', lastExpand);
   if (!r || !r.ok) throw new Error(r ? r.error : 'the expansion was replaced');
   return r.gcode;
@@ -435,7 +444,7 @@ function show(r) {
 
   // Expanded G-code.
   lastGcode = r.gcode || '';
-  const given = lastGcode ? lastGcode.split('\n').length - (lastGcode.endsWith('\n') ? 1 : 0) : 0;
+  const given = lineCount(lastGcode);
   lastGcodeTotal = r.gcode_total ?? given;
   const rest = 'Copy and Download give the whole program';
   $('gcode').textContent = !lastGcode ? '(no output: the program has errors)'
@@ -603,7 +612,7 @@ async function main() {
   $('source').addEventListener('input', () => schedule(analyse));
   for (const input of document.querySelectorAll('input.stock')) input.addEventListener('input', () => schedule(analyse));
   $('copy').addEventListener('click', async () => {
-    const partial = lastGcodeTotal > lastGcode.split('\n').length - (lastGcode.endsWith('\n') ? 1 : 0);
+    const partial = gcodePartial();
     try {
       if (partial && typeof ClipboardItem !== 'undefined') {
         // The whole program comes from the engine: the clipboard takes the promise within the
