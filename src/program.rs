@@ -75,6 +75,7 @@ impl<'a, 'l> Event<'a, 'l> {
     }
 }
 
+pub mod ahead;
 mod interpreted;
 
 pub use interpreted::{write_executed_block, Output, Where};
@@ -243,6 +244,10 @@ trait Sink {
     fn parameter(&mut self, _name: &str, _value: f64) -> Result<(), Error> {
         Ok(())
     }
+    /// Plain lines read ahead ([`ahead`]), for a batching sink.
+    fn ahead(&mut self) -> Option<&mut dyn ahead::Ahead> {
+        None
+    }
 }
 
 /// Every line to one closure ([`run`]).
@@ -395,7 +400,21 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
         );
     }
     let mut pending = 0usize;
+    let mut seam = match sink.ahead() {
+        Some(ahead) if S::BATCH => ahead.first_seam(),
+        _ => u64::MAX,
+    };
     loop {
+        if reader.offset() >= seam {
+            seam = at_seam(
+                &mut reader,
+                &mut sink,
+                &dialect,
+                &mut modal,
+                &mut summary,
+                &mut pending,
+            )?;
+        }
         // Most lines are plain lines that the reader's fast path lexes and that are none of the
         // dialect's business (its prefilter says so without `read`, which would return
         // `Read::Plain` and leave everything as it is): this loop takes them as long as they come.
@@ -415,6 +434,12 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
             }
             summary.lines = line.number;
             plain_line(&line, &mut modal, &conv, &mut sink, &mut pending)?;
+            if reader.offset() >= seam {
+                break;
+            }
+        }
+        if reader.offset() >= seam {
+            continue;
         }
         if S::BATCH && pending > 0 && reader.may_read() {
             sink.pass(handed_out(&reader, pending, 0)?)?;
@@ -511,6 +536,36 @@ fn drive_with<R: BufRead, S: Sink, D: dialect::Dialect>(
     }
     dialect.end_of_input()?;
     Ok(summary)
+}
+
+/// The run at a seam of the lines read ahead ([`ahead`]): takes the lines read from here when its
+/// dialect is at rest and its state is the one the look ahead assumed. The next seam.
+#[cold]
+#[inline(never)]
+fn at_seam<R: BufRead, S: Sink, D: dialect::Dialect>(
+    reader: &mut Reader<R>,
+    sink: &mut S,
+    dialect: &D,
+    modal: &mut Modal,
+    summary: &mut Summary,
+    pending: &mut usize,
+) -> Result<u64, Error> {
+    let offset = reader.offset();
+    let Some(ahead) = sink.ahead() else {
+        return Ok(u64::MAX);
+    };
+    let at_rest = dialect.at_rest();
+    let (taken, next) = ahead.at(offset, modal, at_rest);
+    match taken {
+        Some(t) if at_rest && t.bytes > 0 && t.entry.same(modal) => {
+            reader.skip(t.bytes, t.lines, pending, |b| sink.pass(b))?;
+            *modal = t.exit;
+            summary.lines = reader.line_number();
+            Ok(next)
+        }
+        // Asked again at the next line, at the latest.
+        _ => Ok(next.max(offset + 1)),
+    }
 }
 
 /// A line that is no cycle's: its modal state, and its bytes to the sink.
@@ -687,10 +742,23 @@ pub fn expand_gcode_with<R: BufRead>(
 /// [`expand_gcode_with`] into a writer that may write each cycle's moves later, in their place
 /// ([`post::MovesOut`]): the command formats them on a second thread.
 pub fn expand_gcode_to<R: BufRead>(
-    mut input: R,
+    input: R,
     out: &mut dyn post::MovesOut,
     machine: &Machine,
     options: &Options,
+) -> Result<Summary, Error> {
+    expand_gcode_ahead(input, out, machine, options, None)
+}
+
+/// [`expand_gcode_to`] taking plain lines read ahead ([`ahead`]): the command reads a later part
+/// of a long program on its second core. The output and the errors are those of
+/// [`expand_gcode_to`].
+pub fn expand_gcode_ahead<'o, R: BufRead>(
+    mut input: R,
+    out: &'o mut dyn post::MovesOut,
+    machine: &Machine,
+    options: &Options,
+    ahead: Option<&'o mut dyn ahead::Ahead>,
 ) -> Result<Summary, Error> {
     let d = dialect::open(machine).map_err(Error::Setup)?;
     // The lines an expansion writes end as the program's first line does (CRLF in, CRLF out);
@@ -709,6 +777,7 @@ pub fn expand_gcode_to<R: BufRead>(
             distance_words,
             ending,
             interp: interpreted::ExpandState::new(options.flatten, keeps_prefix),
+            ahead,
         },
     )
 }
@@ -722,6 +791,7 @@ struct ExpandSink<'o> {
     /// What the interpreter's part of the run needs (and the expansions of the cycles before it
     /// that a jump may run again).
     interp: interpreted::ExpandState,
+    ahead: Option<&'o mut dyn ahead::Ahead>,
 }
 
 impl Sink for ExpandSink<'_> {
@@ -760,6 +830,12 @@ impl Sink for ExpandSink<'_> {
     }
     fn interpreted_end(&mut self, text: &crate::interp::Text, from: usize) -> Result<(), Error> {
         interpreted::expand_end(self, text, from)
+    }
+    fn ahead(&mut self) -> Option<&mut dyn ahead::Ahead> {
+        match &mut self.ahead {
+            Some(a) => Some(&mut **a),
+            None => None,
+        }
     }
     fn parameter(&mut self, name: &str, value: f64) -> Result<(), Error> {
         // `--flatten` copies the lines the dialect reads itself as written: the values they read

@@ -292,3 +292,220 @@ proptest! {
         prop_assert_eq!(with_prefilter(&src, &m), without_prefilter(&src, &m));
     }
 }
+
+/// A look ahead on the run's own thread (`program::ahead`; the command's runs on another): at
+/// each seam it reads the lines from the first line start `chunk` bytes on, from the run's state
+/// there or, every third time, from the state of the seam before (a wrong guess, which the run
+/// must not take), warmed by up to `warm` bytes of the lines before.
+struct Beside<'a> {
+    text: &'a [u8],
+    look: program::ahead::Looker,
+    chunk: u64,
+    warm: u64,
+    ready: Option<(u64, program::ahead::Taken)>,
+    stale: Option<Modal>,
+    calls: u32,
+}
+
+impl program::ahead::Ahead for Beside<'_> {
+    fn first_seam(&mut self) -> u64 {
+        0
+    }
+
+    fn at(
+        &mut self,
+        offset: u64,
+        modal: &Modal,
+        _at_rest: bool,
+    ) -> (Option<program::ahead::Taken>, u64) {
+        if let Some((seam, taken)) = self.ready.take() {
+            if seam == offset {
+                let next = offset + taken.bytes;
+                return (Some(taken), next);
+            }
+        }
+        self.calls += 1;
+        let guess = match &self.stale {
+            Some(stale) if self.calls.is_multiple_of(3) => stale.clone(),
+            _ => modal.clone(),
+        };
+        self.stale = Some(modal.clone());
+        let text = self.text;
+        // The first line start at or after `at`.
+        let start = |at: u64| -> u64 {
+            if at <= offset {
+                return offset;
+            }
+            let from = (at - 1) as usize;
+            match text
+                .get(from..)
+                .and_then(|t| t.iter().position(|&b| b == b'\n'))
+            {
+                Some(i) => (from + i + 1) as u64,
+                None => text.len() as u64,
+            }
+        };
+        let seam = start(offset + self.chunk);
+        let end = start(seam + 2 * self.chunk);
+        let first = start(seam.saturating_sub(self.warm)).min(seam);
+        let (warm, part) = (
+            &text[first as usize..seam as usize],
+            &text[seam as usize..end as usize],
+        );
+        self.ready = (self.look)(&guess, warm, part).map(|taken| (seam, taken));
+        (None, offset + self.chunk)
+    }
+}
+
+/// `expand` of `src`, and how it ended, with a look ahead of these sizes or without one.
+fn expand_reading_ahead(
+    src: &[u8],
+    machine: &Machine,
+    sizes: Option<(u64, u64)>,
+) -> (Vec<u8>, String) {
+    let mut out = Vec::new();
+    let options = program::Options::default();
+    let end = match sizes {
+        None => {
+            program::expand_gcode_to(src, &mut threadcut::post::Now(&mut out), machine, &options)
+        }
+        Some((chunk, warm)) => {
+            let mut beside = Beside {
+                text: src,
+                look: program::ahead::looker(machine).unwrap(),
+                chunk,
+                warm,
+                ready: None,
+                stale: None,
+                calls: 0,
+            };
+            program::expand_gcode_ahead(
+                src,
+                &mut threadcut::post::Now(&mut out),
+                machine,
+                &options,
+                Some(&mut beside),
+            )
+        }
+    };
+    (out, format!("{end:?}"))
+}
+
+#[test]
+fn reading_ahead_changes_nothing_in_the_bundled_and_real_programs() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let mut files = vec![];
+    for dir in ["examples", "tests/data/real"] {
+        for entry in std::fs::read_dir(format!("{root}/{dir}")).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_file() {
+                files.push(path);
+            }
+        }
+    }
+    let mut taken_some = 0;
+    for path in files {
+        let src = std::fs::read(&path).unwrap();
+        for (name, _) in threadcut::machine::BUILT_IN {
+            let m = Machine::built_in(name).unwrap();
+            let want = expand_reading_ahead(&src, &m, None);
+            for sizes in [(1, 0), (1, 40), (7, 300), (64, 16), (500, 4096)] {
+                let got = expand_reading_ahead(&src, &m, Some(sizes));
+                assert!(
+                    got == want,
+                    "{} on {name}, sizes {sizes:?}:\n{}\n{}\nwant:\n{}\n{}",
+                    path.display(),
+                    String::from_utf8_lossy(&got.0),
+                    got.1,
+                    String::from_utf8_lossy(&want.0),
+                    want.1
+                );
+            }
+            taken_some += usize::from(want.1.starts_with("Ok"));
+        }
+    }
+    assert!(taken_some > 100, "{taken_some} programs expanded");
+}
+
+proptest! {
+    // Many cases: a seam must fall where a dialect is not at rest (between a G92 and the block
+    // that repeats it) for a wrong `at_rest` to show.
+    #![proptest_config(ProptestConfig::with_cases(3000))]
+    #[test]
+    fn reading_ahead_changes_nothing(
+        src in program(),
+        which in 0usize..threadcut::machine::BUILT_IN.len(),
+        chunk in 1u64..40,
+        warm in 0u64..60,
+    ) {
+        let m = Machine::built_in(threadcut::machine::BUILT_IN[which].0).unwrap();
+        let want = expand_reading_ahead(src.as_bytes(), &m, None);
+        prop_assert_eq!(expand_reading_ahead(src.as_bytes(), &m, Some((chunk, warm))), want);
+    }
+}
+
+/// `Dialect::at_rest` promises that the prefilter answers every line as a freshly opened
+/// dialect's does: checked after each line of `src` (each read as the run reads it), on every
+/// line of the word list and of `src`. The first line where it does not hold.
+fn at_rest_breaks(src: &str, machine: &Machine) -> Option<String> {
+    let fresh = dialect::open(machine).unwrap();
+    let mut d = dialect::open(machine).unwrap();
+    let conv = d.conventions().clone();
+    let mut modal = Modal::for_machine(&conv, machine);
+    modal.vocabulary = Some(d.vocabulary());
+    let probes = format!("{}\n{src}", WORDS.join("\n"));
+    let mut reader = Reader::new(src.as_bytes()).with_syntax(conv.syntax);
+    let mut warnings = vec![];
+    while let Some(Ok(line)) = reader.next_line() {
+        match d.read(&line, &mut modal, &mut warnings) {
+            Ok(Read::Plain) if modal.apply(&conv, &line).is_ok() => {}
+            Ok(Read::Plain) | Err(_) => return None,
+            Ok(_) => {}
+        }
+        if !d.at_rest() {
+            continue;
+        }
+        let mut probe = Reader::new(probes.as_bytes()).with_syntax(conv.syntax);
+        while let Some(p) = probe.next_line() {
+            let Ok(p) = p else { continue };
+            if d.prefilter(&p) != fresh.prefilter(&p) {
+                return Some(format!(
+                    "after line {}: {:?}",
+                    line.number,
+                    String::from_utf8_lossy(p.text)
+                ));
+            }
+        }
+    }
+    None
+}
+
+proptest! {
+    #[test]
+    fn a_dialect_at_rest_prefilters_as_a_fresh_one(
+        src in program(),
+        which in 0usize..threadcut::machine::BUILT_IN.len(),
+    ) {
+        let m = Machine::built_in(threadcut::machine::BUILT_IN[which].0).unwrap();
+        prop_assert_eq!(at_rest_breaks(&src, &m), None);
+    }
+}
+
+#[test]
+fn at_rest_does_not_hide_a_modal_cycle_in_progress() {
+    // OmniTurn checks the block after a G35 (its G92 check); Fanuc's G92 is repeated by a block
+    // of axis words; Sinumerik restores the radius after a CYCLE97 expanded under DIAM90 and G91.
+    for (name, src) in [
+        ("omniturn", "G0 X2 Z0.5\nG35\nX1.5\n"),
+        ("fanuc", "G0 X32 Z5\nG92 X29.2 Z-30. F2.\nX28.6\n"),
+        (
+            "sinumerik",
+            "G0 X32 Z5\nDIAM90\nG91\nCYCLE97(1.5,,0,-20,24,24,2,1,0.92,0.05,30,0,5,1,3,1)\nX1\n",
+        ),
+    ] {
+        let m = Machine::built_in(name).unwrap();
+        assert_eq!(at_rest_breaks(src, &m), None, "{name}");
+        let d = dialect::open(&m).unwrap();
+        assert!(d.at_rest(), "{name}: a fresh dialect is at rest");
+    }
+}

@@ -270,6 +270,10 @@ impl Dialect for AllenBradley {
         line.summary.has_letter(b'E') || line.has_g(G78)
     }
 
+    fn at_rest(&self) -> bool {
+        true
+    }
+
     fn conventions(&self) -> &Conventions {
         &self.conv
     }

@@ -127,6 +127,12 @@ impl Dialect for Fanuc {
         self.family.prefilter(line, 0, |_| false)
     }
 
+    fn at_rest(&self) -> bool {
+        // The family's prefilter depends on nothing else of its state (its letters and codes
+        // are the machine's).
+        !self.family.in_progress()
+    }
+
     fn end_of_input(&mut self) -> Result<()> {
         self.family.end_of_input()
     }

@@ -683,6 +683,12 @@ impl Dialect for Gsk {
         self.family.prefilter(line, 0, |line| line.has_g(G78))
     }
 
+    fn at_rest(&self) -> bool {
+        // The family's prefilter depends on nothing else of its state (its letters and codes
+        // are the machine's).
+        !self.family.in_progress()
+    }
+
     fn conventions(&self) -> &Conventions {
         &self.conv
     }

@@ -326,6 +326,12 @@ impl Dialect for Haas {
             })
     }
 
+    fn at_rest(&self) -> bool {
+        // The family's prefilter depends on nothing else of its state (its letters and codes
+        // are the machine's).
+        !self.family.in_progress()
+    }
+
     fn end_of_input(&mut self) -> Result<()> {
         self.family.end_of_input()
     }

@@ -136,6 +136,13 @@ pub trait Dialect {
     fn prefilter(&self, _line: &Line) -> bool {
         true
     }
+    /// Whether [`prefilter`](Dialect::prefilter) now answers every line as the dialect freshly
+    /// opened for the same machine would (nothing of a cycle or a modal block in progress): a
+    /// look ahead run with a fresh dialect then takes the same lines as plain (`program::ahead`).
+    /// The default, `false`, never lets it.
+    fn at_rest(&self) -> bool {
+        false
+    }
     /// The input has ended (or the program has, at M2/M30): a cycle still waiting for blocks (a
     /// contour's last block) is the control's alarm. The default: nothing waits.
     fn end_of_input(&mut self) -> Result<()> {

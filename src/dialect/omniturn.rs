@@ -742,6 +742,10 @@ impl Dialect for OmniTurn {
                 }))
     }
 
+    fn at_rest(&self) -> bool {
+        self.pending_g92.is_none()
+    }
+
     fn conventions(&self) -> &Conventions {
         &self.conv
     }

@@ -923,6 +923,10 @@ impl Dialect for Sinumerik {
         line.shape.unread || line.summary.other_g_or_any(LETTERS) || self.restore_diameter.is_some()
     }
 
+    fn at_rest(&self) -> bool {
+        self.restore_diameter.is_none()
+    }
+
     fn read(
         &mut self,
         line: &Line,

@@ -474,6 +474,68 @@ impl Modal {
         }
     }
 
+    /// Whether `other` is this very state, every number to the bit (−0 is not 0): a run from
+    /// either reads every later line the same. (Every field is named here, so that a field added
+    /// to the state cannot be left out of the comparison.)
+    pub fn same(&self, other: &Modal) -> bool {
+        let Modal {
+            units,
+            absolute,
+            diameter_x,
+            position,
+            motion,
+            lead,
+            f_word,
+            no_point,
+            increment,
+            references,
+            work_system,
+            vocabulary,
+            arc_centre_absolute,
+            start_unstated,
+            assumed,
+        } = self;
+        fn num(a: f64, b: f64) -> bool {
+            a.to_bits() == b.to_bits()
+        }
+        fn opt(a: Option<f64>, b: Option<f64>) -> bool {
+            match (a, b) {
+                (Some(a), Some(b)) => num(a, b),
+                (a, b) => a.is_none() && b.is_none(),
+            }
+        }
+        fn at(a: &Position, b: &Position) -> bool {
+            opt(a.x, b.x) && opt(a.z, b.z)
+        }
+        *units == other.units
+            && *absolute == other.absolute
+            && *diameter_x == other.diameter_x
+            && at(position, &other.position)
+            && *motion == other.motion
+            && opt(*lead, other.lead)
+            && opt(*f_word, other.f_word)
+            && no_point
+                .iter()
+                .zip(&other.no_point)
+                .all(|(a, b)| num(*a, *b))
+            && increment
+                .iter()
+                .zip(&other.increment)
+                .all(|(a, b)| num(*a, *b))
+            && references
+                .iter()
+                .zip(&other.references)
+                .all(|(a, b)| at(a, b))
+            && *work_system == other.work_system
+            && match (vocabulary, other.vocabulary) {
+                (Some(a), Some(b)) => std::ptr::eq(*a, b),
+                (a, b) => a.is_none() && b.is_none(),
+            }
+            && *arc_centre_absolute == other.arc_centre_absolute
+            && *start_unstated == other.start_unstated
+            && *assumed == other.assumed
+    }
+
     /// The tool placed at (`x`, `z`) as the program writes them at power-on (its units, X on
     /// diameter where the control's X is), before the program's first line (`--start X,Z`).
     pub fn place(&mut self, x: f64, z: f64) {

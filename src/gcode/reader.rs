@@ -278,6 +278,50 @@ impl<R: BufRead> Reader<R> {
         self.offset
     }
 
+    /// The number of the last line handed out (0 before the first).
+    pub fn line_number(&self) -> u32 {
+        self.line_no
+    }
+
+    /// Consumes the next `len` bytes, `lines` whole lines that were read elsewhere (a look
+    /// ahead, `program::ahead`), without lexing them. Like lines handed out, they count as
+    /// `pending`: bytes right before the next line, which `pass` gets (the earlier pending bytes
+    /// first) before the reader reads more input and so drops them from its buffer.
+    pub(crate) fn skip<E: From<std::io::Error>>(
+        &mut self,
+        len: u64,
+        lines: u32,
+        pending: &mut usize,
+        mut pass: impl FnMut(&[u8]) -> Result<(), E>,
+    ) -> Result<(), E> {
+        let mut left = len;
+        // Each round consumes at least one byte or reads more input: bounded by `len`, and by
+        // the input's end (an error: the look ahead read more than there is).
+        while left > 0 {
+            if self.start == self.end {
+                if self.eof || self.done {
+                    return Err(std::io::Error::other(
+                        "internal error: the lines read ahead are not in the input",
+                    )
+                    .into());
+                }
+                if *pending > 0 {
+                    pass(&self.buf[self.start - *pending..self.start])?;
+                    *pending = 0;
+                }
+                self.refill()?;
+                continue;
+            }
+            let n = left.min((self.end - self.start) as u64) as usize;
+            self.start += n;
+            self.offset += n as u64;
+            *pending += n;
+            left -= n as u64;
+        }
+        self.line_no += lines;
+        Ok(())
+    }
+
     /// Whether the next [`next_line`](Self::next_line) may read more input. Reading more drops
     /// the lines already handed out from the buffer: a caller that writes runs of them later (from
     /// [`Line::before`] or [`handed_out`](Self::handed_out)) writes them before that call.

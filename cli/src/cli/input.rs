@@ -65,6 +65,17 @@ pub fn display(file: &Path) -> String {
 /// Opens the program: `-` is standard input. A directory or a file that cannot be opened is an
 /// error naming the file and the system's reason.
 pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
+    open_long(file).map(|(reader, content, _)| (reader, content))
+}
+
+/// A program opened by [`open_long`]: the reader, the watch on its content, and a second
+/// handle on a long file.
+pub type Long = (Box<dyn BufRead>, Content, Option<File>);
+
+/// [`open`], with a second handle on the file when it is long enough to be read ahead (a
+/// regular file of [`READ_AHEAD_FROM`] bytes or more): the same file, for reading at offsets
+/// (`lookahead`).
+pub fn open_long(file: &Path) -> Result<Long, Failure> {
     let seen = Rc::new(Cell::new(false));
     let content = Content(seen.clone());
     let cannot =
@@ -73,7 +84,7 @@ pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
         let stdin = io::stdin();
         let bar = Bar::new(None, stdin.is_terminal());
         let reader = BufReader::with_capacity(1 << 16, stdin);
-        return Ok((Box::new(Watch::new(reader, seen, None, bar)), content));
+        return Ok((Box::new(Watch::new(reader, seen, None, bar)), content, None));
     }
     let f = File::open(file).map_err(|e| cannot(&e))?;
     let meta = f.metadata().map_err(|e| cannot(&e))?;
@@ -84,11 +95,16 @@ pub fn open(file: &Path) -> Result<(Box<dyn BufRead>, Content), Failure> {
     let bar = Bar::new(len, false);
     if len.is_some_and(|n| n >= READ_AHEAD_FROM) {
         // A long file is read by a second thread while this one works (`ahead`).
+        let handle = f.try_clone().ok();
         let reader = BufReader::with_capacity(1 << 16, super::ahead::ReadAhead::new(f));
-        return Ok((Box::new(Watch::new(reader, seen, len, bar)), content));
+        return Ok((
+            Box::new(Watch::new(reader, seen, len, bar)),
+            content,
+            handle,
+        ));
     }
     let reader = BufReader::with_capacity(1 << 16, f);
-    Ok((Box::new(Watch::new(reader, seen, len, bar)), content))
+    Ok((Box::new(Watch::new(reader, seen, len, bar)), content, None))
 }
 
 /// A program read more than once (`plot` and `passes` read it for `check` and then for the

@@ -10,6 +10,7 @@ mod ahead;
 mod behind;
 mod check;
 mod input;
+mod lookahead;
 mod mill;
 mod milling;
 mod output;
@@ -721,7 +722,7 @@ fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
     let options = args.run.options(args.flatten, &args.machine)?;
     let file = &args.input.file;
     let out = args.output.output.as_deref();
-    let (mut reader, content) = input::open(file)?;
+    let (mut reader, content, long) = input::open_long(file)?;
     if post::is_apt(file, &mut reader) {
         match args.format {
             ProgramFormat::Jsonl => post::expand_jsonl(file, reader, &content, out)?,
@@ -735,7 +736,14 @@ fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
     let machine = load_machine(&args.machine)?;
     let summary = output::write_moves(file, out, |out| {
         let summary = match args.format {
-            ProgramFormat::Gcode => program::expand_gcode_to(reader, out, &machine, &options),
+            ProgramFormat::Gcode => match long {
+                // A long file's later parts are read on the second core (`lookahead`).
+                Some(handle) => {
+                    let mut look = lookahead::LookAhead::new(handle, machine.clone());
+                    program::expand_gcode_ahead(reader, out, &machine, &options, Some(&mut look))
+                }
+                None => program::expand_gcode_to(reader, out, &machine, &options),
+            },
             ProgramFormat::Jsonl => program::expand_jsonl_with(reader, out, &machine, &options),
         }
         .map_err(lib(file))?;
