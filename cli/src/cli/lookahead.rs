@@ -24,10 +24,21 @@ use threadcut::gcode::Modal;
 use threadcut::machine::Machine;
 use threadcut::program::ahead::{self, Ahead, Taken};
 
-/// Bytes a part has (up to its last line's end).
-const CHUNK: u64 = 1 << 20;
-/// Bytes before a part read to guess the state at its seam.
-const WARM: u64 = 4 << 10;
+/// The parts' sizes (up to their last line's end): the run reads a part of `run` bytes, then
+/// takes the thread's part of `ahead` bytes, and so on.
+#[derive(Clone, Copy, Debug)]
+pub struct Sizes {
+    pub run: u64,
+    pub ahead: u64,
+    /// Bytes before a part read to guess the state at its seam.
+    pub warm: u64,
+}
+
+const SIZES: Sizes = Sizes {
+    run: 1 << 20,
+    ahead: 1 << 20,
+    warm: 4 << 10,
+};
 /// How far past a nominal offset a line end is looked for: a line longer than this ends the
 /// look ahead for that part (the run reads it itself).
 const SLACK: u64 = 64 << 10;
@@ -95,7 +106,7 @@ fn wait<'a>(shared: &'a Shared, state: MutexGuard<'a, State>) -> MutexGuard<'a, 
 pub struct LookAhead {
     shared: Shared,
     thread: Option<JoinHandle<()>>,
-    chunk: u64,
+    sizes: Sizes,
     len: u64,
     /// The seam the run was last given.
     seam: u64,
@@ -106,15 +117,15 @@ pub struct LookAhead {
 impl LookAhead {
     /// A look ahead over `source` (the program's file) for `machine`.
     pub fn new<S: Source>(source: S, machine: Machine) -> LookAhead {
-        LookAhead::with_sizes(source, machine, CHUNK, WARM)
+        LookAhead::with_sizes(source, machine, SIZES)
     }
 
-    fn with_sizes<S: Source>(source: S, machine: Machine, chunk: u64, warm: u64) -> LookAhead {
+    fn with_sizes<S: Source>(source: S, machine: Machine, sizes: Sizes) -> LookAhead {
         let shared: Shared = Arc::default();
         let len = source.len().unwrap_or(0);
         let theirs = shared.clone();
         let thread = std::thread::spawn(move || {
-            let work = AssertUnwindSafe(|| look(&theirs, &source, &machine, chunk, warm, len));
+            let work = AssertUnwindSafe(|| look(&theirs, &source, &machine, sizes, len));
             let _ = catch_unwind(work);
             lock(&theirs).gone = true;
             theirs.1.notify_all();
@@ -122,7 +133,7 @@ impl LookAhead {
         LookAhead {
             shared,
             thread: Some(thread),
-            chunk,
+            sizes,
             len,
             seam: 0,
             handed: 0,
@@ -155,12 +166,13 @@ impl Ahead for LookAhead {
 
     fn at(&mut self, offset: u64, modal: &Modal, _at_rest: bool) -> (Option<Taken>, u64) {
         let nominal = self.seam;
-        self.seam = nominal + self.chunk;
+        let Sizes { run, ahead, .. } = self.sizes;
         if nominal >= self.len {
             self.seam = u64::MAX;
             return (None, u64::MAX);
         }
-        if (nominal / self.chunk) % 2 == 1 {
+        if nominal % (run + ahead) == run {
+            self.seam = nominal + ahead;
             let found = self.answer(nominal);
             return match found {
                 Some((seam, taken)) if seam == offset => {
@@ -170,6 +182,7 @@ impl Ahead for LookAhead {
                 _ => (None, self.seam),
             };
         }
+        self.seam = nominal + run;
         let mut state = lock(&self.shared);
         state.known = Some(Known {
             at: offset,
@@ -194,20 +207,13 @@ impl Drop for LookAhead {
 /// The thread: reads the odd parts, in order, until the input or the run is over. Each part is
 /// read from the latest state known before it: the run's, or the state after the lines the
 /// thread took from the part before (exactly the run's there when the run takes them).
-fn look<S: Source>(
-    shared: &Shared,
-    source: &S,
-    machine: &Machine,
-    chunk: u64,
-    warm: u64,
-    len: u64,
-) {
+fn look<S: Source>(shared: &Shared, source: &S, machine: &Machine, sizes: Sizes, len: u64) {
     let Ok(mut looker) = ahead::looker(machine) else {
         return;
     };
     let mut buf = Vec::new();
     let mut guess: Option<Known> = None;
-    let mut nominal = chunk;
+    let mut nominal = sizes.run;
     while nominal < len {
         {
             let mut state = lock(shared);
@@ -227,7 +233,7 @@ fn look<S: Source>(
             }
         }
         let Some(g) = &guess else { return };
-        let found = part(source, g.at, nominal, chunk, warm, &mut buf)
+        let found = part(source, g.at, nominal, sizes, &mut buf)
             .and_then(|(seam, warm, text)| Some((seam, looker(&g.modal, warm, text)?)));
         if let Some((seam, taken)) = &found {
             guess = Some(Known {
@@ -237,7 +243,7 @@ fn look<S: Source>(
         }
         lock(shared).answers.push_back(Answer { nominal, found });
         shared.1.notify_all();
-        nominal += 2 * chunk;
+        nominal += sizes.run + sizes.ahead;
     }
 }
 
@@ -249,16 +255,16 @@ fn part<'b, S: Source>(
     source: &S,
     known: u64,
     nominal: u64,
-    chunk: u64,
-    warm: u64,
+    sizes: Sizes,
     buf: &'b mut Vec<u8>,
 ) -> Option<(u64, &'b [u8], &'b [u8])> {
     let len = source.len().ok()?;
     if nominal >= len || known >= nominal {
         return None;
     }
+    let Sizes { ahead, warm, .. } = sizes;
     let from = known.max(nominal.saturating_sub(warm + 1));
-    let to = len.min(nominal + chunk + SLACK);
+    let to = len.min(nominal + ahead + SLACK);
     buf.resize((to - from) as usize, 0);
     read_exact_at(source, buf, from).ok()?;
     let bytes = &buf[..];
@@ -278,7 +284,7 @@ fn part<'b, S: Source>(
         }
     };
     let seam = line_start(nominal)?;
-    let end = line_start(nominal + chunk)?.max(seam);
+    let end = line_start(nominal + ahead)?.max(seam);
     let first = line_start(seam.saturating_sub(warm).max(from))?.min(seam);
     let at = |o: u64| (o - from) as usize;
     Some((seam, &bytes[at(first)..at(seam)], &bytes[at(seam)..at(end)]))
@@ -319,7 +325,7 @@ mod tests {
 
     /// `expand` of `src` and how it ended, with the look ahead's thread at these sizes (and the
     /// bytes it handed the run) or without it.
-    fn expand(src: &[u8], machine: &Machine, sizes: Option<(u64, u64)>) -> (Vec<u8>, String, u64) {
+    fn expand(src: &[u8], machine: &Machine, sizes: Option<Sizes>) -> (Vec<u8>, String, u64) {
         let mut out = Vec::new();
         let mut now = threadcut::post::Now(&mut out);
         let options = Options::default();
@@ -328,8 +334,8 @@ mod tests {
                 program::expand_gcode_to(src, &mut now, machine, &options),
                 0,
             ),
-            Some((chunk, warm)) => {
-                let mut look = LookAhead::with_sizes(src.to_vec(), machine.clone(), chunk, warm);
+            Some(sizes) => {
+                let mut look = LookAhead::with_sizes(src.to_vec(), machine.clone(), sizes);
                 let end =
                     program::expand_gcode_ahead(src, &mut now, machine, &options, Some(&mut look));
                 (end, look.handed)
@@ -360,7 +366,8 @@ mod tests {
             for (name, _) in threadcut::machine::BUILT_IN {
                 let m = Machine::built_in(name).unwrap();
                 let (out, end, _) = expand(&src, &m, None);
-                for sizes in [(1, 0), (5, 64), (97, 4096)] {
+                for (run, ahead, warm) in [(1, 1, 0), (5, 3, 64), (61, 97, 4096)] {
+                    let sizes = Sizes { run, ahead, warm };
                     let got = expand(&src, &m, Some(sizes));
                     assert!(
                         (&got.0, &got.1) == (&out, &end),
@@ -391,10 +398,15 @@ mod tests {
         let m = Machine::built_in("gsk980").unwrap();
         let (out, end, _) = expand(&src, &m, None);
         assert!(out == src && end.starts_with("Ok"), "{end}");
-        let (got, got_end, handed) = expand(&src, &m, Some((8 << 10, 1 << 10)));
+        let sizes = Sizes {
+            run: 6 << 10,
+            ahead: 10 << 10,
+            warm: 1 << 10,
+        };
+        let (got, got_end, handed) = expand(&src, &m, Some(sizes));
         assert!(got == src && got_end == end);
-        // The thread reads every other part: about half of the input.
-        assert!(handed > src.len() as u64 / 3, "{handed} of {}", src.len());
+        // The thread reads every other part: 10/16 of the input.
+        assert!(handed > src.len() as u64 / 2, "{handed} of {}", src.len());
         // An alarm in a part the thread reads: the output stops before its line, and the error
         // is the one-thread run's, at its line and column.
         let at = src.len() * 3 / 4;
@@ -404,7 +416,7 @@ mod tests {
         bad.extend_from_slice(&src[at..]);
         let want = expand(&bad, &m, None);
         assert!(want.1.contains("Err"), "{}", want.1);
-        let got = expand(&bad, &m, Some((8 << 10, 1 << 10)));
+        let got = expand(&bad, &m, Some(sizes));
         assert!(got.0 == want.0 && got.1 == want.1, "{}", got.1);
     }
 }

@@ -6,7 +6,8 @@ use crate::dialect::lexicon::{
     self, Code as G, DwellForm, Function, Lexicon, LimitForm, PauseSpindle, ReturnForm, ToolForm,
 };
 use crate::gcode::modal::GCode;
-use crate::gcode::{Conventions, PositionCodes, Syntax};
+use crate::gcode::reader::g_code;
+use crate::gcode::{Conventions, Line, PositionCodes, Syntax};
 use crate::machine::{GCodeSystem, Machine};
 use crate::units::Units;
 
@@ -207,6 +208,23 @@ const TURNING_AB: TurningCodes = TurningCodes {
 };
 
 impl GCodes {
+    /// Whether `line` has a G code of one of the system's cycles: its threading cycles
+    /// (`multiple`, `single`) or its turning cycles. Each G word's code is taken once (most lines
+    /// that get here have one G word and no cycle); none of these codes is G0–G3, so a line whose
+    /// summary has no other G code has none of them (`cycle_codes_are_not_plain_motion`).
+    #[inline]
+    pub fn has_cycle(&self, line: &Line) -> bool {
+        if !line.summary.other_g() {
+            return false;
+        }
+        let turning = self.turning.all();
+        line.words.iter().any(|w| {
+            w.letter == b'G'
+                && g_code(w.value)
+                    .is_some_and(|c| c == self.multiple || c == self.single || turning.contains(&c))
+        })
+    }
+
     /// The table of `system`.
     pub const fn of(system: GCodeSystem) -> GCodes {
         match system {
@@ -485,3 +503,21 @@ pub const HOLE_CYCLES: &[(u16, &str)] = &[
     (880, "side tapping cycle"),
     (890, "boring cycle with dwell"),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cycle_codes_are_not_plain_motion() {
+        // `GCodes::has_cycle` trusts the lexer's summary, which leaves G0–G3 out.
+        for system in [GCodeSystem::A, GCodeSystem::B, GCodeSystem::C] {
+            let codes = GCodes::of(system);
+            let mut all = codes.turning.all().to_vec();
+            all.extend([codes.multiple, codes.single]);
+            for c in all {
+                assert!(c % 10 != 0 || c > 30, "{system:?}: G{}", c / 10);
+            }
+        }
+    }
+}

@@ -247,11 +247,9 @@ impl FanucFamily {
     pub fn wants(&self, line: &Line) -> bool {
         self.g92.is_some()
             || self.run_phase.is_some()
-            || line.has_g(self.codes.multiple)
-            || line.has_g(self.codes.single)
             || (self.flavour.start_angle && line.summary.has_letter(b'Q'))
             || self.turning_in_progress()
-            || self.wants_turning(line)
+            || self.codes.has_cycle(line)
     }
 
     /// The pull-out of a pass for lead `lead` (mm), as the parameters (and M23/M24) give it.

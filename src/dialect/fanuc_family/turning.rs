@@ -723,13 +723,6 @@ impl FanucFamily {
     pub(super) fn turning_in_progress(&self) -> bool {
         self.turning.reading.is_some() || self.turning.box_modal.is_some()
     }
-
-    /// Whether `line` has a turning cycle's code.
-    #[inline]
-    pub(super) fn wants_turning(&self, line: &Line) -> bool {
-        let t = &self.codes.turning;
-        t.all().iter().any(|&c| line.has_g(c))
-    }
 }
 
 /// A sequence number P(ns) or Q(nf): a whole number 1–99999.
