@@ -309,3 +309,49 @@ fn each_finding_shows_its_own_line() {
         assert!(err.contains(&shown), "{shown:?} not in\n{err}");
     }
 }
+
+#[test]
+fn a_long_file_read_on_two_threads_is_copied_exactly_and_an_alarm_late_in_it_is_told_at_its_line() {
+    // A file of 4 MiB or more is read ahead, and every other part of it is lexed on a second
+    // thread (cli/src/cli/lookahead.rs, in parts of 1 MiB): the output and the errors must be
+    // those of reading it on one.
+    let dir = temp_dir("long");
+    let mut text = String::from("G21 G99\nG0 X100 Z5\n");
+    let mut lines = 2;
+    while text.len() < 6 << 20 {
+        let (x, z) = (20 + lines % 7, lines % 400);
+        text.push_str(&format!("G1 X{x}.250 Z-{z}.05 F0.15\nG0 X30. W1.\n"));
+        lines += 2;
+    }
+    let input = write(&dir, "long.nc", &text);
+    let output = dir.join("out.nc");
+    let run = |input: &Path| {
+        threadcut(&[
+            "expand",
+            input.to_str().unwrap(),
+            "-c",
+            "gsk980",
+            "-o",
+            output.to_str().unwrap(),
+        ])
+    };
+    let out = run(&input);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(std::fs::read(&output).unwrap() == text.as_bytes());
+    std::fs::remove_file(&output).unwrap();
+    // An alarm in the run's own part (the fifth MiB) and in one the second thread reads (the
+    // sixth): the line and column of the one-thread run, and no output file.
+    for mib in [4, 5] {
+        let at = (mib << 20) + 100;
+        let at = at + text[at..].find('\n').unwrap() + 1;
+        let line = text[..at].matches('\n').count() + 1;
+        let bad = format!("{}G1 X20 Z-1 G345\n{}", &text[..at], &text[at..]);
+        let input = write(&dir, "bad.nc", &bad);
+        let out = run(&input);
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8(out.stderr).unwrap();
+        assert!(err.contains("G345 is not a G code of gsk980"), "{err}");
+        assert!(err.contains(&format!("bad.nc:{line}:12")), "{line}: {err}");
+        assert!(!output.exists(), "a half-written output");
+    }
+}
