@@ -336,7 +336,11 @@ fn a_long_file_read_on_two_threads_is_copied_exactly_and_an_alarm_late_in_it_is_
         ])
     };
     let out = run(&input);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert!(std::fs::read(&output).unwrap() == text.as_bytes());
     std::fs::remove_file(&output).unwrap();
     // An alarm in the run's own part (the fifth MiB) and in one the second thread reads (the

@@ -636,6 +636,28 @@ fn plot_of_many_cycles_is_bounded_and_says_what_it_left_out() {
         "{}",
         &svg[..600]
     );
+    // A cycle that cuts in one pass, run again 3,000 times from the same start: one thread of
+    // 3,000 passes, every one after the first a spring pass at full depth in the same place.
+    // Each is drawn once, not 3,000 times over.
+    let once = "G0 X22. Z5.\nG76 X16.933 Z-30. K1.534 D2. F2.5 A60\n";
+    let again = write(
+        &dir,
+        "again.nc",
+        &format!("G21\nG97 S500 M3\n{}", once.repeat(3000)),
+    );
+    let out = threadcut(&["plot", &again, "-c", "haas"]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let svg = stdout(&out);
+    assert!(
+        svg.contains("0 rough passes and 3000 finishing passes"),
+        "{}",
+        &svg[..600]
+    );
+    // The tool outlines of one pass in eight (a spring pass is not drawn again over the pass
+    // before it), and the target form.
+    let outlines = svg.matches("<polyline").count();
+    assert!((375..=380).contains(&outlines), "{outlines} outlines");
+    assert!(svg.len() < 400_000, "{} bytes", svg.len()); // 2.2 MB when each was drawn
 }
 
 #[test]

@@ -142,15 +142,25 @@ fn stride(c: &CyclePlot) -> usize {
     c.passes.len().div_ceil(MAX_PATH_PASSES).max(1)
 }
 
-/// Whether pass `n` (0: moves outside any pass) has its toolpath and tool outline drawn.
+/// Whether pass `n` (0: moves outside any pass) has its toolpath and tool outline drawn: every
+/// pass of a thread of at most [`MAX_PATH_PASSES`]; of a longer one, one pass in
+/// [`stride`] and every finishing pass but one that repeats the pass before it in place (a spring
+/// pass, drawn exactly over it: a cycle run again thousands of times at full depth).
 fn shown(c: &CyclePlot, n: u32) -> bool {
     let k = stride(c);
-    k == 1
-        || n == 0
-        || (n as usize - 1).is_multiple_of(k)
-        || c.passes
-            .get(n as usize - 1)
-            .is_none_or(|p| p.kind == crate::thread::PassKind::Finish)
+    if k == 1 || n == 0 || (n as usize - 1).is_multiple_of(k) {
+        return true;
+    }
+    let i = n as usize - 1;
+    match c.passes.get(i) {
+        None => true,
+        Some(p) if p.kind == crate::thread::PassKind::Finish => {
+            let before = i.checked_sub(1).and_then(|j| c.passes.get(j));
+            !before
+                .is_some_and(|b| b.depth == p.depth && b.offset == p.offset && b.start == p.start)
+        }
+        Some(_) => false,
+    }
 }
 
 fn cycle(s: &mut String, c: &CyclePlot, y0: f64) {
