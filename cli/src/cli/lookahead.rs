@@ -63,6 +63,34 @@ impl Source for std::fs::File {
     }
 }
 
+/// The file's length and time of its last change when the run began: the look ahead reads the
+/// file a second time, at offsets, so a file written while it is read could give the two readings
+/// different bytes. The run ends in an error then (as it would have to anyway: the program read
+/// is neither the old file nor the new one).
+pub struct Stamp {
+    file: std::fs::File,
+    first: (u64, std::time::SystemTime),
+}
+
+impl Stamp {
+    /// `None` where the system gives no time of change (the check is then not made).
+    pub fn of(file: &std::fs::File) -> Option<Stamp> {
+        let file = file.try_clone().ok()?;
+        let first = stamp(&file)?;
+        Some(Stamp { file, first })
+    }
+
+    /// Whether the file is as it was.
+    pub fn unchanged(&self) -> bool {
+        stamp(&self.file) == Some(self.first)
+    }
+}
+
+fn stamp(file: &std::fs::File) -> Option<(u64, std::time::SystemTime)> {
+    let m = file.metadata().ok()?;
+    Some((m.len(), m.modified().ok()?))
+}
+
 /// The state the run had at a line start: the thread's first guess, and a better one later
 /// where the run read a part itself.
 struct Known {

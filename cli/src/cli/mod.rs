@@ -739,8 +739,22 @@ fn run_expand(args: ExpandArgs) -> Result<ExitCode, Failure> {
             ProgramFormat::Gcode => match long {
                 // A long file's later parts are read on the second core (`lookahead`).
                 Some(handle) => {
+                    let stamp = lookahead::Stamp::of(&handle);
                     let mut look = lookahead::LookAhead::new(handle, machine.clone());
-                    program::expand_gcode_ahead(reader, out, &machine, &options, Some(&mut look))
+                    let run = program::expand_gcode_ahead(
+                        reader,
+                        out,
+                        &machine,
+                        &options,
+                        Some(&mut look),
+                    );
+                    if stamp.is_some_and(|s| !s.unchanged()) {
+                        return Err(Failure::Other(format!(
+                            "{} changed while it was read: run again once it is written",
+                            input::display(file)
+                        )));
+                    }
+                    run
                 }
                 None => program::expand_gcode_to(reader, out, &machine, &options),
             },
