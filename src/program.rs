@@ -556,8 +556,10 @@ fn at_seam<R: BufRead, S: Sink, D: dialect::Dialect>(
     };
     let at_rest = dialect.at_rest();
     let (taken, next) = ahead.at(offset, modal, at_rest);
+    // (While the reader keeps the program's beginning for a jump back, it reads as ever: when it
+    // stops keeping it depends on when it reads more, which a skip would move.)
     match taken {
-        Some(t) if at_rest && t.bytes > 0 && t.entry.same(modal) => {
+        Some(t) if at_rest && t.bytes > 0 && !reader.keeping_prefix() && t.entry.same(modal) => {
             reader.skip(t.bytes, t.lines, pending, |b| sink.pass(b))?;
             *modal = t.exit;
             summary.lines = reader.line_number();

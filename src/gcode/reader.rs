@@ -278,6 +278,11 @@ impl<R: BufRead> Reader<R> {
         self.offset
     }
 
+    /// Whether the input read so far is still kept from its start ([`keep_prefix`](Self::keep_prefix)).
+    pub(crate) fn keeping_prefix(&self) -> bool {
+        self.keeping
+    }
+
     /// The number of the last line handed out (0 before the first).
     pub fn line_number(&self) -> u32 {
         self.line_no
@@ -287,7 +292,7 @@ impl<R: BufRead> Reader<R> {
     /// ahead, `program::ahead`), without lexing them. Like lines handed out, they count as
     /// `pending`: bytes right before the next line, which `pass` gets (the earlier pending bytes
     /// first) before the reader reads more input and so drops them from its buffer.
-    pub(crate) fn skip<E: From<std::io::Error>>(
+    pub(crate) fn skip<E: From<std::io::Error> + From<Diagnostic>>(
         &mut self,
         len: u64,
         lines: u32,
@@ -309,7 +314,10 @@ impl<R: BufRead> Reader<R> {
                     pass(&self.buf[self.start - *pending..self.start])?;
                     *pending = 0;
                 }
-                self.refill()?;
+                // (Which of the lines the failed read falls in is not known here: the error
+                // names the first line not yet read.)
+                let (line, offset) = (self.line_no + 1, self.offset);
+                self.refill().map_err(|e| cannot_read(line, offset, &e))?;
                 continue;
             }
             let n = left.min((self.end - self.start) as u64) as usize;
@@ -531,13 +539,8 @@ impl<R: BufRead> Reader<R> {
             if self.eof {
                 return Ok((!available.is_empty()).then_some(available.len()));
             }
-            self.refill().map_err(|e| {
-                Diagnostic::error(
-                    Code::Input,
-                    Span::new(offset, 0, line_no, 1),
-                    format!("cannot read the input: {e}"),
-                )
-            })?;
+            self.refill()
+                .map_err(|e| cannot_read(line_no, offset, &e))?;
         }
     }
 
@@ -578,6 +581,15 @@ impl<R: BufRead> Reader<R> {
         self.eof = read == 0;
         Ok(())
     }
+}
+
+/// The input could not be read at line `line_no`.
+fn cannot_read(line_no: u32, offset: u64, e: &std::io::Error) -> Diagnostic {
+    Diagnostic::error(
+        Code::Input,
+        Span::new(offset, 0, line_no, 1),
+        format!("cannot read the input: {e}"),
+    )
 }
 
 #[cfg(test)]

@@ -139,25 +139,38 @@ pub fn picture_with(
 
 /// One pass in this many has its toolpath and tool outline drawn ([`MAX_PATH_PASSES`]).
 fn stride(c: &CyclePlot) -> usize {
-    c.passes.len().div_ceil(MAX_PATH_PASSES).max(1)
+    stride_of(c.passes)
+}
+
+fn stride_of(passes: &[crate::thread::Pass]) -> usize {
+    passes.len().div_ceil(MAX_PATH_PASSES).max(1)
 }
 
 /// Whether pass `n` (0: moves outside any pass) has its toolpath and tool outline drawn: every
 /// pass of a thread of at most [`MAX_PATH_PASSES`]; of a longer one, one pass in
-/// [`stride`] and every finishing pass but one that repeats the pass before it in place (a spring
-/// pass, drawn exactly over it: a cycle run again thousands of times at full depth).
+/// [`stride`] and every finishing pass but one that repeats a finishing pass before it in place
+/// (a spring pass, drawn exactly over it: a cycle run again thousands of times at full depth).
+/// The first finishing pass is drawn even where it repeats the last rough pass, which may not be.
 fn shown(c: &CyclePlot, n: u32) -> bool {
-    let k = stride(c);
+    shown_of(c.passes, n)
+}
+
+fn shown_of(passes: &[crate::thread::Pass], n: u32) -> bool {
+    let k = stride_of(passes);
     if k == 1 || n == 0 || (n as usize - 1).is_multiple_of(k) {
         return true;
     }
     let i = n as usize - 1;
-    match c.passes.get(i) {
+    match passes.get(i) {
         None => true,
         Some(p) if p.kind == crate::thread::PassKind::Finish => {
-            let before = i.checked_sub(1).and_then(|j| c.passes.get(j));
-            !before
-                .is_some_and(|b| b.depth == p.depth && b.offset == p.offset && b.start == p.start)
+            let before = i.checked_sub(1).and_then(|j| passes.get(j));
+            !before.is_some_and(|b| {
+                b.kind == crate::thread::PassKind::Finish
+                    && b.depth == p.depth
+                    && b.offset == p.offset
+                    && b.start == p.start
+            })
         }
         Some(_) => false,
     }
@@ -592,4 +605,49 @@ fn path_captions(s: &mut String, c: &CyclePlot, frame: &PathFrame, y: f64) {
         lbl(path.start.x),
         lbl(path.start.z)
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::thread::{Pass, PassKind};
+    use crate::units::Pos;
+
+    fn pass(n: u32, kind: PassKind, depth: f64) -> Pass {
+        Pass {
+            n,
+            kind,
+            depth,
+            increment: 0.0,
+            offset: 0.0,
+            start: Pos::new(10.0, 5.0),
+            area: 0.0,
+            share: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_spring_pass_is_drawn_once_and_full_depth_always() {
+        // 624 rough passes, the last at full depth, then a finishing pass in the same place (no
+        // finishing allowance) and two spring passes: 627 passes, one in two drawn.
+        let mut passes: Vec<Pass> = (1..=624)
+            .map(|n| pass(n, PassKind::Rough, f64::from(n) / 624.0))
+            .collect();
+        for n in 625..=627 {
+            passes.push(pass(n, PassKind::Finish, 1.0));
+        }
+        assert_eq!(stride_of(&passes), 2);
+        // The last rough pass falls between the drawn ones; the first finishing pass, at the same
+        // place, is drawn; the spring passes over it are not.
+        assert!(!shown_of(&passes, 624));
+        assert!(shown_of(&passes, 625));
+        assert!(!shown_of(&passes, 626));
+        // (627 is one of the one in two.)
+        assert!(shown_of(&passes, 627));
+        // A finishing pass elsewhere is drawn.
+        passes[626].depth = 1.01;
+        assert!(shown_of(&passes, 627));
+        passes[625].depth = 1.02;
+        assert!(shown_of(&passes, 626));
+    }
 }

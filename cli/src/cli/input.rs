@@ -95,7 +95,9 @@ pub fn open_long(file: &Path) -> Result<Long, Failure> {
     let bar = Bar::new(len, false);
     if len.is_some_and(|n| n >= READ_AHEAD_FROM) {
         // A long file is read by a second thread while this one works (`ahead`).
-        let handle = f.try_clone().ok();
+        // A second handle that reads at offsets without moving the first one's position: on
+        // Unix (`pread`); elsewhere a duplicated handle shares the position, so none is made.
+        let handle = if cfg!(unix) { f.try_clone().ok() } else { None };
         let reader = BufReader::with_capacity(1 << 16, super::ahead::ReadAhead::new(f));
         return Ok((
             Box::new(Watch::new(reader, seen, len, bar)),

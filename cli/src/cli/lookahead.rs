@@ -107,6 +107,11 @@ struct Answer {
 /// Answers the thread keeps ready at most (memory flat).
 const DEPTH: usize = 2;
 
+/// Answers in a row the run could not take, after which the thread stops: it would only take a
+/// core from the run (a program in incremental coordinates, whose position no part's last lines
+/// tell; a program of cycles, which the thread does not read).
+const GIVE_UP: u32 = 3;
+
 #[derive(Default)]
 struct State {
     /// The run's latest state at a seam where it read the part itself.
@@ -140,6 +145,8 @@ pub struct LookAhead {
     seam: u64,
     /// The bytes of the lines handed to the run (which takes them where its state agrees).
     handed: u64,
+    /// Answers in a row the run could not take.
+    misses: u32,
 }
 
 impl LookAhead {
@@ -165,6 +172,7 @@ impl LookAhead {
             len,
             seam: 0,
             handed: 0,
+            misses: 0,
         }
     }
 
@@ -192,7 +200,7 @@ impl Ahead for LookAhead {
         0
     }
 
-    fn at(&mut self, offset: u64, modal: &Modal, _at_rest: bool) -> (Option<Taken>, u64) {
+    fn at(&mut self, offset: u64, modal: &Modal, at_rest: bool) -> (Option<Taken>, u64) {
         let nominal = self.seam;
         let Sizes { run, ahead, .. } = self.sizes;
         if nominal >= self.len {
@@ -202,12 +210,23 @@ impl Ahead for LookAhead {
         if nominal % (run + ahead) == run {
             self.seam = nominal + ahead;
             let found = self.answer(nominal);
+            // (The run checks the same again: the thread's answer is never trusted.)
             return match found {
-                Some((seam, taken)) if seam == offset => {
+                Some((seam, taken)) if seam == offset && at_rest && taken.entry.same(modal) => {
+                    self.misses = 0;
                     self.handed += taken.bytes;
                     (Some(taken), self.seam)
                 }
-                _ => (None, self.seam),
+                _ => {
+                    self.misses += 1;
+                    if self.misses < GIVE_UP {
+                        return (None, self.seam);
+                    }
+                    self.seam = u64::MAX;
+                    lock(&self.shared).stop = true;
+                    self.shared.1.notify_all();
+                    (None, u64::MAX)
+                }
             };
         }
         self.seam = nominal + run;
@@ -408,6 +427,28 @@ mod tests {
             }
         }
         assert!(handed > 1_000, "the thread handed the run {handed} bytes");
+    }
+
+    #[test]
+    fn a_program_in_incremental_coordinates_is_read_on_one_thread() {
+        // Its position after a part's last lines depends on every line before: no guess is the
+        // run's state, nothing is taken, and the thread stops after GIVE_UP answers.
+        let mut src = b"G21 G99\nG0 X100 Z5\n".to_vec();
+        for i in 0..20_000 {
+            let (x, z) = (i % 7, i % 5);
+            src.extend_from_slice(format!("G1 U-0.{x}1 W0.{z}3 F0.15\n").as_bytes());
+        }
+        let m = Machine::built_in("gsk980").unwrap();
+        let sizes = Sizes {
+            run: 8 << 10,
+            ahead: 8 << 10,
+            warm: 1 << 10,
+        };
+        let (out, end, _) = expand(&src, &m, None);
+        assert!(out == src && end.starts_with("Ok"), "{end}");
+        let (got, got_end, handed) = expand(&src, &m, Some(sizes));
+        assert!(got == src && got_end == end);
+        assert_eq!(handed, 0);
     }
 
     #[test]
