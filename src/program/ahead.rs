@@ -66,8 +66,8 @@ impl dialect::WithDialect for Open {
         let conv = dialect.conventions().clone();
         Box::new(move |modal, warm, text| {
             let mut modal = modal.clone();
-            let (bytes, _, whole) = plain_lines(&dialect, &conv, &mut modal, warm)?;
-            if !whole || bytes != warm.len() as u64 {
+            let (_, _, whole) = plain_lines(&dialect, &conv, &mut modal, warm)?;
+            if !whole {
                 return None;
             }
             let entry = modal.clone();

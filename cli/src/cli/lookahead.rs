@@ -4,15 +4,16 @@
 //! library checks that, so the output and the errors are the one-thread run's exactly
 //! (docs/architecture.md, "Reading ahead").
 //!
-//! The input is cut at nominal offsets every [`CHUNK`] bytes; a part starts at the first line
-//! start at or after its nominal offset. The thread reads the odd parts, in order, at most
-//! [`DEPTH`] answers ahead of the run; the run reads the even ones and, at the seam of each odd
-//! one, takes the thread's answer. Each part is read from a state known before it: the run's at
+//! The input is cut into parts at nominal offsets ([`SIZES`]: the run's and the thread's parts in
+//! turn, 1 MiB each); a part starts at the first line start at or after its nominal offset. The
+//! thread reads its parts in order, at most [`DEPTH`] answers ahead of the run; the run reads its
+//! own and, at the seam of each of the thread's, takes the thread's answer. Each part is read from a state known before it: the run's at
 //! the seam where it last read a part itself, or the state after the lines the thread took from
 //! its part before (the run's own there, when the run took them). From that state the thread
-//! first reads the last lines before the part's seam ([`WARM`] bytes at most), which set the
+//! first reads the last lines before the part's seam (`Sizes::warm` bytes at most), which set the
 //! position, feed and modes a plain program keeps writing again, and then the part. Memory is
-//! flat: one part's bytes and a few states.
+//! flat: one part's bytes and a few states. The thread stops after [`GIVE_UP`] answers in a row
+//! the run could not take.
 
 use std::collections::VecDeque;
 use std::io;
