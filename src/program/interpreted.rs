@@ -433,6 +433,9 @@ pub(super) struct ExpandState {
     from: Option<u32>,
     /// Each cycle line the interpreter ran: its expansion, how often it ran and where first.
     runs: HashMap<u32, Expansion>,
+    /// The buffer a recorded cycle is expanded into, kept from one cycle to the next (a long
+    /// program's beginning holds thousands of cycles).
+    scratch: Vec<u8>,
 }
 
 struct Expansion {
@@ -448,6 +451,7 @@ impl ExpandState {
             prefix: keeps_prefix.then(HashMap::new),
             from: None,
             runs: HashMap::new(),
+            scratch: Vec::new(),
         }
     }
 
@@ -487,7 +491,8 @@ pub(super) fn expand_recorded(
             ev,
         );
     }
-    let mut buf = Vec::new();
+    let mut buf = std::mem::take(&mut sink.interp.scratch);
+    buf.clear();
     expand_ending(
         &mut buf,
         &sink.format,
@@ -499,7 +504,9 @@ pub(super) fn expand_recorded(
     if let Some(p) = &mut sink.interp.prefix {
         p.insert(line.0, digest(&buf));
     }
-    Ok(sink.out.write_all(&buf)?)
+    sink.out.write_all(&buf)?;
+    sink.interp.scratch = buf;
+    Ok(())
 }
 
 /// A block the interpreter executed, for `expand`.
