@@ -144,6 +144,10 @@ struct AnalyseRequest {
     /// long program's list costs as much as the rest of the analysis. Default: yes.
     #[serde(default = "yes")]
     motions: bool,
+    /// Whether to list each thread's blank (`blanks`, as `check` gives them): one entry a
+    /// thread, which the page does not show. Default: yes.
+    #[serde(default = "yes")]
+    blanks: bool,
     /// At most this many threads get their pass table (`cycles`); `cycles_total` counts them all.
     /// Default: every thread.
     #[serde(default)]
@@ -176,6 +180,7 @@ struct AnalyseRequest {
 #[derive(Clone, Copy)]
 struct Listing {
     motions: bool,
+    blanks: bool,
     max_cycles: usize,
     /// The lines of the expanded program given (the rest counted).
     gcode_lines: usize,
@@ -199,6 +204,7 @@ pub fn analyse(request: &str) -> Value {
             None,
             Listing {
                 motions: r.motions,
+                blanks: r.blanks,
                 max_cycles: r.max_cycles.unwrap_or(usize::MAX),
                 gcode_lines: r.gcode_lines.unwrap_or(usize::MAX),
                 max_passes: r.max_passes.unwrap_or(usize::MAX),
@@ -262,6 +268,7 @@ pub fn analyse_text(controller: &str, text: &str, placed: Option<&[Placed]>) -> 
         placed,
         Listing {
             motions: true,
+            blanks: true,
             max_cycles: usize::MAX,
             gcode_lines: usize::MAX,
             max_passes: usize::MAX,
@@ -330,6 +337,7 @@ fn analyse_with(
             blanks = report
                 .blanks
                 .iter()
+                .filter(|_| listing.blanks)
                 .map(|b| {
                     let mut v = commands::blank_json(b);
                     v["line"] = b.line.into();

@@ -501,6 +501,14 @@ fn a_pasted_program_shows_its_part_and_the_rapid_into_it() {
         out["blanks"],
         json!([{"line": 18, "crest": 19.8, "crest_from": "measured", "face": 0.0, "face_from": "given"}])
     );
+    // The page asks for no blanks (it shows none): the rest of the analysis is the same.
+    let without = api::analyse(
+        &json!({"controller": "fanuc", "program": program, "stock_diameter": 25.0, "stock_start": 0.0, "blanks": false})
+            .to_string(),
+    );
+    assert_eq!(without["blanks"], json!([]));
+    assert_eq!(without["diagnostics"], out["diagnostics"]);
+    assert_eq!(without["svg"], out["svg"]);
     // Without a stock the part is still drawn (the program cut it), the bar's size not known.
     let out = api::analyse(&json!({"controller": "fanuc", "program": program}).to_string());
     assert!(out["svg"]
