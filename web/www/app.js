@@ -19,6 +19,7 @@ class Engine {
   spawn() {
     this.worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
     this.waiting = new Map();
+    this.warmed = new Set();
     this.worker.onmessage = (e) => {
       const w = this.waiting.get(e.data.id);
       if (!w) return;
@@ -40,6 +41,14 @@ class Engine {
       this.waiting.set(id, { fn, text, resolve });
       this.worker.postMessage({ id, fn, arg: text });
     });
+  }
+
+  /** Has the worker analyse a short program for this controller once, after what it was asked
+   * before: the first analysis of a long paste then runs compiled code (worker.js). */
+  warm(request) {
+    if (this.warmed.has(request.controller)) return;
+    this.warmed.add(request.controller);
+    this.call('warm', request);
   }
 
   /** Stops an analysis that a newer one replaces: a new worker, the other calls sent again. */
@@ -254,7 +263,7 @@ async function convert() {
   if (id !== requested) return;
   showConversion(r);
   if (r.ok) {
-    run('analyse', { controller: to, program: r.program, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES, max_passes: SHOWN_PASSES });
+    run('analyse', { controller: to, program: r.program, ...shownOnly() });
   } else {
     show({ ok: false, program: $('convert-source').value, cycles: [], diagnostics: r.diagnostics || [], error: r.diagnostics ? undefined : r.error });
     status('');
@@ -296,9 +305,14 @@ function stock() {
   return out;
 }
 
+/** What an analysis gives the page: no motion list and no blanks (the page shows neither), the
+ * first pass tables, lines and rows. */
+function shownOnly() {
+  return { motions: false, blanks: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES, max_passes: SHOWN_PASSES };
+}
+
 function analyse() {
-  // The page shows no motion list: the engine need not write one.
-  run('analyse', { controller: current().name, program: $('source').value, motions: false, max_cycles: SHOWN_CYCLES, gcode_lines: SHOWN_LINES, max_passes: SHOWN_PASSES, ...stock() });
+  run('analyse', { controller: current().name, program: $('source').value, ...shownOnly(), ...stock() });
 }
 
 /** Runs an analysis in the worker and shows it, unless a newer one has been asked for since. */
@@ -553,6 +567,7 @@ async function controllerChanged() {
     if (!c.form) show({ ok: true, program: '', cycles: [], diagnostics: [] });
   } else if (mode === 'paste') analyse();
   else convert();
+  engine.warm({ controller: c.name, ...shownOnly() });
 }
 
 async function main() {

@@ -5,7 +5,28 @@
 import init, * as tc from './pkg/threadcut_web.js';
 
 const ready = init();
-const functions = { controllers: tc.controllers, thread: tc.thread, fill: tc.fill, plan: tc.plan, analyse: tc.analyse, expand: tc.expand, convert: tc.convert };
+// Warming (`warm`, the page's analysis request without its program): the browser compiles the
+// module's functions as they first run, and optimises the busy ones after a while, so the first
+// analysis of a long paste ran at about half the speed of the next one (docs/performance.md).
+// The page asks once for each controller it selects; the worker then analyses a hundred
+// M20x2.5 cycles written for that controller (Fanuc's G76, converted by the engine itself),
+// after whatever it was asked before, and drops the result.
+const WARM_FANUC = 'G21\nG97 S500 M03\n' +
+  'G00 X22. Z7.5\nG76 P020060 Q100 R0.05\nG76 X16.932 Z-30. P1534 Q470 F2.5\n'.repeat(100) + 'M30\n';
+
+function warm(arg) {
+  const request = JSON.parse(arg);
+  let program = WARM_FANUC;
+  if (request.controller !== 'fanuc') {
+    const converted = JSON.parse(tc.convert(JSON.stringify({ from: 'fanuc', to: request.controller, program })));
+    if (!converted.ok) return JSON.stringify({ ok: false, error: converted.error });
+    program = converted.program;
+  }
+  tc.analyse(JSON.stringify({ ...request, program }));
+  return JSON.stringify({ ok: true });
+}
+
+const functions = { controllers: tc.controllers, thread: tc.thread, fill: tc.fill, plan: tc.plan, analyse: tc.analyse, expand: tc.expand, convert: tc.convert, warm };
 
 self.onmessage = async (e) => {
   const { id, fn, arg } = e.data;
