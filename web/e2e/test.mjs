@@ -325,6 +325,23 @@ try {
   assert.ok(fanuc.lastEditToShown < 2000, JSON.stringify(fanuc));
   assert.match(fanuc.status, /analysed 30,00\d lines/, JSON.stringify(fanuc));
 
+  // 9. The worker's warm-up analysis (the page asks for it when a controller is chosen) has a
+  // program every controller reads: asked of a worker of its own, each says ok.
+  const warmed = await page.evaluate(async (names) => {
+    const w = new Worker('./worker.js', { type: 'module' });
+    const out = {};
+    for (const [id, name] of names.entries()) {
+      out[name] = await new Promise((resolve) => {
+        w.onmessage = (e) => resolve(JSON.parse(e.data.result));
+        w.postMessage({ id, fn: 'warm', arg: JSON.stringify({ controller: name, motions: false, blanks: false, max_cycles: 20, gcode_lines: 1000, max_passes: 500 }) });
+      });
+    }
+    w.terminate();
+    return out;
+  }, await page.$$eval('#controller option', (os) => os.map((o) => o.value)));
+  assert.equal(Object.keys(warmed).length, 9, JSON.stringify(warmed));
+  for (const [name, r] of Object.entries(warmed)) assert.equal(r.ok, true, `${name}: ${JSON.stringify(r)}`);
+
   assert.deepEqual(problems, []);
   console.log(`e2e: ok (${url}; screenshots in web/e2e/)`);
 } catch (e) {
