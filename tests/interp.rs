@@ -839,6 +839,25 @@ fn expand_compares_a_cycle_before_the_first_macro_statement_that_a_jump_runs_aga
         }
         other => panic!("{other:?}"),
     }
+    // The second run's modal state differs in what its expansion does not write (G55 and a feed
+    // of the plain moves): the same moves from the same start, so the expansion stands for both.
+    // (What a streamed cycle is compared by is its expansion, made again from the state it ran
+    // in, not that state.)
+    let src = "G21\nG54\nN10 G0 X32. Z5.\nG92 X29.2 Z-30. F2.\nG55 G1 Z6. F0.3\n#100=#100+1\nIF[#100LT2]GOTO10\nM30\n";
+    let out = expand(src, "fanuc", false).unwrap();
+    assert!(out.contains("(threadcut: fanuc cycle of line 4"), "{out}");
+    assert_eq!(
+        moves(src, "fanuc").iter().filter(|m| m.line == 4).count(),
+        2 * 5
+    );
+    // From the same start, but reached in G1 the second time (N10 has no motion word): the
+    // expansion restores G1 after the moves the second time only. Refused.
+    let src = "G21 G99\nG0\nN10 X32. Z5.\nG76 P010060 Q100 R0.05\nG76 X29.2 Z-30. P1000 Q400 F2.\nG1 Z6. F0.3\n#100=#100+1\nIF[#100LT2]GOTO10\nM30\n";
+    let e = expand(src, "fanuc", false);
+    assert!(
+        matches!(&e, Err(Error::Input(d)) if d.span.line == 5 && d.message.contains("starting at X32 Z5")),
+        "{e:?}"
+    );
 }
 
 #[test]

@@ -12,6 +12,7 @@ use crate::gcode::lexer::{index_words, WordIndex};
 use crate::gcode::{Conventions, Line, LineShape, Modal, Position, Reader, Word, WordSummary};
 use crate::interp::{self, Syntax, Text};
 use crate::machine::Machine;
+use crate::thread::Job;
 use crate::units::Units;
 
 use super::{expand_ending, Error, Event, ExpandSink, Options, Sink, Summary};
@@ -426,9 +427,9 @@ impl<D: dialect::Dialect, S: Sink> interp::Host for RunHost<'_, D, S> {
 /// `expand`'s state for a program with control flow.
 pub(super) struct ExpandState {
     pub(super) flatten: bool,
-    /// While the beginning of a Fanuc-style program streams: a digest of each cycle's expansion,
-    /// for a jump back that runs the cycle again (it must expand the same).
-    prefix: Option<HashMap<u32, u64>>,
+    /// While the beginning of a Fanuc-style program streams: what each cycle's expansion was
+    /// made from, for a jump back that runs the cycle again (it must expand the same).
+    prefix: Option<HashMap<u32, Recorded>>,
     /// The line the interpreter took over.
     from: Option<u32>,
     /// Each cycle line the interpreter ran: its expansion, how often it ran and where first.
@@ -436,6 +437,16 @@ pub(super) struct ExpandState {
     /// The buffer a recorded cycle is expanded into, kept from one cycle to the next (a long
     /// program's beginning holds thousands of cycles).
     scratch: Vec<u8>,
+}
+
+/// A streamed cycle of the program's beginning, as recorded for a jump back.
+enum Recorded {
+    /// A threading cycle: its job and the modal state it was expanded in, from which its
+    /// expansion is made again when a jump back runs it (so that the streamed run need not keep
+    /// its text: a page that shows the first lines of a long program does not format the rest).
+    Cycle { modal: Box<Modal>, job: Box<Job> },
+    /// Any other block: a digest of its expansion.
+    Digest(u64),
 }
 
 struct Expansion {
@@ -491,6 +502,23 @@ pub(super) fn expand_recorded(
             ev,
         );
     }
+    if let (Event::Cycle { job, .. }, Some(p)) = (&ev, &mut sink.interp.prefix) {
+        p.insert(
+            line.0,
+            Recorded::Cycle {
+                modal: Box::new(modal.clone()),
+                job: job.clone(),
+            },
+        );
+        return expand_ending(
+            sink.out,
+            &sink.format,
+            sink.distance_words,
+            sink.ending,
+            modal,
+            ev,
+        );
+    }
     let mut buf = std::mem::take(&mut sink.interp.scratch);
     buf.clear();
     expand_ending(
@@ -502,7 +530,7 @@ pub(super) fn expand_recorded(
         ev,
     )?;
     if let Some(p) = &mut sink.interp.prefix {
-        p.insert(line.0, digest(&buf));
+        p.insert(line.0, Recorded::Digest(digest(&buf)));
     }
     sink.out.write_all(&buf)?;
     sink.interp.scratch = buf;
@@ -546,6 +574,11 @@ pub(super) fn expand_interpreted(
     let span = ev.line().span();
     let mut place = describe(at, start, modal);
     computed_words(&mut place, ev.line());
+    // The line and the dialect a recorded cycle of the beginning is expanded again with.
+    let again = match &ev {
+        Event::Cycle { line, dialect, .. } => Some((*line, *dialect)),
+        _ => None,
+    };
     let mut buf = Vec::new();
     expand_ending(
         &mut buf,
@@ -558,12 +591,29 @@ pub(super) fn expand_interpreted(
     let from = sink.interp.from.unwrap_or(0);
     if line < from {
         // A cycle of the streamed beginning, run again by a jump back.
-        let same = sink
-            .interp
-            .prefix
-            .as_ref()
-            .and_then(|p| p.get(&line))
-            .is_some_and(|d| *d == digest(&buf));
+        let same = match (
+            sink.interp.prefix.as_ref().and_then(|p| p.get(&line)),
+            again,
+        ) {
+            (Some(Recorded::Digest(d)), _) => *d == digest(&buf),
+            (Some(Recorded::Cycle { modal, job }), Some((line, dialect))) => {
+                let mut first = Vec::new();
+                expand_ending(
+                    &mut first,
+                    &sink.format,
+                    sink.distance_words,
+                    sink.ending,
+                    modal,
+                    Event::Cycle {
+                        line,
+                        job: job.clone(),
+                        dialect,
+                    },
+                )?;
+                first == buf
+            }
+            _ => false,
+        };
         if same {
             return Ok(());
         }
