@@ -310,8 +310,9 @@ impl Parser<'_> {
         name: &str,
         name_span: Span,
     ) -> Result<(Vec<Option<Operand>>, Vec<Span>)> {
-        let mut args = Vec::new();
-        let mut spans = Vec::new();
+        // Room for a threading cycle's parameters (CYCLE97 has 16) without growing.
+        let mut args = Vec::with_capacity(16);
+        let mut spans = Vec::with_capacity(16);
         loop {
             self.skip_blanks();
             match self.peek() {
