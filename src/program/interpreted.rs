@@ -483,8 +483,9 @@ fn digest(bytes: &[u8]) -> u64 {
     h.finish()
 }
 
-/// A streamed cycle of a Fanuc-style program's beginning: expanded as always, and its expansion
-/// remembered (as a digest) while the reader keeps the lines for a jump back.
+/// A streamed cycle of a Fanuc-style program's beginning: expanded as always, and recorded while
+/// the reader keeps the lines for a jump back (a threading cycle by what it is made from, any
+/// other block by a digest of its expansion).
 pub(super) fn expand_recorded(
     sink: &mut ExpandSink,
     modal: &Modal,
@@ -493,23 +494,19 @@ pub(super) fn expand_recorded(
     let line = (ev.line().number, ev.line().offset);
     if line.1 >= interp::PREFIX_KEPT as u64 {
         sink.interp.prefix = None;
-        return expand_ending(
-            sink.out,
-            &sink.format,
-            sink.distance_words,
-            sink.ending,
-            modal,
-            ev,
-        );
     }
-    if let (Event::Cycle { job, .. }, Some(p)) = (&ev, &mut sink.interp.prefix) {
-        p.insert(
-            line.0,
-            Recorded::Cycle {
+    let digested = match (&ev, &mut sink.interp.prefix) {
+        (Event::Cycle { job, .. }, Some(p)) => {
+            let first = Recorded::Cycle {
                 modal: Box::new(modal.clone()),
                 job: job.clone(),
-            },
-        );
+            };
+            p.insert(line.0, first);
+            false
+        }
+        (_, p) => p.is_some(),
+    };
+    if !digested {
         return expand_ending(
             sink.out,
             &sink.format,
