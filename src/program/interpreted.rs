@@ -434,8 +434,8 @@ pub(super) struct ExpandState {
     from: Option<u32>,
     /// Each cycle line the interpreter ran: its expansion, how often it ran and where first.
     runs: HashMap<u32, Expansion>,
-    /// The buffer a recorded cycle is expanded into, kept from one cycle to the next (a long
-    /// program's beginning holds thousands of cycles).
+    /// The buffer a recorded block other than a threading cycle is expanded into for its
+    /// digest, kept from one block to the next.
     scratch: Vec<u8>,
 }
 
