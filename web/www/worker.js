@@ -25,8 +25,8 @@ function warm(arg) {
     if (!converted.ok) return JSON.stringify({ ok: false, error: converted.error });
     program = converted.program;
   }
-  tc.analyse(JSON.stringify({ ...request, program }));
-  return JSON.stringify({ ok: true });
+  const analysed = JSON.parse(tc.analyse(JSON.stringify({ ...request, program })));
+  return JSON.stringify({ ok: analysed.ok === true, error: analysed.ok ? undefined : 'the warm-up program did not analyse' });
 }
 
 const functions = { controllers: tc.controllers, thread: tc.thread, fill: tc.fill, plan: tc.plan, analyse: tc.analyse, expand: tc.expand, convert: tc.convert, warm };
