@@ -325,8 +325,9 @@ try {
   assert.ok(fanuc.lastEditToShown < 2000, JSON.stringify(fanuc));
   assert.match(fanuc.status, /analysed 30,00\d lines/, JSON.stringify(fanuc));
 
-  // 9. The worker's warm-up analysis (the page asks for it when a controller is chosen) has a
-  // program every controller reads: asked of a worker of its own, each says ok.
+  // 9. The worker's warm-up analysis (the page asks for it after an analysis is shown) has a
+  // program of a hundred threading cycles every controller reads as such, with no finding: asked
+  // of a worker of its own, each says so.
   const warmed = await page.evaluate(async (names) => {
     const w = new Worker('./worker.js', { type: 'module' });
     const out = {};
@@ -340,7 +341,9 @@ try {
     return out;
   }, await page.$$eval('#controller option', (os) => os.map((o) => o.value)));
   assert.equal(Object.keys(warmed).length, 9, JSON.stringify(warmed));
-  for (const [name, r] of Object.entries(warmed)) assert.equal(r.ok, true, `${name}: ${JSON.stringify(r)}`);
+  for (const [name, r] of Object.entries(warmed)) {
+    assert.deepEqual(r, { ok: true, threads: 100, diagnostics: 0 }, `${name}: ${JSON.stringify(r)}`);
+  }
 
   assert.deepEqual(problems, []);
   console.log(`e2e: ok (${url}; screenshots in web/e2e/)`);

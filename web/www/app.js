@@ -24,6 +24,7 @@ class Engine {
       const w = this.waiting.get(e.data.id);
       if (!w) return;
       this.waiting.delete(e.data.id);
+      if (w.fn === 'warm') return w.resolve(JSON.parse(e.data.result));
       this.lastMs = e.data.ms;
       performance.mark('threadcut:result');
       w.resolve(JSON.parse(e.data.result));
@@ -44,7 +45,8 @@ class Engine {
   }
 
   /** Has the worker analyse a short program for this controller once, after what it was asked
-   * before: the first analysis of a long paste then runs compiled code (worker.js). */
+   * before (the page asks after an analysis is shown): the first analysis of a long paste then
+   * runs compiled code (worker.js). A new worker is warmed again. */
   warm(request) {
     if (this.warmed.has(request.controller)) return;
     this.warmed.add(request.controller);
@@ -57,7 +59,8 @@ class Engine {
     this.worker.terminate();
     this.spawn();
     for (const w of waiting.values()) {
-      if (w.fn === 'plan' || w.fn === 'analyse') w.resolve(null);
+      // A warm-up is not sent again ahead of the analysis that replaces the stopped one.
+      if (w.fn === 'plan' || w.fn === 'analyse' || w.fn === 'warm') w.resolve(null);
       else this.call(w.fn, w.text).then(w.resolve);
     }
   }
@@ -330,6 +333,7 @@ async function run(fn, request, then) {
   lastExpand = fn === 'analyse' ? { controller: request.controller, program: request.program, start: request.start } : null;
   show(r);
   performance.mark('threadcut:shown');
+  if (request.controller) engine.warm({ controller: request.controller, ...shownOnly() });
   const ms = performance.now() - asked;
   document.body.dataset.engineMs = String(Math.round(engine.lastMs));
   document.body.dataset.showMs = String(Math.round(performance.now() - shown));
@@ -567,7 +571,6 @@ async function controllerChanged() {
     if (!c.form) show({ ok: true, program: '', cycles: [], diagnostics: [] });
   } else if (mode === 'paste') analyse();
   else convert();
-  engine.warm({ controller: c.name, ...shownOnly() });
 }
 
 async function main() {
