@@ -500,6 +500,13 @@ impl Moves {
 /// reads on (the library itself stays single-threaded, for wasm32; docs/performance.md, issue 28).
 pub trait MovesOut: Write {
     fn moves(&mut self, moves: Moves) -> io::Result<()>;
+
+    /// Whether the text written from here on is kept: `false` for a writer that only counts its
+    /// lines (the page's first lines of a long program, past them). `expand` then records a
+    /// streamed cycle it may have to compare later by what it is made from, not by its text.
+    fn keeps_text(&self) -> bool {
+        true
+    }
 }
 
 /// Any writer as a [`MovesOut`] that writes moves at once.

@@ -441,11 +441,12 @@ pub(super) struct ExpandState {
 
 /// A streamed cycle of the program's beginning, as recorded for a jump back.
 enum Recorded {
-    /// A threading cycle: its job and the modal state it was expanded in, from which its
-    /// expansion is made again when a jump back runs it (so that the streamed run need not keep
-    /// its text: a page that shows the first lines of a long program does not format the rest).
+    /// A threading cycle whose text the output does not keep: its job and the modal state it was
+    /// expanded in, from which its expansion is made again when a jump back runs it (a page that
+    /// shows the first lines of a long program does not format the rest). 504 bytes and two
+    /// allocations a cycle, against a digest's 8: only where the text is not formatted anyway.
     Cycle { modal: Box<Modal>, job: Box<Job> },
-    /// Any other block: a digest of its expansion.
+    /// Any other block, or a cycle whose text the output keeps: a digest of its expansion.
     Digest(u64),
 }
 
@@ -484,8 +485,8 @@ fn digest(bytes: &[u8]) -> u64 {
 }
 
 /// A streamed cycle of a Fanuc-style program's beginning: expanded as always, and recorded while
-/// the reader keeps the lines for a jump back (a threading cycle by what it is made from, any
-/// other block by a digest of its expansion).
+/// the reader keeps the lines for a jump back (by a digest of its expansion, or a threading
+/// cycle whose text the output does not keep by what it is made from).
 pub(super) fn expand_recorded(
     sink: &mut ExpandSink,
     modal: &Modal,
@@ -495,8 +496,11 @@ pub(super) fn expand_recorded(
     if line.1 >= interp::PREFIX_KEPT as u64 {
         sink.interp.prefix = None;
     }
+    // A threading cycle is recorded by what it is made from where its text is not kept (it is
+    // then not even formatted); where it is, a digest of the text costs less than the record.
+    let by_text = sink.out.keeps_text();
     let digested = match (&ev, &mut sink.interp.prefix) {
-        (Event::Cycle { job, .. }, Some(p)) => {
+        (Event::Cycle { job, .. }, Some(p)) if !by_text => {
             let first = Recorded::Cycle {
                 modal: Box::new(modal.clone()),
                 job: job.clone(),

@@ -544,6 +544,10 @@ impl std::io::Write for Head {
 }
 
 impl post::MovesOut for Head {
+    fn keeps_text(&self) -> bool {
+        self.ends < self.max
+    }
+
     fn moves(&mut self, moves: post::Moves) -> std::io::Result<()> {
         if self.ends < self.max {
             let mut text = Vec::new();

@@ -825,3 +825,48 @@ fn a_long_pass_table_lists_its_first_rows() {
         .sum();
     assert!(shares < 0.9, "{shares}");
 }
+
+/// The page's expansion keeps its first lines only: a cycle of a macro program's streamed
+/// beginning past them is recorded by its job and state, not formatted, and a jump that runs it
+/// again is still held to the same expansion (`program::interpreted`). Past the first line here.
+#[test]
+fn a_jump_back_past_the_shown_lines_is_compared_as_always() {
+    let analyse = |program: &str, lines: usize| {
+        api::analyse(
+            &json!({"controller": "fanuc", "program": program, "motions": false, "gcode_lines": lines})
+                .to_string(),
+        )
+    };
+    // The second run of the G76 is reached in G1 (N10 has no motion word): its expansion
+    // restores G1 after the moves, the first run's does not. Refused, at the cycle's line.
+    let differs = "G21 G99\nG97 S500 M3\nG0\nN10 X32. Z5.\nG76 P010060 Q100 R0.05\nG76 X29.2 Z-30. P1000 Q400 F2.\nG1 Z6. F0.3\n#100=#100+1\nIF[#100LT2]GOTO10\nM30\n";
+    for lines in [1, 1000] {
+        let out = analyse(differs, lines);
+        assert_eq!(out["ok"], false, "{lines}: {out}");
+        let d = &out["diagnostics"][0];
+        assert_eq!(
+            (d["code"].as_str(), d["line"].as_u64()),
+            (Some("E005"), Some(6)),
+            "{d}"
+        );
+        assert!(
+            d["message"]
+                .as_str()
+                .unwrap()
+                .contains("starting at X32 Z5"),
+            "{d}"
+        );
+    }
+    // The same from the same state each time (G0 in N10): accepted, and the count of the
+    // expanded program's lines is the one the whole expansion has.
+    let same = differs.replace("N10 X32.", "N10 G0 X32.");
+    let (head, whole) = (analyse(&same, 1), analyse(&same, 1000));
+    assert_eq!(head["ok"], true, "{head}");
+    assert_eq!(head["gcode"].as_str().unwrap(), "G21 G99\n");
+    assert_eq!(head["diagnostics"], json!([]));
+    assert_eq!(head["gcode_total"], whole["gcode_total"]);
+    assert_eq!(
+        whole["gcode"].as_str().unwrap().lines().count() as u64,
+        whole["gcode_total"].as_u64().unwrap()
+    );
+}
