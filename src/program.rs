@@ -796,12 +796,9 @@ struct ExpandSink<'o> {
     ahead: Option<&'o mut dyn ahead::Ahead>,
 }
 
-impl Sink for ExpandSink<'_> {
-    const BATCH: bool = true;
-    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
-        if self.interp.records_prefix() {
-            return interpreted::expand_recorded(self, modal, ev);
-        }
+impl ExpandSink<'_> {
+    /// `ev` expanded to the output, as this run writes it.
+    fn write_event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
         expand_ending(
             self.out,
             &self.format,
@@ -810,6 +807,28 @@ impl Sink for ExpandSink<'_> {
             modal,
             ev,
         )
+    }
+
+    /// `ev` expanded into `buf` instead, as [`write_event`](Self::write_event) would write it.
+    fn event_text(&self, buf: &mut Vec<u8>, modal: &Modal, ev: Event) -> Result<(), Error> {
+        expand_ending(
+            buf,
+            &self.format,
+            self.distance_words,
+            self.ending,
+            modal,
+            ev,
+        )
+    }
+}
+
+impl Sink for ExpandSink<'_> {
+    const BATCH: bool = true;
+    fn event(&mut self, modal: &Modal, ev: Event) -> Result<(), Error> {
+        if self.interp.records_prefix() {
+            return interpreted::expand_recorded(self, modal, ev);
+        }
+        self.write_event(modal, ev)
     }
     #[inline(always)]
     fn pass(&mut self, bytes: &[u8]) -> Result<(), Error> {

@@ -15,7 +15,7 @@ use crate::machine::Machine;
 use crate::thread::Job;
 use crate::units::Units;
 
-use super::{expand_ending, Error, Event, ExpandSink, Options, Sink, Summary};
+use super::{Error, Event, ExpandSink, Options, Sink, Summary};
 
 /// Where an executed block of an interpreted program runs.
 pub struct Where<'a> {
@@ -511,25 +511,11 @@ pub(super) fn expand_recorded(
         (_, p) => p.is_some(),
     };
     if !digested {
-        return expand_ending(
-            sink.out,
-            &sink.format,
-            sink.distance_words,
-            sink.ending,
-            modal,
-            ev,
-        );
+        return sink.write_event(modal, ev);
     }
     let mut buf = std::mem::take(&mut sink.interp.scratch);
     buf.clear();
-    expand_ending(
-        &mut buf,
-        &sink.format,
-        sink.distance_words,
-        sink.ending,
-        modal,
-        ev,
-    )?;
+    sink.event_text(&mut buf, modal, ev)?;
     if let Some(p) = &mut sink.interp.prefix {
         p.insert(line.0, Recorded::Digest(digest(&buf)));
     }
@@ -556,14 +542,7 @@ pub(super) fn expand_interpreted(
                 )?;
                 Ok(())
             }
-            ev => expand_ending(
-                sink.out,
-                &sink.format,
-                sink.distance_words,
-                sink.ending,
-                modal,
-                ev,
-            ),
+            ev => sink.write_event(modal, ev),
         };
     }
     let (line, start) = match &ev {
@@ -581,14 +560,7 @@ pub(super) fn expand_interpreted(
         _ => None,
     };
     let mut buf = Vec::new();
-    expand_ending(
-        &mut buf,
-        &sink.format,
-        sink.distance_words,
-        sink.ending,
-        modal,
-        ev,
-    )?;
+    sink.event_text(&mut buf, modal, ev)?;
     let from = sink.interp.from.unwrap_or(0);
     if line < from {
         // A cycle of the streamed beginning, run again by a jump back.
@@ -599,11 +571,8 @@ pub(super) fn expand_interpreted(
             (Some(Recorded::Digest(d)), _) => *d == digest(&buf),
             (Some(Recorded::Cycle { modal, job }), Some((line, dialect))) => {
                 let mut first = Vec::new();
-                expand_ending(
+                sink.event_text(
                     &mut first,
-                    &sink.format,
-                    sink.distance_words,
-                    sink.ending,
                     modal,
                     Event::Cycle {
                         line,
